@@ -1,0 +1,70 @@
+// systole: run a cardiac simulation described by a parameter file.
+#include <deal.II/base/mpi.h>
+
+#include "base/errors.h"
+#include "simulation/simulation.h"
+
+#include <iostream>
+#include <string>
+
+namespace
+{
+  const char *usage =
+    "Usage: systole PARAMETER_FILE.prm       run the simulation the file describes\n"
+    "       systole --print-parameters [FILE] print every parameter with its documentation\n"
+    "                                         (defaults, or the values FILE sets)\n"
+    "       systole --help | --version\n"
+    "Run in parallel with: mpirun -np N systole FILE.prm\n"
+    "Results: <Output/Directory>/<run name>/results.h5 (+ fields.xdmf for ParaView).\n"
+    "Units inside: mm, ms, kPa (pressures in mmHg and volumes in mL only where so named).\n";
+} // namespace
+
+int
+main(int argc, char *argv[])
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const MPI_Comm                           comm = MPI_COMM_WORLD;
+  const bool root = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+
+  const std::string first = argc > 1 ? argv[1] : "";
+  try
+    {
+      if (argc < 2 || first == "--help" || first == "-h")
+        {
+          if (root)
+            std::cout << usage;
+          return argc < 2 ? 1 : 0;
+        }
+      if (first == "--version")
+        {
+          if (root)
+            std::cout << systole::version() << std::endl;
+          return 0;
+        }
+      if (first == "--print-parameters")
+        {
+          if (root)
+            systole::print_parameters(std::cout, argc > 2 ? argv[2] : "");
+          return 0;
+        }
+      if (first.rfind("-", 0) == 0 || argc > 2)
+        {
+          if (root)
+            std::cerr << "systole: unknown arguments.\n" << usage;
+          return 1;
+        }
+
+      systole::Simulation simulation(first, comm, std::cout);
+      simulation.run();
+    }
+  catch (const std::exception &e)
+    {
+      // Input errors occur on every rank alike: rank 0 prints one line, all
+      // exit non-zero.
+      if (root)
+        std::cerr << "systole: error: " << systole::one_line_message(e)
+                  << std::endl;
+      return 1;
+    }
+  return 0;
+}

@@ -1,0 +1,44 @@
+# Helpers to register run tests: a .prm through the systole app, checked by a script.
+find_program(SYSTOLE_MPIEXEC NAMES mpirun mpiexec REQUIRED)
+set(SYSTOLE_MPIEXEC_FLAGS --allow-run-as-root --oversubscribe)
+
+# systole_add_run_test(NAME n PRM file.prm [MPI ranks] CHECK script args...)
+# Runs `systole PRM` (under mpirun when MPI > 1) in a private directory, then the CHECK command
+# (a Python script of tests/runs, run with the project's venv Python) on the results.
+function(systole_add_run_test)
+  cmake_parse_arguments(RT "" "NAME;PRM;MPI" "CHECK" ${ARGN})
+  if(NOT RT_MPI)
+    set(RT_MPI 1)
+  endif()
+  set(workdir ${CMAKE_CURRENT_BINARY_DIR}/${RT_NAME})
+  add_test(NAME run.${RT_NAME}
+    COMMAND ${CMAKE_COMMAND}
+      -DSYSTOLE=$<TARGET_FILE:systole-app>
+      -DMPIEXEC=${SYSTOLE_MPIEXEC} -DRANKS=${RT_MPI}
+      -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/${RT_PRM}
+      -DWORKDIR=${workdir}
+      -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+      -DPYTHON=${Python3_EXECUTABLE}
+      "-DCHECK=${RT_CHECK}"
+      -P ${PROJECT_SOURCE_DIR}/cmake/RunTest.cmake)
+  set_tests_properties(run.${RT_NAME} PROPERTIES LABELS run PROCESSORS ${RT_MPI} TIMEOUT 300)
+endfunction()
+
+# systole_add_error_test(NAME n PRM file.prm EXPECT regex)
+# The app must exit non-zero and print exactly one line on stderr matching EXPECT.
+function(systole_add_error_test)
+  cmake_parse_arguments(ET "" "NAME;PRM;EXPECT;MPI" "" ${ARGN})
+  if(NOT ET_MPI)
+    set(ET_MPI 1)
+  endif()
+  add_test(NAME run.error_${ET_NAME}
+    COMMAND ${CMAKE_COMMAND}
+      -DSYSTOLE=$<TARGET_FILE:systole-app>
+      -DMPIEXEC=${SYSTOLE_MPIEXEC} -DRANKS=${ET_MPI}
+      -DPRM=${ET_PRM}
+      -DWORKDIR=${CMAKE_CURRENT_BINARY_DIR}/error_${ET_NAME}
+      -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+      "-DEXPECT=${ET_EXPECT}"
+      -P ${PROJECT_SOURCE_DIR}/cmake/ExpectError.cmake)
+  set_tests_properties(run.error_${ET_NAME} PROPERTIES LABELS run PROCESSORS ${ET_MPI} TIMEOUT 120)
+endfunction()

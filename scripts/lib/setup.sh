@@ -1,0 +1,71 @@
+# Shared set-up for scripts/run, scripts/test and scripts/bench (sourced, not run).
+# Installs what is missing (Debian packages, the Python venv), then configures and builds.
+# Idempotent: a second call finds everything in place and only rebuilds what changed.
+
+SYSTOLE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+SYSTOLE_BUILD=${SYSTOLE_BUILD:-$SYSTOLE_ROOT/build}
+SYSTOLE_VENV=${SYSTOLE_VENV:-$SYSTOLE_ROOT/.venv}
+
+# Debian 12 packages Systole needs (deal.II 9.4 brings PETSc, p4est, Trilinos and MPI).
+SYSTOLE_PACKAGES=(
+  libdeal.ii-dev libsundials-dev libhdf5-mpi-dev libeigen3-dev libvtk9-dev
+  catch2 cmake ninja-build ccache mold clang-format-14 g++ git
+  openmpi-bin python3 python3-venv
+)
+
+say() { printf '[systole] %s\n' "$*"; }
+
+systole_install_packages() {
+  local missing=()
+  for p in "${SYSTOLE_PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' ||
+      missing+=("$p")
+  done
+  if [ ${#missing[@]} -eq 0 ]; then
+    return 0
+  fi
+  say "installing missing Debian packages: ${missing[*]}"
+  if [ "$(id -u)" -ne 0 ]; then
+    say "error: these packages are missing and installing them needs root: ${missing[*]}"
+    return 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -q
+  apt-get install -y -q --no-install-recommends "${missing[@]}"
+}
+
+systole_install_venv() {
+  local req=$SYSTOLE_ROOT/scripts/requirements.txt
+  local stamp=$SYSTOLE_VENV/.requirements.sha256
+  local want
+  want=$(sha256sum "$req" | cut -d' ' -f1)
+  if [ -x "$SYSTOLE_VENV/bin/python" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
+    return 0
+  fi
+  say "creating the Python venv $SYSTOLE_VENV from scripts/requirements.txt"
+  python3 -m venv "$SYSTOLE_VENV"
+  "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check -r "$req"
+  echo "$want" > "$stamp"
+}
+
+systole_build() {
+  local jobs
+  jobs=$(nproc)
+  if [ ! -f "$SYSTOLE_BUILD/build.ninja" ]; then
+    say "configuring (Release) in $SYSTOLE_BUILD"
+    cmake -S "$SYSTOLE_ROOT" -B "$SYSTOLE_BUILD" -G Ninja \
+      -DCMAKE_BUILD_TYPE=Release \
+      -DPython3_EXECUTABLE="$SYSTOLE_VENV/bin/python" >"$SYSTOLE_BUILD.configure.log" 2>&1 || {
+        cat "$SYSTOLE_BUILD.configure.log"
+        return 1
+      }
+  fi
+  say "building with $jobs jobs"
+  local t0=$SECONDS
+  cmake --build "$SYSTOLE_BUILD" -j "$jobs"
+  say "build took $((SECONDS - t0)) s"
+}
+
+systole_setup() {
+  systole_install_packages && systole_install_venv && systole_build
+}

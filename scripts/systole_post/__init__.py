@@ -1,0 +1,14 @@
+"""Post-processing of Systole results files (HDF5 written by the C++ code).
+
+Modules:
+
+- :mod:`systole_post.results`: :func:`read_results` reads a results file into a
+  :class:`Results` object.
+- :mod:`systole_post.compare`: compares time-series columns with a reference CSV
+  under per-column tolerances (used by the ``run`` tests) and writes reference CSVs.
+- :mod:`systole_post.plot`: plots time-series columns against time into a PNG.
+"""
+
+from systole_post.results import Results, ResultsError, read_results
+
+__all__ = ["Results", "ResultsError", "read_results"]

@@ -1,0 +1,58 @@
+#include "geometry/boundary_names.h"
+
+#include <deal.II/base/exceptions.h>
+
+namespace systole::Geometry
+{
+  BoundaryNames::BoundaryNames(const std::string &source)
+    : source_description(source)
+  {}
+
+  void
+  BoundaryNames::add(const std::string               &name,
+                     const dealii::types::boundary_id id)
+  {
+    ids[name] = id;
+  }
+
+  bool
+  BoundaryNames::has(const std::string &name) const
+  {
+    return ids.count(name) > 0;
+  }
+
+  dealii::types::boundary_id
+  BoundaryNames::id(const std::string &name) const
+  {
+    const auto it = ids.find(name);
+    if (it == ids.end())
+      {
+        std::string known;
+        for (const auto &entry : ids)
+          known += (known.empty() ? "" : ", ") + entry.first;
+        AssertThrow(
+          false,
+          dealii::ExcMessage(
+            source_description + " has no boundary part named '" + name +
+            "' (it has: " + (known.empty() ? "none" : known) +
+            "). Tag that surface, e.g. with a gmsh Physical Surface(\"" + name +
+            "\")."));
+      }
+    return it->second;
+  }
+
+  std::vector<std::string>
+  BoundaryNames::names() const
+  {
+    std::vector<std::string> result;
+    for (const auto &entry : ids)
+      result.push_back(entry.first);
+    return result;
+  }
+
+  const std::string &
+  BoundaryNames::source() const
+  {
+    return source_description;
+  }
+} // namespace systole::Geometry

@@ -1,0 +1,93 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+
+#include "geometry/boundary_names.h"
+#include "geometry/ellipsoid.h"
+
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+  template <int dim, int spacedim>
+  class Triangulation;
+} // namespace dealii
+
+namespace systole::Geometry
+{
+  /// Which mesh to build and how (subsection "Geometry" of the parameter file).
+  struct Parameters
+  {
+    enum class Type
+    {
+      ellipsoid,
+      box,
+      gmsh
+    };
+
+    Type         type               = Type::ellipsoid;
+    unsigned int global_refinements = 0;
+
+    LVShape     lv_shape;
+    LVMeshCells lv_cells;
+
+    dealii::Point<3>            box_lower;
+    dealii::Point<3>            box_upper;
+    std::array<unsigned int, 3> box_cells = {{1, 1, 1}};
+
+    std::string
+      mesh_file; ///< absolute, resolved against the parameter file's folder
+    double mesh_scale = 1.0;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// @param[in] prm_directory folder of the parameter file, for relative mesh
+    /// paths.
+    static Parameters
+    parse(const dealii::ParameterHandler &prm,
+          const std::string              &prm_directory);
+  };
+
+  /// Build the coarse mesh described by @p params into @p tria (empty; serial
+  /// or distributed: every rank builds the same coarse mesh), attach its
+  /// manifolds and refine globally.
+  /// @return the names of its boundary parts.
+  BoundaryNames
+  create_mesh(const Parameters &params, dealii::Triangulation<3, 3> &tria);
+
+  /// Read a gmsh .msh file (format 2 or 4, ASCII). Physical surface tags become
+  /// boundary ids and physical surface names become boundary names. Lengths are
+  /// multiplied by @p scale.
+  BoundaryNames
+  read_gmsh(const std::string           &file,
+            const double                 scale,
+            dealii::Triangulation<3, 3> &tria);
+
+  /// The plane of a planar boundary part (the base): a point on it and its unit
+  /// normal.
+  struct Plane
+  {
+    dealii::Point<3>     point;
+    dealii::Tensor<1, 3> normal;
+  };
+
+  /// Fit the plane through the vertices of all faces with boundary id @p id
+  /// (collective over the triangulation's communicator). Throws if there are no
+  /// such faces or they are not planar within @p relative_tolerance of the mesh
+  /// diameter.
+  Plane
+  boundary_plane(const dealii::Triangulation<3, 3> &tria,
+                 const dealii::types::boundary_id   id,
+                 const std::string                 &name,
+                 const double                       relative_tolerance = 1e-6);
+
+  /// Throw unless at least one face of the mesh (on any rank) carries boundary
+  /// part @p name.
+  void
+  require_boundary(const dealii::Triangulation<3, 3> &tria,
+                   const BoundaryNames               &names,
+                   const std::string                 &name);
+} // namespace systole::Geometry

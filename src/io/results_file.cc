@@ -1,0 +1,558 @@
+#include "io/results_file.h"
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/base/exceptions.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#ifndef SYSTOLE_VERSION
+#  define SYSTOLE_VERSION "unknown"
+#endif
+#ifndef SYSTOLE_GIT_VERSION
+#  define SYSTOLE_GIT_VERSION "unknown"
+#endif
+
+namespace systole::IO
+{
+  std::string
+  code_version()
+  {
+    return std::string("systole ") + SYSTOLE_VERSION + " (" +
+           SYSTOLE_GIT_VERSION + ")";
+  }
+
+  namespace
+  {
+    void
+    check(const herr_t status, const std::string &what)
+    {
+      AssertThrow(status >= 0,
+                  dealii::ExcMessage(
+                    "Writing the results file failed: " + what + "."));
+    }
+
+    hid_t
+    checked(const hid_t id, const std::string &what)
+    {
+      AssertThrow(id >= 0,
+                  dealii::ExcMessage(
+                    "Writing the results file failed: " + what + "."));
+      return id;
+    }
+
+    void
+    write_string_attribute(const hid_t        object,
+                           const char        *name,
+                           const std::string &value)
+    {
+      const hid_t type = checked(H5Tcopy(H5T_C_S1), "string type");
+      check(H5Tset_size(type, std::max<std::size_t>(value.size(), 1)),
+            "string size");
+      const hid_t space = checked(H5Screate(H5S_SCALAR), "scalar space");
+      const hid_t attr =
+        checked(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
+                std::string("attribute ") + name);
+      check(H5Awrite(attr, type, value.c_str()),
+            std::string("attribute ") + name);
+      H5Aclose(attr);
+      H5Sclose(space);
+      H5Tclose(type);
+    }
+
+    template <typename T>
+    void
+    write_scalar_attribute(const hid_t object,
+                           const char *name,
+                           const hid_t type,
+                           const T     value)
+    {
+      const hid_t space = checked(H5Screate(H5S_SCALAR), "scalar space");
+      const hid_t attr =
+        checked(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
+                std::string("attribute ") + name);
+      check(H5Awrite(attr, type, &value), std::string("attribute ") + name);
+      H5Aclose(attr);
+      H5Sclose(space);
+    }
+
+    /// A group of extendable 1-D float64 columns (the time series or the
+    /// summary).
+    struct Table
+    {
+      std::string              group_name;
+      hid_t                    group = -1;
+      std::vector<std::string> names;
+      std::vector<hid_t>       datasets;
+      hsize_t                  n_rows = 0;
+
+      void
+      append(const hid_t file, const std::vector<Column> &row, const bool root)
+      {
+        if (group < 0)
+          {
+            // Track creation order, so readers list the columns in the order
+            // written.
+            const hid_t group_plist =
+              checked(H5Pcreate(H5P_GROUP_CREATE), "group plist");
+            check(H5Pset_link_creation_order(group_plist,
+                                             H5P_CRT_ORDER_TRACKED |
+                                               H5P_CRT_ORDER_INDEXED),
+                  "creation order");
+            group = checked(H5Gcreate2(file,
+                                       group_name.c_str(),
+                                       H5P_DEFAULT,
+                                       group_plist,
+                                       H5P_DEFAULT),
+                            "group " + group_name);
+            H5Pclose(group_plist);
+            for (const auto &column : row)
+              {
+                const hsize_t initial = 0, maximum = H5S_UNLIMITED, chunk = 256;
+                const hid_t   space =
+                  checked(H5Screate_simple(1, &initial, &maximum), "space");
+                const hid_t plist =
+                  checked(H5Pcreate(H5P_DATASET_CREATE), "plist");
+                check(H5Pset_chunk(plist, 1, &chunk), "chunk");
+                const hid_t dataset = checked(H5Dcreate2(group,
+                                                         column.name.c_str(),
+                                                         H5T_NATIVE_DOUBLE,
+                                                         space,
+                                                         H5P_DEFAULT,
+                                                         plist,
+                                                         H5P_DEFAULT),
+                                              "column " + column.name);
+                write_string_attribute(dataset, "unit", column.unit);
+                H5Pclose(plist);
+                H5Sclose(space);
+                names.push_back(column.name);
+                datasets.push_back(dataset);
+              }
+          }
+        AssertThrow(row.size() == names.size(),
+                    dealii::ExcMessage(
+                      "Internal error: a row of " + group_name + " has " +
+                      std::to_string(row.size()) + " columns, the first had " +
+                      std::to_string(names.size()) + "."));
+
+        const hsize_t new_size = n_rows + 1;
+        const hid_t   transfer =
+          checked(H5Pcreate(H5P_DATASET_XFER), "transfer plist");
+        check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE),
+              "collective transfer");
+        for (unsigned int c = 0; c < row.size(); ++c)
+          {
+            AssertThrow(row[c].name == names[c],
+                        dealii::ExcMessage("Internal error: column " +
+                                           row[c].name + " where " + names[c] +
+                                           " was expected."));
+            check(H5Dset_extent(datasets[c], &new_size), "extend " + names[c]);
+            const hid_t file_space =
+              checked(H5Dget_space(datasets[c]), "space");
+            const hsize_t offset = n_rows, count = root ? 1 : 0;
+            check(H5Sselect_hyperslab(file_space,
+                                      H5S_SELECT_SET,
+                                      &offset,
+                                      nullptr,
+                                      &count,
+                                      nullptr),
+                  "select");
+            const hid_t memory_space =
+              checked(H5Screate_simple(1, &count, nullptr), "space");
+            if (!root)
+              H5Sselect_none(memory_space);
+            check(H5Dwrite(datasets[c],
+                           H5T_NATIVE_DOUBLE,
+                           memory_space,
+                           file_space,
+                           transfer,
+                           &row[c].value),
+                  "write " + names[c]);
+            H5Sclose(memory_space);
+            H5Sclose(file_space);
+          }
+        H5Pclose(transfer);
+        n_rows = new_size;
+      }
+
+      void
+      close()
+      {
+        for (const hid_t d : datasets)
+          H5Dclose(d);
+        datasets.clear();
+        if (group >= 0)
+          H5Gclose(group);
+        group = -1;
+      }
+    };
+
+    /// Write a 2-D dataset of global shape (n_global x width), this rank's rows
+    /// at @p offset.
+    void
+    write_distributed(const hid_t        location,
+                      const std::string &name,
+                      const hid_t        memory_type,
+                      const hid_t        file_type,
+                      const void        *data,
+                      const hsize_t      n_local,
+                      const hsize_t      offset,
+                      const hsize_t      n_global,
+                      const hsize_t      width)
+    {
+      const hsize_t global_dims[2] = {n_global, width};
+      const hid_t   file_space =
+        checked(H5Screate_simple(2, global_dims, nullptr), "space");
+      const hid_t   dataset  = checked(H5Dcreate2(location,
+                                               name.c_str(),
+                                               file_type,
+                                               file_space,
+                                               H5P_DEFAULT,
+                                               H5P_DEFAULT,
+                                               H5P_DEFAULT),
+                                    "dataset " + name);
+      const hsize_t start[2] = {offset, 0}, count[2] = {n_local, width};
+      const hid_t   memory_space =
+        checked(H5Screate_simple(2, count, nullptr), "space");
+      if (n_local > 0)
+        check(H5Sselect_hyperslab(file_space,
+                                  H5S_SELECT_SET,
+                                  start,
+                                  nullptr,
+                                  count,
+                                  nullptr),
+              "select");
+      else
+        {
+          H5Sselect_none(file_space);
+          H5Sselect_none(memory_space);
+        }
+      const hid_t transfer =
+        checked(H5Pcreate(H5P_DATASET_XFER), "transfer plist");
+      check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE),
+            "collective transfer");
+      check(H5Dwrite(dataset,
+                     memory_type,
+                     memory_space,
+                     file_space,
+                     transfer,
+                     data),
+            "write " + name);
+      H5Pclose(transfer);
+      H5Sclose(memory_space);
+      H5Sclose(file_space);
+      H5Dclose(dataset);
+    }
+
+    struct FieldStep
+    {
+      unsigned int step;
+      double       time;
+      std::vector<std::pair<std::string, unsigned int>>
+        sets; // name, components
+    };
+  } // namespace
+
+  struct ResultsFile::Impl
+  {
+    MPI_Comm               comm;
+    bool                   root;
+    std::string            directory;
+    std::string            file_path;
+    hid_t                  file = -1;
+    Table                  timeseries{"timeseries", -1, {}, {}, 0};
+    Table                  summary{"summary", -1, {}, {}, 0};
+    hsize_t                n_global_nodes = 0, n_global_cells = 0;
+    std::vector<FieldStep> field_steps;
+
+    void
+    flush()
+    {
+      check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush");
+    }
+
+    void
+    write_xdmf() const
+    {
+      if (!root)
+        return;
+      std::ostringstream x;
+      const std::string  h5 = "results.h5";
+      x << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+        << "<Xdmf Version=\"2.0\">\n  <Domain>\n"
+        << "    <Grid Name=\"fields\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+      for (const FieldStep &s : field_steps)
+        {
+          char group[32];
+          std::snprintf(group, sizeof(group), "step_%06u", s.step);
+          x << "      <Grid Name=\"" << group << "\" GridType=\"Uniform\">\n"
+            << "        <Time Value=\"" << std::setprecision(16) << s.time
+            << "\"/>\n"
+            << "        <Geometry GeometryType=\"XYZ\">\n"
+            << "          <DataItem Dimensions=\"" << n_global_nodes
+            << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
+            << ":/mesh/nodes</DataItem>\n        </Geometry>\n"
+            << "        <Topology TopologyType=\"Hexahedron\" NumberOfElements=\""
+            << n_global_cells << "\">\n          <DataItem Dimensions=\""
+            << n_global_cells
+            << " 8\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
+            << ":/mesh/cells</DataItem>\n        </Topology>\n";
+          for (const auto &[name, components] : s.sets)
+            x << "        <Attribute Name=\"" << name << "\" AttributeType=\""
+              << (components == 1 ? "Scalar" : "Vector")
+              << "\" Center=\"Node\">\n"
+              << "          <DataItem Dimensions=\"" << n_global_nodes << " "
+              << components
+              << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
+              << ":/fields/" << group << "/" << name << "</DataItem>\n"
+              << "        </Attribute>\n";
+          x << "      </Grid>\n";
+        }
+      x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+
+      // Write a new file and rename it over the old one: never a half-written
+      // XDMF.
+      const std::string final_path = directory + "/fields.xdmf";
+      const std::string tmp_path   = final_path + ".tmp";
+      {
+        std::ofstream out(tmp_path);
+        out << x.str();
+        AssertThrow(out.good(),
+                    dealii::ExcMessage("Cannot write " + tmp_path + "."));
+      }
+      std::filesystem::rename(tmp_path, final_path);
+    }
+  };
+
+  ResultsFile::ResultsFile(const std::string &directory,
+                           const std::string &parameter_text,
+                           const MPI_Comm     comm)
+    : impl(std::make_unique<Impl>())
+  {
+    impl->comm      = comm;
+    impl->root      = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    impl->directory = directory;
+    impl->file_path = directory + "/results.h5";
+
+    // Create the folder on rank 0, then agree on success before anyone opens
+    // the file.
+    int         ok = 1;
+    std::string error;
+    if (impl->root)
+      {
+        std::error_code ec;
+        std::filesystem::create_directories(directory, ec);
+        if (ec || !std::filesystem::is_directory(directory))
+          {
+            ok    = 0;
+            error = ec.message();
+          }
+      }
+    ok = dealii::Utilities::MPI::min(ok, comm);
+    AssertThrow(ok == 1,
+                dealii::ExcMessage("Cannot create the output folder '" +
+                                   directory + "'" +
+                                   (error.empty() ? "" : ": " + error) +
+                                   ". Check Output / Directory."));
+
+    // Errors are reported through our exceptions, not HDF5's own stack dump.
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    const hid_t access =
+      checked(H5Pcreate(H5P_FILE_ACCESS), "file access plist");
+    check(H5Pset_fapl_mpio(access, comm, MPI_INFO_NULL), "MPI-IO driver");
+    impl->file =
+      H5Fcreate(impl->file_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
+    H5Pclose(access);
+    AssertThrow(impl->file >= 0,
+                dealii::ExcMessage("Cannot create the results file '" +
+                                   impl->file_path +
+                                   "'. Is it open in another program?"));
+
+    // /parameters: the full text, as a scalar fixed-length string (parallel
+    // HDF5 cannot write variable-length strings). A failure here removes the
+    // file: no half-made results file.
+    try
+      {
+        const hid_t type = checked(H5Tcopy(H5T_C_S1), "string type");
+        check(H5Tset_size(type,
+                          std::max<std::size_t>(parameter_text.size(), 1)),
+              "string size");
+        check(H5Tset_cset(type, H5T_CSET_UTF8), "utf8");
+        const hid_t       space   = checked(H5Screate(H5S_SCALAR), "space");
+        const hid_t       dataset = checked(H5Dcreate2(impl->file,
+                                                 "parameters",
+                                                 type,
+                                                 space,
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT),
+                                      "/parameters");
+        const std::string padded =
+          parameter_text.empty() ? std::string(" ") : parameter_text;
+        check(
+          H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()),
+          "/parameters");
+        write_string_attribute(dataset, "code_version", code_version());
+        write_scalar_attribute(
+          dataset,
+          "n_ranks",
+          H5T_NATIVE_INT,
+          static_cast<int>(dealii::Utilities::MPI::n_mpi_processes(comm)));
+        H5Dclose(dataset);
+        H5Sclose(space);
+        H5Tclose(type);
+        impl->flush();
+      }
+    catch (...)
+      {
+        H5Fclose(impl->file);
+        impl->file = -1;
+        MPI_Barrier(comm);
+        if (impl->root)
+          std::filesystem::remove(impl->file_path);
+        throw;
+      }
+  }
+
+  ResultsFile::~ResultsFile()
+  {
+    impl->timeseries.close();
+    impl->summary.close();
+    if (impl->file >= 0)
+      H5Fclose(impl->file);
+  }
+
+  const std::string &
+  ResultsFile::path() const
+  {
+    return impl->file_path;
+  }
+
+  void
+  ResultsFile::append_timeseries(const std::vector<Column> &row)
+  {
+    impl->timeseries.append(impl->file, row, impl->root);
+    impl->flush();
+  }
+
+  void
+  ResultsFile::append_summary(const std::vector<Column> &row)
+  {
+    impl->summary.append(impl->file, row, impl->root);
+    impl->flush();
+  }
+
+  void
+  ResultsFile::write_fields(const dealii::DataOut<3, 3> &data_out,
+                            const unsigned int           step,
+                            const double                 time)
+  {
+    dealii::DataOutBase::DataOutFilter filter(
+      dealii::DataOutBase::DataOutFilterFlags(
+        /*filter_duplicate_vertices=*/true,
+        /*xdmf_hdf5_output=*/true));
+    data_out.write_filtered_data(filter);
+
+    const hsize_t n_local_nodes = filter.n_nodes(),
+                  n_local_cells = filter.n_cells();
+    hsize_t node_offset = 0, cell_offset = 0;
+    MPI_Exscan(&n_local_nodes,
+               &node_offset,
+               1,
+               MPI_UNSIGNED_LONG_LONG,
+               MPI_SUM,
+               impl->comm);
+    MPI_Exscan(&n_local_cells,
+               &cell_offset,
+               1,
+               MPI_UNSIGNED_LONG_LONG,
+               MPI_SUM,
+               impl->comm);
+    if (impl->root)
+      node_offset = cell_offset = 0;
+    const hsize_t n_global_nodes =
+      dealii::Utilities::MPI::sum(n_local_nodes, impl->comm);
+    const hsize_t n_global_cells =
+      dealii::Utilities::MPI::sum(n_local_cells, impl->comm);
+
+    if (impl->field_steps.empty())
+      {
+        std::vector<double> nodes;
+        filter.fill_node_data(nodes);
+        std::vector<unsigned int> cells;
+        filter.fill_cell_data(node_offset, cells);
+        const hid_t group = checked(
+          H5Gcreate2(impl->file, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+          "/mesh");
+        write_distributed(group,
+                          "nodes",
+                          H5T_NATIVE_DOUBLE,
+                          H5T_IEEE_F64LE,
+                          nodes.data(),
+                          n_local_nodes,
+                          node_offset,
+                          n_global_nodes,
+                          3);
+        write_distributed(group,
+                          "cells",
+                          H5T_NATIVE_UINT,
+                          H5T_STD_U32LE,
+                          cells.data(),
+                          n_local_cells,
+                          cell_offset,
+                          n_global_cells,
+                          8);
+        H5Gclose(group);
+        impl->n_global_nodes = n_global_nodes;
+        impl->n_global_cells = n_global_cells;
+      }
+    AssertThrow(n_global_nodes == impl->n_global_nodes,
+                dealii::ExcMessage(
+                  "Internal error: the field output mesh changed."));
+
+    hid_t fields = -1;
+    if (impl->field_steps.empty())
+      fields = checked(
+        H5Gcreate2(impl->file, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "/fields");
+    else
+      fields = checked(H5Gopen2(impl->file, "fields", H5P_DEFAULT), "/fields");
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%06u", step);
+    const hid_t group =
+      checked(H5Gcreate2(fields, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+              std::string("/fields/") + name +
+                " (a field step written twice?)");
+    write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
+    write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
+
+    FieldStep record{step, time, {}};
+    for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
+      {
+        const std::string  set_name   = filter.get_data_set_name(i);
+        const unsigned int components = filter.get_data_set_dim(i);
+        write_distributed(group,
+                          set_name,
+                          H5T_NATIVE_DOUBLE,
+                          H5T_IEEE_F64LE,
+                          filter.get_data_set(i),
+                          n_local_nodes,
+                          node_offset,
+                          n_global_nodes,
+                          components);
+        record.sets.emplace_back(set_name, components);
+      }
+    H5Gclose(group);
+    H5Gclose(fields);
+    impl->flush();
+
+    impl->field_steps.push_back(record);
+    impl->write_xdmf();
+  }
+} // namespace systole::IO

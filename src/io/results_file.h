@@ -1,0 +1,84 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class DataOut;
+}
+
+namespace systole::IO
+{
+  /// One value of a time-series row: column name, unit, value.
+  struct Column
+  {
+    std::string name;
+    std::string unit;
+    double      value;
+  };
+
+  /// The results file of a run, `<directory>/results.h5` (HDF5, written
+  /// collectively by all ranks through MPI-IO), with an XDMF companion
+  /// `fields.xdmf` that ParaView opens:
+  /// - `/parameters`: the full parameter text (attributes `code_version`,
+  /// `n_ranks`);
+  /// - `/timeseries/<column>`: one float64 entry per completed step (attribute
+  /// `unit`);
+  /// - `/summary/<column>`: one row per beat (written by later components);
+  /// - `/mesh/nodes`, `/mesh/cells`: reference mesh of the field output
+  /// (hexahedra);
+  /// - `/fields/step_NNNNNN/<name>`: nodal fields every k steps (group
+  /// attributes time, step). The file is flushed after every row and every
+  /// field output, so a run killed midway leaves a readable file with every
+  /// completed step. All calls are collective; values passed in must be equal
+  /// on all ranks (only rank 0's are written).
+  class ResultsFile
+  {
+  public:
+    /// Create (truncate) the file. Creates @p directory if needed.
+    ResultsFile(const std::string &directory,
+                const std::string &parameter_text,
+                const MPI_Comm     comm);
+    ~ResultsFile();
+
+    ResultsFile(const ResultsFile &) = delete;
+    ResultsFile &
+    operator=(const ResultsFile &) = delete;
+
+    /// Append one row to /timeseries. The first row fixes the columns and their
+    /// order; later rows must carry the same columns in the same order.
+    void
+    append_timeseries(const std::vector<Column> &row);
+
+    /// Append one row to /summary (same rules as the time series, separate
+    /// columns).
+    void
+    append_summary(const std::vector<Column> &row);
+
+    /// Write the fields of @p data_out (patches already built) as
+    /// /fields/step_NNNNNN and update the XDMF file. The first call also writes
+    /// /mesh.
+    void
+    write_fields(const dealii::DataOut<3, 3> &data_out,
+                 const unsigned int           step,
+                 const double                 time);
+
+    /// Path of the HDF5 file.
+    const std::string &
+    path() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+
+  /// The version string recorded in results files: "<semver> (<git describe>)".
+  std::string
+  code_version();
+} // namespace systole::IO

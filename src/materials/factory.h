@@ -1,0 +1,47 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "materials/passive_law.h"
+#include "materials/volumetric_law.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+/// @file
+/// The one place that knows every passive material law (an explicit table in
+/// factory.cc; no static self-registration). To add a law, see the recipe in
+/// materials/passive_law.h.
+
+namespace systole::Materials
+{
+  /// Declares subsection "Material" with
+  /// - "Passive law": a Patterns::Selection of passive_law_names(), default
+  ///   "Guccione", whose help lists every law with its reference;
+  /// - one subsection per law, named as the law ("Material / Guccione", ...),
+  ///   holding that law's Parameters (all declared, so a parameter file is
+  ///   fully checked whatever law it selects);
+  /// - subsection "Volumetric" with "Form" and "Bulk modulus"
+  ///   (VolumetricLaw::Parameters).
+  /// Call once, before ParameterHandler::parse_input().
+  void
+  declare_parameters(dealii::ParameterHandler &prm);
+
+  /// The law named in "Material / Passive law", built from its parsed and
+  /// validated parameters (throws ExcMessage naming the entry on a bad value
+  /// or an unknown name). @p prm must have been declared by
+  /// declare_parameters().
+  std::unique_ptr<PassiveLaw>
+  create_passive_law(const dealii::ParameterHandler &prm);
+
+  /// The volumetric law of "Material / Volumetric" (parsed and validated).
+  VolumetricLaw
+  create_volumetric_law(const dealii::ParameterHandler &prm);
+
+  /// Names of all passive laws as shown to users, alphabetical
+  /// (case-insensitive): "Guccione", "Holzapfel-Ogden", "Mooney-Rivlin",
+  /// "neo-Hookean", "St Venant-Kirchhoff".
+  std::vector<std::string>
+  passive_law_names();
+} // namespace systole::Materials

@@ -1,0 +1,78 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+
+#include "materials/passive_law.h"
+
+#include <string>
+
+namespace systole::Materials
+{
+  /// Transversely isotropic Fung-type law of Guccione et al.
+  /// (J. Biomech. Eng. 113:42, 1991; form of Land et al. 2015,
+  /// Proc. R. Soc. A 471:20150641, eq. 2.1):
+  /// @f[
+  ///   W = \frac{C}{2}\left(e^{Q} - 1\right),\quad
+  ///   Q = b_f E_{ff}^2 + b_t\left(E_{ss}^2 + E_{nn}^2 + 2E_{sn}^2\right)
+  ///     + 2 b_{fs}\left(E_{fs}^2 + E_{fn}^2\right),
+  /// @f]
+  /// with @f$E_{ab} = a\cdot E\,b@f$ the components of the full (not
+  /// isochoric) Green-Lagrange strain @f$E = \frac12(F^TF - I)@f$ in the
+  /// local frame (f, s, n) of PassiveInput::basis. W [kPa]; the law is stress
+  /// free at F = I. Near-incompressibility is added by a VolumetricLaw.
+  /// With @f$H = \sum_{a,b} B_{ab} E_{ab}\, a\otimes b@f$ (B the weights
+  /// above) it gives @f$S = C e^Q H@f$ and
+  /// @f$\partial S/\partial E = C e^Q (2 H\otimes H + \partial H/\partial
+  /// E)@f$.
+  class Guccione : public PassiveLaw
+  {
+  public:
+    /// Parameters of subsection "Material / Guccione".
+    /// Defaults: Land et al. 2015, problems 1 and 3.
+    struct Parameters
+    {
+      double C    = 2.0; ///< overall stiffness [kPa], > 0
+      double b_f  = 8.0; ///< fibre exponent weight [-], > 0
+      double b_t  = 2.0; ///< cross-fibre (transverse) weight [-], > 0
+      double b_fs = 4.0; ///< fibre-sheet/fibre-normal shear weight [-], > 0
+
+      /// Declares "C", "b_f", "b_t", "b_fs" in the current subsection (the
+      /// factory enters "Material / Guccione" first).
+      static void
+      declare(dealii::ParameterHandler &prm);
+
+      /// Reads "Material / Guccione" with deal.II 9.4's path getters and
+      /// validates the values.
+      static Parameters
+      parse(const dealii::ParameterHandler &prm);
+
+      /// Throws ExcMessage naming "Material / Guccione / <entry>" and the fix
+      /// if a value is out of range.
+      void
+      validate() const;
+    };
+
+    /// Name in the parameter file ("Material / Passive law").
+    static constexpr const char *law_name = "Guccione";
+
+    /// @param[in] parameters validated on construction.
+    explicit Guccione(const Parameters &parameters);
+
+    /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
+    void
+    evaluate(const PassiveInput &in, PassiveOutput &out) const override;
+
+    /// Returns law_name.
+    std::string
+    name() const override;
+
+    /// The parameters in use.
+    const Parameters &
+    parameters() const;
+
+  private:
+    const Parameters params;
+  };
+} // namespace systole::Materials

@@ -1,0 +1,276 @@
+#include "materials/holzapfel_ogden.h"
+
+#include <deal.II/physics/elasticity/standard_tensors.h>
+
+#include "materials/volumetric_law.h"
+
+#include <cmath>
+
+namespace systole::Materials
+{
+  namespace
+  {
+    /// Value and first two derivatives of a scalar function.
+    struct Scalar3
+    {
+      double value, first, second;
+    };
+
+    /// Psi(x) = a/(2b) (exp(b x^2) - 1) and its derivatives in x.
+    Scalar3
+    exponential_term(const double x, const double a, const double b)
+    {
+      const double e = std::exp(b * x * x);
+      return {0.5 * a / b * std::expm1(b * x * x),
+              a * x * e,
+              a * e * (1.0 + 2.0 * b * x * x)};
+    }
+
+    /// w(x) Psi(x) for a fibre or sheet term, w the tension switch.
+    Scalar3
+    switched_term(const double x,
+                  const double a,
+                  const double b,
+                  const double delta)
+    {
+      const std::array<double, 3> w = HolzapfelOgden::tension_switch(x, delta);
+      if (w[0] == 0.0 && w[1] == 0.0 && w[2] == 0.0)
+        return {0.0, 0.0, 0.0};
+      const Scalar3 psi = exponential_term(x, a, b);
+      return {w[0] * psi.value,
+              w[1] * psi.value + w[0] * psi.first,
+              w[2] * psi.value + 2.0 * w[1] * psi.first + w[0] * psi.second};
+    }
+
+    void
+    require(const bool        condition,
+            const char       *entry,
+            const double      value,
+            const std::string requirement)
+    {
+      AssertThrow(condition,
+                  dealii::ExcMessage(
+                    std::string("Material / Holzapfel-Ogden / ") + entry +
+                    " = " + dealii::Patterns::Tools::to_string(value) +
+                    " must be " + requirement + "."));
+    }
+  } // namespace
+
+
+  std::array<double, 3>
+  HolzapfelOgden::tension_switch(const double x, const double delta)
+  {
+    if (x <= 0.0)
+      return {{0.0, 0.0, 0.0}};
+    if (x >= delta) // also the hard switch delta = 0
+      return {{1.0, 0.0, 0.0}};
+    const double t = x / delta;
+    return {{t * t * t * (10.0 + t * (-15.0 + 6.0 * t)),
+             30.0 * t * t * (1.0 - t) * (1.0 - t) / delta,
+             60.0 * t * (1.0 - t) * (1.0 - 2.0 * t) / (delta * delta)}};
+  }
+
+
+  void
+  HolzapfelOgden::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Tools::to_string;
+    const Parameters defaults;
+    const auto       declare_stiffness =
+      [&](const char *entry, const double value, const char *meaning) {
+        prm.declare_entry(entry,
+                          to_string(value),
+                          dealii::Patterns::Double(0.0),
+                          std::string(meaning) +
+                            " Units: kPa. Source: Holzapfel and Ogden 2009, "
+                            "Table 1 (default).");
+      };
+    const auto declare_exponent =
+      [&](const char *entry, const double value, const char *meaning) {
+        prm.declare_entry(entry,
+                          to_string(value),
+                          dealii::Patterns::Double(0.0),
+                          std::string(meaning) +
+                            " Units: none. Source: Holzapfel and Ogden 2009, "
+                            "Table 1 (default); must be > 0.");
+      };
+
+    declare_stiffness("a",
+                      defaults.a,
+                      "Stiffness of the isotropic matrix term a/(2b) "
+                      "(exp(b (J^{-2/3} I1 - 3)) - 1); must be > 0.");
+    declare_exponent("b",
+                     defaults.b,
+                     "Exponent of the isotropic matrix term (beware the "
+                     "widespread typo 0.023).");
+    declare_stiffness("a_f",
+                      defaults.a_f,
+                      "Stiffness of the fibre term a_f/(2b_f) (exp(b_f "
+                      "(I4f - 1)^2) - 1), active in tension only; >= 0.");
+    declare_exponent("b_f", defaults.b_f, "Exponent of the fibre term.");
+    declare_stiffness("a_s",
+                      defaults.a_s,
+                      "Stiffness of the sheet term a_s/(2b_s) (exp(b_s "
+                      "(I4s - 1)^2) - 1), active in tension only; >= 0 (0, "
+                      "with a_fs = 0, gives the transversely isotropic law).");
+    declare_exponent("b_s", defaults.b_s, "Exponent of the sheet term.");
+    declare_stiffness("a_fs",
+                      defaults.a_fs,
+                      "Stiffness of the fibre-sheet coupling term a_fs/(2b_fs) "
+                      "(exp(b_fs I8fs^2) - 1); >= 0 (0, with a_s = 0, gives "
+                      "the transversely isotropic law).");
+    declare_exponent("b_fs",
+                     defaults.b_fs,
+                     "Exponent of the fibre-sheet coupling term.");
+    prm.declare_entry(
+      "Tension switch width",
+      to_string(defaults.switch_width),
+      dealii::Patterns::Double(0.0),
+      "Width delta in I4 - 1 of the C^2 blend that switches the fibre and "
+      "sheet terms on in tension: off for I4 <= 1, the full 2009 law for "
+      "I4 >= 1 + delta; 0 gives the hard switch of the paper (discontinuous "
+      "tangent). Units: none. Range: 0-0.05; default 0.01 (a stretch of "
+      "0.5 %).");
+  }
+
+
+  HolzapfelOgden::Parameters
+  HolzapfelOgden::Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> path = {"Material", law_name};
+    Parameters                     p;
+    p.a            = prm.get_double(path, "a");
+    p.b            = prm.get_double(path, "b");
+    p.a_f          = prm.get_double(path, "a_f");
+    p.b_f          = prm.get_double(path, "b_f");
+    p.a_s          = prm.get_double(path, "a_s");
+    p.b_s          = prm.get_double(path, "b_s");
+    p.a_fs         = prm.get_double(path, "a_fs");
+    p.b_fs         = prm.get_double(path, "b_fs");
+    p.switch_width = prm.get_double(path, "Tension switch width");
+    p.validate();
+    return p;
+  }
+
+
+  void
+  HolzapfelOgden::Parameters::validate() const
+  {
+    const auto positive = [](const double v) {
+      return std::isfinite(v) && v > 0.0;
+    };
+    const auto non_negative = [](const double v) {
+      return std::isfinite(v) && v >= 0.0;
+    };
+    require(positive(a), "a", a, "> 0; set e.g. 0.059 kPa (HO 2009 Table 1)");
+    require(positive(b), "b", b, "> 0; set e.g. 8.023 (HO 2009 Table 1)");
+    require(non_negative(a_f),
+            "a_f",
+            a_f,
+            ">= 0; set e.g. 18.472 kPa (HO 2009 Table 1)");
+    require(positive(b_f), "b_f", b_f, "> 0; set e.g. 16.026 (HO 2009)");
+    require(non_negative(a_s),
+            "a_s",
+            a_s,
+            ">= 0; set e.g. 2.481 kPa, or 0 for transverse isotropy");
+    require(positive(b_s), "b_s", b_s, "> 0; set e.g. 11.120 (HO 2009)");
+    require(non_negative(a_fs),
+            "a_fs",
+            a_fs,
+            ">= 0; set e.g. 0.216 kPa, or 0 for transverse isotropy");
+    require(positive(b_fs), "b_fs", b_fs, "> 0; set e.g. 11.436 (HO 2009)");
+    require(non_negative(switch_width),
+            "Tension switch width",
+            switch_width,
+            ">= 0; set e.g. 0.01, or 0 for a hard switch");
+  }
+
+
+  HolzapfelOgden::HolzapfelOgden(const Parameters &parameters)
+    : params(parameters)
+  {
+    params.validate();
+  }
+
+
+  void
+  HolzapfelOgden::evaluate(const PassiveInput &in, PassiveOutput &out) const
+  {
+    using dealii::outer_product;
+    using dealii::SymmetricTensor;
+
+    const double J = dealii::determinant(in.F);
+    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
+
+    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
+    const SymmetricTensor<2, 3> C =
+      dealii::symmetrize(dealii::transpose(in.F) * in.F);
+    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
+    const double                I1    = dealii::trace(C);
+    const double                J_m23 = std::pow(J, -2.0 / 3.0);
+
+    // Isotropic term on Ibar1 (same derivatives as in neo_hookean.cc).
+    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
+    const SymmetricTensor<4, 3> d2I1_bar =
+      J_m23 *
+      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
+       (I1 / 9.0) * outer_product(C_inv, C_inv) -
+       (I1 / 3.0) *
+         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
+    const double e_iso = std::exp(params.b * (J_m23 * I1 - 3.0));
+    const double psi_1 = 0.5 * params.a * e_iso;
+
+    double psi =
+      0.5 * params.a / params.b * std::expm1(params.b * (J_m23 * I1 - 3.0));
+    SymmetricTensor<2, 3> dpsi_dC = psi_1 * dI1_bar;
+    SymmetricTensor<4, 3> d2psi_dC2 =
+      (params.b * psi_1) * outer_product(dI1_bar, dI1_bar) + psi_1 * d2I1_bar;
+
+    // Fibre and sheet terms on the full I4 = a0.C a0, dI4/dC = a0 x a0.
+    const auto add_switched = [&](const dealii::Tensor<1, 3> &axis,
+                                  const double                a_i,
+                                  const double                b_i) {
+      if (a_i == 0.0)
+        return;
+      const SymmetricTensor<2, 3> M =
+        dealii::symmetrize(outer_product(axis, axis));
+      const Scalar3 term =
+        switched_term(M * C - 1.0, a_i, b_i, params.switch_width);
+      psi += term.value;
+      dpsi_dC += term.first * M;
+      d2psi_dC2 += term.second * outer_product(M, M);
+    };
+    add_switched(in.basis.f, params.a_f, params.b_f);
+    add_switched(in.basis.s, params.a_s, params.b_s);
+
+    // Fibre-sheet coupling on I8 = f0.C s0, dI8/dC = sym(f0 x s0).
+    if (params.a_fs != 0.0)
+      {
+        const SymmetricTensor<2, 3> M =
+          dealii::symmetrize(outer_product(in.basis.f, in.basis.s));
+        const Scalar3 term = exponential_term(M * C, params.a_fs, params.b_fs);
+        psi += term.value;
+        dpsi_dC += term.first * M;
+        d2psi_dC2 += term.second * outer_product(M, M);
+      }
+
+    // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
+    out.psi   = psi;
+    out.S     = 2.0 * dpsi_dC;
+    out.dS_dE = 4.0 * d2psi_dC2;
+  }
+
+
+  std::string
+  HolzapfelOgden::name() const
+  {
+    return law_name;
+  }
+
+
+  const HolzapfelOgden::Parameters &
+  HolzapfelOgden::parameters() const
+  {
+    return params;
+  }
+} // namespace systole::Materials

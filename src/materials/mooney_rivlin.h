@@ -1,0 +1,72 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+
+#include "materials/passive_law.h"
+
+#include <string>
+
+namespace systole::Materials
+{
+  /// Isotropic, isochoric Mooney-Rivlin law (Mooney 1940, J. Appl. Phys.
+  /// 11:582; Rivlin 1948; decoupled form of Holzapfel 2000, Nonlinear Solid
+  /// Mechanics, eq. 6.148):
+  /// @f[
+  ///   W = c_1\left(\bar I_1 - 3\right) + c_2\left(\bar I_2 - 3\right),\quad
+  ///   \bar I_1 = J^{-2/3} I_1,\quad \bar I_2 = J^{-4/3} I_2,
+  /// @f]
+  /// @f$I_1 = \mathrm{tr}\,C@f$, @f$I_2 = \frac12(I_1^2 - C:C)@f$, W [kPa];
+  /// small-strain shear modulus @f$2(c_1 + c_2)@f$. Zero energy and stress at
+  /// F = I and under pure dilation; add a VolumetricLaw for the bulk
+  /// response. Requires det F > 0 (throws ExcNonPositiveVolumeRatio). The
+  /// fibre basis is not used; c2 = 0 gives the neo-Hookean law with
+  /// mu = 2 c1.
+  class MooneyRivlin : public PassiveLaw
+  {
+  public:
+    /// Parameters of subsection "Material / Mooney-Rivlin".
+    struct Parameters
+    {
+      double c1 = 4.0; ///< weight of @f$\bar I_1 - 3@f$ [kPa], >= 0
+      double c2 = 1.0; ///< weight of @f$\bar I_2 - 3@f$ [kPa], >= 0
+
+      /// Declares "c1" and "c2" in the current subsection (the factory enters
+      /// "Material / Mooney-Rivlin" first).
+      static void
+      declare(dealii::ParameterHandler &prm);
+
+      /// Reads "Material / Mooney-Rivlin" with the path getters and
+      /// validates.
+      static Parameters
+      parse(const dealii::ParameterHandler &prm);
+
+      /// Throws ExcMessage naming "Material / Mooney-Rivlin / <entry>" and the
+      /// fix unless c1 >= 0, c2 >= 0 and c1 + c2 > 0.
+      void
+      validate() const;
+    };
+
+    /// Name in the parameter file ("Material / Passive law").
+    static constexpr const char *law_name = "Mooney-Rivlin";
+
+    /// @param[in] parameters validated on construction.
+    explicit MooneyRivlin(const Parameters &parameters);
+
+    /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
+    void
+    evaluate(const PassiveInput &in, PassiveOutput &out) const override;
+
+    /// Returns law_name.
+    std::string
+    name() const override;
+
+    /// The parameters in use.
+    const Parameters &
+    parameters() const;
+
+  private:
+    const Parameters params;
+  };
+} // namespace systole::Materials

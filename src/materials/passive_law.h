@@ -1,0 +1,50 @@
+#pragma once
+
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+
+#include "fibres/fibre_basis.h"
+
+namespace systole::Materials
+{
+  /// Everything a passive law may look at, at one quadrature point.
+  struct PassiveInput
+  {
+    dealii::Tensor<2, 3> F; ///< deformation gradient (reference -> current) [-]
+    Fibres::FibreBasis basis; ///< orthonormal f0, s0, n0 in the reference frame
+  };
+
+  /// What a passive law returns at one quadrature point.
+  struct PassiveOutput
+  {
+    double                        psi = 0.0; ///< strain energy density [kPa]
+    dealii::SymmetricTensor<2, 3> S; ///< 2nd Piola-Kirchhoff stress [kPa]
+    dealii::SymmetricTensor<4, 3>
+      dS_dE; ///< tangent dS/dE (E Green-Lagrange) [kPa]
+  };
+
+  /// A hyperelastic strain-energy law of the myocardium (deviatoric/passive
+  /// part; the volumetric penalty is a separate VolumetricLaw). Implementations
+  /// are immutable after construction and evaluate() is thread safe.
+  ///
+  /// How to add one:
+  /// 1. write materials/<law>.{h,cc} deriving from this class, with a nested
+  /// Parameters struct
+  ///    (declare/parse, units in every help text, bounds checked in parse);
+  /// 2. add one line to the table in materials/factory.cc;
+  /// 3. add tests/unit/materials/<law>_test.cc with the finite-difference
+  /// checks of the other laws.
+  class PassiveLaw
+  {
+  public:
+    virtual ~PassiveLaw() = default;
+
+    /// Energy, stress and tangent at one point.
+    virtual void
+    evaluate(const PassiveInput &in, PassiveOutput &out) const = 0;
+
+    /// Name used in the parameter file.
+    virtual std::string
+    name() const = 0;
+  };
+} // namespace systole::Materials

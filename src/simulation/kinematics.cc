@@ -1,0 +1,199 @@
+#include "simulation/kinematics.h"
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/petsc_vector.h>
+#include <deal.II/numerics/data_component_interpretation.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include "base/interrupt.h"
+#include "base/logger.h"
+#include "base/units.h"
+#include "geometry/mesh.h"
+#include "io/results_file.h"
+#include "mechanics/cavity_volume.h"
+#include "simulation/parameters.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace systole
+{
+  void
+  KinematicsParameters::declare(dealii::ParameterHandler &prm)
+  {
+    prm.enter_subsection("Kinematics");
+    prm.declare_entry(
+      "Stretch amplitude",
+      "0.1",
+      dealii::Patterns::Double(-0.5, 1.0),
+      "A in the prescribed stretch lambda(t) = 1 + A sin^2(pi t / T) about the "
+      "centre of the base (Problem = cavity volume). Units: -.");
+    prm.declare_entry("Period",
+                      "100",
+                      dealii::Patterns::Double(0.0),
+                      "T in lambda(t) = 1 + A sin^2(pi t / T). Units: ms.");
+    prm.leave_subsection();
+  }
+
+  KinematicsParameters
+  KinematicsParameters::parse(const dealii::ParameterHandler &prm)
+  {
+    KinematicsParameters p;
+    p.amplitude = prm.get_double({"Kinematics"}, "Stretch amplitude");
+    p.period    = prm.get_double({"Kinematics"}, "Period");
+    AssertThrow(p.period > 0,
+                dealii::ExcMessage("Kinematics / Period must be positive."));
+    return p;
+  }
+
+  double
+  KinematicsParameters::stretch(const double time) const
+  {
+    const double s = std::sin(M_PI * time / period);
+    return 1.0 + amplitude * s * s;
+  }
+
+  namespace
+  {
+    /// u(X) = (lambda - 1) (X - centre)
+    class UniformStretch : public dealii::Function<3>
+    {
+    public:
+      UniformStretch(const double lambda, const dealii::Point<3> &centre)
+        : dealii::Function<3>(3)
+        , lambda(lambda)
+        , centre(centre)
+      {}
+
+      double
+      value(const dealii::Point<3> &p,
+            const unsigned int      component) const override
+      {
+        return (lambda - 1.0) * (p[component] - centre[component]);
+      }
+
+    private:
+      double           lambda;
+      dealii::Point<3> centre;
+    };
+  } // namespace
+
+  void
+  run_cavity_volume_problem(const dealii::ParameterHandler &prm,
+                            const RunParameters            &run,
+                            const std::string              &prm_file,
+                            const std::string              &parameter_text,
+                            Logger                         &logger,
+                            const MPI_Comm                  comm)
+  {
+    const std::string prm_directory =
+      std::filesystem::absolute(prm_file).parent_path().string();
+    const auto geometry   = Geometry::Parameters::parse(prm, prm_directory);
+    const auto kinematics = KinematicsParameters::parse(prm);
+
+    dealii::parallel::distributed::Triangulation<3> tria(comm);
+    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    Geometry::require_boundary(tria, names, "endocardium");
+    Geometry::require_boundary(tria, names, "base");
+    const Geometry::Plane lid =
+      Geometry::boundary_plane(tria, names.id("base"), "base");
+
+    const dealii::FESystem<3> fe(dealii::FE_Q<3>(run.polynomial_degree), 3);
+    dealii::DoFHandler<3>     dof_handler(tria);
+    dof_handler.distribute_dofs(fe);
+    const dealii::MappingQ<3> mapping(run.mapping_degree);
+    const unsigned int n_q = run.polynomial_degree + run.mapping_degree + 1;
+
+    const dealii::IndexSet owned = dof_handler.locally_owned_dofs();
+    dealii::IndexSet       relevant;
+    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    LA::MPI::Vector u_owned(owned, comm);
+    LA::MPI::Vector u(owned, relevant, comm);
+
+    const Mechanics::CavityVolume cavity(names.id("endocardium"), lid);
+    const double volume0 = cavity.volume(mapping, dof_handler, u, n_q);
+
+    {
+      std::ostringstream o;
+      o << IO::code_version() << ": problem '" << run.problem << "', "
+        << tria.n_global_active_cells() << " cells, " << dof_handler.n_dofs()
+        << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
+        << " rank(s)";
+      logger.line(o.str());
+      o.str("");
+      o << "Undeformed cavity volume: " << std::setprecision(10) << volume0
+        << " mm^3 (" << Units::mm3_to_mL(volume0) << " mL)";
+      logger.line(o.str());
+    }
+
+    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    Progress        progress(logger,
+                      Progress::parse_mode(run.progress),
+                      run.start_time,
+                      run.end_time);
+
+    const unsigned int n_steps = static_cast<unsigned int>(
+      std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
+    unsigned int step = 0;
+    for (; step <= n_steps; ++step)
+      {
+        const double time =
+          std::min(run.start_time + step * run.time_step, run.end_time);
+        const double lambda = kinematics.stretch(time);
+        progress.update(step, time, "cavity volume");
+
+        dealii::VectorTools::interpolate(mapping,
+                                         dof_handler,
+                                         UniformStretch(lambda, lid.point),
+                                         u_owned);
+        u                   = u_owned;
+        const double volume = cavity.volume(mapping, dof_handler, u, n_q);
+
+        results.append_timeseries(
+          {{"time", "ms", time},
+           {"step", "-", static_cast<double>(step)},
+           {"stretch", "-", lambda},
+           {"volume", "mm^3", volume},
+           {"volume_mL", "mL", Units::mm3_to_mL(volume)}});
+
+        const bool field_step =
+          run.field_output_interval > 0 &&
+          (step % run.field_output_interval == 0 || step == n_steps);
+        if (field_step)
+          {
+            dealii::DataOut<3> data_out;
+            data_out.attach_dof_handler(dof_handler);
+            const std::vector<
+              dealii::DataComponentInterpretation::DataComponentInterpretation>
+              vector(3,
+                     dealii::DataComponentInterpretation::
+                       component_is_part_of_vector);
+            data_out.add_data_vector(u,
+                                     std::vector<std::string>(3,
+                                                              "displacement"),
+                                     dealii::DataOut<3>::type_dof_data,
+                                     vector);
+            data_out.build_patches(mapping, run.polynomial_degree);
+            results.write_fields(data_out, step, time);
+          }
+
+        if (interrupted(comm))
+          {
+            logger.line("Interrupted: " + results.path() + " holds steps 0.." +
+                        std::to_string(step) + ".");
+            break;
+          }
+      }
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole

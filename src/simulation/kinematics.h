@@ -1,0 +1,46 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole
+{
+  class Logger;
+  struct RunParameters;
+
+  /// Prescribed motion of the "cavity volume" problem: a uniform stretch about
+  /// the centre of the base, lambda(t) = 1 + A sin^2(pi t / T), so the exact
+  /// cavity volume is lambda^3 V_0.
+  struct KinematicsParameters
+  {
+    double amplitude = 0.1;   ///< A [-]
+    double period    = 100.0; ///< T [ms]
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    static KinematicsParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// lambda(t)
+    double
+    stretch(const double time) const;
+  };
+
+  /// Run the "cavity volume" problem: mesh, undeformed cavity volume, then the
+  /// prescribed motion step by step, writing the time series (time, step,
+  /// stretch, volume, volume_mL) and the displacement field to the results
+  /// file.
+  void
+  run_cavity_volume_problem(const dealii::ParameterHandler &prm,
+                            const RunParameters            &run,
+                            const std::string              &prm_file,
+                            const std::string              &parameter_text,
+                            Logger                         &logger,
+                            const MPI_Comm                  comm);
+} // namespace systole

@@ -1,0 +1,145 @@
+#include "simulation/parameters.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "geometry/mesh.h"
+#include "simulation/kinematics.h"
+
+#include <filesystem>
+
+namespace systole
+{
+  void
+  declare_all_parameters(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.declare_entry(
+      "Problem",
+      "cavity volume",
+      Selection("cavity volume"),
+      "What to simulate. 'cavity volume': build the mesh and follow the "
+      "cavity volume under a prescribed uniform stretch about the base centre "
+      "(subsection Kinematics), a check of geometry, volume and output.");
+
+    prm.enter_subsection("Time");
+    prm.declare_entry("Start time",
+                      "0",
+                      Double(),
+                      "Simulated time of the first step. Units: ms.");
+    prm.declare_entry("End time",
+                      "100",
+                      Double(),
+                      "Simulated time of the last step. Units: ms.");
+    prm.declare_entry(
+      "Time step",
+      "10",
+      Double(0.0),
+      "Step of the time loop (an upper bound once steps adapt). Units: ms.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    prm.declare_entry(
+      "Run name",
+      "",
+      Anything(),
+      "Name of the run; results go to <Directory>/<Run name>/results.h5. "
+      "Empty: the parameter file's name without extension.");
+    prm.declare_entry(
+      "Directory",
+      "results",
+      FileName(FileName::output),
+      "Folder that holds the run folders, relative to the working directory.");
+    prm.declare_entry(
+      "Field output interval",
+      "10",
+      Integer(0),
+      "Write the fields (displacement, ...) every this many steps, and at the "
+      "first and last step; 0 writes none. Units: steps.");
+    prm.declare_entry(
+      "Progress",
+      "auto",
+      Selection("auto|on|off"),
+      "Progress line on the console (step, time, activity, elapsed, ETA). "
+      "auto: on when the output is a terminal and the CI variable is unset.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Discretization");
+    prm.declare_entry(
+      "Polynomial degree",
+      "1",
+      Integer(1, 2),
+      "Degree of the Lagrange elements of the displacement (Q1 or Q2). Units: -.");
+    prm.declare_entry(
+      "Mapping degree",
+      "2",
+      Integer(1, 4),
+      "Degree of the polynomial geometry of curved cells (1: straight edges). "
+      "Units: -.");
+    prm.leave_subsection();
+
+    Geometry::Parameters::declare(prm);
+    KinematicsParameters::declare(prm);
+  }
+
+  void
+  read_parameter_file(dealii::ParameterHandler &prm, const std::string &file)
+  {
+    AssertThrow(std::filesystem::is_regular_file(file),
+                dealii::ExcMessage("Cannot open the parameter file '" + file +
+                                   "' (no such file)."));
+    declare_all_parameters(prm);
+    try
+      {
+        prm.parse_input(file,
+                        "",
+                        /*skip_undefined=*/false,
+                        /*assert_mandatory_entries_are_found=*/true);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        std::ostringstream info;
+        e.print_info(info);
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "In parameter file '" + file + "': " + info.str() +
+                      " Run 'systole --print-parameters' for the full list "
+                      "of entries."));
+      }
+  }
+
+  RunParameters
+  RunParameters::parse(const dealii::ParameterHandler &prm,
+                       const std::string              &prm_file)
+  {
+    RunParameters p;
+    p.problem    = prm.get("Problem");
+    p.start_time = prm.get_double({"Time"}, "Start time");
+    p.end_time   = prm.get_double({"Time"}, "End time");
+    p.time_step  = prm.get_double({"Time"}, "Time step");
+    AssertThrow(p.end_time >= p.start_time,
+                dealii::ExcMessage(
+                  "Time / End time (" + std::to_string(p.end_time) +
+                  " ms) must not be smaller than Time / Start time (" +
+                  std::to_string(p.start_time) + " ms)."));
+    AssertThrow(p.time_step > 0,
+                dealii::ExcMessage("Time / Time step must be positive."));
+
+    p.run_name = prm.get({"Output"}, "Run name");
+    if (p.run_name.empty())
+      p.run_name = std::filesystem::path(prm_file).stem().string();
+    AssertThrow(p.run_name.find('/') == std::string::npos,
+                dealii::ExcMessage("Output / Run name must not contain '/'."));
+    p.output_directory =
+      (std::filesystem::path(prm.get({"Output"}, "Directory")) / p.run_name)
+        .lexically_normal()
+        .string();
+    p.field_output_interval =
+      prm.get_integer({"Output"}, "Field output interval");
+    p.progress = prm.get({"Output"}, "Progress");
+
+    p.polynomial_degree =
+      prm.get_integer({"Discretization"}, "Polynomial degree");
+    p.mapping_degree = prm.get_integer({"Discretization"}, "Mapping degree");
+    return p;
+  }
+} // namespace systole

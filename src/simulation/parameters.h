@@ -1,0 +1,45 @@
+#pragma once
+
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole
+{
+  /// Settings every run shares (Problem, Time, Output, Discretization).
+  /// Components parse their own subsections.
+  struct RunParameters
+  {
+    std::string problem;
+
+    double start_time = 0.0; ///< [ms]
+    double end_time   = 0.0; ///< [ms]
+    double time_step  = 1.0; ///< [ms]
+
+    std::string  run_name;
+    std::string  output_directory; ///< results/<run name>
+    unsigned int field_output_interval = 1;
+    std::string  progress              = "auto";
+
+    unsigned int polynomial_degree = 1;
+    unsigned int mapping_degree    = 2;
+
+    /// @param[in] prm_file the parameter file (its stem is the default run
+    /// name)
+    static RunParameters
+    parse(const dealii::ParameterHandler &prm, const std::string &prm_file);
+  };
+
+  /// Declare every entry of every component: a misspelt or unknown entry in a
+  /// file is then an error naming the line.
+  void
+  declare_all_parameters(dealii::ParameterHandler &prm);
+
+  /// Declare everything and read @p file. Throws one clear message on a bad
+  /// file.
+  void
+  read_parameter_file(dealii::ParameterHandler &prm, const std::string &file);
+} // namespace systole

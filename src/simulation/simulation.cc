@@ -1,0 +1,84 @@
+#include "simulation/simulation.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "base/interrupt.h"
+#include "base/logger.h"
+#include "io/results_file.h"
+#include "simulation/kinematics.h"
+#include "simulation/parameters.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace systole
+{
+  struct Simulation::Impl
+  {
+    Impl(const MPI_Comm comm, std::ostream &out)
+      : comm(comm)
+      , logger(comm, out)
+    {}
+
+    MPI_Comm                 comm;
+    Logger                   logger;
+    dealii::ParameterHandler prm;
+    std::string              file;
+    std::string              text;
+    RunParameters            run;
+  };
+
+  Simulation::Simulation(const std::string &parameter_file,
+                         const MPI_Comm     comm,
+                         std::ostream      &out)
+    : impl(std::make_unique<Impl>(comm, out))
+  {
+    impl->file = parameter_file;
+    read_parameter_file(impl->prm, parameter_file);
+    impl->run = RunParameters::parse(impl->prm, parameter_file);
+
+    // What ran: the file as given, then every entry with the value used.
+    std::ifstream      in(parameter_file);
+    std::ostringstream text;
+    text << "# Parameter file '" << parameter_file << "' as given:\n"
+         << in.rdbuf() << "\n# All entries with the values used:\n";
+    impl->prm.print_parameters(text, dealii::ParameterHandler::ShortPRM);
+    impl->text = text.str();
+  }
+
+  Simulation::~Simulation() = default;
+
+  void
+  Simulation::run()
+  {
+    install_interrupt_handlers();
+    if (impl->run.problem == "cavity volume")
+      run_cavity_volume_problem(impl->prm,
+                                impl->run,
+                                impl->file,
+                                impl->text,
+                                impl->logger,
+                                impl->comm);
+    else
+      AssertThrow(false,
+                  dealii::ExcMessage("Problem '" + impl->run.problem +
+                                     "' is not implemented."));
+  }
+
+  std::string
+  version()
+  {
+    return IO::code_version();
+  }
+
+  void
+  print_parameters(std::ostream &out, const std::string &file)
+  {
+    dealii::ParameterHandler prm;
+    if (file.empty())
+      declare_all_parameters(prm);
+    else
+      read_parameter_file(prm, file);
+    prm.print_parameters(out, dealii::ParameterHandler::PRM);
+  }
+} // namespace systole

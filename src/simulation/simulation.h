@@ -1,0 +1,41 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+namespace systole
+{
+  /// One run of Systole, configured by a parameter file. Cheap to include
+  /// (pimpl).
+  class Simulation
+  {
+  public:
+    /// Read and validate @p parameter_file (collective; throws one clear
+    /// message on error).
+    Simulation(const std::string &parameter_file,
+               const MPI_Comm     comm,
+               std::ostream      &out);
+    ~Simulation();
+
+    /// Run the problem the file asks for, writing results/<run
+    /// name>/results.h5.
+    void
+    run();
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+
+  /// "systole <version> (<git describe>)", as recorded in results files.
+  std::string
+  version();
+
+  /// Write the full documented parameter set (defaults, or the values of @p
+  /// file if not empty).
+  void
+  print_parameters(std::ostream &out, const std::string &file = "");
+} // namespace systole
