@@ -13,6 +13,7 @@ namespace
     "Usage: systole PARAMETER_FILE.prm       run the simulation the file describes\n"
     "       systole --print-parameters [FILE] print every parameter with its documentation\n"
     "                                         (defaults, or the values FILE sets)\n"
+    "       systole --check FILE             read and validate FILE, run nothing\n"
     "       systole --help | --version\n"
     "Run in parallel with: mpirun -np N systole FILE.prm\n"
     "Results: <Output/Directory>/<run name>/results.h5 (+ fields.xdmf for ParaView).\n"
@@ -45,6 +46,13 @@ main(int argc, char *argv[])
         {
           if (root)
             systole::print_parameters(std::cout, argc > 2 ? argv[2] : "");
+          return 0;
+        }
+      if (first == "--check" && argc == 3)
+        {
+          systole::Simulation simulation(argv[2], comm, std::cout);
+          if (root)
+            std::cout << argv[2] << ": ok" << std::endl;
           return 0;
         }
       if (first.rfind("-", 0) == 0 || argc > 2)

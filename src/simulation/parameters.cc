@@ -6,9 +6,68 @@
 #include "simulation/kinematics.h"
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
 
 namespace systole
 {
+  namespace
+  {
+    /// The subsection path ("Geometry / Ellipsoid") in force at line @p line of
+    /// a .prm file.
+    std::string
+    subsection_at_line(const std::string &file, const unsigned int line)
+    {
+      std::ifstream            in(file);
+      std::vector<std::string> path;
+      std::string              text;
+      for (unsigned int n = 1; n < line && std::getline(in, text); ++n)
+        {
+          const auto words = dealii::Utilities::split_string_list(
+            dealii::Utilities::trim(text.substr(0, text.find('#'))),
+            ' ');
+          if (words.empty())
+            continue;
+          if (words[0] == "subsection")
+            path.push_back(dealii::Utilities::trim(
+              text.substr(text.find("subsection") + 10,
+                          text.find('#') == std::string::npos
+                            ? std::string::npos
+                            : text.find('#') - text.find("subsection") - 10)));
+          else if (words[0] == "end" && !path.empty())
+            path.pop_back();
+        }
+      std::string joined;
+      for (const auto &p : path)
+        joined += (joined.empty() ? "" : " / ") + p;
+      return joined.empty() ? "the top level" : "subsection '" + joined + "'";
+    }
+
+    /// One clear sentence from deal.II's parse error: file, line, entry,
+    /// subsection.
+    std::string
+    describe_parse_error(const std::string &file, const std::string &info)
+    {
+      const std::regex line_re("Line <([0-9]+)> of file <[^>]*>:");
+      const std::regex entry_re(
+        "No entry with name <([^>]*)> was declared in the current subsection");
+      std::smatch       line_match, entry_match;
+      const std::string hint =
+        " Run 'systole --print-parameters' for every entry with its documentation.";
+      if (std::regex_search(info, line_match, line_re))
+        {
+          const unsigned int line  = std::stoul(line_match[1]);
+          const std::string  where = "parameter file '" + file + "', line " +
+                                    std::to_string(line) + ": ";
+          if (std::regex_search(info, entry_match, entry_re))
+            return where + "unknown entry '" + entry_match[1].str() + "' in " +
+                   subsection_at_line(file, line) + " (misspelt?)." + hint;
+          return where + std::string(line_match.suffix()) + hint;
+        }
+      return "parameter file '" + file + "': " + info + hint;
+    }
+  } // namespace
+
   void
   declare_all_parameters(dealii::ParameterHandler &prm)
   {
@@ -100,11 +159,18 @@ namespace systole
         std::ostringstream info;
         e.print_info(info);
         AssertThrow(false,
-                    dealii::ExcMessage(
-                      "In parameter file '" + file + "': " + info.str() +
-                      " Run 'systole --print-parameters' for the full list "
-                      "of entries."));
+                    dealii::ExcMessage(describe_parse_error(file, info.str())));
       }
+  }
+
+  void
+  validate_component_parameters(const dealii::ParameterHandler &prm,
+                                const std::string              &file)
+  {
+    const std::string directory =
+      std::filesystem::absolute(file).parent_path().string();
+    Geometry::Parameters::parse(prm, directory);
+    KinematicsParameters::parse(prm);
   }
 
   RunParameters

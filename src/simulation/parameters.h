@@ -38,6 +38,13 @@ namespace systole
   void
   declare_all_parameters(dealii::ParameterHandler &prm);
 
+  /// Parse every component's subsection of @p prm (read from @p file) once, so
+  /// that an invalid value or a missing input file is reported before anything
+  /// runs. Throws one clear message.
+  void
+  validate_component_parameters(const dealii::ParameterHandler &prm,
+                                const std::string              &file);
+
   /// Declare everything and read @p file. Throws one clear message on a bad
   /// file.
   void

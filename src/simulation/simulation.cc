@@ -36,6 +36,7 @@ namespace systole
     impl->file = parameter_file;
     read_parameter_file(impl->prm, parameter_file);
     impl->run = RunParameters::parse(impl->prm, parameter_file);
+    validate_component_parameters(impl->prm, parameter_file);
 
     // What ran: the file as given, then every entry with the value used.
     std::ifstream      in(parameter_file);
