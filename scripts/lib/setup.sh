@@ -5,6 +5,8 @@
 SYSTOLE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 SYSTOLE_BUILD=${SYSTOLE_BUILD:-$SYSTOLE_ROOT/build}
 SYSTOLE_VENV=${SYSTOLE_VENV:-$SYSTOLE_ROOT/.venv}
+# ccache hits across clones (CI builds a fresh clone): hash paths relative to the source.
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SYSTOLE_ROOT}
 
 # Debian 12 packages Systole needs (deal.II 9.4 brings PETSc, p4est, Trilinos and MPI).
 SYSTOLE_PACKAGES=(

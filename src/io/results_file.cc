@@ -12,21 +12,8 @@
 #include <iomanip>
 #include <sstream>
 
-#ifndef SYSTOLE_VERSION
-#  define SYSTOLE_VERSION "unknown"
-#endif
-#ifndef SYSTOLE_GIT_VERSION
-#  define SYSTOLE_GIT_VERSION "unknown"
-#endif
-
 namespace systole::IO
 {
-  std::string
-  code_version()
-  {
-    return std::string("systole ") + SYSTOLE_VERSION + " (" +
-           SYSTOLE_GIT_VERSION + ")";
-  }
 
   namespace
   {
