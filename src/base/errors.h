@@ -16,18 +16,16 @@ namespace systole
   /// Newton's method did not converge; the caller may cut the load or time
   /// step.
   DeclException3(ExcNewtonDidNotConverge,
-                 double,
+                 std::string,
                  unsigned int,
                  double,
-                 << "Newton's method did not converge at time " << arg1
-                 << " ms after " << arg2 << " iterations (relative residual "
-                 << arg3 << ").");
+                 << "Newton's method did not converge (" << arg1 << ") after "
+                 << arg2 << " iterations (relative residual " << arg3 << ").");
 
   /// An element was inverted (det F <= 0) at some quadrature point.
-  DeclException1(ExcInvertedElement,
-                 double,
-                 << "An element was inverted (det F <= 0) at time " << arg1
-                 << " ms.");
+  DeclExceptionMsg(ExcInvertedElement,
+                   "An element was inverted (det F <= 0): the load step was "
+                   "too large or the mesh too coarse.");
 
   /// Text of an exception without deal.II's file/line banner, folded onto one
   /// line.

@@ -3,6 +3,8 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "geometry/mesh.h"
+#include "materials/factory.h"
+#include "mechanics/parameters.h"
 #include "simulation/kinematics.h"
 
 #include <filesystem>
@@ -75,10 +77,13 @@ namespace systole
     prm.declare_entry(
       "Problem",
       "cavity volume",
-      Selection("cavity volume"),
+      Selection("cavity volume|mechanics"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
-      "(subsection Kinematics), a check of geometry, volume and output.");
+      "(subsection Kinematics), a check of geometry, volume and output. "
+      "'mechanics': quasi-static finite-strain mechanics, the "
+      "pressure and active tension ramped in load steps "
+      "(subsections Material, Mechanics).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -138,6 +143,8 @@ namespace systole
 
     Geometry::Parameters::declare(prm);
     KinematicsParameters::declare(prm);
+    Materials::declare_parameters(prm);
+    Mechanics::Parameters::declare(prm);
   }
 
   void
@@ -171,6 +178,9 @@ namespace systole
       std::filesystem::absolute(file).parent_path().string();
     Geometry::Parameters::parse(prm, directory);
     KinematicsParameters::parse(prm);
+    Materials::create_passive_law(prm);
+    Materials::create_volumetric_law(prm);
+    Mechanics::Parameters::parse(prm);
   }
 
   RunParameters

@@ -7,6 +7,7 @@
 #include "io/results_file.h"
 #include "simulation/kinematics.h"
 #include "simulation/parameters.h"
+#include "simulation/quasi_static.h"
 
 #include <fstream>
 #include <sstream>
@@ -60,6 +61,13 @@ namespace systole
                                 impl->text,
                                 impl->logger,
                                 impl->comm);
+    else if (impl->run.problem == "mechanics")
+      run_quasi_static_problem(impl->prm,
+                               impl->run,
+                               impl->file,
+                               impl->text,
+                               impl->logger,
+                               impl->comm);
     else
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +

@@ -1,0 +1,196 @@
+#include "mechanics/parameters.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
+
+namespace systole::Mechanics
+{
+  namespace
+  {
+    std::vector<std::string>
+    names(const std::string &text)
+    {
+      return dealii::Utilities::split_string_list(text, ',');
+    }
+
+    std::vector<TrackedPoint>
+    parse_points(const std::string &text)
+    {
+      std::vector<TrackedPoint> points;
+      for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
+        {
+          const auto colon = item.find(':');
+          AssertThrow(colon != std::string::npos,
+                      dealii::ExcMessage(
+                        "Mechanics / Tracked points: '" + item +
+                        "' is not of the form 'name: x, y, z'."));
+          TrackedPoint p;
+          p.name = dealii::Utilities::trim(item.substr(0, colon));
+          const auto xyz =
+            dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
+          AssertThrow(!p.name.empty() && xyz.size() == 3,
+                      dealii::ExcMessage(
+                        "Mechanics / Tracked points: '" + item +
+                        "' is not of the form 'name: x, y, z'."));
+          for (unsigned int d = 0; d < 3; ++d)
+            p.position[d] = dealii::Utilities::string_to_double(xyz[d]);
+          points.push_back(p);
+        }
+      return points;
+    }
+  } // namespace
+
+  void
+  Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Mechanics");
+    prm.declare_entry(
+      "Fixed boundaries",
+      "base",
+      Anything(),
+      "Comma-separated boundary parts on which the displacement "
+      "is zero in all directions (e.g. base, x_min). Units: -.");
+    prm.declare_entry("Sliding boundaries",
+                      "",
+                      Anything(),
+                      "Comma-separated flat boundary parts on which only the "
+                      "normal displacement is zero (a base free to slide in "
+                      "its plane). Units: -.");
+    prm.declare_entry("Pressure boundary",
+                      "endocardium",
+                      Anything(),
+                      "Boundary part that carries the follower pressure (it "
+                      "acts along the deformed normal on the deformed area); "
+                      "empty for none. Units: -.");
+    prm.declare_entry("Pressure",
+                      "0",
+                      Double(),
+                      "Pressure at the end of the load ramp, pushing into the "
+                      "body (cavity pressure on the endocardium). Units: kPa "
+                      "(1 mmHg = 0.133322 kPa).");
+    prm.declare_entry("Robin boundaries",
+                      "",
+                      Anything(),
+                      "Comma-separated boundary parts held by linear springs "
+                      "(e.g. epicardium). Units: -.");
+    prm.declare_entry("Robin stiffness",
+                      "0",
+                      Double(0.0),
+                      "Spring stiffness per reference area of the Robin "
+                      "boundaries. Units: kPa/mm.");
+    prm.declare_entry("Robin type",
+                      "normal",
+                      Selection("normal|full"),
+                      "normal: springs resist the normal displacement only; "
+                      "full: all components. Units: -.");
+    prm.declare_entry(
+      "Active tension",
+      "0",
+      Double(),
+      "Prescribed active tension T_a at the end of the load "
+      "ramp: S_a = T_a f0 x f0 (2nd Piola-Kirchhoff, per "
+      "reference area, along the reference fibre). Units: kPa.");
+    prm.declare_entry("Active transverse fraction",
+                      "0",
+                      Double(0.0, 1.0),
+                      "Fraction eta of T_a acting across the fibres: "
+                      "S_a += eta T_a (I - f0 x f0). Units: -.");
+    prm.declare_entry("Volumetric integration",
+                      "reduced",
+                      Selection("full|reduced"),
+                      "reduced: the volumetric penalty of Q2 elements is "
+                      "integrated with 2 x 2 x 2 Gauss points (selective "
+                      "reduced integration), which avoids the volumetric "
+                      "locking of the displacement formulation; full: with "
+                      "the same 3 x 3 x 3 rule as the rest. Q1 elements always "
+                      "use the full rule. Units: -.");
+    prm.declare_entry("Load steps",
+                      "5",
+                      Integer(1),
+                      "Equal steps of the load ramp from zero to the full "
+                      "pressure and active tension. Units: -.");
+    prm.declare_entry("Maximum step cuts",
+                      "8",
+                      Integer(0, 30),
+                      "How many times a load step may be halved when Newton "
+                      "fails before the run stops with an error. Units: -.");
+    prm.declare_entry("Newton relative tolerance",
+                      "1e-9",
+                      Double(0.0),
+                      "Newton converges when the residual norm falls below "
+                      "this fraction of the largest residual norm of the "
+                      "load step (or when an update is at round-off level, "
+                      "|du| <= 1e-12 |u|). Units: -.");
+    prm.declare_entry("Newton absolute tolerance",
+                      "1e-12",
+                      Double(0.0),
+                      "... or below this absolute value. Units: kPa mm^2 "
+                      "(force, mN).");
+    prm.declare_entry("Maximum Newton iterations",
+                      "12",
+                      Integer(1),
+                      "Iterations before a load step counts as failed and is "
+                      "cut. A converging Newton needs 3 to 6. Units: -.");
+    prm.declare_entry("Linear solver",
+                      "auto",
+                      Selection("auto|direct|iterative"),
+                      "direct: MUMPS LU; iterative: GMRES with PETSc GAMG "
+                      "(algebraic multigrid given the rigid-body modes); auto: "
+                      "direct up to 'Direct solver limit' DOFs. Units: -.");
+    prm.declare_entry("Direct solver limit",
+                      "200000",
+                      Integer(0),
+                      "Largest number of DOFs for which 'auto' uses the direct "
+                      "solver. Units: DOFs.");
+    prm.declare_entry("Linear solver tolerance",
+                      "1e-8",
+                      Double(0.0, 1.0),
+                      "Relative residual reduction of the iterative solver. "
+                      "Units: -.");
+    prm.declare_entry("Tracked points",
+                      "",
+                      Anything(),
+                      "Reference points whose deformed position is written to "
+                      "the time series: 'name: x, y, z; name: x, y, z' gives "
+                      "columns name_x, name_y, name_z. Units: mm.");
+    prm.leave_subsection();
+  }
+
+  Parameters
+  Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> m = {"Mechanics"};
+    Parameters                     p;
+    p.fixed_boundaries   = names(prm.get(m, "Fixed boundaries"));
+    p.sliding_boundaries = names(prm.get(m, "Sliding boundaries"));
+    p.pressure_boundary  = prm.get(m, "Pressure boundary");
+    p.pressure           = prm.get_double(m, "Pressure");
+    p.robin_boundaries   = names(prm.get(m, "Robin boundaries"));
+    p.robin_stiffness    = prm.get_double(m, "Robin stiffness");
+    p.robin_normal_only  = prm.get(m, "Robin type") == "normal";
+    p.active_tension     = prm.get_double(m, "Active tension");
+    p.active_transverse_fraction =
+      prm.get_double(m, "Active transverse fraction");
+    p.load_steps    = prm.get_integer(m, "Load steps");
+    p.max_step_cuts = prm.get_integer(m, "Maximum step cuts");
+    p.newton_relative_tolerance =
+      prm.get_double(m, "Newton relative tolerance");
+    p.newton_absolute_tolerance =
+      prm.get_double(m, "Newton absolute tolerance");
+    p.max_newton_iterations = prm.get_integer(m, "Maximum Newton iterations");
+    p.linear_solver         = prm.get(m, "Linear solver");
+    p.direct_solver_limit   = prm.get_integer(m, "Direct solver limit");
+    p.linear_tolerance      = prm.get_double(m, "Linear solver tolerance");
+    p.tracked_points        = parse_points(prm.get(m, "Tracked points"));
+    AssertThrow(p.robin_boundaries.empty() || p.robin_stiffness > 0,
+                dealii::ExcMessage(
+                  "Mechanics / Robin boundaries are set but Robin stiffness "
+                  "is 0: give the spring stiffness in kPa/mm."));
+    AssertThrow(p.pressure == 0.0 || !p.pressure_boundary.empty(),
+                dealii::ExcMessage("Mechanics / Pressure is not zero but "
+                                   "Pressure boundary is empty: name the "
+                                   "boundary part that carries it."));
+    return p;
+  }
+} // namespace systole::Mechanics

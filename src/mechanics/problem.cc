@@ -1,0 +1,465 @@
+#include "mechanics/problem.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include "base/errors.h"
+#include "geometry/mesh.h"
+#include "mechanics/problem_impl.h"
+
+#include <chrono>
+#include <iomanip>
+#include <sstream>
+
+namespace systole::Mechanics
+{
+
+  Problem::Impl::Impl(const Parameters &params,
+                      dealii::parallel::distributed::Triangulation<3, 3> &tria,
+                      const Geometry::BoundaryNames                      &names,
+                      const unsigned int              degree,
+                      const unsigned int              mapping_degree,
+                      const Materials::PassiveLaw    &passive_law,
+                      const Materials::VolumetricLaw &volumetric_law,
+                      Logger                         &logger)
+    : params(params)
+    , tria(tria)
+    , comm(tria.get_communicator())
+    , logger(logger)
+    , passive_law(passive_law)
+    , volumetric_law(volumetric_law)
+    , fe(dealii::FE_Q<3>(degree), 3)
+    , mapping(mapping_degree)
+    , dof_handler(tria)
+    , n_q_1d(degree + 1)
+    , n_q_face_1d(degree + mapping_degree + 1)
+    , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
+  {}
+
+  Problem::Problem(const Parameters                                   &params,
+                   dealii::parallel::distributed::Triangulation<3, 3> &tria,
+                   const Geometry::BoundaryNames                      &names,
+                   const unsigned int                                  degree,
+                   const unsigned int              mapping_degree,
+                   const Materials::PassiveLaw    &passive_law,
+                   const Materials::VolumetricLaw &volumetric_law,
+                   const FibreFunction            &fibres,
+                   Logger                         &logger)
+    : impl(std::make_unique<Impl>(params,
+                                  tria,
+                                  names,
+                                  degree,
+                                  mapping_degree,
+                                  passive_law,
+                                  volumetric_law,
+                                  logger))
+  {
+    Impl &m = *impl;
+
+    // Boundary parts: each named part must exist and carry faces.
+    const auto ids = [&](const std::vector<std::string> &parts,
+                         const std::string              &entry) {
+      std::set<dealii::types::boundary_id> result;
+      for (const auto &part : parts)
+        {
+          std::string known;
+          for (const auto &name : names.names())
+            known += (known.empty() ? "" : ", ") + name;
+          if (!names.has(part))
+            AssertThrow(false,
+                        dealii::ExcMessage(
+                          "Mechanics / " + entry + " names boundary part '" +
+                          part + "': " + names.source() +
+                          " has no such part (it has: " + known + ")."));
+          Geometry::require_boundary(tria, names, part);
+          result.insert(names.id(part));
+        }
+      return result;
+    };
+    m.fixed_ids   = ids(params.fixed_boundaries, "Fixed boundaries");
+    m.sliding_ids = ids(params.sliding_boundaries, "Sliding boundaries");
+    m.robin_ids   = ids(params.robin_boundaries, "Robin boundaries");
+    if (!params.pressure_boundary.empty())
+      m.pressure_id =
+        *ids({params.pressure_boundary}, "Pressure boundary").begin();
+    if (params.pressure_boundary == "endocardium" && names.has("base"))
+      {
+        Geometry::require_boundary(tria, names, "base");
+        m.cavity.emplace(*m.pressure_id,
+                         Geometry::boundary_plane(tria,
+                                                  names.id("base"),
+                                                  "base"));
+      }
+
+    // DoFs and constraints (zero displacement on fixed parts, zero normal
+    // displacement on sliding ones: the Newton updates are homogeneous too).
+    m.dof_handler.distribute_dofs(m.fe);
+    m.owned = m.dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
+    m.constraints.reinit(m.relevant);
+    dealii::DoFTools::make_hanging_node_constraints(m.dof_handler,
+                                                    m.constraints);
+    for (const auto id : m.fixed_ids)
+      dealii::VectorTools::interpolate_boundary_values(
+        m.mapping,
+        m.dof_handler,
+        id,
+        dealii::Functions::ZeroFunction<3>(3),
+        m.constraints);
+    if (!m.sliding_ids.empty())
+      dealii::VectorTools::compute_no_normal_flux_constraints(m.dof_handler,
+                                                              0,
+                                                              m.sliding_ids,
+                                                              m.constraints,
+                                                              m.mapping);
+    m.constraints.close();
+
+    dealii::DynamicSparsityPattern dsp(m.relevant);
+    dealii::DoFTools::make_sparsity_pattern(m.dof_handler,
+                                            dsp,
+                                            m.constraints,
+                                            false);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       m.owned,
+                                                       m.comm,
+                                                       m.relevant);
+    m.tangent.reinit(m.owned, m.owned, dsp, m.comm);
+    m.residual.reinit(m.owned, m.comm);
+    m.u_owned.reinit(m.owned, m.comm);
+    m.u_saved.reinit(m.owned, m.comm);
+    m.u_previous.reinit(m.owned, m.comm);
+    m.u.reinit(m.owned, m.relevant, m.comm);
+
+    // Fibre frames at the quadrature points of the locally owned cells.
+    const dealii::QGauss<3> quadrature(m.n_q_1d);
+    dealii::FEValues<3>     fe_values(m.mapping,
+                                  m.fe,
+                                  quadrature,
+                                  dealii::update_quadrature_points);
+    m.fibre_bases.resize(tria.n_active_cells());
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          auto &bases = m.fibre_bases[cell->active_cell_index()];
+          bases.resize(quadrature.size());
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            bases[q] = fibres(fe_values.quadrature_point(q));
+        }
+
+    std::string solver = params.linear_solver;
+    if (solver == "auto")
+      solver = m.dof_handler.n_dofs() <= params.direct_solver_limit
+                 ? "direct"
+                 : "iterative";
+    m.linear_solver = create_linear_solver(solver,
+                                           m.mapping,
+                                           m.dof_handler,
+                                           params.linear_tolerance);
+  }
+
+  Problem::~Problem() = default;
+
+  NewtonReport
+  Problem::solve(const double pressure, const double active_tension)
+  {
+    Impl           &m = *impl;
+    NewtonReport    report;
+    LA::MPI::Vector du(m.owned, m.comm);
+    double          residual = 0;
+
+    auto  &out       = m.logger.stream();
+    double reference = 0; // largest residual seen in this solve
+    double du_norm   = 0;
+
+    // Residual and tangent at the current u; false if an element inverted or
+    // the residual is not finite (decided on all ranks alike).
+    double     assembly_seconds = 0, solver_seconds = 0;
+    const auto seconds_since = [](const auto start) {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                           start)
+        .count();
+    };
+    const auto try_assemble = [&](double &norm) {
+      const auto start = std::chrono::steady_clock::now();
+      try
+        {
+          norm = m.assemble(pressure, active_tension, true);
+          assembly_seconds += seconds_since(start);
+        }
+      catch (const ExcInvertedElement &)
+        {
+          return false;
+        }
+      return std::isfinite(norm);
+    };
+
+    AssertThrow(try_assemble(residual),
+                ExcNewtonDidNotConverge("an element is inverted at the start "
+                                        "of the load step",
+                                        0,
+                                        1.0));
+    report.initial_residual = residual;
+    for (unsigned int it = 0;; ++it)
+      {
+        reference             = std::max(reference, residual);
+        const double relative = residual / std::max(reference, 1e-300);
+        const double u_norm   = m.u_owned.l2_norm();
+        if (it > 0)
+          out << "      Newton " << std::setw(2) << it
+              << ": |R| = " << std::scientific << std::setprecision(3)
+              << residual << "  |R|/|R|max = " << relative
+              << "  |du|/|u| = " << du_norm / std::max(u_norm, 1e-300)
+              << std::defaultfloat << std::setprecision(2) << "  (assembly "
+              << assembly_seconds << " s, solver " << solver_seconds << " s)"
+              << std::endl;
+        // Converged: the residual fell by the relative tolerance, or is at
+        // the absolute floor, or the last update was at round-off level.
+        if (residual <= m.params.newton_absolute_tolerance ||
+            (it > 0 && (relative <= m.params.newton_relative_tolerance ||
+                        du_norm <= 1e-12 * u_norm)))
+          {
+            report.iterations     = it;
+            report.final_residual = residual;
+            return report;
+          }
+        AssertThrow(it < m.params.max_newton_iterations,
+                    ExcNewtonDidNotConverge("load step", it, relative));
+
+        // K du = -R
+        du = 0;
+        m.residual *= -1.0;
+        const auto solver_start = std::chrono::steady_clock::now();
+        try
+          {
+            report.linear_iterations +=
+              m.linear_solver->solve(m.tangent, du, m.residual);
+            solver_seconds += seconds_since(solver_start);
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            AssertThrow(false,
+                        ExcNewtonDidNotConverge(std::string("linear solver: ") +
+                                                  e.what(),
+                                                it,
+                                                relative));
+          }
+        m.constraints.distribute(du);
+
+        // Safeguarded update: halve the step while it inverts an element. (A
+        // residual-norm merit test is no use here: the first iterations of a
+        // load step that rotates the body raise |R| by orders of magnitude
+        // on their way to the solution.)
+        const LA::MPI::Vector u_start = m.u_owned;
+        double                alpha   = 1.0;
+        for (unsigned int cut = 0;; ++cut)
+          {
+            m.u_owned = u_start;
+            m.u_owned.add(alpha, du);
+            m.u          = m.u_owned;
+            double trial = 0;
+            if (try_assemble(trial))
+              {
+                residual = trial;
+                break;
+              }
+            AssertThrow(cut < 6,
+                        ExcNewtonDidNotConverge("no acceptable step length",
+                                                it,
+                                                relative));
+            alpha *= 0.5;
+          }
+        if (alpha < 1.0)
+          out << "      (step length " << alpha << ")" << std::endl;
+        du_norm = alpha * du.l2_norm();
+      }
+  }
+
+  double
+  Problem::tangent_error(const double pressure,
+                         const double active_tension,
+                         const double h)
+  {
+    Impl &m = *impl;
+    m.assemble(pressure, active_tension, true);
+    LA::MPI::Vector d(m.owned, m.comm), Kd(m.owned, m.comm);
+    for (const auto i : m.owned)
+      d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
+    d.compress(dealii::VectorOperation::insert);
+    m.constraints.set_zero(d);
+    m.tangent.vmult(Kd, d);
+
+    const LA::MPI::Vector u0          = m.u_owned;
+    const auto            residual_at = [&](const double step) {
+      m.u_owned = u0;
+      m.u_owned.add(step, d);
+      m.u = m.u_owned;
+      m.assemble(pressure, active_tension, false);
+      return LA::MPI::Vector(m.residual);
+    };
+    LA::MPI::Vector difference = residual_at(h);
+    difference -= residual_at(-h);
+    difference /= 2.0 * h;
+    m.u_owned = u0;
+    m.u       = m.u_owned;
+
+    difference -= Kd;
+    return difference.l2_norm() / Kd.l2_norm();
+  }
+
+  void
+  Problem::set_displacement(const dealii::Function<3> &displacement)
+  {
+    dealii::VectorTools::interpolate(impl->mapping,
+                                     impl->dof_handler,
+                                     displacement,
+                                     impl->u_owned);
+    impl->constraints.distribute(impl->u_owned);
+    impl->u = impl->u_owned;
+  }
+
+  void
+  Problem::save()
+  {
+    impl->u_previous = impl->u_saved;
+    impl->u_saved    = impl->u_owned;
+    ++impl->n_saves;
+  }
+
+  void
+  Problem::predict(const double ratio)
+  {
+    Impl &m   = *impl;
+    m.u_owned = m.u_saved;
+    if (m.n_saves >= 2)
+      {
+        m.u_owned.add(ratio, m.u_saved);
+        m.u_owned.add(-ratio, m.u_previous);
+      }
+    m.u = m.u_owned;
+  }
+
+  void
+  Problem::restore()
+  {
+    impl->u_owned = impl->u_saved;
+    impl->u       = impl->u_owned;
+  }
+
+  bool
+  Problem::has_cavity() const
+  {
+    return impl->cavity.has_value();
+  }
+
+  double
+  Problem::cavity_volume() const
+  {
+    AssertThrow(impl->cavity.has_value(),
+                dealii::ExcMessage("This problem has no cavity (the pressure "
+                                   "boundary is not the endocardium or the "
+                                   "mesh has no base)."));
+    return impl->cavity->volume(impl->mapping,
+                                impl->dof_handler,
+                                impl->u,
+                                impl->n_q_face_1d);
+  }
+
+  std::vector<dealii::Point<3>>
+  Problem::deformed_positions(const std::vector<dealii::Point<3>> &points) const
+  {
+    const Impl        &m    = *impl;
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(m.comm);
+    std::vector<dealii::Point<3>> result(points.size());
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        // Every rank looks for a locally owned cell that holds the point; the
+        // lowest such rank reports its value.
+        std::pair<dealii::DoFHandler<3>::active_cell_iterator, dealii::Point<3>>
+                     found;
+        unsigned int holder = dealii::numbers::invalid_unsigned_int;
+        try
+          {
+            const auto cells =
+              dealii::GridTools::find_all_active_cells_around_point(
+                m.mapping,
+                m.dof_handler,
+                points[i],
+                1e-10);
+            for (const auto &c : cells)
+              if (c.first->is_locally_owned())
+                {
+                  found  = c;
+                  holder = rank;
+                  break;
+                }
+          }
+        catch (...)
+          {}
+        holder = dealii::Utilities::MPI::min(holder, m.comm);
+        AssertThrow(holder != dealii::numbers::invalid_unsigned_int,
+                    dealii::ExcMessage(
+                      "Mechanics / Tracked points: the point (" +
+                      dealii::Utilities::to_string(points[i][0]) + ", " +
+                      dealii::Utilities::to_string(points[i][1]) + ", " +
+                      dealii::Utilities::to_string(points[i][2]) +
+                      ") lies outside the mesh."));
+        dealii::Tensor<1, 3> value;
+        if (holder == rank)
+          {
+            const dealii::Quadrature<3> at(
+              dealii::GeometryInfo<3>::project_to_unit_cell(found.second));
+            dealii::FEValues<3> fe_values(m.mapping,
+                                          m.fe,
+                                          at,
+                                          dealii::update_values);
+            fe_values.reinit(found.first);
+            std::vector<dealii::Tensor<1, 3>> u_at(1);
+            fe_values[dealii::FEValuesExtractors::Vector(0)]
+              .get_function_values(m.u, u_at);
+            value = u_at[0];
+          }
+        value     = dealii::Utilities::MPI::sum(value, m.comm);
+        result[i] = points[i] + value;
+      }
+    return result;
+  }
+
+  void
+  Problem::attach_output(dealii::DataOut<3, 3> &data_out) const
+  {
+    data_out.attach_dof_handler(impl->dof_handler);
+    const std::vector<
+      dealii::DataComponentInterpretation::DataComponentInterpretation>
+      vector(3,
+             dealii::DataComponentInterpretation::component_is_part_of_vector);
+    data_out.add_data_vector(impl->u,
+                             std::vector<std::string>(3, "displacement"),
+                             dealii::DataOut<3>::type_dof_data,
+                             vector);
+  }
+
+  const dealii::Mapping<3, 3> &
+  Problem::mapping() const
+  {
+    return impl->mapping;
+  }
+
+  dealii::types::global_dof_index
+  Problem::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
+
+  std::string
+  Problem::linear_solver_name() const
+  {
+    return impl->linear_solver->name();
+  }
+} // namespace systole::Mechanics

@@ -1,0 +1,156 @@
+#pragma once
+
+#include <deal.II/base/function.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/point.h>
+
+#include "fibres/fibre_basis.h"
+#include "geometry/boundary_names.h"
+#include "mechanics/parameters.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class DataOut;
+  template <int dim, int spacedim>
+  class Mapping;
+
+  namespace parallel::distributed
+  {
+    template <int dim, int spacedim>
+    class Triangulation;
+  }
+} // namespace dealii
+
+namespace systole
+{
+  class Logger;
+}
+
+namespace systole::Materials
+{
+  class PassiveLaw;
+  class VolumetricLaw;
+} // namespace systole::Materials
+
+namespace systole::Mechanics
+{
+  /// What one Newton solve did.
+  struct NewtonReport
+  {
+    unsigned int iterations        = 0;
+    double       initial_residual  = 0; ///< |R| before the first update
+    double       final_residual    = 0; ///< |R| at convergence
+    unsigned int linear_iterations = 0; ///< summed over the Newton iterations
+  };
+
+  /// Fibre frame as a function of the reference position.
+  using FibreFunction =
+    std::function<Fibres::FibreBasis(const dealii::Point<3> &)>;
+
+  /// Quasi-static finite-strain mechanics of the myocardium on a distributed
+  /// mesh: displacement-based, Q1 or Q2, with a volumetric penalty for the
+  /// near-incompressibility, follower pressure, Dirichlet (fixed or sliding)
+  /// and Robin boundaries, and a prescribed active tension along the fibres.
+  ///
+  /// Equilibrium: @f$R(u) = \int_{\Omega_0} P(F) : \nabla\delta u\,dV
+  /// - p\,\frac{dV}{du} + R_\mathrm{Robin} = 0@f$, solved by Newton's method
+  /// with the consistent tangent. Cheap to include (pimpl).
+  class Problem
+  {
+  public:
+    /// @param[in] tria the mesh (kept by reference; must outlive this object)
+    /// @param[in] names its boundary parts; every part named in @p params must
+    ///            exist (clear error otherwise)
+    /// @param[in] degree polynomial degree of the displacement (1 or 2)
+    /// @param[in] mapping_degree degree of the geometry mapping
+    /// @param[in] fibres fibre frame at reference positions (evaluated once
+    ///            per quadrature point)
+    Problem(const Parameters                                   &params,
+            dealii::parallel::distributed::Triangulation<3, 3> &tria,
+            const Geometry::BoundaryNames                      &names,
+            const unsigned int                                  degree,
+            const unsigned int                                  mapping_degree,
+            const Materials::PassiveLaw                        &passive_law,
+            const Materials::VolumetricLaw                     &volumetric_law,
+            const FibreFunction                                &fibres,
+            Logger                                             &logger);
+    ~Problem();
+
+    /// Solve for equilibrium under @p pressure [kPa] and @p active_tension
+    /// [kPa], starting from the current displacement. Throws
+    /// ExcNewtonDidNotConverge (on every rank alike) when Newton fails; the
+    /// displacement is then undefined: restore() it.
+    NewtonReport
+    solve(const double pressure, const double active_tension);
+
+    /// Remember the current displacement (a converged state); the one saved
+    /// before becomes the previous state for predict().
+    void
+    save();
+
+    /// Extrapolate from the last two saved states: u = u_s + ratio (u_s -
+    /// u_prev), the predictor of the next load step (ratio = next increment /
+    /// last increment). No-op before the second save().
+    void
+    predict(const double ratio);
+    /// Go back to the displacement of the last save().
+    void
+    restore();
+
+    /// Verification hook: the relative difference between the assembled
+    /// tangent applied to a fixed pseudo-random direction d (zero on
+    /// constrained DoFs) and the central difference (R(u + h d) - R(u - h d)) /
+    /// 2h of the residual, at the current displacement. It falls like h^2
+    /// when the tangent is consistent. Leaves u unchanged.
+    double
+    tangent_error(const double pressure,
+                  const double active_tension,
+                  const double h);
+
+    /// Verification hook: set the displacement to the interpolant of
+    /// @p displacement (3 components, mm), then apply the constraints.
+    void
+    set_displacement(const dealii::Function<3> &displacement);
+
+    /// Cavity volume [mm^3]: the pressure boundary closed by the plane of
+    /// the base (requires has_cavity(); collective).
+    double
+    cavity_volume() const;
+
+    /// Whether the pressure acts on a cavity: the pressure boundary is the
+    /// endocardium and the mesh has a base.
+    bool
+    has_cavity() const;
+
+    /// Deformed positions X + u(X) of reference points [mm] (collective;
+    /// throws if a point lies outside the mesh).
+    std::vector<dealii::Point<3>>
+    deformed_positions(const std::vector<dealii::Point<3>> &points) const;
+
+    /// Add the displacement field to @p data_out (the DoF handler is attached
+    /// here; call before build_patches).
+    void
+    attach_output(dealii::DataOut<3, 3> &data_out) const;
+
+    /// The mapping of the curved geometry, for build_patches.
+    const dealii::Mapping<3, 3> &
+    mapping() const;
+
+    dealii::types::global_dof_index
+    n_dofs() const;
+
+    /// "direct (MUMPS)" or "iterative (GMRES + GAMG)".
+    std::string
+    linear_solver_name() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace systole::Mechanics

@@ -1,0 +1,66 @@
+#include "mechanics/surface_terms.h"
+
+#include <deal.II/fe/fe.h>
+#include <deal.II/fe/fe_values.h>
+
+namespace systole::Mechanics
+{
+  void
+  add_volume_flux(const dealii::FEFaceValues<3, 3>        &fe_face,
+                  const std::vector<dealii::Tensor<2, 3>> &grad_u,
+                  const double                             scale,
+                  dealii::Vector<double>                  &vector,
+                  dealii::FullMatrix<double>              *matrix)
+  {
+    const auto        &fe = fe_face.get_fe();
+    const unsigned int n  = fe.n_dofs_per_cell();
+    // Levi-Civita symbol as the six signed permutations.
+    static constexpr int perm[6][4] = {{0, 1, 2, 1},
+                                       {1, 2, 0, 1},
+                                       {2, 0, 1, 1},
+                                       {0, 2, 1, -1},
+                                       {2, 1, 0, -1},
+                                       {1, 0, 2, -1}};
+    for (const unsigned int q : fe_face.quadrature_point_indices())
+      {
+        const dealii::Tensor<2, 3> F =
+          dealii::unit_symmetric_tensor<3>() + grad_u[q];
+        const dealii::Tensor<1, 3> &N    = fe_face.normal_vector(q);
+        const double                JxW  = scale * fe_face.JxW(q);
+        const dealii::Tensor<1, 3>  area = dealii::cofactor(F) * N;
+
+        // A[i][j][K] = eps_ijk eps_JKL F_kL N_J, so that
+        // (dcof(F)[G] N)_i = A[i][j][K] G_jK.
+        double A[3][3][3] = {};
+        if (matrix != nullptr)
+          for (const auto &p : perm)
+            for (const auto &r : perm)
+              {
+                const int i = p[0], j = p[1], k = p[2];
+                const int J = r[0], K = r[1], L = r[2];
+                A[i][j][K] += p[3] * r[3] * F[k][L] * N[J];
+              }
+
+        for (unsigned int a = 0; a < n; ++a)
+          {
+            const unsigned int ca  = fe.system_to_component_index(a).first;
+            const double       phi = fe_face.shape_value(a, q);
+            if (phi == 0.0)
+              continue;
+            vector(a) += phi * area[ca] * JxW;
+            if (matrix == nullptr)
+              continue;
+            for (unsigned int b = 0; b < n; ++b)
+              {
+                const unsigned int cb = fe.system_to_component_index(b).first;
+                const dealii::Tensor<1, 3> grad =
+                  fe_face.shape_grad_component(b, q, cb);
+                double value = 0.0;
+                for (unsigned int K = 0; K < 3; ++K)
+                  value += A[ca][cb][K] * grad[K];
+                (*matrix)(a, b) += phi * value * JxW;
+              }
+          }
+      }
+  }
+} // namespace systole::Mechanics

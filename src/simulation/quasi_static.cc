@@ -1,0 +1,160 @@
+#include "simulation/quasi_static.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/numerics/data_out.h>
+
+#include "base/errors.h"
+#include "base/logger.h"
+#include "base/units.h"
+#include "geometry/mesh.h"
+#include "io/results_file.h"
+#include "materials/factory.h"
+#include "mechanics/problem.h"
+#include "simulation/parameters.h"
+
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace systole
+{
+  void
+  run_quasi_static_problem(const dealii::ParameterHandler &prm,
+                           const RunParameters            &run,
+                           const std::string              &prm_file,
+                           const std::string              &parameter_text,
+                           Logger                         &logger,
+                           const MPI_Comm                  comm)
+  {
+    const std::string prm_directory =
+      std::filesystem::absolute(prm_file).parent_path().string();
+    const auto geometry   = Geometry::Parameters::parse(prm, prm_directory);
+    const auto params     = Mechanics::Parameters::parse(prm);
+    const auto passive    = Materials::create_passive_law(prm);
+    const auto volumetric = Materials::create_volumetric_law(prm);
+
+    dealii::parallel::distributed::Triangulation<3> tria(comm);
+    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+
+    Mechanics::Problem problem(
+      params,
+      tria,
+      names,
+      run.polynomial_degree,
+      run.mapping_degree,
+      *passive,
+      volumetric,
+      [](const dealii::Point<3> &) { return Fibres::FibreBasis::cartesian(); },
+      logger);
+
+    {
+      std::ostringstream o;
+      o << IO::code_version() << ": problem '" << run.problem << "', "
+        << tria.n_global_active_cells() << " cells, Q" << run.polynomial_degree
+        << ", " << problem.n_dofs() << " DOFs, "
+        << dealii::Utilities::MPI::n_mpi_processes(comm) << " rank(s), "
+        << passive->name() << ", linear solver "
+        << problem.linear_solver_name();
+      logger.line(o.str());
+    }
+
+    std::vector<dealii::Point<3>> reference_points;
+    for (const auto &p : params.tracked_points)
+      reference_points.push_back(p.position);
+
+    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    Progress progress(logger, Progress::parse_mode(run.progress), 0.0, 1.0);
+
+    unsigned int step      = 0;
+    const auto   write_row = [&](const double                   fraction,
+                               const Mechanics::NewtonReport &report) {
+      std::vector<IO::Column> row = {
+        {"step", "-", static_cast<double>(step)},
+        {"load_fraction", "-", fraction},
+        {"pressure", "kPa", fraction * params.pressure},
+        {"pressure_mmHg",
+         "mmHg",
+         Units::kPa_to_mmHg(fraction * params.pressure)},
+        {"active_tension", "kPa", fraction * params.active_tension},
+        {"newton_iterations", "-", static_cast<double>(report.iterations)},
+        {"linear_iterations",
+         "-",
+         static_cast<double>(report.linear_iterations)},
+        {"residual", "mN", report.final_residual}};
+      if (problem.has_cavity())
+        {
+          const double volume = problem.cavity_volume();
+          row.push_back({"volume", "mm^3", volume});
+          row.push_back({"volume_mL", "mL", Units::mm3_to_mL(volume)});
+        }
+      const auto deformed = problem.deformed_positions(reference_points);
+      for (unsigned int i = 0; i < deformed.size(); ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          row.push_back({params.tracked_points[i].name + "_" + "xyz"[d],
+                         "mm",
+                         deformed[i][d]});
+      results.append_timeseries(row);
+
+      const bool last = fraction >= 1.0;
+      if (run.field_output_interval > 0 &&
+          (step % run.field_output_interval == 0 || last))
+        {
+          dealii::DataOut<3> data_out;
+          problem.attach_output(data_out);
+          data_out.build_patches(problem.mapping(), run.polynomial_degree);
+          results.write_fields(data_out, step, fraction);
+        }
+    };
+    write_row(0.0, {});
+
+    const double nominal        = 1.0 / params.load_steps;
+    double       fraction       = 0.0;
+    double       increment      = nominal;
+    double       last_increment = nominal;
+    unsigned int cuts           = 0;
+    problem.save();
+    while (fraction < 1.0 - 1e-12)
+      {
+        increment           = std::min(increment, 1.0 - fraction);
+        const double target = fraction + increment;
+        progress.update(step, fraction, "mechanics");
+        logger.stream() << "  Load step " << step + 1 << ": load fraction "
+                        << target << std::endl;
+        // Extrapolate, but never further than the last increment: the
+        // exponential laws stiffen, and a longer extrapolation overshoots.
+        problem.predict(std::min(increment / last_increment, 1.0));
+        try
+          {
+            const auto report = problem.solve(target * params.pressure,
+                                              target * params.active_tension);
+            problem.save();
+            fraction       = target;
+            last_increment = increment;
+            ++step;
+            write_row(fraction, report);
+            // After a cut, grow back towards the nominal step.
+            increment = std::min(2.0 * increment, nominal);
+          }
+        catch (const ExcNewtonDidNotConverge &e)
+          {
+            problem.restore();
+            ++cuts;
+            AssertThrow(cuts <= params.max_step_cuts,
+                        dealii::ExcMessage(
+                          "The mechanics did not converge at load fraction " +
+                          dealii::Utilities::to_string(target) + " after " +
+                          std::to_string(params.max_step_cuts) +
+                          " step cuts (" + one_line_message(e) +
+                          "). The load may be too large for the material, or "
+                          "the mesh too coarse; the results file holds the " +
+                          std::to_string(step) + " converged steps."));
+            increment *= 0.5;
+            logger.stream()
+              << "  Newton failed (" << one_line_message(e)
+              << "); cutting the load step to " << increment << std::endl;
+          }
+      }
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole

@@ -1,0 +1,119 @@
+#include <deal.II/base/function.h>
+#include <deal.II/distributed/tria.h>
+
+#include "base/logger.h"
+#include "geometry/mesh.h"
+#include "materials/guccione.h"
+#include "materials/volumetric_law.h"
+#include "mechanics/problem.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <sstream>
+
+using namespace systole;
+
+namespace
+{
+  /// A smooth displacement of moderate size (strains of about 10 %).
+  class Wobble : public dealii::Function<3>
+  {
+  public:
+    explicit Wobble(const double size)
+      : dealii::Function<3>(3)
+      , size(size)
+    {}
+
+    double
+    value(const dealii::Point<3> &p, const unsigned int c) const override
+    {
+      return size * std::sin(0.3 * p[0] + 0.2 * c) *
+             std::cos(0.25 * p[1] - 0.1 * p[2] + c);
+    }
+
+  private:
+    double size;
+  };
+
+  /// Observed order of the tangent's central-difference error between h and
+  /// h/2 (2 for a consistent tangent).
+  double
+  observed_order(Mechanics::Problem &problem,
+                 const double        pressure,
+                 const double        tension,
+                 const double        h)
+  {
+    const double e1 = problem.tangent_error(pressure, tension, h);
+    const double e2 = problem.tangent_error(pressure, tension, h / 2);
+    INFO("tangent error " << e1 << " at h, " << e2 << " at h/2");
+    CHECK(e2 < 1e-5);
+    return std::log2(e1 / e2);
+  }
+} // namespace
+
+TEST_CASE("The mechanics tangent is the derivative of the residual",
+          "[mechanics][fd]")
+{
+  std::ostringstream sink;
+  Logger             logger(MPI_COMM_WORLD, sink);
+
+  Materials::Guccione::Parameters guccione;
+  guccione.C    = 2;
+  guccione.b_f  = 8;
+  guccione.b_t  = 2;
+  guccione.b_fs = 4;
+  const Materials::Guccione      law(guccione);
+  const Materials::VolumetricLaw volumetric(
+    Materials::VolumetricLaw::Form::simo_taylor,
+    100.0);
+  const auto fibres = [](const dealii::Point<3> &p) {
+    // A rotating frame, so that the anisotropy is not aligned with the mesh.
+    Fibres::FibreBasis b;
+    const double       a = 0.3 * p[2];
+    b.f                  = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
+    b.s                  = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
+    b.n                  = dealii::Tensor<1, 3>({0, 0, 1});
+    return b;
+  };
+
+  SECTION("Land ventricle, Q2, follower pressure on the endocardium, active "
+          "tension, Robin springs on the epicardium")
+  {
+    Geometry::Parameters geometry; // the Land ventricle
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto            names = Geometry::create_mesh(geometry, tria);
+    Mechanics::Parameters params;
+    params.fixed_boundaries  = {"base"};
+    params.pressure_boundary = "endocardium";
+    params.robin_boundaries  = {"epicardium"};
+    params.robin_stiffness   = 0.5;
+    params.linear_solver     = "direct";
+    Mechanics::Problem
+      problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
+    problem.set_displacement(Wobble(0.8));
+    CHECK(observed_order(problem, 3.0, 20.0, 1e-3) == Approx(2.0).margin(0.2));
+  }
+
+  SECTION("Beam, Q1, follower pressure on a free face, sliding face")
+  {
+    Geometry::Parameters geometry;
+    geometry.type      = Geometry::Parameters::Type::box;
+    geometry.box_upper = dealii::Point<3>(10, 1, 1);
+    geometry.box_cells = {{5, 2, 2}};
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto            names = Geometry::create_mesh(geometry, tria);
+    Mechanics::Parameters params;
+    params.fixed_boundaries   = {"x_min"};
+    params.sliding_boundaries = {"y_min"};
+    params.pressure_boundary  = "z_min";
+    params.robin_boundaries   = {"x_max"};
+    params.robin_stiffness    = 0.2;
+    params.robin_normal_only  = false;
+    params.linear_solver      = "direct";
+    Mechanics::Problem
+      problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+    problem.set_displacement(Wobble(0.5));
+    CHECK(observed_order(problem, 0.5, 5.0, 1e-3) == Approx(2.0).margin(0.2));
+  }
+}
