@@ -24,10 +24,12 @@ function(systole_add_run_test)
   set_tests_properties(run.${RT_NAME} PROPERTIES LABELS run PROCESSORS ${RT_MPI} TIMEOUT 300)
 endfunction()
 
-# systole_add_error_test(NAME n PRM file.prm EXPECT regex)
-# The app must exit non-zero and print exactly one line on stderr matching EXPECT.
+# systole_add_error_test(NAME n PRM file.prm EXPECT regex [MPI ranks] [CHECK script args...])
+# The app must exit non-zero and print exactly one line on stderr matching EXPECT. Without
+# CHECK it must leave no results folder (input errors stop before any output); with CHECK
+# (a run that fails midway) the CHECK command must pass on what it left.
 function(systole_add_error_test)
-  cmake_parse_arguments(ET "" "NAME;PRM;EXPECT;MPI" "" ${ARGN})
+  cmake_parse_arguments(ET "" "NAME;PRM;EXPECT;MPI" "CHECK" ${ARGN})
   if(NOT ET_MPI)
     set(ET_MPI 1)
   endif()
@@ -39,6 +41,8 @@ function(systole_add_error_test)
       -DWORKDIR=${CMAKE_CURRENT_BINARY_DIR}/error_${ET_NAME}
       -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
       "-DEXPECT=${ET_EXPECT}"
+      -DPYTHON=${Python3_EXECUTABLE}
+      "-DCHECK=${ET_CHECK}"
       -P ${PROJECT_SOURCE_DIR}/cmake/ExpectError.cmake)
   set_tests_properties(run.error_${ET_NAME} PROPERTIES LABELS run PROCESSORS ${ET_MPI} TIMEOUT 120)
 endfunction()

@@ -43,6 +43,19 @@ namespace systole::Mechanics
            const LA::MPI::Vector          &u,
            const unsigned int              n_points) const;
 
+    /// The derivative dV/du as a vector on the DoFs of @p dof_handler
+    /// (owned, non-ghosted @p dV_du, overwritten): the volume flux
+    /// @f$-\int_{\Gamma_{endo,0}} \varphi\cdot\mathrm{cof}(F)N\,dA@f$
+    /// (add_volume_flux with scale -1), which is also the follower-pressure
+    /// load per unit pressure. It equals the derivative of volume() while
+    /// the basal ring stays in the lid plane. Collective.
+    void
+    derivative(const dealii::Mapping<3, 3>    &mapping,
+               const dealii::DoFHandler<3, 3> &dof_handler,
+               const LA::MPI::Vector          &u,
+               const unsigned int              n_points,
+               LA::MPI::Vector                &dV_du) const;
+
   private:
     dealii::types::boundary_id endocardium;
     Geometry::Plane            lid;
