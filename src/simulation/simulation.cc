@@ -1,6 +1,7 @@
 #include "simulation/simulation.h"
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
 
 #include "base/interrupt.h"
 #include "base/logger.h"
@@ -9,7 +10,9 @@
 #include "simulation/parameters.h"
 #include "simulation/quasi_static.h"
 
+#include <chrono>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace systole
@@ -54,6 +57,7 @@ namespace systole
   Simulation::run()
   {
     install_interrupt_handlers();
+    const auto start = std::chrono::steady_clock::now();
     if (impl->run.problem == "cavity volume")
       run_cavity_volume_problem(impl->prm,
                                 impl->run,
@@ -72,6 +76,21 @@ namespace systole
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +
                                      "' is not implemented."));
+
+    // Cost of the run, for benchmarks: wall time and peak resident memory.
+    dealii::Utilities::System::MemoryStats memory;
+    dealii::Utilities::System::get_memory_stats(memory);
+    const double peak_mib = memory.VmHWM / 1024.0; // VmHWM is in kB
+    const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+        .count();
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(2) << "Wall time " << wall
+      << " s; peak memory " << std::setprecision(1)
+      << dealii::Utilities::MPI::max(peak_mib, impl->comm)
+      << " MiB per rank (max), "
+      << dealii::Utilities::MPI::sum(peak_mib, impl->comm) << " MiB in total";
+    impl->logger.line(o.str());
   }
 
   std::string
