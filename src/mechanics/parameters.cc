@@ -97,14 +97,15 @@ namespace systole::Mechanics
                       "Fraction eta of T_a acting across the fibres: "
                       "S_a += eta T_a (I - f0 x f0). Units: -.");
     prm.declare_entry("Volumetric integration",
-                      "reduced",
+                      "full",
                       Selection("full|reduced"),
-                      "reduced: the volumetric penalty of Q2 elements is "
-                      "integrated with 2 x 2 x 2 Gauss points (selective "
-                      "reduced integration), which avoids the volumetric "
-                      "locking of the displacement formulation; full: with "
-                      "the same 3 x 3 x 3 rule as the rest. Q1 elements always "
-                      "use the full rule. Units: -.");
+                      "full: the volumetric penalty is integrated with the "
+                      "same Gauss rule as the rest; reduced: Q2 elements "
+                      "integrate it with 2 x 2 x 2 points (selective reduced "
+                      "integration), which relieves the volumetric locking of "
+                      "thin, bending-dominated bodies (Land problem 1) but "
+                      "makes Newton less robust on the ventricle. Q1 elements "
+                      "always use the full rule. Units: -.");
     prm.declare_entry("Load steps",
                       "5",
                       Integer(1),
@@ -172,6 +173,8 @@ namespace systole::Mechanics
     p.active_tension     = prm.get_double(m, "Active tension");
     p.active_transverse_fraction =
       prm.get_double(m, "Active transverse fraction");
+    p.reduced_volumetric_integration =
+      prm.get(m, "Volumetric integration") == "reduced";
     p.load_steps    = prm.get_integer(m, "Load steps");
     p.max_step_cuts = prm.get_integer(m, "Maximum step cuts");
     p.newton_relative_tolerance =

@@ -49,7 +49,7 @@ namespace systole::Mechanics
 
     /// Integrate the volumetric penalty with one Gauss point less per
     /// direction than the rest (Q2 only).
-    bool reduced_volumetric_integration = true;
+    bool reduced_volumetric_integration = false;
 
     /// Equal load steps from 0 to the full load.
     unsigned int load_steps = 5;

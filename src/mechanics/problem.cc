@@ -246,7 +246,7 @@ namespace systole::Mechanics
           {
             AssertThrow(false,
                         ExcNewtonDidNotConverge(std::string("linear solver: ") +
-                                                  e.what(),
+                                                  one_line_message(e),
                                                 it,
                                                 relative));
           }
