@@ -51,7 +51,7 @@ namespace systole::Mechanics
     /// direction than the rest (Q2 only).
     bool reduced_volumetric_integration = false;
 
-    /// Equal load steps from 0 to the full load.
+    /// The first load increment is 1 / load_steps; later ones adapt.
     unsigned int load_steps = 5;
     /// How often a load step may be halved when Newton fails.
     unsigned int max_step_cuts = 8;

@@ -133,8 +133,14 @@ namespace systole
             last_increment = increment;
             ++step;
             write_row(fraction, report);
-            // After a cut, grow back towards the nominal step.
-            increment = std::min(2.0 * increment, nominal);
+            // Adapt the increment to how hard Newton worked: grow it after
+            // an easy step (at most 4 iterations), shrink it after a hard one
+            // (8 or more), so that the steps follow the nonlinearity of the
+            // response (the exponential laws are soft first, stiff later).
+            if (report.iterations <= 4)
+              increment *= 1.5;
+            else if (report.iterations >= 8)
+              increment *= 0.5;
           }
         catch (const ExcNewtonDidNotConverge &e)
           {

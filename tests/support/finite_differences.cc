@@ -3,6 +3,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace test_support
@@ -99,11 +100,10 @@ namespace test_support
   FdStudy::describe() const
   {
     std::ostringstream text;
-    text.precision(3);
-    text << "relative FD errors:";
+    text << std::scientific << std::setprecision(2) << "relative FD errors:";
     for (unsigned int k = 0; k < errors.size(); ++k)
       text << " " << errors[k] << " (h = " << steps[k] << ")";
-    text << "; observed orders:";
+    text << std::fixed << std::setprecision(3) << "; observed orders:";
     for (const double order : observed_orders())
       text << " " << order;
     return text.str();

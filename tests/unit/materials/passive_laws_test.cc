@@ -1,7 +1,8 @@
 // Checks shared by every passive law and by the volumetric law (STYLE.md
-// 2.9): energy and stress zero at F = I, S = dpsi/dE and dS/dE = dS/dE by
-// central differences with the observed order checked (about 2), objectivity
-// and major symmetry of the tangent; plus the law-specific facts (volumetric
+// 2.9): energy and stress zero at F = I; S against central differences of
+// psi and the tangent against central differences of S, in E, with the
+// observed order checked (about 2); objectivity; major symmetry of the
+// tangent; plus the law-specific facts (volumetric
 // U(1) = U'(1) = 0, U''(1) = kappa; the Holzapfel-Ogden tension switch and
 // transversely isotropic reduction; the active stress).
 //
@@ -38,8 +39,12 @@ namespace
   /// Size of the random deformations (stretches of roughly 0.7-1.3).
   constexpr double strain = 0.15;
 
-  /// Seeds of the random states (F and fibre frame) of every check.
-  const std::vector<unsigned int> seeds = {1, 2, 3, 4, 5};
+  /// Seeds of the random states (F and fibre frame) of every check. Chosen
+  /// so that I4f - 1 and I4s - 1 stay clear of the Holzapfel-Ogden tension
+  /// switch during the central differences (checked by
+  /// require_clear_of_tension_switch), with fibre and sheet each stretched
+  /// in some states and compressed in others (J from 0.76 to 1.27).
+  const std::vector<unsigned int> seeds = {2, 4, 11, 13, 14, 17};
 
   /// Step sizes in E for the central differences: large enough that the
   /// truncation error (not round-off) dominates at all three.
@@ -114,7 +119,9 @@ namespace
     INFO(study.describe());
     const std::vector<double> orders = study.observed_orders();
     for (unsigned int k = 0; k < orders.size(); ++k)
-      if (!(study.errors[k + 1] < round_off))
+      if (study.errors[k + 1] < round_off)
+        SUCCEED("FD error at round-off: the derivative is exact");
+      else
         CHECK(orders[k] == Approx(2.0).margin(order_margin));
   }
 
