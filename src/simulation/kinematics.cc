@@ -96,9 +96,8 @@ namespace systole
                             Logger                         &logger,
                             const MPI_Comm                  comm)
   {
-    const std::string prm_directory =
-      std::filesystem::absolute(prm_file).parent_path().string();
-    const auto geometry   = Geometry::Parameters::parse(prm, prm_directory);
+    const auto geometry =
+      Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto kinematics = KinematicsParameters::parse(prm);
 
     dealii::parallel::distributed::Triangulation<3> tria(comm);

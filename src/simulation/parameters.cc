@@ -200,6 +200,8 @@ namespace systole
     AssertThrow(p.time_step > 0,
                 dealii::ExcMessage("Time / Time step must be positive."));
 
+    p.parameter_directory =
+      std::filesystem::absolute(prm_file).parent_path().string();
     p.run_name = prm.get({"Output"}, "Run name");
     if (p.run_name.empty())
       p.run_name = std::filesystem::path(prm_file).stem().string();

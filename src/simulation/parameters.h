@@ -19,6 +19,10 @@ namespace systole
     double end_time   = 0.0; ///< [ms]
     double time_step  = 1.0; ///< [ms]
 
+    /// Folder of the parameter file (absolute): relative input paths are
+    /// taken from it.
+    std::string parameter_directory;
+
     std::string  run_name;
     std::string  output_directory; ///< results/<run name>
     unsigned int field_output_interval = 1;

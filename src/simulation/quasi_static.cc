@@ -27,9 +27,8 @@ namespace systole
                            Logger                         &logger,
                            const MPI_Comm                  comm)
   {
-    const std::string prm_directory =
-      std::filesystem::absolute(prm_file).parent_path().string();
-    const auto geometry   = Geometry::Parameters::parse(prm, prm_directory);
+    const auto geometry =
+      Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto params     = Mechanics::Parameters::parse(prm);
     const auto passive    = Materials::create_passive_law(prm);
     const auto volumetric = Materials::create_volumetric_law(prm);
