@@ -108,7 +108,7 @@ def main() -> int:
                   {"Global refinements": "1", "Bulk modulus": str(k)}) for k in (200, 1000, 5000)]
     p2 = [Case("p2", "land_problem2.prm", f"8x3x1 cells, {r} refinement(s), Q2",
                {"Global refinements": str(r)}) for r in levels]
-    p2 += [Case("p2", "land_problem2.prm", "8x3x1 cells, 0 refinements, Q2", {"Global refinements": "0"}, 1)]
+    p2 += [Case("p2", "land_problem2.prm", "8x3x1 cells, 1 refinement, Q2", {"Global refinements": "1"}, 1)]
 
     with tempfile.TemporaryDirectory() as tmp:
         workdir = Path(tmp)
