@@ -30,6 +30,10 @@ namespace systole::Mechanics
     class DirectSolver : public LinearSolver
     {
     public:
+      explicit DirectSolver(const bool symmetric)
+        : symmetric(symmetric)
+      {}
+
       unsigned int
       solve(const LA::MPI::SparseMatrix &K,
             LA::MPI::Vector             &x,
@@ -39,6 +43,7 @@ namespace systole::Mechanics
         dealii::PETScWrappers::SparseDirectMUMPS mumps(
           control,
           K.get_mpi_communicator());
+        mumps.set_symmetric_mode(symmetric);
         mumps.solve(K, x, b);
         return 1;
       }
@@ -46,8 +51,12 @@ namespace systole::Mechanics
       std::string
       name() const override
       {
-        return "direct (MUMPS)";
+        return symmetric ? "direct (MUMPS, symmetric LDL^T)"
+                         : "direct (MUMPS LU)";
       }
+
+    private:
+      bool symmetric;
     };
 
     /// GMRES + GAMG with the rigid-body modes as near-null space.
@@ -172,10 +181,11 @@ namespace systole::Mechanics
   create_linear_solver(const std::string              &type,
                        const dealii::Mapping<3, 3>    &mapping,
                        const dealii::DoFHandler<3, 3> &dof_handler,
-                       const double                    tolerance)
+                       const double                    tolerance,
+                       const bool                      symmetric)
   {
     if (type == "direct")
-      return std::make_unique<DirectSolver>();
+      return std::make_unique<DirectSolver>(symmetric);
     AssertThrow(type == "iterative",
                 dealii::ExcMessage("Unknown linear solver '" + type + "'."));
     return std::make_unique<IterativeSolver>(mapping, dof_handler, tolerance);

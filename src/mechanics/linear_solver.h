@@ -43,9 +43,12 @@ namespace systole::Mechanics
   /// @param[in] dof_handler vector-valued displacement DoFs (for the
   ///            rigid-body modes of the iterative solver)
   /// @param[in] tolerance relative residual reduction of the iterative solver
+  /// @param[in] symmetric whether the matrices are symmetric (the direct
+  ///            solver then factorizes LDL^T, about half the work of LU)
   std::unique_ptr<LinearSolver>
   create_linear_solver(const std::string              &type,
                        const dealii::Mapping<3, 3>    &mapping,
                        const dealii::DoFHandler<3, 3> &dof_handler,
-                       const double                    tolerance);
+                       const double                    tolerance,
+                       const bool                      symmetric);
 } // namespace systole::Mechanics

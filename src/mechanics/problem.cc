@@ -158,10 +158,16 @@ namespace systole::Mechanics
       solver = m.dof_handler.n_dofs() <= params.direct_solver_limit
                  ? "direct"
                  : "iterative";
-    m.linear_solver = create_linear_solver(solver,
+    // The tangent is symmetric when every load derives from a potential: the
+    // hyperelastic energy, the springs, and a pressure on a cavity (whose load
+    // is the exact derivative of the discrete cavity volume, so its tangent is
+    // a Hessian). A follower pressure on an open surface is not.
+    const bool symmetric = !m.pressure_id.has_value() || m.cavity.has_value();
+    m.linear_solver      = create_linear_solver(solver,
                                            m.mapping,
                                            m.dof_handler,
-                                           params.linear_tolerance);
+                                           params.linear_tolerance,
+                                           symmetric);
   }
 
   Problem::~Problem() = default;
