@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "materials/factory.h"
 #include "mechanics/parameters.h"
@@ -143,6 +144,7 @@ namespace systole
 
     Geometry::Parameters::declare(prm);
     KinematicsParameters::declare(prm);
+    Fibres::Parameters::declare(prm);
     Materials::declare_parameters(prm);
     Mechanics::Parameters::declare(prm);
   }
@@ -178,6 +180,13 @@ namespace systole
       std::filesystem::absolute(file).parent_path().string();
     Geometry::Parameters::parse(prm, directory);
     KinematicsParameters::parse(prm);
+    const auto fibres = Fibres::Parameters::parse(prm);
+    AssertThrow(fibres.generator != "analytic" ||
+                  prm.get({"Geometry"}, "Type") == "ellipsoid",
+                dealii::ExcMessage(
+                  "Fibres / Generator = analytic needs the generated "
+                  "ventricle (Geometry / Type = ellipsoid): the helix rule is "
+                  "defined in its ellipsoidal coordinates."));
     Materials::create_passive_law(prm);
     Materials::create_volumetric_law(prm);
     Mechanics::Parameters::parse(prm);

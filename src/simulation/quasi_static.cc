@@ -7,6 +7,7 @@
 #include "base/errors.h"
 #include "base/logger.h"
 #include "base/units.h"
+#include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "materials/factory.h"
@@ -44,7 +45,8 @@ namespace systole
       run.mapping_degree,
       *passive,
       volumetric,
-      [](const dealii::Point<3> &) { return Fibres::FibreBasis::cartesian(); },
+      Fibres::create_fibre_function(Fibres::Parameters::parse(prm),
+                                    geometry.lv_shape),
       logger);
 
     {

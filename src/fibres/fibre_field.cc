@@ -1,0 +1,157 @@
+#include "fibres/fibre_field.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <cmath>
+
+namespace systole::Fibres
+{
+  void
+  validate(const FibreBasis &b, const std::string &where, const double tol)
+  {
+    const auto bad = [&](const std::string &what) {
+      AssertThrow(false,
+                  dealii::ExcMessage("The fibre frame at " + where +
+                                     " is not valid: " + what + "."));
+    };
+    for (const auto *v : {&b.f, &b.s, &b.n})
+      for (unsigned int d = 0; d < 3; ++d)
+        if (!std::isfinite((*v)[d]))
+          bad("it has a NaN or infinite component");
+    if (std::abs(b.f.norm() - 1) > tol || std::abs(b.s.norm() - 1) > tol ||
+        std::abs(b.n.norm() - 1) > tol)
+      bad("a direction is not a unit vector");
+    if (std::abs(b.f * b.s) > tol || std::abs(b.f * b.n) > tol ||
+        std::abs(b.s * b.n) > tol)
+      bad("the directions are not orthogonal");
+    if ((dealii::cross_product_3d(b.f, b.s) - b.n).norm() > tol)
+      bad("it is not right-handed (n != f x s)");
+  }
+
+  double
+  helix_angle(const dealii::Tensor<1, 3> &f,
+              const dealii::Tensor<1, 3> &e_c,
+              const dealii::Tensor<1, 3> &e_l)
+  {
+    return std::atan2(f * e_l, f * e_c);
+  }
+
+  AnalyticHelix::AnalyticHelix(const Geometry::LVShape &shape,
+                               const double             alpha_endo,
+                               const double             alpha_epi,
+                               const double             beta)
+    : shape(shape)
+    , manifold(shape)
+    , alpha_endo(alpha_endo)
+    , alpha_epi(alpha_epi)
+    , beta(beta)
+  {}
+
+  void
+  AnalyticHelix::local_frame(const dealii::Point<3> &X,
+                             dealii::Tensor<1, 3>   &e_u,
+                             dealii::Tensor<1, 3>   &e_v,
+                             double                 &t) const
+  {
+    t               = manifold.transmural_coordinate(X);
+    const double rs = shape.short_radius(t), rl = shape.long_radius(t);
+    // The axis has no circumferential direction: step off it a little.
+    double       x = X[0], y = X[1];
+    const double rho_min = 1e-8 * rs;
+    if (std::hypot(x, y) < rho_min)
+      x = rho_min;
+    const double cos_u = std::max(-1.0, std::min(1.0, X[2] / rl));
+    const double sin_u = -std::sqrt(std::max(0.0, 1.0 - cos_u * cos_u));
+    const double v     = std::atan2(-y, -x); // sin u < 0
+    e_u                = dealii::Tensor<1, 3>(
+      {rs * cos_u * std::cos(v), rs * cos_u * std::sin(v), -rl * sin_u});
+    e_v = dealii::Tensor<1, 3>(
+      {-rs * sin_u * std::sin(v), rs * sin_u * std::cos(v), 0.0});
+    e_u /= e_u.norm();
+    e_v /= e_v.norm();
+  }
+
+  FibreBasis
+  AnalyticHelix::operator()(const dealii::Point<3> &X) const
+  {
+    dealii::Tensor<1, 3> e_u, e_v;
+    double               t;
+    local_frame(X, e_u, e_v, t);
+    const double alpha = alpha_endo + (alpha_epi - alpha_endo) * t;
+
+    FibreBasis b;
+    b.f = std::sin(alpha) * e_u + std::cos(alpha) * e_v;
+    // Outward wall normal (e_u x e_v points into the cavity), then the sheet
+    // rotated by beta about f.
+    const dealii::Tensor<1, 3> normal = dealii::cross_product_3d(e_v, e_u);
+    const dealii::Tensor<1, 3> side   = dealii::cross_product_3d(b.f, normal);
+    b.s = std::cos(beta) * normal + std::sin(beta) * side;
+    b.n = dealii::cross_product_3d(b.f, b.s);
+    return b;
+  }
+
+  void
+  Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Fibres");
+    prm.declare_entry("Generator",
+                      "cartesian",
+                      Selection("analytic|cartesian"),
+                      "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
+                      "problem 1, isotropic laws); analytic: the helix rule of "
+                      "Land et al. 2015 problem 3 on the generated ellipsoid, "
+                      "helix angle linear through the wall. Units: -.");
+    prm.declare_entry("Helix angle endocardium",
+                      "60",
+                      Double(-90, 90),
+                      "Helix angle alpha at the endocardium (analytic "
+                      "generator; Land problem 3: 90). Units: degrees.");
+    prm.declare_entry("Helix angle epicardium",
+                      "-60",
+                      Double(-90, 90),
+                      "Helix angle alpha at the epicardium (Land problem 3: "
+                      "-90). Units: degrees.");
+    prm.declare_entry("Sheet angle",
+                      "0",
+                      Double(-90, 90),
+                      "Rotation beta of the sheet direction about the fibre, "
+                      "from the wall normal. Units: degrees.");
+    prm.leave_subsection();
+  }
+
+  Parameters
+  Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    Parameters                     p;
+    const std::vector<std::string> path = {"Fibres"};
+    p.generator                         = prm.get(path, "Generator");
+    p.alpha_endo = prm.get_double(path, "Helix angle endocardium");
+    p.alpha_epi  = prm.get_double(path, "Helix angle epicardium");
+    p.beta       = prm.get_double(path, "Sheet angle");
+    return p;
+  }
+
+  std::function<FibreBasis(const dealii::Point<3> &)>
+  create_fibre_function(const Parameters        &params,
+                        const Geometry::LVShape &shape)
+  {
+    if (params.generator == "cartesian")
+      return [](const dealii::Point<3> &) { return FibreBasis::cartesian(); };
+    AssertThrow(params.generator == "analytic",
+                dealii::ExcMessage("Fibres / Generator = " + params.generator +
+                                   " is unknown."));
+    const double        degree = M_PI / 180.0;
+    const AnalyticHelix helix(shape,
+                              params.alpha_endo * degree,
+                              params.alpha_epi * degree,
+                              params.beta * degree);
+    return [helix](const dealii::Point<3> &X) {
+      const FibreBasis b = helix(X);
+      validate(b,
+               "(" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
+                 std::to_string(X[2]) + ") (analytic generator)");
+      return b;
+    };
+  }
+} // namespace systole::Fibres

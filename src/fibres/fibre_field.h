@@ -1,0 +1,91 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+
+#include "fibres/fibre_basis.h"
+#include "geometry/ellipsoid.h"
+
+#include <functional>
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole::Fibres
+{
+  /// Throws ExcMessage naming @p where unless @p basis is orthonormal and
+  /// right-handed (n = f x s) to @p tolerance and free of NaN. Every
+  /// generator's output goes through this check.
+  void
+  validate(const FibreBasis  &basis,
+           const std::string &where,
+           const double       tolerance = 1e-8);
+
+  /// Helix angle of @p f [rad] in the local frame of the wall: the angle
+  /// between f and the circumferential direction e_c, positive towards the
+  /// apex-to-base direction e_l: atan2(f . e_l, f . e_c).
+  double
+  helix_angle(const dealii::Tensor<1, 3> &f,
+              const dealii::Tensor<1, 3> &e_c,
+              const dealii::Tensor<1, 3> &e_l);
+
+  /// The analytic helix rule of Land et al. 2015, problem 3, on the
+  /// truncated-ellipsoid ventricle: at a wall point with transmural coordinate
+  /// t and ellipsoidal coordinates (u, v) (x = r_s(t) sin u cos v,
+  /// y = r_s(t) sin u sin v, z = r_l(t) cos u, u in (-pi, 0)),
+  /// @f[ f = \sin\alpha\, e_u + \cos\alpha\, e_v,\qquad
+  ///     \alpha(t) = \alpha_{endo} + (\alpha_{epi} - \alpha_{endo})\,t @f]
+  /// with e_u (meridional, apex to base) and e_v (circumferential) the unit
+  /// tangents of the point's own spheroid. The sheet s is the unit wall normal
+  /// e_v x e_u (pointing out of the cavity) rotated by the sheet angle beta
+  /// about f, and n = f x s. Undefined on the axis (the apex): there the
+  /// frame of a nearby point is used.
+  class AnalyticHelix
+  {
+  public:
+    /// @param[in] alpha_endo, alpha_epi helix angles [rad]
+    /// @param[in] beta sheet angle [rad]
+    AnalyticHelix(const Geometry::LVShape &shape,
+                  const double             alpha_endo,
+                  const double             alpha_epi,
+                  const double             beta);
+
+    FibreBasis
+    operator()(const dealii::Point<3> &X) const;
+
+    /// The local frame (e_u, e_v, wall normal) and t at @p X.
+    void
+    local_frame(const dealii::Point<3> &X,
+                dealii::Tensor<1, 3>   &e_u,
+                dealii::Tensor<1, 3>   &e_v,
+                double                 &t) const;
+
+  private:
+    Geometry::LVShape                 shape;
+    Geometry::EllipsoidalWallManifold manifold;
+    double                            alpha_endo, alpha_epi, beta;
+  };
+
+  /// Subsection "Fibres": the generator and its parameters.
+  struct Parameters
+  {
+    std::string generator  = "cartesian"; ///< "cartesian" or "analytic"
+    double      alpha_endo = 60.0;        ///< [degrees]
+    double      alpha_epi  = -60.0;       ///< [degrees]
+    double      beta       = 0.0;         ///< [degrees]
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    static Parameters
+    parse(const dealii::ParameterHandler &prm);
+  };
+
+  /// The fibre frame as a function of the reference position, for the
+  /// generator of @p params on a ventricle of shape @p shape (the analytic
+  /// rule needs the generated ellipsoid). Every frame it returns is validated.
+  std::function<FibreBasis(const dealii::Point<3> &)>
+  create_fibre_function(const Parameters        &params,
+                        const Geometry::LVShape &shape);
+} // namespace systole::Fibres
