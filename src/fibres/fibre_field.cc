@@ -132,26 +132,39 @@ namespace systole::Fibres
     return p;
   }
 
-  std::function<FibreBasis(const dealii::Point<3> &)>
-  create_fibre_function(const Parameters        &params,
-                        const Geometry::LVShape &shape)
+  FibreField
+  create_fibre_field(const Parameters                  &params,
+                     const Geometry::LVShape           &shape,
+                     const dealii::Triangulation<3, 3> &tria,
+                     const Geometry::BoundaryNames     &names)
   {
+    const double                                        degree = M_PI / 180.0;
+    std::function<FibreBasis(const dealii::Point<3> &)> pointwise;
     if (params.generator == "cartesian")
-      return [](const dealii::Point<3> &) { return FibreBasis::cartesian(); };
-    AssertThrow(params.generator == "analytic",
-                dealii::ExcMessage("Fibres / Generator = " + params.generator +
-                                   " is unknown."));
-    const double        degree = M_PI / 180.0;
-    const AnalyticHelix helix(shape,
-                              params.alpha_endo * degree,
-                              params.alpha_epi * degree,
-                              params.beta * degree);
-    return [helix](const dealii::Point<3> &X) {
-      const FibreBasis b = helix(X);
-      validate(b,
-               "(" + std::to_string(X[0]) + ", " + std::to_string(X[1]) + ", " +
-                 std::to_string(X[2]) + ") (analytic generator)");
-      return b;
+      pointwise = [](const dealii::Point<3> &) {
+        return FibreBasis::cartesian();
+      };
+    else if (params.generator == "analytic")
+      pointwise = AnalyticHelix(shape,
+                                params.alpha_endo * degree,
+                                params.alpha_epi * degree,
+                                params.beta * degree);
+    else
+      AssertThrow(false,
+                  dealii::ExcMessage("Fibres / Generator = " +
+                                     params.generator + " is unknown."));
+    const std::string name = params.generator;
+    return [pointwise, name](const auto &, const auto &points, auto &bases) {
+      bases.resize(points.size());
+      for (unsigned int i = 0; i < points.size(); ++i)
+        {
+          bases[i] = pointwise(points[i]);
+          validate(bases[i],
+                   "(" + std::to_string(points[i][0]) + ", " +
+                     std::to_string(points[i][1]) + ", " +
+                     std::to_string(points[i][2]) + ") (" + name +
+                     " generator)");
+        }
     };
   }
 } // namespace systole::Fibres

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
 
 #include "fibres/fibre_basis.h"
 #include "geometry/ellipsoid.h"
@@ -15,6 +16,14 @@ namespace dealii
 
 namespace systole::Fibres
 {
+  /// A fibre field: the frames at reference points of one locally owned cell
+  /// (the points lie in that cell). Generators that need the mesh (the
+  /// rule-based Laplace solves) use the cell; pointwise rules ignore it.
+  using FibreField = std::function<
+    void(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+         const std::vector<dealii::Point<3>>                     &points,
+         std::vector<FibreBasis>                                 &bases)>;
+
   /// Throws ExcMessage naming @p where unless @p basis is orthonormal and
   /// right-handed (n = f x s) to @p tolerance and free of NaN. Every
   /// generator's output goes through this check.
@@ -82,10 +91,13 @@ namespace systole::Fibres
     parse(const dealii::ParameterHandler &prm);
   };
 
-  /// The fibre frame as a function of the reference position, for the
-  /// generator of @p params on a ventricle of shape @p shape (the analytic
-  /// rule needs the generated ellipsoid). Every frame it returns is validated.
-  std::function<FibreBasis(const dealii::Point<3> &)>
-  create_fibre_function(const Parameters        &params,
-                        const Geometry::LVShape &shape);
+  /// The fibre field of the generator of @p params, on the mesh @p tria
+  /// (kept by reference) whose boundary parts are @p names; @p shape is the
+  /// generated ellipsoid (used by the analytic rule only). Every frame it
+  /// returns is validated.
+  FibreField
+  create_fibre_field(const Parameters                  &params,
+                     const Geometry::LVShape           &shape,
+                     const dealii::Triangulation<3, 3> &tria,
+                     const Geometry::BoundaryNames     &names);
 } // namespace systole::Fibres

@@ -147,10 +147,9 @@ namespace systole::Mechanics
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
-          auto &bases = m.fibre_bases[cell->active_cell_index()];
-          bases.resize(quadrature.size());
-          for (const unsigned int q : fe_values.quadrature_point_indices())
-            bases[q] = fibres(fe_values.quadrature_point(q));
+          fibres(cell,
+                 fe_values.get_quadrature_points(),
+                 m.fibre_bases[cell->active_cell_index()]);
         }
 
     std::string solver = params.linear_solver;

@@ -4,7 +4,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
-#include "fibres/fibre_basis.h"
+#include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
 #include "mechanics/parameters.h"
 
@@ -49,9 +49,7 @@ namespace systole::Mechanics
     unsigned int linear_iterations = 0; ///< summed over the Newton iterations
   };
 
-  /// Fibre frame as a function of the reference position.
-  using FibreFunction =
-    std::function<Fibres::FibreBasis(const dealii::Point<3> &)>;
+  using FibreFunction = Fibres::FibreField;
 
   /// Quasi-static finite-strain mechanics of the myocardium on a distributed
   /// mesh: displacement-based, Q1 or Q2, with a volumetric penalty for the
@@ -69,8 +67,8 @@ namespace systole::Mechanics
     ///            exist (clear error otherwise)
     /// @param[in] degree polynomial degree of the displacement (1 or 2)
     /// @param[in] mapping_degree degree of the geometry mapping
-    /// @param[in] fibres fibre frame at reference positions (evaluated once
-    ///            per quadrature point)
+    /// @param[in] fibres fibre field (evaluated once at the quadrature
+    ///            points of every locally owned cell)
     Problem(const Parameters                                   &params,
             dealii::parallel::distributed::Triangulation<3, 3> &tria,
             const Geometry::BoundaryNames                      &names,

@@ -45,8 +45,10 @@ namespace systole
       run.mapping_degree,
       *passive,
       volumetric,
-      Fibres::create_fibre_function(Fibres::Parameters::parse(prm),
-                                    geometry.lv_shape),
+      Fibres::create_fibre_field(Fibres::Parameters::parse(prm),
+                                 geometry.lv_shape,
+                                 tria,
+                                 names),
       logger);
 
     {

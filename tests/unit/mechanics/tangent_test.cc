@@ -67,15 +67,18 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
   const Materials::VolumetricLaw volumetric(
     Materials::VolumetricLaw::Form::simo_taylor,
     100.0);
-  const auto fibres = [](const dealii::Point<3> &p) {
-    // A rotating frame, so that the anisotropy is not aligned with the mesh.
-    Fibres::FibreBasis b;
-    const double       a = 0.3 * p[2];
-    b.f                  = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
-    b.s                  = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
-    b.n                  = dealii::Tensor<1, 3>({0, 0, 1});
-    return b;
-  };
+  // A rotating frame, so that the anisotropy is not aligned with the mesh.
+  const Fibres::FibreField fibres =
+    [](const auto &, const auto &points, auto &bases) {
+      bases.resize(points.size());
+      for (unsigned int i = 0; i < points.size(); ++i)
+        {
+          const double a = 0.3 * points[i][2];
+          bases[i].f     = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
+          bases[i].s     = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
+          bases[i].n     = dealii::Tensor<1, 3>({0, 0, 1});
+        }
+    };
 
   SECTION("Land ventricle, Q2, follower pressure on the endocardium, active "
           "tension, Robin springs on the epicardium")
