@@ -91,7 +91,6 @@ namespace systole
   void
   run_cavity_volume_problem(const dealii::ParameterHandler &prm,
                             const RunParameters            &run,
-                            const std::string              &prm_file,
                             const std::string              &parameter_text,
                             Logger                         &logger,
                             const MPI_Comm                  comm)

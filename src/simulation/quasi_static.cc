@@ -23,7 +23,6 @@ namespace systole
   void
   run_quasi_static_problem(const dealii::ParameterHandler &prm,
                            const RunParameters            &run,
-                           const std::string              &prm_file,
                            const std::string              &parameter_text,
                            Logger                         &logger,
                            const MPI_Comm                  comm)

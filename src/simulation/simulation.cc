@@ -27,7 +27,6 @@ namespace systole
     MPI_Comm                 comm;
     Logger                   logger;
     dealii::ParameterHandler prm;
-    std::string              file;
     std::string              text;
     RunParameters            run;
   };
@@ -37,7 +36,6 @@ namespace systole
                          std::ostream      &out)
     : impl(std::make_unique<Impl>(comm, out))
   {
-    impl->file = parameter_file;
     read_parameter_file(impl->prm, parameter_file);
     impl->run = RunParameters::parse(impl->prm, parameter_file);
     validate_component_parameters(impl->prm, parameter_file);
@@ -61,14 +59,12 @@ namespace systole
     if (impl->run.problem == "cavity volume")
       run_cavity_volume_problem(impl->prm,
                                 impl->run,
-                                impl->file,
                                 impl->text,
                                 impl->logger,
                                 impl->comm);
     else if (impl->run.problem == "mechanics")
       run_quasi_static_problem(impl->prm,
                                impl->run,
-                               impl->file,
                                impl->text,
                                impl->logger,
                                impl->comm);
