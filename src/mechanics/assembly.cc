@@ -16,7 +16,8 @@ namespace systole::Mechanics
   double
   Problem::Impl::assemble(const double pressure,
                           const double active_tension,
-                          const bool   with_matrix)
+                          const bool   with_matrix,
+                          const bool   with_volume_derivative)
   {
     using dealii::SymmetricTensor;
     using dealii::Tensor;
@@ -45,9 +46,12 @@ namespace systole::Mechanics
                                       dealii::update_JxW_values);
     const dealii::FEValuesExtractors::Vector displacement(0);
 
-    const unsigned int                           n = fe.n_dofs_per_cell();
-    dealii::FullMatrix<double>                   cell_matrix(n, n);
-    dealii::Vector<double>                       cell_residual(n);
+    const unsigned int         n = fe.n_dofs_per_cell();
+    dealii::FullMatrix<double> cell_matrix(n, n);
+    dealii::Vector<double>     cell_residual(n);
+    dealii::Vector<double>     cell_volume_derivative(n);
+    AssertThrow(!with_volume_derivative || cavity.has_value(),
+                dealii::ExcMessage("This problem has no cavity."));
     std::vector<dealii::types::global_dof_index> dofs(n);
     std::vector<Tensor<2, 3>>                    grad_u(quadrature.size()),
       face_grad_u(face_quadrature.size());
@@ -102,6 +106,8 @@ namespace systole::Mechanics
     if (with_matrix)
       tangent = 0;
     residual = 0;
+    if (with_volume_derivative)
+      volume_derivative = 0;
 
     unsigned int inverted = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -113,6 +119,10 @@ namespace systole::Mechanics
         cell_matrix       = 0;
         cell_residual     = 0;
         const auto &bases = fibre_bases[cell->active_cell_index()];
+        const std::vector<double> *tension_field =
+          active_tension_field.empty()
+            ? nullptr
+            : &active_tension_field[cell->active_cell_index()];
 
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
@@ -128,8 +138,10 @@ namespace systole::Mechanics
             passive_law.evaluate(in, out);
             if (!reduced_volumetric)
               volumetric_law.add_to(in.F, out.S, out.dS_dE);
-            if (active_tension != 0.0)
-              Materials::add_active_stress(active_tension,
+            const double tension =
+              active_tension + (tension_field ? (*tension_field)[q] : 0.0);
+            if (tension != 0.0)
+              Materials::add_active_stress(tension,
                                            params.active_transverse_fraction,
                                            in.basis,
                                            out.S);
@@ -164,12 +176,23 @@ namespace systole::Mechanics
               cell_matrix(a, b) = cell_matrix(b, a);
 
         // Boundary terms.
+        cell_volume_derivative = 0;
         if (cell->at_boundary())
           for (const auto &face : cell->face_iterators())
             {
               if (!face->at_boundary())
                 continue;
               const auto id = face->boundary_id();
+              if (with_volume_derivative && id == *pressure_id)
+                {
+                  fe_face.reinit(cell, face);
+                  fe_face[displacement].get_function_gradients(u, face_grad_u);
+                  add_volume_flux(fe_face,
+                                  face_grad_u,
+                                  -1.0,
+                                  cell_volume_derivative,
+                                  nullptr);
+                }
               if (pressure_id && id == *pressure_id && pressure != 0.0)
                 {
                   fe_face.reinit(cell, face);
@@ -228,11 +251,17 @@ namespace systole::Mechanics
                                                  residual);
         else
           constraints.distribute_local_to_global(cell_residual, dofs, residual);
+        if (with_volume_derivative && cell->at_boundary())
+          constraints.distribute_local_to_global(cell_volume_derivative,
+                                                 dofs,
+                                                 volume_derivative);
       }
 
     if (with_matrix)
       tangent.compress(dealii::VectorOperation::add);
     residual.compress(dealii::VectorOperation::add);
+    if (with_volume_derivative)
+      volume_derivative.compress(dealii::VectorOperation::add);
 
     // An inverted element on any rank fails the step on every rank.
     inverted = dealii::Utilities::MPI::max(inverted, comm);

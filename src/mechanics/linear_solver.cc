@@ -27,6 +27,9 @@ namespace systole::Mechanics
                                      ")."));
     }
 
+    /// MUMPS through PETSc (KSPPREONLY): Cholesky (LDL^T) for symmetric
+    /// matrices, LU otherwise. A new factorization per setup(); the solves
+    /// after it reuse it.
     class DirectSolver : public LinearSolver
     {
     public:
@@ -34,17 +37,46 @@ namespace systole::Mechanics
         : symmetric(symmetric)
       {}
 
-      unsigned int
-      solve(const LA::MPI::SparseMatrix &K,
-            LA::MPI::Vector             &x,
-            const LA::MPI::Vector       &b) override
+      ~DirectSolver() override
       {
-        dealii::SolverControl                    control(1, 0);
-        dealii::PETScWrappers::SparseDirectMUMPS mumps(
-          control,
-          K.get_mpi_communicator());
-        mumps.set_symmetric_mode(symmetric);
-        mumps.solve(K, x, b);
+        KSPDestroy(&ksp);
+      }
+
+      void
+      setup(const LA::MPI::SparseMatrix &K) override
+      {
+        KSPDestroy(&ksp);
+        Mat A = K;
+        check_petsc(KSPCreate(K.get_mpi_communicator(), &ksp), "KSPCreate");
+        check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+        PC pc;
+        check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+        check_petsc(PCSetType(pc, symmetric ? PCCHOLESKY : PCLU), "PCSetType");
+        check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
+                    "PCFactorSetMatSolverType");
+        check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        check_petsc(KSPSetUp(ksp), "KSPSetUp");
+        PCFailedReason failure = PC_NOERROR;
+        PCGetFailedReason(pc, &failure);
+        AssertThrow(failure == PC_NOERROR,
+                    dealii::ExcMessage(
+                      "MUMPS could not factorize the tangent (PETSc PC failure "
+                      "reason " +
+                      std::to_string(static_cast<int>(failure)) +
+                      "): it is singular; is the body held against rigid "
+                      "motions (Mechanics / Fixed boundaries)?"));
+      }
+
+      unsigned int
+      solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) override
+      {
+        Assert(ksp != nullptr, dealii::ExcMessage("setup() first"));
+        check_petsc(KSPSolve(ksp, b, x), "KSPSolve (MUMPS)");
+        KSPConvergedReason reason;
+        KSPGetConvergedReason(ksp, &reason);
+        AssertThrow(reason >= 0,
+                    dealii::ExcMessage("MUMPS failed (PETSc reason " +
+                                       std::to_string(reason) + ")."));
         return 1;
       }
 
@@ -57,6 +89,7 @@ namespace systole::Mechanics
 
     private:
       bool symmetric;
+      KSP  ksp = nullptr;
     };
 
     /// GMRES + GAMG with the rigid-body modes as near-null space.
@@ -127,10 +160,8 @@ namespace systole::Mechanics
         KSPDestroy(&ksp);
       }
 
-      unsigned int
-      solve(const LA::MPI::SparseMatrix &K,
-            LA::MPI::Vector             &x,
-            const LA::MPI::Vector       &b) override
+      void
+      setup(const LA::MPI::SparseMatrix &K) override
       {
         Mat                A = K;
         std::array<Vec, 6> vectors;
@@ -148,6 +179,11 @@ namespace systole::Mechanics
         MatNullSpaceDestroy(&near_null_space);
 
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+      }
+
+      unsigned int
+      solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) override
+      {
         x = 0;
         check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
         KSPConvergedReason reason;

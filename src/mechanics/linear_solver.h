@@ -27,13 +27,28 @@ namespace systole::Mechanics
   public:
     virtual ~LinearSolver() = default;
 
-    /// Solve; returns the number of iterations (1 for the direct solver).
-    /// Throws ExcMessage when the solve fails (the Newton loop treats that as
-    /// a failed step).
+    /// Prepare solves with @p K (the direct solver factorizes it; the
+    /// iterative one builds its preconditioner). @p K must stay alive and
+    /// unchanged until the next setup().
+    virtual void
+    setup(const LA::MPI::SparseMatrix &K) = 0;
+
+    /// Solve K x = b with the K of the last setup(); returns the number of
+    /// iterations (1 for the direct solver). Several right-hand sides share
+    /// one factorization. Throws ExcMessage when the solve fails (the Newton
+    /// loop treats that as a failed step).
     virtual unsigned int
+    solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) = 0;
+
+    /// setup(K), then solve(x, b).
+    unsigned int
     solve(const LA::MPI::SparseMatrix &K,
           LA::MPI::Vector             &x,
-          const LA::MPI::Vector       &b) = 0;
+          const LA::MPI::Vector       &b)
+    {
+      setup(K);
+      return solve(x, b);
+    }
 
     virtual std::string
     name() const = 0;

@@ -131,6 +131,7 @@ namespace systole::Mechanics
                                                        m.relevant);
     m.tangent.reinit(m.owned, m.owned, dsp, m.comm);
     m.residual.reinit(m.owned, m.comm);
+    m.volume_derivative.reinit(m.owned, m.comm);
     m.u_owned.reinit(m.owned, m.comm);
     m.u_saved.reinit(m.owned, m.comm);
     m.u_previous.reinit(m.owned, m.comm);
@@ -143,10 +144,13 @@ namespace systole::Mechanics
                                   quadrature,
                                   dealii::update_quadrature_points);
     m.fibre_bases.resize(tria.n_active_cells());
+    m.quadrature_points.resize(tria.n_active_cells());
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
+          m.quadrature_points[cell->active_cell_index()] =
+            fe_values.get_quadrature_points();
           fibres(cell,
                  fe_values.get_quadrature_points(),
                  m.fibre_bases[cell->active_cell_index()]);
@@ -171,20 +175,68 @@ namespace systole::Mechanics
 
   Problem::~Problem() = default;
 
+  unsigned int
+  Problem::Impl::linear_solve(LA::MPI::Vector       &x,
+                              const LA::MPI::Vector &b,
+                              const unsigned int     iteration,
+                              const double           relative)
+  {
+    try
+      {
+        x                      = 0;
+        const unsigned int its = linear_solver->solve(x, b);
+        constraints.distribute(x);
+        return its;
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        AssertThrow(false,
+                    ExcNewtonDidNotConverge(std::string("linear solver: ") +
+                                              one_line_message(e),
+                                            iteration,
+                                            relative));
+      }
+    return 0;
+  }
+
   NewtonReport
   Problem::solve(const double pressure, const double active_tension)
   {
-    Impl           &m = *impl;
+    double p = pressure;
+    return impl->newton(p, active_tension, nullptr);
+  }
+
+  NewtonReport
+  Problem::solve_volume(const double target_volume,
+                        const double active_tension,
+                        double      &pressure)
+  {
+    AssertThrow(impl->cavity.has_value(),
+                dealii::ExcMessage("A volume constraint needs a cavity (the "
+                                   "pressure boundary must be the endocardium "
+                                   "and the mesh must have a base)."));
+    return impl->newton(pressure, active_tension, &target_volume);
+  }
+
+  NewtonReport
+  Problem::Impl::newton(double       &pressure,
+                        const double  active_tension,
+                        const double *target_volume)
+  {
+    Impl           &m = *this;
     NewtonReport    report;
-    LA::MPI::Vector du(m.owned, m.comm);
-    double          residual = 0;
+    LA::MPI::Vector du(m.owned, m.comm), w_volume(m.owned, m.comm);
+    double          residual     = 0;
+    double          volume_error = 0; // |V(u) - V_target| / V_target
+    const bool      bordered     = target_volume != nullptr;
 
     auto  &out       = m.logger.stream();
     double reference = 0; // largest residual seen in this solve
     double du_norm   = 0;
 
-    // Residual and tangent at the current u; false if an element inverted or
-    // the residual is not finite (decided on all ranks alike).
+    // Residual and tangent (and dV/du when bordered) at the current u; false
+    // if an element inverted or the residual is not finite (decided on all
+    // ranks alike).
     double     assembly_seconds = 0, solver_seconds = 0;
     const auto seconds_since = [](const auto start) {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() -
@@ -195,14 +247,17 @@ namespace systole::Mechanics
       const auto start = std::chrono::steady_clock::now();
       try
         {
-          norm = m.assemble(pressure, active_tension, true);
+          norm = m.assemble(pressure, active_tension, true, bordered);
+          if (bordered)
+            volume_error =
+              (cavity_volume_now() - *target_volume) / *target_volume;
           assembly_seconds += seconds_since(start);
         }
       catch (const ExcInvertedElement &)
         {
           return false;
         }
-      return std::isfinite(norm);
+      return std::isfinite(norm) && std::isfinite(volume_error);
     };
 
     AssertThrow(try_assemble(residual),
@@ -217,35 +272,48 @@ namespace systole::Mechanics
         const double relative = residual / std::max(reference, 1e-300);
         const double u_norm   = m.u_owned.l2_norm();
         if (it > 0)
-          out << "      Newton " << std::setw(2) << it
-              << ": |R| = " << std::scientific << std::setprecision(3)
-              << residual << "  |R|/|R|max = " << relative
-              << "  |du|/|u| = " << du_norm / std::max(u_norm, 1e-300)
-              << std::defaultfloat << std::setprecision(2) << "  (assembly "
-              << assembly_seconds << " s, solver " << solver_seconds << " s)"
-              << std::endl;
+          {
+            out << "      Newton " << std::setw(2) << it
+                << ": |R| = " << std::scientific << std::setprecision(3)
+                << residual << "  |R|/|R|max = " << relative
+                << "  |du|/|u| = " << du_norm / std::max(u_norm, 1e-300);
+            if (bordered)
+              out << "  |dV|/V = " << std::abs(volume_error)
+                  << "  p = " << pressure;
+            out << std::defaultfloat << std::setprecision(2) << "  (assembly "
+                << assembly_seconds << " s, solver " << solver_seconds << " s)"
+                << std::endl;
+          }
         // Converged: the residual fell by the relative tolerance, or is at
-        // the absolute floor, or the last update was at round-off level.
-        if (residual <= m.params.newton_absolute_tolerance ||
-            (it > 0 && (relative <= m.params.newton_relative_tolerance ||
-                        du_norm <= 1e-12 * u_norm)))
+        // the absolute floor, or the last update was at round-off level; and
+        // the cavity volume is on its target.
+        const bool volume_ok =
+          !bordered || std::abs(volume_error) <= volume_tolerance;
+        if (volume_ok &&
+            (residual <= m.params.newton_absolute_tolerance ||
+             (it > 0 && (relative <= m.params.newton_relative_tolerance ||
+                         du_norm <= 1e-12 * u_norm))))
           {
             report.iterations     = it;
             report.final_residual = residual;
             return report;
           }
         AssertThrow(it < m.params.max_newton_iterations,
-                    ExcNewtonDidNotConverge("load step", it, relative));
+                    ExcNewtonDidNotConverge(bordered ? "volume-constrained "
+                                                       "step"
+                                                     : "load step",
+                                            it,
+                                            relative));
 
-        // K du = -R
-        du = 0;
+        // K du = -R; bordered by the volume constraint g = V(u) - V_target:
+        // [K -b; b^T 0] [du; dp] = -[R; g] with b = dV/du. Two solves with
+        // one factorization: K w_R = -R, K w_b = b; then
+        // dp = -(g + b.w_R) / (b.w_b), du = w_R + dp w_b.
         m.residual *= -1.0;
         const auto solver_start = std::chrono::steady_clock::now();
         try
           {
-            report.linear_iterations +=
-              m.linear_solver->solve(m.tangent, du, m.residual);
-            solver_seconds += seconds_since(solver_start);
+            m.linear_solver->setup(m.tangent);
           }
         catch (const dealii::ExceptionBase &e)
           {
@@ -255,19 +323,35 @@ namespace systole::Mechanics
                                                 it,
                                                 relative));
           }
-        m.constraints.distribute(du);
+        report.linear_iterations +=
+          m.linear_solve(du, m.residual, it, relative);
+        double dp = 0;
+        if (bordered)
+          {
+            report.linear_iterations +=
+              m.linear_solve(w_volume, m.volume_derivative, it, relative);
+            const double g = volume_error * *target_volume;
+            // b.w with the constrained entries of the distributed w: b is
+            // condensed (zero there), so the plain dot product is b^T w.
+            dp = -(g + m.volume_derivative * du) /
+                 (m.volume_derivative * w_volume);
+            du.add(dp, w_volume);
+          }
+        solver_seconds += seconds_since(solver_start);
 
         // Safeguarded update: halve the step while it inverts an element. (A
         // residual-norm merit test is no use here: the first iterations of a
         // load step that rotates the body raise |R| by orders of magnitude
         // on their way to the solution.)
-        const LA::MPI::Vector u_start = m.u_owned;
-        double                alpha   = 1.0;
+        const LA::MPI::Vector u_start        = m.u_owned;
+        const double          pressure_start = pressure;
+        double                alpha          = 1.0;
         for (unsigned int cut = 0;; ++cut)
           {
             m.u_owned = u_start;
             m.u_owned.add(alpha, du);
             m.u          = m.u_owned;
+            pressure     = pressure_start + alpha * dp;
             double trial = 0;
             if (try_assemble(trial))
               {
@@ -284,6 +368,12 @@ namespace systole::Mechanics
           out << "      (step length " << alpha << ")" << std::endl;
         du_norm = alpha * du.l2_norm();
       }
+  }
+
+  double
+  Problem::Impl::cavity_volume_now() const
+  {
+    return cavity->volume(mapping, dof_handler, u, n_q_face_1d);
   }
 
   double
@@ -316,6 +406,63 @@ namespace systole::Mechanics
 
     difference -= Kd;
     return difference.l2_norm() / Kd.l2_norm();
+  }
+
+  std::array<double, 2>
+  Problem::bordered_jacobian_error(const double pressure,
+                                   const double active_tension,
+                                   const double h)
+  {
+    Impl &m = *impl;
+    m.assemble(pressure, active_tension, true, true);
+    LA::MPI::Vector d(m.owned, m.comm), Jd(m.owned, m.comm);
+    for (const auto i : m.owned)
+      d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
+    d.compress(dealii::VectorOperation::insert);
+    m.constraints.set_zero(d);
+    const double dp = 0.3 * std::max(std::abs(pressure), 1.0);
+    // First block row: K d - b dp (R depends on p through -p b); second: b.d.
+    m.tangent.vmult(Jd, d);
+    Jd.add(-dp, m.volume_derivative);
+    const double volume_row = m.volume_derivative * d;
+
+    const LA::MPI::Vector u0          = m.u_owned;
+    const auto            evaluate_at = [&](const double step, double &volume) {
+      m.u_owned = u0;
+      m.u_owned.add(step, d);
+      m.u = m.u_owned;
+      m.assemble(pressure + step * dp, active_tension, false);
+      volume = m.cavity_volume_now();
+      return LA::MPI::Vector(m.residual);
+    };
+    double          v_plus = 0, v_minus = 0;
+    LA::MPI::Vector difference = evaluate_at(h, v_plus);
+    difference -= evaluate_at(-h, v_minus);
+    difference /= 2.0 * h;
+    m.u_owned = u0;
+    m.u       = m.u_owned;
+
+    difference -= Jd;
+    const double volume_difference = (v_plus - v_minus) / (2.0 * h);
+    return {{difference.l2_norm() / Jd.l2_norm(),
+             std::abs(volume_difference - volume_row) / std::abs(volume_row)}};
+  }
+
+  void
+  Problem::quadrature_points(
+    std::vector<std::vector<dealii::Point<3>>> &points) const
+  {
+    points = impl->quadrature_points;
+  }
+
+  void
+  Problem::set_active_tension(std::vector<std::vector<double>> tension)
+  {
+    AssertThrow(tension.empty() ||
+                  tension.size() == impl->quadrature_points.size(),
+                dealii::ExcMessage("set_active_tension: one vector per cell "
+                                   "(by active cell index) expected."));
+    impl->active_tension_field = std::move(tension);
   }
 
   void

@@ -8,6 +8,7 @@
 #include "geometry/boundary_names.h"
 #include "mechanics/parameters.h"
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -86,6 +87,39 @@ namespace systole::Mechanics
     /// displacement is then undefined: restore() it.
     NewtonReport
     solve(const double pressure, const double active_tension);
+
+    /// Solve for equilibrium (u, p) under the cavity volume constraint
+    /// V(u) = @p target_volume [mm^3]: the cavity pressure p [kPa] is the
+    /// Lagrange multiplier. Newton on the bordered system
+    /// [K -b; b^T 0][du; dp] = -[R; V - V_target] (b = dV/du), solved with
+    /// two solves of one factorization of K and a scalar Schur complement.
+    /// @p pressure is the initial guess on entry and the solution on exit.
+    /// Converged when the residual meets the Newton tolerances and
+    /// |V - V_target| <= 1e-11 V_target. Throws like solve().
+    NewtonReport
+    solve_volume(const double target_volume,
+                 const double active_tension,
+                 double      &pressure);
+
+    /// Reference positions of the quadrature points of the mechanics, per
+    /// locally owned cell (indexed by active cell index; empty for other
+    /// cells), in the order set_active_tension() expects.
+    void
+    quadrature_points(std::vector<std::vector<dealii::Point<3>>> &points) const;
+
+    /// A per-point active tension [kPa] (layout of quadrature_points()),
+    /// added to the uniform one of solve(); an empty argument removes it.
+    void
+    set_active_tension(std::vector<std::vector<double>> tension);
+
+    /// Verification hook: relative errors of the bordered Jacobian against
+    /// central differences in a fixed pseudo-random direction (d, dp):
+    /// {first block row (K d - b dp vs dR), second row (b.d vs dV)}. Both
+    /// fall like h^2 when consistent. Leaves u unchanged.
+    std::array<double, 2>
+    bordered_jacobian_error(const double pressure,
+                            const double active_tension,
+                            const double h);
 
     /// Remember the current displacement (a converged state); the one saved
     /// before becomes the previous state for predict().

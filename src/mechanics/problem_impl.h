@@ -36,10 +36,36 @@ namespace systole::Mechanics
     /// Residual (and, if @p with_matrix, tangent) at the current u for the
     /// given loads. Returns the l2 norm of the constrained residual. Throws
     /// ExcInvertedElement collectively when J <= 0 somewhere.
+    /// If @p with_volume_derivative, also assembles dV/du of the cavity into
+    /// volume_derivative (condensed like the residual).
     double
     assemble(const double pressure,
              const double active_tension,
-             const bool   with_matrix);
+             const bool   with_matrix,
+             const bool   with_volume_derivative = false);
+
+    /// Newton's method for R(u; p) = 0 at fixed @p pressure, or, with a
+    /// @p target_volume, for (u, p) with the cavity volume constraint (p is
+    /// then the Lagrange multiplier, updated in place).
+    NewtonReport
+    newton(double       &pressure,
+           const double  active_tension,
+           const double *target_volume);
+
+    /// Cavity volume at the current u.
+    double
+    cavity_volume_now() const;
+
+    /// Relative tolerance on the cavity volume of a volume-constrained solve.
+    static constexpr double volume_tolerance = 1e-11;
+
+    /// Solve tangent x = b (the tangent as last assembled) and distribute
+    /// the constraints; wraps linear solver failures as Newton failures.
+    unsigned int
+    linear_solve(LA::MPI::Vector       &x,
+                 const LA::MPI::Vector &b,
+                 const unsigned int     iteration,
+                 const double           relative);
 
     Parameters                                          params;
     dealii::parallel::distributed::Triangulation<3, 3> &tria;
@@ -64,12 +90,18 @@ namespace systole::Mechanics
 
     /// Fibre frames per locally owned cell (active_cell_index) and point.
     std::vector<std::vector<Fibres::FibreBasis>> fibre_bases;
+    /// Reference positions of those points.
+    std::vector<std::vector<dealii::Point<3>>> quadrature_points;
+    /// Active tension per locally owned cell and point [kPa], added to the
+    /// uniform one (empty: none).
+    std::vector<std::vector<double>> active_tension_field;
 
     LA::MPI::SparseMatrix tangent;
-    LA::MPI::Vector       residual;   ///< owned
-    LA::MPI::Vector       u_owned;    ///< owned
-    LA::MPI::Vector       u;          ///< ghosted copy of u_owned
-    LA::MPI::Vector       u_saved;    ///< owned
+    LA::MPI::Vector       residual;          ///< owned
+    LA::MPI::Vector       volume_derivative; ///< owned: dV/du, condensed
+    LA::MPI::Vector       u_owned;           ///< owned
+    LA::MPI::Vector       u;                 ///< ghosted copy of u_owned
+    LA::MPI::Vector       u_saved;           ///< owned
     LA::MPI::Vector       u_previous; ///< owned, the save() before u_saved
     unsigned int          n_saves = 0;
 
