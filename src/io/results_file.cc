@@ -255,6 +255,7 @@ namespace systole::IO
     hid_t                  file = -1;
     Table                  timeseries{"timeseries", -1, {}, {}, 0};
     Table                  summary{"summary", -1, {}, {}, 0};
+    Table                  events{"events", -1, {}, {}, 0};
     hsize_t                n_global_nodes = 0, n_global_cells = 0;
     std::vector<FieldStep> field_steps;
 
@@ -411,6 +412,7 @@ namespace systole::IO
   {
     impl->timeseries.close();
     impl->summary.close();
+    impl->events.close();
     if (impl->file >= 0)
       H5Fclose(impl->file);
   }
@@ -425,6 +427,13 @@ namespace systole::IO
   ResultsFile::append_timeseries(const std::vector<Column> &row)
   {
     impl->timeseries.append(impl->file, row, impl->root);
+    impl->flush();
+  }
+
+  void
+  ResultsFile::append_event(const std::vector<Column> &row)
+  {
+    impl->events.append(impl->file, row, impl->root);
     impl->flush();
   }
 

@@ -31,6 +31,7 @@ namespace systole::IO
   /// - `/timeseries/<column>`: one float64 entry per completed step (attribute
   /// `unit`);
   /// - `/summary/<column>`: one row per beat (written by later components);
+  /// - `/events/<column>`: one row per discrete event (valve events);
   /// - `/mesh/nodes`, `/mesh/cells`: reference mesh of the field output
   /// (hexahedra);
   /// - `/fields/step_NNNNNN/<name>`: nodal fields every k steps (group
@@ -60,6 +61,11 @@ namespace systole::IO
     /// columns).
     void
     append_summary(const std::vector<Column> &row);
+
+    /// Append one row to /events (valve events and other discrete events of
+    /// the run; same rules as the time series, separate columns).
+    void
+    append_event(const std::vector<Column> &row);
 
     /// Write the fields of @p data_out (patches already built) as
     /// /fields/step_NNNNNN and update the XDMF file. The first call also writes
