@@ -183,27 +183,25 @@ namespace systole::Mechanics
               if (!face->at_boundary())
                 continue;
               const auto id = face->boundary_id();
-              if (with_volume_derivative && id == *pressure_id)
+              if (pressure_id && id == *pressure_id &&
+                  (pressure != 0.0 || with_volume_derivative))
                 {
                   fe_face.reinit(cell, face);
                   fe_face[displacement].get_function_gradients(u, face_grad_u);
-                  add_volume_flux(fe_face,
-                                  face_grad_u,
-                                  -1.0,
-                                  cell_volume_derivative,
-                                  nullptr);
-                }
-              if (pressure_id && id == *pressure_id && pressure != 0.0)
-                {
-                  fe_face.reinit(cell, face);
-                  fe_face[displacement].get_function_gradients(u, face_grad_u);
+                  if (with_volume_derivative)
+                    add_volume_flux(fe_face,
+                                    face_grad_u,
+                                    -1.0,
+                                    cell_volume_derivative,
+                                    nullptr);
                   // R -= p dV/du, K -= p d2V/du2 with the wall normal: the
                   // pressure pushes the wall along -N (into the body).
-                  add_volume_flux(fe_face,
-                                  face_grad_u,
-                                  pressure,
-                                  cell_residual,
-                                  with_matrix ? &cell_matrix : nullptr);
+                  if (pressure != 0.0)
+                    add_volume_flux(fe_face,
+                                    face_grad_u,
+                                    pressure,
+                                    cell_residual,
+                                    with_matrix ? &cell_matrix : nullptr);
                 }
               if (robin_ids.count(id) > 0)
                 {

@@ -38,9 +38,14 @@ namespace systole::Mechanics
     , mapping(mapping_degree)
     , dof_handler(tria)
     , n_q_1d(degree + 1)
-    , n_q_face_1d(degree + mapping_degree + 1)
+    // The cavity volume, the pressure load and their derivatives are
+    // polynomials of degree 3p - 1 per face coordinate (p the larger of the
+    // two degrees): p + 1 Gauss points integrate them exactly for p <= 2.
+    , n_q_face_1d(std::max(degree, mapping_degree) + 1)
     , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
-  {}
+  {
+    mapping.initialize(dealii::MappingQ<3>(mapping_degree), tria);
+  }
 
   Problem::Problem(const Parameters                                   &params,
                    dealii::parallel::distributed::Triangulation<3, 3> &tria,

@@ -95,7 +95,7 @@ namespace systole::Mechanics
     /// two solves of one factorization of K and a scalar Schur complement.
     /// @p pressure is the initial guess on entry and the solution on exit.
     /// Converged when the residual meets the Newton tolerances and
-    /// |V - V_target| <= 1e-11 V_target. Throws like solve().
+    /// |V - V_target| <= 2e-9 V_target. Throws like solve().
     NewtonReport
     solve_volume(const double target_volume,
                  const double active_tension,

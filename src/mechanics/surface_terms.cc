@@ -3,6 +3,8 @@
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_values.h>
 
+#include <vector>
+
 namespace systole::Mechanics
 {
   void
@@ -15,12 +17,16 @@ namespace systole::Mechanics
     const auto        &fe = fe_face.get_fe();
     const unsigned int n  = fe.n_dofs_per_cell();
     // Levi-Civita symbol as the six signed permutations.
-    static constexpr int perm[6][4] = {{0, 1, 2, 1},
-                                       {1, 2, 0, 1},
-                                       {2, 0, 1, 1},
-                                       {0, 2, 1, -1},
-                                       {2, 1, 0, -1},
-                                       {1, 0, 2, -1}};
+    static constexpr int              perm[6][4] = {{0, 1, 2, 1},
+                                                    {1, 2, 0, 1},
+                                                    {2, 0, 1, 1},
+                                                    {0, 2, 1, -1},
+                                                    {2, 1, 0, -1},
+                                                    {1, 0, 2, -1}};
+    std::vector<unsigned int>         component(n);
+    std::vector<dealii::Tensor<1, 3>> grad(n);
+    for (unsigned int b = 0; b < n; ++b)
+      component[b] = fe.system_to_component_index(b).first;
     for (const unsigned int q : fe_face.quadrature_point_indices())
       {
         const dealii::Tensor<2, 3> F =
@@ -41,9 +47,12 @@ namespace systole::Mechanics
                 A[i][j][K] += p[3] * r[3] * F[k][L] * N[J];
               }
 
+        if (matrix != nullptr)
+          for (unsigned int b = 0; b < n; ++b)
+            grad[b] = fe_face.shape_grad_component(b, q, component[b]);
         for (unsigned int a = 0; a < n; ++a)
           {
-            const unsigned int ca  = fe.system_to_component_index(a).first;
+            const unsigned int ca  = component[a];
             const double       phi = fe_face.shape_value(a, q);
             if (phi == 0.0)
               continue;
@@ -52,12 +61,9 @@ namespace systole::Mechanics
               continue;
             for (unsigned int b = 0; b < n; ++b)
               {
-                const unsigned int cb = fe.system_to_component_index(b).first;
-                const dealii::Tensor<1, 3> grad =
-                  fe_face.shape_grad_component(b, q, cb);
-                double value = 0.0;
-                for (unsigned int K = 0; K < 3; ++K)
-                  value += A[ca][cb][K] * grad[K];
+                const double *row  = A[ca][component[b]];
+                const double value = row[0] * grad[b][0] + row[1] * grad[b][1] +
+                                     row[2] * grad[b][2];
                 (*matrix)(a, b) += phi * value * JxW;
               }
           }
