@@ -1,0 +1,238 @@
+#include "circulation/parameters.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <sstream>
+
+namespace systole::Circulation
+{
+  namespace
+  {
+    std::string
+    str(const double x)
+    {
+      std::ostringstream s;
+      s << x;
+      return s.str();
+    }
+
+    /// Throws unless @p value > 0, naming "Circulation / <entry>" and the
+    /// value in the parameter-file unit (@p value_in_file).
+    void
+    require_positive(const double       value,
+                     const double       value_in_file,
+                     const std::string &entry,
+                     const std::string &unit)
+    {
+      AssertThrow(value > 0,
+                  dealii::ExcMessage("Circulation / " + entry + " = " +
+                                     str(value_in_file) + " " + unit +
+                                     ": must be positive."));
+    }
+  } // namespace
+
+  void
+  Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Circulation");
+    prm.declare_entry(
+      "Windkessel model",
+      "3-element",
+      Selection("2-element|3-element"),
+      "Afterload of the left ventricle. 3-element: characteristic impedance "
+      "Z_c in series with the parallel peripheral resistance R_p and "
+      "compliance C (the aortic valve is ideal); 2-element: R_p and C behind "
+      "the aortic valve resistance. Units: -.");
+    prm.declare_entry("Peripheral resistance",
+                      "1.0",
+                      Double(0.0),
+                      "R_p, systemic peripheral resistance. Units: mmHg s/mL. "
+                      "Typical 1.0-1.3 (reference/physiology.md).");
+    prm.declare_entry("Compliance",
+                      "1.5",
+                      Double(0.0),
+                      "C, arterial compliance. Units: mL/mmHg. Typical 1-2.");
+    prm.declare_entry("Characteristic impedance",
+                      "0.05",
+                      Double(0.0),
+                      "Z_c of the proximal aorta (3-element model only). "
+                      "Units: mmHg s/mL. Typical 0.03-0.07.");
+    prm.declare_entry("Aortic valve resistance",
+                      "0.0075",
+                      Double(0.0),
+                      "Resistance of the open aortic valve (2-element model "
+                      "only). Units: mmHg s/mL.");
+    prm.declare_entry("Mitral valve resistance",
+                      "0.0075",
+                      Double(0.0),
+                      "Resistance of the open mitral valve: the filling flow "
+                      "is (atrial pressure - cavity pressure) / this. Units: "
+                      "mmHg s/mL.");
+    prm.declare_entry("Atrial pressure",
+                      "10",
+                      Double(0.0),
+                      "Left atrial pressure, constant. Units: mmHg. Typical "
+                      "end-diastolic pressure 8-12.");
+    prm.declare_entry("Venous pressure",
+                      "0",
+                      Double(0.0),
+                      "Pressure at the outflow end of the peripheral "
+                      "resistance. Units: mmHg.");
+    prm.declare_entry("Initial aortic pressure",
+                      "80",
+                      Double(0.0),
+                      "Distal arterial (capacitor) pressure at time 0. Units: "
+                      "mmHg. Typical diastolic aortic pressure 80.");
+    prm.declare_entry("Period",
+                      "800",
+                      Double(0.0),
+                      "Length of one heartbeat. Units: ms. Typical 800-1000.");
+    prm.declare_entry("Number of beats",
+                      "4",
+                      Integer(1),
+                      "Largest number of beats to simulate (the run may stop "
+                      "earlier, see Periodicity tolerance). Units: -.");
+    prm.declare_entry(
+      "Periodicity tolerance",
+      "0.01",
+      Double(0.0, 1.0),
+      "The run stops after a beat (from the second on) whose end-diastolic "
+      "volume differs from that of the previous beat by less than this "
+      "fraction; 0 runs all beats. Units: -.");
+    prm.declare_entry("Relative tolerance",
+                      "1e-4",
+                      Double(0.0, 1.0),
+                      "Relative tolerance of the adaptive explicit "
+                      "Runge-Kutta integrator (SUNDIALS ARKode). Units: -.");
+    prm.declare_entry("Absolute volume tolerance",
+                      "1e-3",
+                      Double(0.0),
+                      "Absolute tolerance of the cavity volume and the "
+                      "integrated flows; that of the arterial pressure is "
+                      "this divided by the compliance. Units: mL.");
+    prm.declare_entry("Maximum time step",
+                      "10",
+                      Double(0.0),
+                      "Largest step of the integrator; a valve event within "
+                      "one step is found by root finding, but two events "
+                      "within one step would be missed. Units: ms.");
+    prm.declare_entry("Initial time step",
+                      "0.5",
+                      Double(0.0),
+                      "First step of the integrator, and the first step after "
+                      "every valve event. Units: ms.");
+    prm.leave_subsection();
+  }
+
+  Parameters
+  Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> s = {"Circulation"};
+    Parameters                     p;
+
+    const auto resistance = [&](const std::string &entry) {
+      return resistance_from_mmHg_s_per_mL(prm.get_double(s, entry));
+    };
+    p.windkessel.model = prm.get(s, "Windkessel model") == "2-element"
+                           ? Windkessel::Model::two_element
+                           : Windkessel::Model::three_element;
+    p.windkessel.peripheral_resistance = resistance("Peripheral resistance");
+    p.windkessel.compliance =
+      compliance_from_mL_per_mmHg(prm.get_double(s, "Compliance"));
+    p.windkessel.characteristic_impedance =
+      resistance("Characteristic impedance");
+    p.windkessel.aortic_valve_resistance =
+      resistance("Aortic valve resistance");
+    p.windkessel.venous_pressure =
+      Units::mmHg_to_kPa(prm.get_double(s, "Venous pressure"));
+    p.mitral_valve_resistance = resistance("Mitral valve resistance");
+    p.atrial_pressure =
+      Units::mmHg_to_kPa(prm.get_double(s, "Atrial pressure"));
+    p.initial_arterial_pressure =
+      Units::mmHg_to_kPa(prm.get_double(s, "Initial aortic pressure"));
+    p.period                = prm.get_double(s, "Period");
+    p.n_max_beats           = prm.get_integer(s, "Number of beats");
+    p.periodicity_tolerance = prm.get_double(s, "Periodicity tolerance");
+    p.relative_tolerance    = prm.get_double(s, "Relative tolerance");
+    p.absolute_volume_tolerance =
+      Units::mL_to_mm3(prm.get_double(s, "Absolute volume tolerance"));
+    p.max_time_step     = prm.get_double(s, "Maximum time step");
+    p.initial_time_step = prm.get_double(s, "Initial time step");
+    p.validate();
+    return p;
+  }
+
+  void
+  Parameters::validate() const
+  {
+    // Messages give values in the units of the parameter file.
+    const double r = resistance_from_mmHg_s_per_mL(1.0);
+    const auto  &w = windkessel;
+    require_positive(w.peripheral_resistance,
+                     w.peripheral_resistance / r,
+                     "Peripheral resistance",
+                     "mmHg s/mL");
+    require_positive(w.compliance,
+                     w.compliance / compliance_from_mL_per_mmHg(1.0),
+                     "Compliance",
+                     "mL/mmHg");
+    if (w.model == Windkessel::Model::three_element)
+      require_positive(w.characteristic_impedance,
+                       w.characteristic_impedance / r,
+                       "Characteristic impedance",
+                       "mmHg s/mL (needed by the 3-element model)");
+    else
+      require_positive(w.aortic_valve_resistance,
+                       w.aortic_valve_resistance / r,
+                       "Aortic valve resistance",
+                       "mmHg s/mL (needed by the 2-element model)");
+    require_positive(mitral_valve_resistance,
+                     mitral_valve_resistance / r,
+                     "Mitral valve resistance",
+                     "mmHg s/mL");
+    require_positive(atrial_pressure,
+                     Units::kPa_to_mmHg(atrial_pressure),
+                     "Atrial pressure",
+                     "mmHg");
+    AssertThrow(w.venous_pressure >= 0,
+                dealii::ExcMessage("Circulation / Venous pressure = " +
+                                   str(Units::kPa_to_mmHg(w.venous_pressure)) +
+                                   " mmHg: must not be negative."));
+    AssertThrow(initial_arterial_pressure >= 0,
+                dealii::ExcMessage(
+                  "Circulation / Initial aortic pressure = " +
+                  str(Units::kPa_to_mmHg(initial_arterial_pressure)) +
+                  " mmHg: must not be negative."));
+    require_positive(period, period, "Period", "ms");
+    AssertThrow(n_max_beats >= 1,
+                dealii::ExcMessage(
+                  "Circulation / Number of beats must be at least 1."));
+    AssertThrow(periodicity_tolerance >= 0 && periodicity_tolerance < 1,
+                dealii::ExcMessage("Circulation / Periodicity tolerance = " +
+                                   str(periodicity_tolerance) +
+                                   ": must be in [0, 1)."));
+    AssertThrow(relative_tolerance > 0 && relative_tolerance < 1,
+                dealii::ExcMessage("Circulation / Relative tolerance = " +
+                                   str(relative_tolerance) +
+                                   ": must be in (0, 1)."));
+    require_positive(absolute_volume_tolerance,
+                     Units::mm3_to_mL(absolute_volume_tolerance),
+                     "Absolute volume tolerance",
+                     "mL");
+    require_positive(max_time_step, max_time_step, "Maximum time step", "ms");
+    require_positive(initial_time_step,
+                     initial_time_step,
+                     "Initial time step",
+                     "ms");
+    AssertThrow(initial_time_step <= max_time_step,
+                dealii::ExcMessage("Circulation / Initial time step (" +
+                                   str(initial_time_step) +
+                                   " ms) must not exceed Maximum time step (" +
+                                   str(max_time_step) + " ms)."));
+    AssertThrow(max_time_step <= period,
+                dealii::ExcMessage(
+                  "Circulation / Maximum time step (" + str(max_time_step) +
+                  " ms) must not exceed the Period (" + str(period) + " ms)."));
+  }
+} // namespace systole::Circulation

@@ -1,0 +1,63 @@
+#pragma once
+
+#include "circulation/windkessel.h"
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole::Circulation
+{
+  /// Settings of the 0D circulation (subsection "Circulation"), in internal
+  /// units (kPa, ms, mm^3). The parameter file gives pressures in mmHg,
+  /// volumes in mL, resistances in mmHg s/mL and compliances in mL/mmHg;
+  /// parse() converts them once. The default member values equal the
+  /// parameter-file defaults, so tests can build a Parameters directly.
+  struct Parameters
+  {
+    Windkessel::Parameters windkessel;
+
+    /// R_mv [kPa ms/mm^3]: Q_mv = (p_at - p) / R_mv while the mitral valve is
+    /// open.
+    double mitral_valve_resistance = resistance_from_mmHg_s_per_mL(0.0075);
+    /// p_at [kPa], constant.
+    double atrial_pressure = Units::mmHg_to_kPa(10.0);
+    /// p_ar(0) [kPa].
+    double initial_arterial_pressure = Units::mmHg_to_kPa(80.0);
+
+    /// Length of one beat [ms].
+    double period = 800.0;
+    /// Largest number of beats to run.
+    unsigned int n_max_beats = 4;
+    /// The run stops after beat k >= 1 when |EDV_k - EDV_(k-1)| / EDV_(k-1)
+    /// is below this (0: never, run n_max_beats).
+    double periodicity_tolerance = 0.01;
+
+    /// Relative tolerance of the adaptive ODE integrator.
+    double relative_tolerance = 1e-4;
+    /// Absolute tolerance of volumes [mm^3]; that of p_ar is this / C.
+    double absolute_volume_tolerance = Units::mL_to_mm3(1e-3);
+    /// Largest step of the integrator [ms].
+    double max_time_step = 10.0;
+    /// First step, and the step after every valve event [ms].
+    double initial_time_step = 0.5;
+    /// How often a step may be halved after a recoverable failure of the
+    /// ventricle (not a parameter-file entry).
+    unsigned int max_step_cuts = 10;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads subsection "Circulation", converts to internal units and
+    /// validates; throws ExcMessage naming the entry for invalid values.
+    static Parameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming the entry ("Circulation / Compliance ...") if
+    /// a value is out of range. parse() calls it; call it yourself on a
+    /// Parameters built in code.
+    void
+    validate() const;
+  };
+} // namespace systole::Circulation
