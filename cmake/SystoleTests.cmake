@@ -2,18 +2,22 @@
 find_program(SYSTOLE_MPIEXEC NAMES mpirun mpiexec REQUIRED)
 set(SYSTOLE_MPIEXEC_FLAGS --allow-run-as-root --oversubscribe)
 
-# systole_add_run_test(NAME n PRM file.prm [MPI ranks] CHECK script args...)
-# Runs `systole PRM` (under mpirun when MPI > 1) in a private directory, then the CHECK command
-# (a Python script of tests/runs, run with the project's venv Python) on the results.
+# systole_add_run_test(NAME n PRM file.prm [MPI ranks] [APP target] CHECK script args...)
+# Runs `systole PRM` (or the executable target APP, e.g. systole-fibres; under mpirun when
+# MPI > 1) in a private directory, then the CHECK command (a Python script of tests/runs, run
+# with the project's venv Python) on the results.
 function(systole_add_run_test)
-  cmake_parse_arguments(RT "" "NAME;PRM;MPI" "CHECK" ${ARGN})
+  cmake_parse_arguments(RT "" "NAME;PRM;MPI;APP" "CHECK" ${ARGN})
   if(NOT RT_MPI)
     set(RT_MPI 1)
+  endif()
+  if(NOT RT_APP)
+    set(RT_APP systole-app)
   endif()
   set(workdir ${CMAKE_CURRENT_BINARY_DIR}/${RT_NAME})
   add_test(NAME run.${RT_NAME}
     COMMAND ${CMAKE_COMMAND}
-      -DSYSTOLE=$<TARGET_FILE:systole-app>
+      -DSYSTOLE=$<TARGET_FILE:${RT_APP}>
       -DMPIEXEC=${SYSTOLE_MPIEXEC} -DRANKS=${RT_MPI}
       -DPRM=${CMAKE_CURRENT_SOURCE_DIR}/${RT_PRM}
       -DWORKDIR=${workdir}

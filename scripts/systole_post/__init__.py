@@ -7,6 +7,7 @@ Modules:
 - :mod:`systole_post.compare`: compares time-series columns with a reference CSV
   under per-column tolerances (used by the ``run`` tests) and writes reference CSVs.
 - :mod:`systole_post.plot`: plots time-series columns against time into a PNG.
+- :mod:`systole_post.fibres`: plots the helix-angle profile written by ``systole-fibres``.
 """
 
 from systole_post.results import Results, ResultsError, read_results

@@ -2,7 +2,11 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/logger.h"
+#include "fibres/rule_based.h"
+
 #include <cmath>
+#include <memory>
 
 namespace systole::Fibres
 {
@@ -60,8 +64,13 @@ namespace systole::Fibres
     const double rho_min = 1e-8 * rs;
     if (std::hypot(x, y) < rho_min)
       x = rho_min;
-    const double cos_u = std::max(-1.0, std::min(1.0, X[2] / rl));
-    const double sin_u = -std::sqrt(std::max(0.0, 1.0 - cos_u * cos_u));
+    // ... and off the apex of the spheroid (|sin u| >= 1e-6), where the
+    // frame is the limit along the meridian v.
+    const double sin_u_max = -1e-6;
+    const double sin_u =
+      std::min(sin_u_max,
+               -std::sqrt(std::max(0.0, 1.0 - std::pow(X[2] / rl, 2))));
+    const double cos_u = std::copysign(std::sqrt(1.0 - sin_u * sin_u), X[2]);
     const double v     = std::atan2(-y, -x); // sin u < 0
     e_u                = dealii::Tensor<1, 3>(
       {rs * cos_u * std::cos(v), rs * cos_u * std::sin(v), -rl * sin_u});
@@ -95,18 +104,25 @@ namespace systole::Fibres
   {
     using namespace dealii::Patterns;
     prm.enter_subsection("Fibres");
-    prm.declare_entry("Generator",
-                      "cartesian",
-                      Selection("analytic|cartesian"),
-                      "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
-                      "problem 1, isotropic laws); analytic: the helix rule of "
-                      "Land et al. 2015 problem 3 on the generated ellipsoid, "
-                      "helix angle linear through the wall. Units: -.");
+    prm.declare_entry(
+      "Generator",
+      "cartesian",
+      Selection("analytic|cartesian|dti|rule-based"),
+      "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
+      "problem 1, isotropic laws); analytic: the helix rule of "
+      "Land et al. 2015 problem 3 on the generated ellipsoid, "
+      "helix angle linear through the wall; rule-based: the "
+      "Laplace-Dirichlet rule of Bayer et al. 2012 on any LV mesh with "
+      "boundary parts endocardium, epicardium and base (helix angle linear "
+      "in the transmural Laplace coordinate, same conventions as analytic); "
+      "dti: principal eigenvectors of a diffusion-tensor image (subsection "
+      "DTI). Units: -.");
     prm.declare_entry("Helix angle endocardium",
                       "60",
                       Double(-90, 90),
-                      "Helix angle alpha at the endocardium (analytic "
-                      "generator; Land problem 3: 90). Units: degrees.");
+                      "Helix angle alpha at the endocardium (analytic and "
+                      "rule-based generators; Land problem 3: 90). Units: "
+                      "degrees.");
     prm.declare_entry("Helix angle epicardium",
                       "-60",
                       Double(-90, 90),
@@ -117,11 +133,36 @@ namespace systole::Fibres
                       Double(-90, 90),
                       "Rotation beta of the sheet direction about the fibre, "
                       "from the wall normal. Units: degrees.");
+    prm.enter_subsection("Rule-based");
+    prm.declare_entry(
+      "Element degree",
+      "2",
+      Integer(1, 2),
+      "Degree of the Lagrange elements of the rule-based generator's two "
+      "solves (transmural and apex-to-base coordinates). Q1 gradients turn "
+      "the frame by several degrees on meshes of 10^4 DOFs; Q2 by less "
+      "than one degree (tests/unit/fibres/rule_based_test.cc). "
+      "Units: -.");
+    prm.declare_entry(
+      "Apicobasal field",
+      "poisson",
+      Selection("laplace|poisson"),
+      "The apex-to-base coordinate psi whose gradient, projected onto the "
+      "wall, is the longitudinal direction. laplace: Bayer et al. 2012, "
+      "Laplace psi = 1 on the base and 0 at the apex vertex (the epicardial "
+      "vertex farthest from the base plane); the point condition is "
+      "singular, and epicardial frames within 20 to 40 degrees of the apex "
+      "are unreliable (tens of degrees off). poisson: -Laplace u = 1, u = 0 on "
+      "the base, psi = 1 - u / max u; smooth everywhere, psi = 0 where u "
+      "peaks (the apex). Units: -.");
     prm.leave_subsection();
+    prm.leave_subsection();
+    DTIParameters::declare(prm);
   }
 
   Parameters
-  Parameters::parse(const dealii::ParameterHandler &prm)
+  Parameters::parse(const dealii::ParameterHandler &prm,
+                    const std::string              &base_directory)
   {
     Parameters                     p;
     const std::vector<std::string> path = {"Fibres"};
@@ -129,6 +170,12 @@ namespace systole::Fibres
     p.alpha_endo = prm.get_double(path, "Helix angle endocardium");
     p.alpha_epi  = prm.get_double(path, "Helix angle epicardium");
     p.beta       = prm.get_double(path, "Sheet angle");
+    const std::vector<std::string> rule = {"Fibres", "Rule-based"};
+    p.rule_based.degree     = prm.get_integer(rule, "Element degree");
+    p.rule_based.apicobasal = prm.get(rule, "Apicobasal field") == "laplace"
+                                ? ApicobasalField::laplace
+                                : ApicobasalField::poisson;
+    p.dti                   = DTIParameters::parse(prm, base_directory);
     return p;
   }
 
@@ -136,9 +183,34 @@ namespace systole::Fibres
   create_fibre_field(const Parameters                  &params,
                      const Geometry::LVShape           &shape,
                      const dealii::Triangulation<3, 3> &tria,
-                     const Geometry::BoundaryNames     &names)
+                     const Geometry::BoundaryNames     &names,
+                     Logger                            *logger)
   {
-    const double                                        degree = M_PI / 180.0;
+    const double degree = M_PI / 180.0;
+
+    // Generators that solve on the mesh: their own (validated) fields.
+    if (params.generator == RuleBased::name)
+      {
+        RuleBased::Parameters p;
+        p.alpha_endo  = params.alpha_endo * degree;
+        p.alpha_epi   = params.alpha_epi * degree;
+        p.beta        = params.beta * degree;
+        p.coordinates = params.rule_based;
+        const auto rule =
+          std::make_shared<const RuleBased>(p, tria, names, logger);
+        return [rule](const auto &cell, const auto &points, auto &bases) {
+          (*rule)(cell, points, bases);
+        };
+      }
+    if (params.generator == "dti")
+      return create_dti_fibre_field(params.dti,
+                                    tria,
+                                    [logger](const std::string &line) {
+                                      if (logger != nullptr)
+                                        logger->line(line);
+                                    });
+
+    // Pointwise rules.
     std::function<FibreBasis(const dealii::Point<3> &)> pointwise;
     if (params.generator == "cartesian")
       pointwise = [](const dealii::Point<3> &) {

@@ -3,7 +3,9 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
 
+#include "fibres/dti_import.h"
 #include "fibres/fibre_basis.h"
+#include "fibres/rule_based.h"
 #include "geometry/ellipsoid.h"
 
 #include <functional>
@@ -12,6 +14,11 @@
 namespace dealii
 {
   class ParameterHandler;
+}
+
+namespace systole
+{
+  class Logger;
 }
 
 namespace systole::Fibres
@@ -80,24 +87,37 @@ namespace systole::Fibres
   /// Subsection "Fibres": the generator and its parameters.
   struct Parameters
   {
-    std::string generator  = "cartesian"; ///< "cartesian" or "analytic"
-    double      alpha_endo = 60.0;        ///< [degrees]
-    double      alpha_epi  = -60.0;       ///< [degrees]
-    double      beta       = 0.0;         ///< [degrees]
+    /// "analytic", "cartesian", "dti" (dti_import.h) or "rule-based"
+    /// (rule_based.h)
+    std::string generator  = "cartesian";
+    double      alpha_endo = 60.0;  ///< [degrees]
+    double      alpha_epi  = -60.0; ///< [degrees]
+    double      beta       = 0.0;   ///< [degrees]
+    /// Subsection "Fibres / Rule-based": how the rule-based generator
+    /// solves for its wall coordinates.
+    WallCoordinates::Parameters rule_based;
+    /// Subsection "Fibres / DTI": the diffusion-tensor image.
+    DTIParameters dti;
 
     static void
     declare(dealii::ParameterHandler &prm);
+    /// @param[in] base_directory folder of the parameter file (relative
+    /// DTI file names are resolved against it)
     static Parameters
-    parse(const dealii::ParameterHandler &prm);
+    parse(const dealii::ParameterHandler &prm,
+          const std::string              &base_directory = "");
   };
 
   /// The fibre field of the generator of @p params, on the mesh @p tria
   /// (kept by reference) whose boundary parts are @p names; @p shape is the
   /// generated ellipsoid (used by the analytic rule only). Every frame it
-  /// returns is validated.
+  /// returns is validated. Collective for generators that solve on the mesh
+  /// (rule-based); their field must not outlive @p tria. @p logger, if not
+  /// null, receives their one-line cost report.
   FibreField
   create_fibre_field(const Parameters                  &params,
                      const Geometry::LVShape           &shape,
                      const dealii::Triangulation<3, 3> &tria,
-                     const Geometry::BoundaryNames     &names);
+                     const Geometry::BoundaryNames     &names,
+                     Logger                            *logger = nullptr);
 } // namespace systole::Fibres

@@ -44,10 +44,12 @@ namespace systole
       run.mapping_degree,
       *passive,
       volumetric,
-      Fibres::create_fibre_field(Fibres::Parameters::parse(prm),
-                                 geometry.lv_shape,
-                                 tria,
-                                 names),
+      Fibres::create_fibre_field(
+        Fibres::Parameters::parse(prm, run.parameter_directory),
+        geometry.lv_shape,
+        tria,
+        names,
+        &logger),
       logger);
 
     {

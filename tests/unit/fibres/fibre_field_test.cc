@@ -85,3 +85,15 @@ TEST_CASE("The fibre validator rejects broken frames", "[fibres]")
   nan.f[0] = std::nan("");
   CHECK_THROWS_WITH(Fibres::validate(nan, "here"), Catch::Contains("NaN"));
 }
+
+TEST_CASE("The analytic helix rule is defined on the axis (the apex)",
+          "[fibres]")
+{
+  const Geometry::LVShape     shape; // Land ventricle
+  const Fibres::AnalyticHelix helix(shape, M_PI / 3, -M_PI / 3, 0.0);
+  for (const double z : {-17.0, -18.5, -20.0})
+    {
+      const dealii::Point<3> X(0, 0, z);
+      CHECK_NOTHROW(Fibres::validate(helix(X), "apex point"));
+    }
+}

@@ -1,0 +1,270 @@
+#include "simulation/fibre_inspection.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_dgq.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/numerics/data_component_interpretation.h>
+#include <deal.II/numerics/data_out.h>
+
+#include "base/linear_algebra.h"
+#include "base/logger.h"
+#include "fibres/fibre_field.h"
+#include "fibres/rule_based.h"
+#include "geometry/mesh.h"
+#include "io/results_file.h"
+#include "simulation/parameters.h"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <sstream>
+
+namespace systole
+{
+  namespace
+  {
+    constexpr double degree = M_PI / 180.0;
+
+    /// The helix-angle profile through the wall, summed over all ranks.
+    struct Profile
+    {
+      std::vector<double> weight, weighted_sum, min, max, count;
+
+      Profile()
+        : weight(n_helix_profile_bins, 0.0)
+        , weighted_sum(n_helix_profile_bins, 0.0)
+        , min(n_helix_profile_bins, std::numeric_limits<double>::max())
+        , max(n_helix_profile_bins, -std::numeric_limits<double>::max())
+        , count(n_helix_profile_bins, 0.0)
+      {}
+
+      void
+      add(const double depth, const double angle, const double JxW)
+      {
+        const auto bin = static_cast<unsigned int>(
+          std::min<double>(n_helix_profile_bins - 1,
+                           std::max(0.0, depth) * n_helix_profile_bins));
+        weight[bin] += JxW;
+        weighted_sum[bin] += JxW * angle;
+        min[bin] = std::min(min[bin], angle);
+        max[bin] = std::max(max[bin], angle);
+        count[bin] += 1;
+      }
+
+      void
+      reduce(const MPI_Comm comm)
+      {
+        dealii::Utilities::MPI::sum(weight, comm, weight);
+        dealii::Utilities::MPI::sum(weighted_sum, comm, weighted_sum);
+        dealii::Utilities::MPI::sum(count, comm, count);
+        dealii::Utilities::MPI::min(min, comm, min);
+        dealii::Utilities::MPI::max(max, comm, max);
+      }
+    };
+
+    /// The parameter text recorded in the results file (as `systole` does).
+    std::string
+    parameter_text(const dealii::ParameterHandler &prm, const std::string &file)
+    {
+      std::ifstream      in(file);
+      std::ostringstream text;
+      text << "# Parameter file '" << file << "' as given:\n"
+           << in.rdbuf() << "\n# All entries with the values used:\n";
+      prm.print_parameters(text, dealii::ParameterHandler::ShortPRM);
+      return text.str();
+    }
+  } // namespace
+
+  void
+  inspect_fibres(const std::string &parameter_file,
+                 const MPI_Comm     comm,
+                 std::ostream      &out)
+  {
+    Logger                   logger(comm, out);
+    dealii::ParameterHandler prm;
+    read_parameter_file(prm, parameter_file);
+    const RunParameters run = RunParameters::parse(prm, parameter_file);
+    validate_component_parameters(prm, parameter_file);
+    const auto geometry =
+      Geometry::Parameters::parse(prm, run.parameter_directory);
+    const auto fibres = Fibres::Parameters::parse(prm, run.parameter_directory);
+
+    dealii::parallel::distributed::Triangulation<3> tria(comm);
+    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    logger.line(IO::code_version() + ": fibres '" + fibres.generator + "' on " +
+                std::to_string(tria.n_global_active_cells()) + " cells");
+    const Fibres::FibreField field =
+      Fibres::create_fibre_field(fibres,
+                                 geometry.lv_shape,
+                                 tria,
+                                 names,
+                                 &logger);
+
+    // The wall frame to measure helix angles in (see the header): only on
+    // LV meshes.
+    std::unique_ptr<Fibres::WallCoordinates> wall;
+    if (names.has("endocardium") && names.has("epicardium") &&
+        names.has("base"))
+      wall = std::make_unique<Fibres::WallCoordinates>(fibres.rule_based,
+                                                       tria,
+                                                       names);
+    else
+      logger.line("The mesh has no boundary parts endocardium, epicardium "
+                  "and base: no helix-angle profile.");
+
+    const dealii::MappingQ<3>       mapping(run.mapping_degree);
+    std::vector<Fibres::FibreBasis> bases;
+    std::vector<Fibres::WallFrame>  frames;
+
+    // The profile, at the Gauss points of every cell.
+    Profile profile;
+    {
+      const dealii::FE_Q<3> fe(1);
+      dealii::FEValues<3>   fe_values(mapping,
+                                    fe,
+                                    dealii::QGauss<3>(5),
+                                    dealii::update_quadrature_points |
+                                      dealii::update_JxW_values);
+      if (wall)
+        for (const auto &cell : tria.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              fe_values.reinit(cell);
+              field(cell, fe_values.get_quadrature_points(), bases);
+              wall->evaluate(cell, fe_values.get_quadrature_points(), frames);
+              for (unsigned int q = 0; q < bases.size(); ++q)
+                if (!frames[q].degenerate)
+                  profile.add(frames[q].transmural,
+                              Fibres::helix_angle(bases[q].f,
+                                                  frames[q].e_c,
+                                                  frames[q].e_l) /
+                                degree,
+                              fe_values.JxW(q));
+            }
+      profile.reduce(comm);
+    }
+
+    // Fields at the vertices of every cell, as a discontinuous Q1 field:
+    // FE_DGQ(1)'s support points are the vertices, in the cell's order.
+    const std::vector<std::string> vectors = {"fibre", "sheet", "sheet_normal"};
+    std::vector<std::string>       field_names;
+    for (const auto &name : vectors)
+      field_names.insert(field_names.end(), 3, name);
+    std::vector<
+      dealii::DataComponentInterpretation::DataComponentInterpretation>
+      interpretation(
+        field_names.size(),
+        dealii::DataComponentInterpretation::component_is_part_of_vector);
+    if (wall)
+      for (const std::string name : {"transmural", "apicobasal", "helix_angle"})
+        {
+          field_names.push_back(name);
+          interpretation.push_back(
+            dealii::DataComponentInterpretation::component_is_scalar);
+        }
+    const dealii::FESystem<3> fe(dealii::FE_DGQ<3>(1), field_names.size());
+    dealii::DoFHandler<3>     dof_handler(tria);
+    dof_handler.distribute_dofs(fe);
+    const dealii::IndexSet owned = dof_handler.locally_owned_dofs();
+    dealii::IndexSet       relevant;
+    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    LA::MPI::Vector                              values(owned, comm);
+    std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    std::vector<dealii::Point<3>>                vertices(8);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          for (unsigned int v = 0; v < 8; ++v)
+            vertices[v] = cell->vertex(v);
+          field(cell, vertices, bases);
+          if (wall)
+            wall->evaluate(cell, vertices, frames);
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            {
+              const auto [c, v] = fe.system_to_component_index(i);
+              const auto &b     = bases[v];
+              double      value = 0;
+              if (c < 3)
+                value = b.f[c];
+              else if (c < 6)
+                value = b.s[c - 3];
+              else if (c < 9)
+                value = b.n[c - 6];
+              else if (c == 9)
+                value = frames[v].transmural;
+              else if (c == 10)
+                value = frames[v].apicobasal;
+              else
+                value = Fibres::helix_angle(b.f, frames[v].e_c, frames[v].e_l) /
+                        degree;
+              values(dofs[i]) = value;
+            }
+        }
+    values.compress(dealii::VectorOperation::insert);
+    LA::MPI::Vector ghosted(owned, relevant, comm);
+    ghosted = values;
+
+    IO::ResultsFile results(run.output_directory,
+                            parameter_text(prm, parameter_file),
+                            comm);
+    const double    n_points =
+      std::accumulate(profile.count.begin(), profile.count.end(), 0.0);
+    results.append_timeseries(
+      {{"step", "-", 0.0},
+       {"time", "ms", 0.0},
+       {"n_cells", "-", static_cast<double>(tria.n_global_active_cells())},
+       {"n_points", "-", n_points}});
+
+    if (wall)
+      {
+        std::ostringstream table;
+        table << "Helix angle [degree] through the wall (depth: transmural "
+                 "coordinate, 0 endocardium, 1 epicardium):\n"
+              << "  depth        mean     min     max  points\n";
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        for (unsigned int k = 0; k < n_helix_profile_bins; ++k)
+          {
+            const double lower = static_cast<double>(k) / n_helix_profile_bins;
+            const double upper = (k + 1.0) / n_helix_profile_bins;
+            const bool   empty = profile.count[k] == 0;
+            const double mean =
+              empty ? nan : profile.weighted_sum[k] / profile.weight[k];
+            results.append_summary(
+              {{"depth_lower", "-", lower},
+               {"depth_upper", "-", upper},
+               {"depth", "-", 0.5 * (lower + upper)},
+               {"helix_mean", "degree", mean},
+               {"helix_min", "degree", empty ? nan : profile.min[k]},
+               {"helix_max", "degree", empty ? nan : profile.max[k]},
+               {"n_points", "-", profile.count[k]}});
+            table << std::fixed << std::setprecision(1) << "  " << lower << "-"
+                  << upper << std::setw(8) << mean << std::setw(8)
+                  << (empty ? nan : profile.min[k]) << std::setw(8)
+                  << (empty ? nan : profile.max[k]) << std::setw(8)
+                  << std::setprecision(0) << profile.count[k] << "\n";
+          }
+        logger.stream() << table.str();
+      }
+
+    dealii::DataOut<3> data_out;
+    data_out.attach_dof_handler(dof_handler);
+    data_out.add_data_vector(ghosted,
+                             field_names,
+                             dealii::DataOut<3>::type_dof_data,
+                             interpretation);
+    data_out.build_patches(mapping, 1);
+    results.write_fields(data_out, 0, 0.0);
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole
