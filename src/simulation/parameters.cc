@@ -2,8 +2,10 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "circulation/parameters.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
+#include "materials/bestel.h"
 #include "materials/factory.h"
 #include "mechanics/parameters.h"
 #include "simulation/kinematics.h"
@@ -78,13 +80,16 @@ namespace systole
     prm.declare_entry(
       "Problem",
       "cavity volume",
-      Selection("cavity volume|mechanics"),
+      Selection("cavity volume|mechanics|heartbeat"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
       "'mechanics': quasi-static finite-strain mechanics, the "
       "pressure and active tension ramped in load steps "
-      "(subsections Material, Mechanics).");
+      "(subsections Material, Mechanics). 'heartbeat': the beating "
+      "ventricle coupled to a Windkessel afterload through the four-phase "
+      "cardiac cycle (subsections Circulation, Active tension, Material, "
+      "Mechanics).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -147,6 +152,8 @@ namespace systole
     Fibres::Parameters::declare(prm);
     Materials::declare_parameters(prm);
     Mechanics::Parameters::declare(prm);
+    Materials::Bestel::Parameters::declare(prm);
+    Circulation::Parameters::declare(prm);
   }
 
   void
@@ -180,7 +187,9 @@ namespace systole
       std::filesystem::absolute(file).parent_path().string();
     Geometry::Parameters::parse(prm, directory);
     KinematicsParameters::parse(prm);
-    const auto fibres = Fibres::Parameters::parse(prm);
+    const auto fibres = Fibres::Parameters::parse(prm, directory);
+    if (fibres.generator == "dti")
+      Fibres::DTIField check(fibres.dti); // reads the file: errors now
     AssertThrow(fibres.generator != "analytic" ||
                   prm.get({"Geometry"}, "Type") == "ellipsoid",
                 dealii::ExcMessage(
@@ -190,6 +199,8 @@ namespace systole
     Materials::create_passive_law(prm);
     Materials::create_volumetric_law(prm);
     Mechanics::Parameters::parse(prm);
+    Materials::Bestel::Parameters::parse(prm);
+    Circulation::Parameters::parse(prm);
   }
 
   RunParameters

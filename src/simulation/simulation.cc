@@ -6,6 +6,7 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "io/results_file.h"
+#include "simulation/heartbeat.h"
 #include "simulation/kinematics.h"
 #include "simulation/parameters.h"
 #include "simulation/quasi_static.h"
@@ -68,6 +69,12 @@ namespace systole
                                impl->text,
                                impl->logger,
                                impl->comm);
+    else if (impl->run.problem == "heartbeat")
+      run_heartbeat_problem(impl->prm,
+                            impl->run,
+                            impl->text,
+                            impl->logger,
+                            impl->comm);
     else
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +
