@@ -104,7 +104,10 @@ namespace systole::Mechanics
     };
 
     if (with_matrix)
-      tangent = 0;
+      {
+        tangent            = 0;
+        have_factorization = false; // PETSc would refactorize on next solve
+      }
     residual = 0;
     if (with_volume_derivative)
       volume_derivative = 0;

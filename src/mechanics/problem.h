@@ -44,7 +44,10 @@ namespace systole::Mechanics
   /// What one Newton solve did.
   struct NewtonReport
   {
-    unsigned int iterations        = 0;
+    unsigned int iterations = 0; ///< with a new tangent each
+    /// Iterations with the factorized tangent of an earlier solve (chord
+    /// iterations of solve_volume(); not counted in iterations).
+    unsigned int reused_iterations = 0;
     double       initial_residual  = 0; ///< |R| before the first update
     double       final_residual    = 0; ///< |R| at convergence
     unsigned int linear_iterations = 0; ///< summed over the Newton iterations
@@ -96,6 +99,13 @@ namespace systole::Mechanics
     /// @p pressure is the initial guess on entry and the solution on exit.
     /// Converged when the residual meets the Newton tolerances and
     /// |V - V_target| <= 2e-9 V_target. Throws like solve().
+    ///
+    /// While a factorization of an earlier volume-constrained solve exists,
+    /// the solve starts with chord iterations on it (the bordered system of
+    /// that tangent, one back substitution each, residual without tangent);
+    /// when they converge slower than a factor 4 per iteration it continues
+    /// with full Newton. Consecutive solves of a time integration differ
+    /// little, so most need no new factorization.
     NewtonReport
     solve_volume(const double target_volume,
                  const double active_tension,

@@ -109,5 +109,11 @@ namespace systole::Mechanics
     unsigned int          n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
+
+    /// The linear solver holds a factorization of the bordered system of an
+    /// earlier Newton iteration: the tangent, b0 = dV/du and w0 = K^-1 b0
+    /// of that iterate (for the chord iterations of solve_volume()).
+    bool            have_factorization = false;
+    LA::MPI::Vector factorized_volume_derivative, factorized_w;
   };
 } // namespace systole::Mechanics

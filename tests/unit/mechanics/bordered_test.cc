@@ -139,4 +139,20 @@ TEST_CASE("A volume-driven solve recovers the pressure of a pressure-driven "
   CHECK(p == Approx(1.0).epsilon(1e-7));
   CHECK(std::abs(problem.cavity_volume() - V1) <= 2e-9 * V1);
   CHECK(report.iterations <= 8);
+
+  // A nearby target: chord iterations on the factorization of the last
+  // solve, no new tangent; the result is the same equilibrium as a
+  // pressure-driven solve at the pressure found.
+  const double V2    = V1 * 1.002;
+  const auto   chord = problem.solve_volume(V2, 0.0, p);
+  INFO("chord: " << chord.reused_iterations << " reused, " << chord.iterations
+                 << " new-tangent iterations");
+  INFO(s.sink.str().substr(
+    s.sink.str().size() > 3000 ? s.sink.str().size() - 3000 : 0));
+  CHECK(chord.reused_iterations > 0);
+  CHECK(chord.iterations == 0);
+  CHECK(std::abs(problem.cavity_volume() - V2) <= 2e-9 * V2);
+  const double p2 = p;
+  problem.solve(p2, 0.0);
+  CHECK(problem.cavity_volume() == Approx(V2).epsilon(1e-7));
 }
