@@ -14,7 +14,20 @@ namespace systole
 {
   Logger::Logger(const MPI_Comm comm, std::ostream &stream)
     : out(stream, dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+    , details(stream, dealii::Utilities::MPI::this_mpi_process(comm) == 0)
   {}
+
+  dealii::ConditionalOStream &
+  Logger::detail()
+  {
+    return details;
+  }
+
+  void
+  Logger::set_details(const bool enabled)
+  {
+    details.set_condition(enabled && out.is_active());
+  }
 
   dealii::ConditionalOStream &
   Logger::stream()

@@ -22,6 +22,15 @@ namespace systole
     dealii::ConditionalOStream &
     stream();
 
+    /// Stream for solver details (Newton residual histories): prints on
+    /// rank 0 while details are enabled (the default).
+    dealii::ConditionalOStream &
+    detail();
+
+    /// Enable or silence detail().
+    void
+    set_details(const bool enabled);
+
     /// Print one line on rank 0.
     void
     line(const std::string &text);
@@ -31,6 +40,7 @@ namespace systole
 
   private:
     dealii::ConditionalOStream out;
+    dealii::ConditionalOStream details;
   };
 
   /// A progress line for long runs: step, simulated time, current activity,

@@ -235,9 +235,16 @@ namespace systole::Mechanics
     double          volume_error = 0; // |V(u) - V_target| / V_target
     const bool      bordered     = target_volume != nullptr;
 
-    auto  &out       = m.logger.stream();
-    double reference = 0; // largest residual seen in this solve
-    double du_norm   = 0;
+    auto &out = m.logger.detail();
+    // Residual scale: the largest residual seen in this solve, and for a
+    // volume-constrained solve at least the cavity pressure load |p b| (a
+    // solve that starts close to equilibrium is not held to a fraction of
+    // its tiny first residual).
+    double     reference     = 0;
+    const auto pressure_load = [&](const LA::MPI::Vector &b) {
+      return bordered ? std::abs(pressure) * b.l2_norm() : 0.0;
+    };
+    double du_norm = 0;
 
     // Residual and tangent (and dV/du when bordered) at the current u; false
     // if an element inverted or the residual is not finite (decided on all
@@ -282,7 +289,10 @@ namespace systole::Mechanics
         constexpr unsigned int max_chord_iterations = 12;
         for (unsigned int it = 0; ok; ++it)
           {
-            reference = std::max(reference, residual);
+            reference =
+              std::max({reference,
+                        residual,
+                        pressure_load(m.factorized_volume_derivative)});
             if (std::abs(volume_error) <= volume_tolerance &&
                 (residual <= m.params.newton_absolute_tolerance ||
                  residual <= m.params.newton_relative_tolerance * reference))
@@ -326,7 +336,7 @@ namespace systole::Mechanics
             if (ok && it > 0 && !(residual < 0.3 * previous))
               break; // slow: continue with full Newton from here
           }
-        if (!ok || !(residual < std::max(start_residual, reference)))
+        if (!ok || !(residual < start_residual))
           {
             // Failed or no better: full Newton from the start.
             m.u_owned = u_start;
@@ -346,7 +356,9 @@ namespace systole::Mechanics
     report.initial_residual = residual;
     for (unsigned int it = 0;; ++it)
       {
-        reference             = std::max(reference, residual);
+        reference = std::max(reference, residual);
+        if (it > 0)
+          reference = std::max(reference, pressure_load(m.volume_derivative));
         const double relative = residual / std::max(reference, 1e-300);
         const double u_norm   = m.u_owned.l2_norm();
         if (it > 0)

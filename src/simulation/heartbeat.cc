@@ -64,7 +64,7 @@ namespace systole
         problem.predict(ratio);
         double p =
           accepted_pressure + ratio * (accepted_pressure - previous_pressure);
-        logger.stream() << "    mechanics at t = " << t
+        logger.detail() << "    mechanics at t = " << t
                         << " ms, V = " << Units::mm3_to_mL(volume) << " mL"
                         << std::endl;
         const auto start = std::chrono::steady_clock::now();
