@@ -2,6 +2,13 @@
 # matching EXPECT, and no stack trace.
 file(REMOVE_RECURSE ${WORKDIR})
 file(MAKE_DIRECTORY ${WORKDIR})
+if(PREPARE)
+  # Inputs the run needs, written into WORKDIR.
+  execute_process(COMMAND ${PYTHON} ${PREPARE} WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "preparation failed (${rc}): ${PREPARE}")
+  endif()
+endif()
 if(RANKS GREATER 1)
   set(cmd ${MPIEXEC} --allow-run-as-root --oversubscribe -np ${RANKS} ${SYSTOLE} ${PRM})
 else()

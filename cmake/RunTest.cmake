@@ -1,12 +1,21 @@
-# Run `systole PRM` in WORKDIR (under mpirun with RANKS ranks), then the CHECK command.
+# Run the PREPARE command (if any), then `systole PRM` in WORKDIR (under mpirun with RANKS
+# ranks; its standard output is also saved as WORKDIR/stdout.txt), then the CHECK command.
 file(REMOVE_RECURSE ${WORKDIR})
 file(MAKE_DIRECTORY ${WORKDIR})
+if(PREPARE)
+  execute_process(COMMAND ${PYTHON} ${PREPARE} WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "preparation failed (${rc}): ${PREPARE}")
+  endif()
+endif()
 if(RANKS GREATER 1)
   set(cmd ${MPIEXEC} --allow-run-as-root --oversubscribe -np ${RANKS} ${SYSTOLE} ${PRM})
 else()
   set(cmd ${SYSTOLE} ${PRM})
 endif()
-execute_process(COMMAND ${cmd} WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE rc)
+execute_process(COMMAND ${cmd} WORKING_DIRECTORY ${WORKDIR} RESULT_VARIABLE rc
+                OUTPUT_VARIABLE out ECHO_OUTPUT_VARIABLE)
+file(WRITE ${WORKDIR}/stdout.txt "${out}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "systole exited with ${rc}")
 endif()

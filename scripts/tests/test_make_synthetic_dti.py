@@ -120,6 +120,29 @@ def test_outside_voxels(write, outside, expected):
         np.testing.assert_array_equal(corner, 0.0)
 
 
+def test_extrapolate_continues_the_helix_angle_beyond_the_wall(write):
+    _, origin, spacing, dims, clamped = write("--helix-endo", "60", "--helix-epi", "-60",
+                                              name="clamped.vti")
+    _, _, _, _, extended = write("--helix-endo", "60", "--helix-epi", "-60",
+                                 "--outside", "extrapolate", name="extended.vti")
+    zz, yy, xx = np.meshgrid(*(origin[d] + spacing[d] * np.arange(dims[d]) for d in (2, 1, 0)),
+                             indexing="ij")
+    points = np.stack([xx, yy, zz], axis=-1)
+    t = dti.transmural_coordinate(points, dti.LAND_SHAPE)
+    wall = (t >= 0) & (t <= 1) & (points[..., 2] <= 5)
+    np.testing.assert_array_equal(extended[wall], clamped[wall])
+    # Just outside the epicardium (t = 1 + 1/3: 1 mm off on the equator) the fibre follows
+    # alpha(t) = 60 - 120 t = -100 degrees, not the surface's -60.
+    point = np.array([[-11.0, 0.0, 0.0]])
+    t_out = dti.transmural_coordinate(point, dti.LAND_SHAPE)[0]
+    degree = np.pi / 180
+    f, _, _ = dti.helix_frames(point, dti.LAND_SHAPE, 60 * degree, -60 * degree, 0.0)
+    i = np.argmin(np.linalg.norm(points - point[0], axis=-1))
+    _, vectors = np.linalg.eigh(extended.reshape(-1, 3, 3)[i])
+    assert t_out > 1 and abs(vectors[:, 2] @ f[0]) > 1 - 1e-10
+    assert np.all(np.linalg.eigvalsh(extended) > 0)
+
+
 def test_eigenvalues_for_fa_and_argument_checks(tmp_path):
     for fa in (0.05, 0.3, 0.9):
         eigenvalues = dti.eigenvalues_for_fa(fa, 2.0)

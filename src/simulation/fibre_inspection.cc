@@ -122,6 +122,20 @@ namespace systole
       logger.line("The mesh has no boundary parts endocardium, epicardium "
                   "and base: no helix-angle profile.");
 
+    // The helix angle [degree] of f in a wall frame. Fibres from a diffusion
+    // tensor have no sign (dti_import.h): f and -f are the same fibre, so
+    // their angle is folded into (-90, 90].
+    const bool signless = fibres.generator == "dti";
+    const auto measure  = [signless](const dealii::Tensor<1, 3> &f,
+                                    const Fibres::WallFrame    &frame) {
+      double angle = Fibres::helix_angle(f, frame.e_c, frame.e_l) / degree;
+      if (signless && angle > 90.0)
+        angle -= 180.0;
+      else if (signless && angle <= -90.0)
+        angle += 180.0;
+      return angle;
+    };
+
     const dealii::MappingQ<3>       mapping(run.mapping_degree);
     std::vector<Fibres::FibreBasis> bases;
     std::vector<Fibres::WallFrame>  frames;
@@ -145,10 +159,7 @@ namespace systole
               for (unsigned int q = 0; q < bases.size(); ++q)
                 if (!frames[q].degenerate)
                   profile.add(frames[q].transmural,
-                              Fibres::helix_angle(bases[q].f,
-                                                  frames[q].e_c,
-                                                  frames[q].e_l) /
-                                degree,
+                              measure(bases[q].f, frames[q]),
                               fe_values.JxW(q));
             }
       profile.reduce(comm);
@@ -206,8 +217,7 @@ namespace systole
               else if (c == 10)
                 value = frames[v].apicobasal;
               else
-                value = Fibres::helix_angle(b.f, frames[v].e_c, frames[v].e_l) /
-                        degree;
+                value = measure(b.f, frames[v]);
               values(dofs[i]) = value;
             }
         }

@@ -29,7 +29,8 @@ namespace systole
   /// The helix angle is measured in the wall frame of the rule-based
   /// generator's solves (Fibres::WallCoordinates, with the degree and
   /// apicobasal field of subsection Fibres / Rule-based), whatever the
-  /// generator, as atan2(f . e_l, f . e_c), and the depth is its phi. That
+  /// generator, as atan2(f . e_l, f . e_c) (folded into (-90, 90] for the dti
+  /// generator, whose fibres have no sign), and the depth is its phi. That
   /// frame exists on every LV mesh (generated or gmsh) and for every
   /// generator, so profiles are comparable; on the generated ellipsoid it
   /// agrees with the analytic frame to hundredths of a degree away from the

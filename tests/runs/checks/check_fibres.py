@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check the output of systole-fibres.
 
-    check_fibres.py RESULTS.h5 ALPHA_ENDO ALPHA_EPI [--land-ventricle]
+    check_fibres.py RESULTS.h5 ALPHA_ENDO ALPHA_EPI [--land-ventricle] [--untangled=LOG]
 
 - The fibre, sheet and sheet_normal fields are unit, orthogonal and right-handed.
 - The /summary helix-angle profile (rule-based fibres, measured in the generator's own
@@ -13,6 +13,8 @@
   vectors: at the endo- and epicardial nodes more than 10 degrees from the apex, the
   helix angle in the analytic frame of the ellipsoid (meridional e_u, circumferential
   e_v) is ALPHA_ENDO, ALPHA_EPI within 3 degrees.
+- With --untangled=LOG (the app's standard output), the rule-based generator's cost line
+  must be there and must not report tangled cells (a non-positive Jacobian).
 """
 
 import sys
@@ -46,6 +48,7 @@ def analytic_helix(x, f, short_radius, long_radius):
 def main(argv) -> int:
     args = [a for a in argv[1:] if not a.startswith("--")]
     land = "--land-ventricle" in argv
+    log = next((a.split("=", 1)[1] for a in argv if a.startswith("--untangled=")), None)
     path, alpha_endo, alpha_epi = args[0], float(args[1]), float(args[2])
     failures = []
 
@@ -90,6 +93,15 @@ def main(argv) -> int:
             print(f"{surface}: {away.sum()} nodes, helix angle error max {error:.3f} degree")
             if not (away.sum() > 0 and error < 3.0):
                 failures.append(f"{surface}: helix angle error {error:.3f} degree (3 allowed)")
+
+    if log is not None:
+        text = Path(log).read_text()
+        cost = [line for line in text.splitlines() if line.startswith("Rule-based fibres:")]
+        print("\n".join(cost))
+        if not cost:
+            failures.append(f"{log} has no 'Rule-based fibres:' line")
+        elif "tangled" in cost[0]:
+            failures.append("the mesh has tangled cells")
 
     for failure in failures:
         print("FAIL:", failure)
