@@ -45,23 +45,17 @@ namespace systole::Mechanics
       void
       setup(const LA::MPI::SparseMatrix &K) override
       {
+        // The sparsity pattern never changes: after the first factorization
+        // MUMPS reuses its analysis (ordering, symbolic factorization) and
+        // factorizes numerically only. If that fails (pivoting needs more
+        // room than the old analysis planned), analyse afresh once.
+        if (ksp != nullptr && factorize(K, true))
+          return;
         KSPDestroy(&ksp);
-        Mat A = K;
-        check_petsc(KSPCreate(K.get_mpi_communicator(), &ksp), "KSPCreate");
-        check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-        PC pc;
-        check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-        check_petsc(PCSetType(pc, symmetric ? PCCHOLESKY : PCLU), "PCSetType");
-        check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
-                    "PCFactorSetMatSolverType");
-        check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
-        check_petsc(KSPSetUp(ksp), "KSPSetUp");
-        PCFailedReason failure = PC_NOERROR;
-        PCGetFailedReason(pc, &failure);
-        AssertThrow(failure == PC_NOERROR,
+        AssertThrow(factorize(K, false),
                     dealii::ExcMessage(
-                      "MUMPS could not factorize the tangent (PETSc PC failure "
-                      "reason " +
+                      "MUMPS could not factorize the tangent (PETSc PC "
+                      "failure reason " +
                       std::to_string(static_cast<int>(failure)) +
                       "): it is singular; is the body held against rigid "
                       "motions (Mechanics / Fixed boundaries)?"));
@@ -88,8 +82,43 @@ namespace systole::Mechanics
       }
 
     private:
-      bool symmetric;
-      KSP  ksp = nullptr;
+      /// Factorize @p K with the existing solver (@p reuse) or a new one;
+      /// false if the factorization failed.
+      bool
+      factorize(const LA::MPI::SparseMatrix &K, const bool reuse)
+      {
+        Mat A = K;
+        if (!reuse)
+          {
+            check_petsc(KSPCreate(K.get_mpi_communicator(), &ksp), "KSPCreate");
+            check_petsc(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+            PC pc;
+            check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+            check_petsc(PCSetType(pc, symmetric ? PCCHOLESKY : PCLU),
+                        "PCSetType");
+            check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
+                        "PCFactorSetMatSolverType");
+            check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+            // Room for delayed pivots when the analysis is reused.
+            check_petsc(PCFactorSetUpMatSolverType(pc),
+                        "PCFactorSetUpMatSolverType");
+            Mat F;
+            check_petsc(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+            check_petsc(MatMumpsSetIcntl(F, 14, 100), "MatMumpsSetIcntl");
+          }
+        else
+          check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        const PetscErrorCode code = KSPSetUp(ksp);
+        PC                   pc;
+        KSPGetPC(ksp, &pc);
+        failure = PC_NOERROR;
+        PCGetFailedReason(pc, &failure);
+        return code == 0 && failure == PC_NOERROR;
+      }
+
+      bool           symmetric;
+      KSP            ksp     = nullptr;
+      PCFailedReason failure = PC_NOERROR;
     };
 
     /// GMRES + GAMG with the rigid-body modes as near-null space.
