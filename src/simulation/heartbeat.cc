@@ -17,6 +17,7 @@
 #include "materials/bestel.h"
 #include "materials/factory.h"
 #include "mechanics/problem.h"
+#include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
 #include <chrono>
@@ -342,54 +343,28 @@ namespace systole
                         Logger                         &logger,
                         const MPI_Comm                  comm)
   {
-    const auto geometry =
-      Geometry::Parameters::parse(prm, run.parameter_directory);
-    const auto params        = Mechanics::Parameters::parse(prm);
-    const auto passive       = Materials::create_passive_law(prm);
-    const auto volumetric    = Materials::create_volumetric_law(prm);
     const auto circulation   = Circulation::Parameters::parse(prm);
     const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
     const Materials::Bestel bestel(bestel_params, circulation.period);
-
-    AssertThrow(params.pressure_boundary == "endocardium",
+    AssertThrow(Mechanics::Parameters::parse(prm).pressure_boundary ==
+                  "endocardium",
                 dealii::ExcMessage(
                   "Problem = heartbeat needs Mechanics / Pressure boundary = "
                   "endocardium (the cavity pressure acts there)."));
 
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    MechanicsModel model(prm, run, logger, comm);
+    const auto    &tria  = model.tria;
+    const auto    &names = model.names;
     AssertThrow(names.has("base"),
                 dealii::ExcMessage(
                   names.source() +
                   " has no boundary part named 'base': the "
                   "cavity volume is closed by the base plane."));
-
-    Mechanics::Problem problem(
-      params,
-      tria,
-      names,
-      run.polynomial_degree,
-      run.mapping_degree,
-      *passive,
-      volumetric,
-      Fibres::create_fibre_field(
-        Fibres::Parameters::parse(prm, run.parameter_directory),
-        geometry.lv_shape,
-        tria,
-        names,
-        &logger),
-      logger);
-    const double unloaded_volume = problem.cavity_volume();
-    {
-      std::ostringstream o;
-      o << IO::code_version() << ": problem '" << run.problem << "', "
-        << tria.n_global_active_cells() << " cells, Q" << run.polynomial_degree
-        << ", " << problem.n_dofs() << " DOFs, "
-        << dealii::Utilities::MPI::n_mpi_processes(comm) << " rank(s), "
-        << passive->name() << ", linear solver " << problem.linear_solver_name()
-        << ", unloaded cavity " << Units::mm3_to_mL(unloaded_volume) << " mL";
-      logger.line(o.str());
-    }
+    Mechanics::Problem &problem         = *model.problem;
+    const double        unloaded_volume = problem.cavity_volume();
+    logger.line(
+      model.banner(run) + ", unloaded cavity " +
+      dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volume)) + " mL");
 
     const auto times =
       activation_times(problem,

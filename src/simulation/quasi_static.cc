@@ -12,6 +12,7 @@
 #include "io/results_file.h"
 #include "materials/factory.h"
 #include "mechanics/problem.h"
+#include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
 #include <filesystem>
@@ -27,41 +28,10 @@ namespace systole
                            Logger                         &logger,
                            const MPI_Comm                  comm)
   {
-    const auto geometry =
-      Geometry::Parameters::parse(prm, run.parameter_directory);
-    const auto params     = Mechanics::Parameters::parse(prm);
-    const auto passive    = Materials::create_passive_law(prm);
-    const auto volumetric = Materials::create_volumetric_law(prm);
-
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
-
-    Mechanics::Problem problem(
-      params,
-      tria,
-      names,
-      run.polynomial_degree,
-      run.mapping_degree,
-      *passive,
-      volumetric,
-      Fibres::create_fibre_field(
-        Fibres::Parameters::parse(prm, run.parameter_directory),
-        geometry.lv_shape,
-        tria,
-        names,
-        &logger),
-      logger);
-
-    {
-      std::ostringstream o;
-      o << IO::code_version() << ": problem '" << run.problem << "', "
-        << tria.n_global_active_cells() << " cells, Q" << run.polynomial_degree
-        << ", " << problem.n_dofs() << " DOFs, "
-        << dealii::Utilities::MPI::n_mpi_processes(comm) << " rank(s), "
-        << passive->name() << ", linear solver "
-        << problem.linear_solver_name();
-      logger.line(o.str());
-    }
+    MechanicsModel      model(prm, run, logger, comm);
+    const auto         &params  = model.params;
+    Mechanics::Problem &problem = *model.problem;
+    logger.line(model.banner(run));
 
     std::vector<dealii::Point<3>> reference_points;
     for (const auto &p : params.tracked_points)

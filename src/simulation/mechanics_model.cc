@@ -1,0 +1,55 @@
+#include "simulation/mechanics_model.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "base/logger.h"
+#include "fibres/fibre_field.h"
+#include "io/results_file.h"
+#include "materials/factory.h"
+#include "simulation/parameters.h"
+
+#include <sstream>
+
+namespace systole
+{
+  MechanicsModel::MechanicsModel(const dealii::ParameterHandler &prm,
+                                 const RunParameters            &run,
+                                 Logger                         &logger,
+                                 const MPI_Comm                  comm)
+    : geometry(Geometry::Parameters::parse(prm, run.parameter_directory))
+    , params(Mechanics::Parameters::parse(prm))
+    , passive(Materials::create_passive_law(prm))
+    , volumetric(Materials::create_volumetric_law(prm))
+    , tria(comm)
+  {
+    names   = Geometry::create_mesh(geometry, tria);
+    problem = std::make_unique<Mechanics::Problem>(
+      params,
+      tria,
+      names,
+      run.polynomial_degree,
+      run.mapping_degree,
+      *passive,
+      volumetric,
+      Fibres::create_fibre_field(
+        Fibres::Parameters::parse(prm, run.parameter_directory),
+        geometry.lv_shape,
+        tria,
+        names,
+        &logger),
+      logger);
+  }
+
+  std::string
+  MechanicsModel::banner(const RunParameters &run) const
+  {
+    std::ostringstream o;
+    o << IO::code_version() << ": problem '" << run.problem << "', "
+      << tria.n_global_active_cells() << " cells, Q" << run.polynomial_degree
+      << ", " << problem->n_dofs() << " DOFs, "
+      << dealii::Utilities::MPI::n_mpi_processes(tria.get_communicator())
+      << " rank(s), " << passive->name() << ", linear solver "
+      << problem->linear_solver_name();
+    return o.str();
+  }
+} // namespace systole

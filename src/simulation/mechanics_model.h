@@ -1,0 +1,51 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/tria.h>
+
+#include "geometry/boundary_names.h"
+#include "geometry/mesh.h"
+#include "materials/passive_law.h"
+#include "materials/volumetric_law.h"
+#include "mechanics/parameters.h"
+#include "mechanics/problem.h"
+
+#include <memory>
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole
+{
+  class Logger;
+  struct RunParameters;
+
+  /// The mechanics of a run as the parameter file describes it: the mesh
+  /// (subsection Geometry), the material laws (Material), the fibre field
+  /// (Fibres) and the quasi-static problem (Mechanics, Discretization). Shared
+  /// by the problems that solve the mechanics (quasi-static load stepping,
+  /// heartbeat).
+  struct MechanicsModel
+  {
+    MechanicsModel(const dealii::ParameterHandler &prm,
+                   const RunParameters            &run,
+                   Logger                         &logger,
+                   const MPI_Comm                  comm);
+
+    /// One line for the log: code version, problem, cells, degree, DOFs,
+    /// ranks, passive law, linear solver.
+    std::string
+    banner(const RunParameters &run) const;
+
+    Geometry::Parameters                            geometry;
+    Mechanics::Parameters                           params;
+    std::unique_ptr<Materials::PassiveLaw>          passive;
+    Materials::VolumetricLaw                        volumetric;
+    dealii::parallel::distributed::Triangulation<3> tria;
+    Geometry::BoundaryNames                         names;
+    std::unique_ptr<Mechanics::Problem>             problem;
+  };
+} // namespace systole
