@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "circulation/parameters.h"
+#include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "materials/bestel.h"
@@ -80,7 +81,7 @@ namespace systole
     prm.declare_entry(
       "Problem",
       "cavity volume",
-      Selection("cavity volume|mechanics|heartbeat"),
+      Selection("cavity volume|mechanics|heartbeat|electrophysiology"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
@@ -89,7 +90,9 @@ namespace systole
       "(subsections Material, Mechanics). 'heartbeat': the beating "
       "ventricle coupled to a Windkessel afterload through the four-phase "
       "cardiac cycle (subsections Circulation, Active tension, Material, "
-      "Mechanics).");
+      "Mechanics). 'electrophysiology': the monodomain model alone, "
+      "activation times and their summary (subsections Electrophysiology, "
+      "Fibres).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -126,6 +129,14 @@ namespace systole
       "Write the fields (displacement, ...) every this many steps, and at the "
       "first and last step; 0 writes none. Units: steps.");
     prm.declare_entry(
+      "Solver log",
+      "auto",
+      Selection("auto|on|off"),
+      "Newton residual histories of every mechanics solve on the console. "
+      "auto: on for the load steps of the mechanics problem, off for the "
+      "heartbeat (thousands of solves; its time series has the iteration "
+      "counts).");
+    prm.declare_entry(
       "Progress",
       "auto",
       Selection("auto|on|off"),
@@ -154,6 +165,7 @@ namespace systole
     Mechanics::Parameters::declare(prm);
     Materials::Bestel::Parameters::declare(prm);
     Circulation::Parameters::declare(prm);
+    Electrophysiology::Parameters::declare(prm);
   }
 
   void
@@ -201,6 +213,7 @@ namespace systole
     Mechanics::Parameters::parse(prm);
     Materials::Bestel::Parameters::parse(prm);
     Circulation::Parameters::parse(prm);
+    Electrophysiology::Parameters::parse(prm);
   }
 
   RunParameters
@@ -233,7 +246,8 @@ namespace systole
         .string();
     p.field_output_interval =
       prm.get_integer({"Output"}, "Field output interval");
-    p.progress = prm.get({"Output"}, "Progress");
+    p.progress   = prm.get({"Output"}, "Progress");
+    p.solver_log = prm.get({"Output"}, "Solver log");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

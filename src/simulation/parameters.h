@@ -27,6 +27,7 @@ namespace systole
     std::string  output_directory; ///< results/<run name>
     unsigned int field_output_interval = 1;
     std::string  progress              = "auto";
+    std::string  solver_log            = "auto"; ///< auto, on or off
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;

@@ -6,6 +6,7 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "io/results_file.h"
+#include "simulation/electrophysiology_run.h"
 #include "simulation/heartbeat.h"
 #include "simulation/kinematics.h"
 #include "simulation/parameters.h"
@@ -57,6 +58,9 @@ namespace systole
   {
     install_interrupt_handlers();
     const auto start = std::chrono::steady_clock::now();
+    impl->logger.set_details(
+      impl->run.solver_log == "on" ||
+      (impl->run.solver_log == "auto" && impl->run.problem != "heartbeat"));
     if (impl->run.problem == "cavity volume")
       run_cavity_volume_problem(impl->prm,
                                 impl->run,
@@ -75,6 +79,12 @@ namespace systole
                             impl->text,
                             impl->logger,
                             impl->comm);
+    else if (impl->run.problem == "electrophysiology")
+      run_electrophysiology_problem(impl->prm,
+                                    impl->run,
+                                    impl->text,
+                                    impl->logger,
+                                    impl->comm);
     else
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +

@@ -1,0 +1,150 @@
+#include "electrophysiology/aliev_panfilov.h"
+
+#include <cmath>
+
+namespace systole::Electrophysiology
+{
+  void
+  AlievPanfilov::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Double;
+    using dealii::Patterns::Tools::to_string;
+    const Parameters d;
+    prm.declare_entry("k",
+                      to_string(d.k),
+                      Double(0.0),
+                      "Excitation rate k of the cubic -k u (u - a)(u - 1). "
+                      "Units: -. Source: physiology.md (Aliev and Panfilov "
+                      "1996), 8.");
+    prm.declare_entry(
+      "a",
+      to_string(d.a),
+      Double(0.0, 0.5),
+      "Excitation threshold a of the dimensionless potential "
+      "u = (V + 80 mV)/100 mV. Units: -. Source: physiology.md, "
+      "0.15; must lie in (0, 0.5) for a travelling upstroke.");
+    prm.declare_entry("epsilon_0",
+                      to_string(d.epsilon_0),
+                      Double(0.0),
+                      "Recovery rate at rest. Units: -. Source: physiology.md, "
+                      "0.002.");
+    prm.declare_entry("mu_1",
+                      to_string(d.mu_1),
+                      Double(0.0),
+                      "Recovery parameter mu_1 of eps(u, w) = eps_0 + mu_1 w / "
+                      "(u + mu_2). Units: -. Source: physiology.md, 0.2.");
+    prm.declare_entry("mu_2",
+                      to_string(d.mu_2),
+                      Double(0.0),
+                      "Recovery parameter mu_2 (> 0). Units: -. Source: "
+                      "physiology.md, 0.3.");
+    prm.declare_entry("Time unit",
+                      to_string(d.time_unit),
+                      Double(0.0),
+                      "Time T that scales the dimensionless model to "
+                      "physical time (T du/dt = ...). Units: ms. Source: "
+                      "physiology.md, 12.9 ms.");
+  }
+
+
+  AlievPanfilov::Parameters
+  AlievPanfilov::Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> path = {"Electrophysiology", model_name};
+    Parameters                     p;
+    p.k         = prm.get_double(path, "k");
+    p.a         = prm.get_double(path, "a");
+    p.epsilon_0 = prm.get_double(path, "epsilon_0");
+    p.mu_1      = prm.get_double(path, "mu_1");
+    p.mu_2      = prm.get_double(path, "mu_2");
+    p.time_unit = prm.get_double(path, "Time unit");
+    p.validate();
+    return p;
+  }
+
+
+  void
+  AlievPanfilov::Parameters::validate() const
+  {
+    const auto positive = [](const double value, const std::string &entry) {
+      AssertThrow(std::isfinite(value) && value > 0,
+                  dealii::ExcMessage("Electrophysiology / Aliev-Panfilov / " +
+                                     entry + " must be > 0."));
+    };
+    positive(k, "k");
+    positive(mu_2, "mu_2");
+    positive(time_unit, "Time unit");
+    AssertThrow(a > 0 && a < 0.5,
+                dealii::ExcMessage(
+                  "Electrophysiology / Aliev-Panfilov / a = " +
+                  dealii::Patterns::Tools::to_string(a) +
+                  " must lie in (0, 0.5): otherwise no wave propagates."));
+    AssertThrow(epsilon_0 >= 0 && mu_1 >= 0,
+                dealii::ExcMessage("Electrophysiology / Aliev-Panfilov / "
+                                   "epsilon_0 and mu_1 must be >= 0."));
+  }
+
+
+  AlievPanfilov::AlievPanfilov(const Parameters &parameters)
+    : params(parameters)
+  {
+    params.validate();
+  }
+
+  std::string
+  AlievPanfilov::name() const
+  {
+    return model_name;
+  }
+
+  unsigned int
+  AlievPanfilov::n_states() const
+  {
+    return 1;
+  }
+
+  double
+  AlievPanfilov::resting_potential() const
+  {
+    return 0.0;
+  }
+
+  void
+  AlievPanfilov::resting_state(double *state) const
+  {
+    state[0] = 0.0;
+  }
+
+  double
+  AlievPanfilov::ionic_current(const double u, const double *state) const
+  {
+    return (params.k * u * (u - params.a) * (u - 1.0) + u * state[0]) /
+           params.time_unit;
+  }
+
+  void
+  AlievPanfilov::state_rhs(const double  u,
+                           const double *state,
+                           double       *rhs) const
+  {
+    const double w = state[0];
+    // u + mu_2 > 0 as long as u > -mu_2 = -0.3 (V > -110 mV): the potential
+    // never undershoots that far.
+    const double epsilon =
+      params.epsilon_0 + params.mu_1 * w / (u + params.mu_2);
+    rhs[0] =
+      epsilon * (-w - params.k * u * (u - params.a - 1.0)) / params.time_unit;
+  }
+
+  double
+  AlievPanfilov::potential_scale_mV() const
+  {
+    return 100.0;
+  }
+
+  double
+  AlievPanfilov::potential_offset_mV() const
+  {
+    return -80.0;
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,324 @@
+#include "electrophysiology/arkode_adapter.h"
+
+#include <deal.II/sundials/arkode.h>
+
+#include <arkode/arkode_arkstep.h>
+#include <sundials/sundials_linearsolver.h>
+
+#include <cmath>
+#include <exception>
+#include <limits>
+
+// deal.II 9.4's ARKode wrapper calls std::function objects that return int
+// (0 ok, > 0 recoverable, < 0 fatal) from inside SUNDIALS' C code, where an
+// exception must not pass. Every callback below is wrapped in guarded(),
+// which turns our typed exceptions into those codes and keeps the exception
+// for evolve() to rethrow.
+//
+// The 9.4 wrapper checks ARKStepEvolve's return flag with Assert (debug
+// builds only) and, in a release build, calls ARKStepEvolve again and again
+// after a failure. Its output_step hook runs in plain C++ after every
+// ARKStepEvolve: there we throw when ARKode stopped short of the end time.
+
+namespace systole::Electrophysiology
+{
+  namespace
+  {
+    using Vector = LA::MPI::Vector;
+    using ARKode = dealii::SUNDIALS::ARKode<Vector>;
+
+    void
+    check(const int flag, const char *function)
+    {
+      AssertThrow(flag >= 0,
+                  dealii::ExcMessage(std::string("ARKode: ") + function +
+                                     " failed with flag " +
+                                     std::to_string(flag) + "."));
+    }
+  } // namespace
+
+
+  struct ImexIntegrator::Impl
+  {
+    Impl(const Settings  &settings,
+         const Callbacks &callbacks,
+         const double     t0,
+         const MPI_Comm   comm)
+      : settings(settings)
+      , callbacks(callbacks)
+      , comm(comm)
+      , t(t0)
+    {}
+
+    /// Run @p f; map a recoverable failure to @p recoverable_code and any
+    /// other exception to -1, keeping it for evolve().
+    template <class Function>
+    int
+    guarded(const Function &f, const int recoverable_code = 1)
+    {
+      try
+        {
+          f();
+          return 0;
+        }
+      catch (const ExcRecoverableStepFailure &)
+        {
+          recoverable = std::current_exception();
+          return recoverable_code;
+        }
+      catch (...)
+        {
+          if (!fatal)
+            fatal = std::current_exception();
+          return -1;
+        }
+    }
+
+    /// A new ARKode object starting at time t (the wrapper restarts ARKStep
+    /// at its first solve_ode_incrementally()).
+    void
+    create();
+
+    /// Fixed step / stop time for the step to t_end; called by custom_setup
+    /// on a (re)start and before every later evolve.
+    void
+    configure(void *arkode_memory) const;
+
+    /// Add the counters of the current ARKStep memory to the totals.
+    void
+    accumulate_counters();
+
+    /// ARKode's error handler: keep the last message.
+    static void
+    error_handler(int         error_code,
+                  const char *module,
+                  const char *function,
+                  char       *message,
+                  void       *data);
+
+    Settings                settings;
+    Callbacks               callbacks;
+    MPI_Comm                comm;
+    double                  t;         ///< current time
+    double                  t_end = 0; ///< end of the evolve() in progress
+    std::unique_ptr<ARKode> ode;
+    bool                    started = false; ///< ARKStep memory exists
+    bool initial_output = false; ///< next output_step is the initial one
+
+    std::exception_ptr fatal, recoverable;
+    std::string        arkode_message; ///< last ARKode error message
+
+    unsigned long steps = 0, explicit_evaluations = 0, implicit_evaluations = 0;
+  };
+
+
+  void
+  ImexIntegrator::Impl::create()
+  {
+    // Output period: longer than any evolve(), so the wrapper calls
+    // ARKStepEvolve once per evolve(). Tolerances matter for adaptive steps
+    // only.
+    const ARKode::AdditionalData data(
+      t,
+      t,
+      settings.max_step,
+      std::numeric_limits<double>::max(),
+      1e-10,
+      settings.order,
+      3,
+      /*implicit_function_is_linear=*/true,
+      /*implicit_function_is_time_independent=*/true,
+      /*mass_is_time_independent=*/true,
+      3,
+      settings.absolute_tolerance,
+      settings.relative_tolerance);
+    ode     = std::make_unique<ARKode>(data, comm);
+    started = false;
+
+    ode->explicit_function =
+      [this](const double time, const Vector &y, Vector &f) -> int {
+      return guarded([&]() {
+        callbacks.explicit_rhs(time, y, f);
+        ++explicit_evaluations;
+      });
+    };
+    ode->implicit_function =
+      [this](const double, const Vector &y, Vector &f) -> int {
+      return guarded([&]() {
+        callbacks.implicit_rhs(y, f);
+        ++implicit_evaluations;
+      });
+    };
+    // J v: only ARKode's operator (unused by our solver) applies it, but the
+    // wrapper needs it to install solve_linearized_system.
+    ode->jacobian_times_vector = [this](const Vector &v,
+                                        Vector       &Jv,
+                                        const double,
+                                        const Vector &,
+                                        const Vector &) -> int {
+      return guarded([&]() { callbacks.implicit_rhs(v, Jv); });
+    };
+    // (I - gamma J) x = b with ARKode's current gamma: the implicit part is
+    // linear, so one exact solve per stage is the whole Newton iteration.
+    ode->solve_linearized_system =
+      [this](dealii::SUNDIALS::SundialsOperator<Vector> &,
+             dealii::SUNDIALS::SundialsPreconditioner<Vector> &,
+             Vector       &x,
+             const Vector &b,
+             const double) -> int {
+      return guarded(
+        [&]() {
+          double gamma = 0;
+          check(ARKStepGetCurrentGamma(ode->get_arkode_memory(), &gamma),
+                "ARKStepGetCurrentGamma");
+          callbacks.solve(gamma, b, x);
+        },
+        // The wrapper hands this code to ARKode's linear solver interface
+        // unchanged, which knows SUNLS_* codes only (1 would pass as success).
+        SUNLS_CONV_FAIL);
+    };
+    ode->custom_setup = [this](void *arkode_memory) {
+      check(ARKStepSetErrHandlerFn(arkode_memory, &error_handler, this),
+            "ARKStepSetErrHandlerFn");
+      configure(arkode_memory);
+      started = true;
+      // The wrapper calls output_step once right after this set-up, at the
+      // start time: that call is not the end of an ARKStepEvolve.
+      initial_output = true;
+    };
+    // Called (in C++, outside SUNDIALS) after every ARKStepEvolve: a return
+    // before the end time is a failure.
+    ode->output_step = [this](const double time, const Vector &, unsigned int) {
+      if (fatal)
+        std::rethrow_exception(fatal);
+      if (initial_output)
+        {
+          initial_output = false;
+          return;
+        }
+      if (std::abs(time - t_end) > 1e-12 * std::max(1.0, std::abs(t_end)))
+        {
+          if (recoverable)
+            std::rethrow_exception(recoverable);
+          AssertThrow(false,
+                      dealii::ExcMessage(
+                        "ARKode stopped at t = " + std::to_string(time) +
+                        " ms: " + arkode_message));
+        }
+    };
+  }
+
+
+  void
+  ImexIntegrator::Impl::error_handler(int,
+                                      const char *module,
+                                      const char *function,
+                                      char       *message,
+                                      void       *data)
+  {
+    static_cast<Impl *>(data)->arkode_message =
+      std::string(module) + " " + function + ": " + message;
+  }
+
+
+  void
+  ImexIntegrator::Impl::configure(void *arkode_memory) const
+  {
+    check(ARKStepSetMaxNumSteps(arkode_memory, 100000),
+          "ARKStepSetMaxNumSteps");
+    if (settings.adaptive)
+      check(ARKStepSetMaxStep(arkode_memory, settings.max_step),
+            "ARKStepSetMaxStep");
+    else
+      check(ARKStepSetFixedStep(arkode_memory, t_end - t),
+            "ARKStepSetFixedStep");
+    check(ARKStepSetStopTime(arkode_memory, t_end), "ARKStepSetStopTime");
+  }
+
+
+  void
+  ImexIntegrator::Impl::accumulate_counters()
+  {
+    if (!started)
+      return;
+    long int n = 0;
+    check(ARKStepGetNumSteps(ode->get_arkode_memory(), &n),
+          "ARKStepGetNumSteps");
+    steps += n;
+  }
+
+
+  ImexIntegrator::ImexIntegrator(const Settings  &settings,
+                                 const Callbacks &callbacks,
+                                 const double     t0,
+                                 const MPI_Comm   comm)
+    : impl(std::make_unique<Impl>(settings, callbacks, t0, comm))
+  {
+    AssertThrow(settings.order >= 3 && settings.order <= 5,
+                dealii::ExcMessage("ARKode order must be 3, 4 or 5."));
+    impl->create();
+  }
+
+  ImexIntegrator::~ImexIntegrator() = default;
+
+
+  void
+  ImexIntegrator::evolve(LA::MPI::Vector &y, const double t_end)
+  {
+    Impl &m = *impl;
+    AssertThrow(t_end > m.t,
+                dealii::ExcMessage("ImexIntegrator::evolve: the end time must "
+                                   "lie after the current time."));
+    m.t_end = t_end;
+    if (m.started)
+      m.configure(m.ode->get_arkode_memory());
+    m.fatal       = nullptr;
+    m.recoverable = nullptr;
+    m.arkode_message.clear();
+    // Throws (from output_step) when ARKode stops short of t_end; a
+    // recoverable failure that ARKode cured by a smaller step is no error.
+    m.ode->solve_ode_incrementally(y, t_end);
+    m.t = t_end;
+  }
+
+
+  void
+  ImexIntegrator::reset(const double t)
+  {
+    impl->accumulate_counters();
+    impl->t = t;
+    impl->create();
+  }
+
+
+  double
+  ImexIntegrator::time() const
+  {
+    return impl->t;
+  }
+
+
+  unsigned long
+  ImexIntegrator::n_steps() const
+  {
+    long int n = 0;
+    if (impl->started)
+      check(ARKStepGetNumSteps(impl->ode->get_arkode_memory(), &n),
+            "ARKStepGetNumSteps");
+    return impl->steps + n;
+  }
+
+
+  unsigned long
+  ImexIntegrator::n_explicit_evaluations() const
+  {
+    return impl->explicit_evaluations;
+  }
+
+
+  unsigned long
+  ImexIntegrator::n_implicit_evaluations() const
+  {
+    return impl->implicit_evaluations;
+  }
+} // namespace systole::Electrophysiology

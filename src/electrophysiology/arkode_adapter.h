@@ -1,0 +1,100 @@
+#pragma once
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
+
+#include "base/linear_algebra.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace systole::Electrophysiology
+{
+  /// A failure inside an ODE callback that a smaller step may cure (a linear
+  /// solver that did not converge). Throw it from an ImexIntegrator callback;
+  /// with adaptive steps ARKode then retries with a smaller step, with fixed
+  /// steps evolve() rethrows it.
+  DeclException1(ExcRecoverableStepFailure,
+                 std::string,
+                 << "Recoverable failure in an ODE step: " << arg1);
+
+  /// IMEX additive Runge-Kutta integration of
+  /// @f[ \frac{dy}{dt} = f_E(t, y) + J y @f]
+  /// with SUNDIALS ARKode (ARKStep) through deal.II 9.4's
+  /// SUNDIALS::ARKode wrapper: f_E explicit, the linear, time-independent
+  /// J y implicit (ARKode is told so: one Newton iteration per stage, no
+  /// Jacobian updates). The stage systems (I - gamma J) x = b are solved by
+  /// the caller's solve(), which gets ARKode's current gamma.
+  ///
+  /// This is the only file that knows deal.II 9.4's callback convention
+  /// (int return: 0 ok, > 0 recoverable, < 0 fatal): the callbacks here are
+  /// plain functions that throw; ExcRecoverableStepFailure maps to 1, any
+  /// other exception to -1 and is rethrown by evolve() once ARKode returns.
+  /// Upgrading to deal.II >= 9.5 (void callbacks,
+  /// RecoverableUserCallbackError) touches this file only.
+  class ImexIntegrator
+  {
+  public:
+    struct Settings
+    {
+      unsigned int order              = 3; ///< order of the ARK method, 3 to 5
+      bool         adaptive           = false; ///< adaptive steps (else fixed)
+      double       relative_tolerance = 1e-4;  ///< adaptive steps [-]
+      double       absolute_tolerance = 1e-5;  ///< adaptive steps
+      double       max_step           = 0.1;   ///< adaptive steps [ms]
+    };
+
+    struct Callbacks
+    {
+      /// f = f_E(t, y).
+      std::function<
+        void(const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f)>
+        explicit_rhs;
+      /// f = J y.
+      std::function<void(const LA::MPI::Vector &y, LA::MPI::Vector &f)>
+        implicit_rhs;
+      /// x = (I - gamma J)^-1 b to the caller's own tolerance.
+      std::function<
+        void(const double gamma, const LA::MPI::Vector &b, LA::MPI::Vector &x)>
+        solve;
+    };
+
+    /// @param[in] t0 initial time [ms]
+    ImexIntegrator(const Settings  &settings,
+                   const Callbacks &callbacks,
+                   const double     t0,
+                   const MPI_Comm   comm);
+    ~ImexIntegrator();
+
+    /// Advance @p y (the state at the current time on entry; the caller must
+    /// not change it between calls unless it calls reset()) to @p t_end.
+    /// Fixed steps: one step of t_end - t. Adaptive: as many steps as the
+    /// tolerances need, none beyond t_end (ARKode's stop time).
+    void
+    evolve(LA::MPI::Vector &y, const double t_end);
+
+    /// Restart at time @p t from @p y at the next evolve() (after the
+    /// caller restored a saved state).
+    void
+    reset(const double t);
+
+    /// Current time [ms].
+    double
+    time() const;
+
+    /// ARKode steps taken since construction (over resets).
+    unsigned long
+    n_steps() const;
+
+    /// Explicit and implicit right-hand side evaluations since construction.
+    unsigned long
+    n_explicit_evaluations() const;
+    unsigned long
+    n_implicit_evaluations() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace systole::Electrophysiology

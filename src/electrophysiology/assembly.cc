@@ -1,0 +1,224 @@
+// Matrices and node data of Monodomain: lumped mass, stiffness with the
+// fibre (and optionally deformation) dependent diffusivity, stimulus regions.
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/numerics/rtree.h>
+
+#include "electrophysiology/monodomain_impl.h"
+#include "geometry/mesh.h"
+
+#include <map>
+
+namespace systole::Electrophysiology
+{
+  void
+  Monodomain::Impl::assemble_lumped_mass()
+  {
+    // Gauss-Lobatto points are the nodes of FE_Q (degree 1 and 2), so the
+    // mass matrix integrated with them is diagonal and positive.
+    const dealii::QGaussLobatto<3>               nodal(fe.degree + 1);
+    dealii::FEValues<3>                          fe_values(mapping,
+                                  fe,
+                                  nodal,
+                                  dealii::update_values |
+                                    dealii::update_JxW_values);
+    const unsigned int                           n = fe.n_dofs_per_cell();
+    dealii::Vector<double>                       local(n);
+    std::vector<dealii::types::global_dof_index> indices(n);
+    lumped_mass_vector.reinit(owned, comm);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          local = 0;
+          for (unsigned int q = 0; q < nodal.size(); ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              local[i] += fe_values.shape_value(i, q) * fe_values.JxW(q);
+          cell->get_dof_indices(indices);
+          lumped_mass_vector.add(indices, local);
+        }
+    lumped_mass_vector.compress(dealii::VectorOperation::add);
+
+    lumped_mass.resize(n_owned);
+    {
+      const LocalRead m(lumped_mass_vector);
+      std::copy(m.data(), m.data() + n_owned, lumped_mass.begin());
+    }
+    for (const double m : lumped_mass)
+      AssertThrow(m > 0,
+                  dealii::ExcMessage("Electrophysiology: a lumped mass is not "
+                                     "positive (inverted cell?)."));
+
+    std::map<dealii::types::global_dof_index, dealii::Point<3>> support;
+    dealii::DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
+    node_positions.resize(n_owned);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      node_positions[i] = support.at(owned.nth_index_in_set(i));
+  }
+
+
+  void
+  Monodomain::Impl::evaluate_fibres(const Fibres::FibreField &fibres)
+  {
+    dealii::FEValues<3>             fe_values(mapping,
+                                  fe,
+                                  quadrature,
+                                  dealii::update_quadrature_points);
+    std::vector<Fibres::FibreBasis> bases;
+    fibre_directions.assign(tria.n_active_cells(), {});
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fibres(cell, fe_values.get_quadrature_points(), bases);
+          AssertThrow(bases.size() == quadrature.size(),
+                      dealii::ExcInternalError());
+          auto &f = fibre_directions[cell->active_cell_index()];
+          f.resize(bases.size());
+          for (unsigned int q = 0; q < bases.size(); ++q)
+            f[q] = bases[q].f;
+        }
+  }
+
+
+  void
+  Monodomain::Impl::assemble_stiffness(
+    const std::vector<std::vector<dealii::Tensor<2, 3>>> *deformation)
+  {
+    const double D_l = params.diffusivity_l(), D_t = params.diffusivity_t();
+    dealii::FEValues<3>                          fe_values(mapping,
+                                  fe,
+                                  quadrature,
+                                  dealii::update_gradients |
+                                    dealii::update_JxW_values);
+    const unsigned int                           n = fe.n_dofs_per_cell();
+    dealii::FullMatrix<double>                   local(n, n);
+    std::vector<dealii::types::global_dof_index> indices(n);
+    std::vector<dealii::Tensor<1, 3>>            D_grad(n);
+    const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
+
+    stiffness = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          local                = 0;
+          const auto &fibres_q = fibre_directions[cell->active_cell_index()];
+          const std::vector<dealii::Tensor<2, 3>> *F_cell = nullptr;
+          if (deformation != nullptr &&
+              !(*deformation)[cell->active_cell_index()].empty())
+            {
+              F_cell = &(*deformation)[cell->active_cell_index()];
+              AssertThrow(F_cell->size() == 1 ||
+                            F_cell->size() == quadrature.size(),
+                          dealii::ExcMessage(
+                            "Monodomain::set_deformation_gradients: give one "
+                            "F per cell or one per point of "
+                            "diffusion_quadrature()."));
+            }
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              dealii::Tensor<2, 3> D;
+              if (F_cell == nullptr)
+                D =
+                  D_t * identity +
+                  (D_l - D_t) * dealii::outer_product(fibres_q[q], fibres_q[q]);
+              else
+                {
+                  // Spatial diffusivity along the deformed fibre, pulled back
+                  // to the reference configuration: J F^-1 D(f) F^-T.
+                  const auto  &F = (*F_cell)[F_cell->size() == 1 ? 0 : q];
+                  const double J = dealii::determinant(F);
+                  AssertThrow(J > 0,
+                              dealii::ExcMessage(
+                                "Monodomain: a deformation gradient with "
+                                "det F <= 0."));
+                  dealii::Tensor<1, 3> f = F * fibres_q[q];
+                  f /= f.norm();
+                  const dealii::Tensor<2, 3> D_spatial =
+                    D_t * identity + (D_l - D_t) * dealii::outer_product(f, f);
+                  const dealii::Tensor<2, 3> F_inv = dealii::invert(F);
+                  D = J * F_inv * D_spatial * dealii::transpose(F_inv);
+                }
+              for (unsigned int i = 0; i < n; ++i)
+                D_grad[i] = D * fe_values.shape_grad(i, q);
+              const double JxW = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                for (unsigned int j = 0; j < n; ++j)
+                  local(i, j) += fe_values.shape_grad(i, q) * D_grad[j] * JxW;
+            }
+          cell->get_dof_indices(indices);
+          stiffness.add(indices, local);
+        }
+    stiffness.compress(dealii::VectorOperation::add);
+    gamma_stage = -1;
+    gamma_amg   = -1;
+  }
+
+
+  void
+  Monodomain::Impl::locate_stimuli(const Geometry::BoundaryNames &names)
+  {
+    stimulus_nodes.assign(params.stimuli.size(), {});
+    for (unsigned int s = 0; s < params.stimuli.size(); ++s)
+      {
+        const Stimulus     &stimulus = params.stimuli[s];
+        std::vector<double> distance(n_owned, 0.0);
+        if (stimulus.region.shape == StimulusRegion::Shape::surface)
+          {
+            // Distance to the boundary part: to the nearest of its face
+            // sample points (vertices, edge midpoints and centres of every
+            // face, gathered from all ranks), within a quarter of a face's
+            // size of the exact distance.
+            const auto &part = stimulus.region.boundary_part;
+            const auto  id   = names.id(part);
+            Geometry::require_boundary(tria, names, part);
+            const dealii::QGaussLobatto<2> face_points(3);
+            dealii::FEFaceValues<3>        fe_face(mapping,
+                                            fe,
+                                            face_points,
+                                            dealii::update_quadrature_points);
+            std::vector<dealii::Point<3>>  local_points;
+            for (const auto &cell : dof_handler.active_cell_iterators())
+              if (cell->is_locally_owned())
+                for (const auto f : cell->face_indices())
+                  if (cell->face(f)->at_boundary() &&
+                      cell->face(f)->boundary_id() == id)
+                    {
+                      fe_face.reinit(cell, f);
+                      for (const auto &p : fe_face.get_quadrature_points())
+                        local_points.push_back(p);
+                    }
+            std::vector<dealii::Point<3>> points;
+            for (const auto &from_rank :
+                 dealii::Utilities::MPI::all_gather(comm, local_points))
+              points.insert(points.end(), from_rank.begin(), from_rank.end());
+            const auto tree = dealii::pack_rtree(points);
+            for (unsigned int i = 0; i < n_owned; ++i)
+              {
+                std::vector<dealii::Point<3>> nearest;
+                tree.query(boost::geometry::index::nearest(node_positions[i],
+                                                           1),
+                           std::back_inserter(nearest));
+                distance[i] = node_positions[i].distance(nearest.front());
+              }
+          }
+        for (unsigned int i = 0; i < n_owned; ++i)
+          if (stimulus.region.contains(node_positions[i], distance[i]))
+            stimulus_nodes[s].push_back(i);
+        const auto n_nodes =
+          dealii::Utilities::MPI::sum(static_cast<unsigned long>(
+                                        stimulus_nodes[s].size()),
+                                      comm);
+        AssertThrow(n_nodes > 0,
+                    dealii::ExcMessage(
+                      "Electrophysiology / Stimuli: the region of '" +
+                      stimulus.name +
+                      "' contains no node of the mesh; enlarge it or refine "
+                      "the mesh."));
+      }
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,139 @@
+#include "electrophysiology/mitchell_schaeffer.h"
+
+#include <cmath>
+
+namespace systole::Electrophysiology
+{
+  void
+  MitchellSchaeffer::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Double;
+    using dealii::Patterns::Tools::to_string;
+    const Parameters d;
+    prm.declare_entry("tau_in",
+                      to_string(d.tau_in),
+                      Double(0.0),
+                      "Time constant of the inward (depolarising) current. "
+                      "Units: ms. Source: physiology.md, 0.3 ms.");
+    prm.declare_entry("tau_out",
+                      to_string(d.tau_out),
+                      Double(0.0),
+                      "Time constant of the outward (repolarising) current. "
+                      "Units: ms. Source: physiology.md, 6 ms.");
+    prm.declare_entry("tau_open",
+                      to_string(d.tau_open),
+                      Double(0.0),
+                      "Time constant of the gate opening (v < v_gate). "
+                      "Units: ms. Source: physiology.md, 120 ms.");
+    prm.declare_entry("tau_close",
+                      to_string(d.tau_close),
+                      Double(0.0),
+                      "Time constant of the gate closing (v >= v_gate); sets "
+                      "the action potential duration. Units: ms. Source: "
+                      "physiology.md, 150 ms.");
+    prm.declare_entry("v_gate",
+                      to_string(d.v_gate),
+                      Double(0.0, 1.0),
+                      "Gate switching potential of the normalised v. Units: -. "
+                      "Source: physiology.md, 0.13.");
+  }
+
+
+  MitchellSchaeffer::Parameters
+  MitchellSchaeffer::Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> path = {"Electrophysiology", model_name};
+    Parameters                     p;
+    p.tau_in    = prm.get_double(path, "tau_in");
+    p.tau_out   = prm.get_double(path, "tau_out");
+    p.tau_open  = prm.get_double(path, "tau_open");
+    p.tau_close = prm.get_double(path, "tau_close");
+    p.v_gate    = prm.get_double(path, "v_gate");
+    p.validate();
+    return p;
+  }
+
+
+  void
+  MitchellSchaeffer::Parameters::validate() const
+  {
+    for (const auto &[value, entry] :
+         {std::pair<double, const char *>{tau_in, "tau_in"},
+          {tau_out, "tau_out"},
+          {tau_open, "tau_open"},
+          {tau_close, "tau_close"}})
+      AssertThrow(std::isfinite(value) && value > 0,
+                  dealii::ExcMessage(
+                    std::string("Electrophysiology / Mitchell-Schaeffer / ") +
+                    entry + " must be > 0."));
+    AssertThrow(v_gate > 0 && v_gate < 1,
+                dealii::ExcMessage("Electrophysiology / Mitchell-Schaeffer / "
+                                   "v_gate must lie in (0, 1)."));
+    // The resting state v = 0 is excitable only if the peak of the
+    // depolarising current beats the repolarising one: max over v of
+    // v (1 - v) / tau_in = 1 / (4 tau_in) > 1 / tau_out.
+    AssertThrow(4 * tau_in < tau_out,
+                dealii::ExcMessage(
+                  "Electrophysiology / Mitchell-Schaeffer: tau_out must "
+                  "exceed 4 tau_in, otherwise the tissue is not excitable."));
+  }
+
+
+  MitchellSchaeffer::MitchellSchaeffer(const Parameters &parameters)
+    : params(parameters)
+  {
+    params.validate();
+  }
+
+  std::string
+  MitchellSchaeffer::name() const
+  {
+    return model_name;
+  }
+
+  unsigned int
+  MitchellSchaeffer::n_states() const
+  {
+    return 1;
+  }
+
+  double
+  MitchellSchaeffer::resting_potential() const
+  {
+    return 0.0;
+  }
+
+  void
+  MitchellSchaeffer::resting_state(double *state) const
+  {
+    state[0] = 1.0;
+  }
+
+  double
+  MitchellSchaeffer::ionic_current(const double v, const double *state) const
+  {
+    return v / params.tau_out - state[0] * v * v * (1.0 - v) / params.tau_in;
+  }
+
+  void
+  MitchellSchaeffer::state_rhs(const double  v,
+                               const double *state,
+                               double       *rhs) const
+  {
+    const double h = state[0];
+    rhs[0] =
+      v < params.v_gate ? (1.0 - h) / params.tau_open : -h / params.tau_close;
+  }
+
+  double
+  MitchellSchaeffer::potential_scale_mV() const
+  {
+    return 100.0;
+  }
+
+  double
+  MitchellSchaeffer::potential_offset_mV() const
+  {
+    return -80.0;
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,349 @@
+#include "electrophysiology/monodomain.h"
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/numerics/data_out.h>
+
+#include "electrophysiology/monodomain_impl.h"
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace systole::Electrophysiology
+{
+  Monodomain::Impl::Impl(
+    const Parameters                                         &params,
+    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
+    const dealii::Mapping<3, 3>                              &mapping,
+    Logger                                                   &logger,
+    const double                                              start_time)
+    : params(params)
+    , model(*params.ionic_model)
+    , tria(tria)
+    , mapping(mapping)
+    , comm(tria.get_communicator())
+    , logger(logger)
+    , fe(params.degree)
+    , dof_handler(tria)
+    , quadrature(params.degree + 1)
+    , n_owned(0)
+    , n_components(1 + params.ionic_model->n_states())
+    , threshold(params.ionic_model->from_mV(params.activation_threshold_mV))
+    , stimulus_scale(1.0 / (params.chi * params.C_m *
+                            params.ionic_model->potential_scale_mV()))
+    , t(start_time)
+    , tracker(0, threshold)
+  {}
+
+
+  Monodomain::Monodomain(
+    const Parameters                                         &params,
+    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
+    const dealii::Mapping<3, 3>                              &mapping,
+    const Fibres::FibreField                                 &fibres,
+    const Geometry::BoundaryNames                            &names,
+    Logger                                                   &logger,
+    const double                                              start_time)
+  {
+    AssertThrow(params.ionic_model != nullptr,
+                dealii::ExcMessage("Monodomain: no ionic model given."));
+    impl    = std::make_unique<Impl>(params, tria, mapping, logger, start_time);
+    Impl &m = *impl;
+
+    m.dof_handler.distribute_dofs(m.fe);
+    m.owned = m.dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
+    m.n_owned = m.owned.n_elements();
+    AssertThrow(m.owned.is_contiguous(), dealii::ExcInternalError());
+    {
+      dealii::AffineConstraints<double> hanging(m.relevant);
+      dealii::DoFTools::make_hanging_node_constraints(m.dof_handler, hanging);
+      AssertThrow(dealii::Utilities::MPI::max(hanging.n_constraints(),
+                                              m.comm) == 0,
+                  dealii::ExcMessage(
+                    "Electrophysiology needs a conforming mesh (no hanging "
+                    "nodes): refine it globally."));
+    }
+
+    // The ARKode state: v and the model's states of every owned node,
+    // interleaved, in the same rank order as the nodes.
+    const auto n_global   = m.dof_handler.n_dofs() * m.n_components;
+    const auto first_node = m.n_owned > 0 ? *m.owned.begin() : 0;
+    m.state_owned         = dealii::IndexSet(n_global);
+    m.state_owned.add_range(first_node * m.n_components,
+                            (first_node + m.n_owned) * m.n_components);
+
+    dealii::DynamicSparsityPattern dsp(m.relevant);
+    dealii::DoFTools::make_sparsity_pattern(m.dof_handler, dsp);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       m.owned,
+                                                       m.comm,
+                                                       m.relevant);
+    m.stiffness.reinit(m.owned, m.owned, dsp, m.comm);
+    m.stage.reinit(m.owned, m.owned, dsp, m.comm);
+    m.amg_matrix.reinit(m.owned, m.owned, dsp, m.comm);
+    m.v_work.reinit(m.owned, m.comm);
+    m.Kv_work.reinit(m.owned, m.comm);
+    m.rhs_work.reinit(m.owned, m.comm);
+    m.potential_mV.reinit(m.owned, m.relevant, m.comm);
+    m.activation_first.reinit(m.owned, m.relevant, m.comm);
+    m.activation_latest.reinit(m.owned, m.relevant, m.comm);
+
+    m.assemble_lumped_mass();
+    m.evaluate_fibres(fibres);
+    m.assemble_stiffness(nullptr);
+    m.locate_stimuli(names);
+    m.stimulus_on.assign(params.stimuli.size(), false);
+
+    m.initialize_state();
+    m.tracker = ActivationTracker(m.n_owned, m.threshold);
+    m.extract_potential(m.v_sample);
+    m.integrator = m.create_integrator(m.t);
+    m.update_output_vectors();
+    m.saved.state.reinit(m.state_owned, m.comm);
+    save();
+
+    std::ostringstream o;
+    o << "Electrophysiology: monodomain, " << m.model.name() << ", Q"
+      << params.degree << ", " << m.dof_handler.n_dofs()
+      << " nodes, D = " << params.diffusivity_l() << " / "
+      << params.diffusivity_t()
+      << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
+      << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
+      << params.time_step << " ms, CG + " << params.preconditioner;
+    logger.line(o.str());
+  }
+
+
+  Monodomain::~Monodomain() = default;
+
+
+  double
+  Monodomain::time() const
+  {
+    return impl->t;
+  }
+
+
+  void
+  Monodomain::evaluate(
+    const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+    const dealii::Quadrature<3>                             &quadrature,
+    PointValues                                             &values) const
+  {
+    const Impl &m = *impl;
+    Assert(&cell->get_triangulation() == &m.tria,
+           dealii::ExcMessage("Monodomain::evaluate: the cell belongs to "
+                              "another triangulation."));
+    Assert(!cell->is_artificial(), dealii::ExcInternalError());
+    const dealii::DoFHandler<3>::active_cell_iterator dof_cell(&m.tria,
+                                                               cell->level(),
+                                                               cell->index(),
+                                                               &m.dof_handler);
+    const unsigned int     n = m.fe.n_dofs_per_cell();
+    dealii::Vector<double> V(n), first(n), latest(n);
+    dof_cell->get_dof_values(m.potential_mV, V);
+    dof_cell->get_dof_values(m.activation_first, first);
+    dof_cell->get_dof_values(m.activation_latest, latest);
+
+    const unsigned int n_q = quadrature.size();
+    values.potential.assign(n_q, 0.0);
+    values.activation_time.assign(n_q, 0.0);
+    values.latest_activation_time.assign(n_q, 0.0);
+    for (unsigned int q = 0; q < n_q; ++q)
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          // NaN (not activated) at any node propagates to every point.
+          const double phi = m.fe.shape_value(i, quadrature.point(q));
+          values.potential[q] += phi * V[i];
+          values.activation_time[q] += phi * first[i];
+          values.latest_activation_time[q] += phi * latest[i];
+        }
+  }
+
+
+  PointValues
+  Monodomain::values_at_points(
+    const std::vector<dealii::Point<3>> &points) const
+  {
+    const Impl        &m     = *impl;
+    const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(m.comm);
+    const unsigned int ranks = dealii::Utilities::MPI::n_mpi_processes(m.comm);
+    const unsigned int n     = points.size();
+
+    // Each point is evaluated by the lowest rank that owns a cell around it.
+    // The search is cached for the last set of points (the probes of a run
+    // are asked for every step); every rank makes the same calls.
+    auto &cache = m.point_cache;
+    if (cache.points != points)
+      {
+        cache.points = points;
+        cache.owner.assign(n, ranks);
+        cache.cells.assign(n, {});
+        for (unsigned int p = 0; p < n; ++p)
+          {
+            try
+              {
+                for (const auto &[cell, reference] :
+                     dealii::GridTools::find_all_active_cells_around_point(
+                       m.mapping,
+                       m.dof_handler,
+                       points[p],
+                       1e-10))
+                  if (cell->is_locally_owned())
+                    {
+                      cache.owner[p] = rank;
+                      cache.cells[p] = {cell, reference};
+                      break;
+                    }
+              }
+            catch (const std::exception &)
+              {
+                // Not in any cell this rank knows.
+              }
+          }
+        dealii::Utilities::MPI::min(
+          dealii::ArrayView<const unsigned int>(cache.owner),
+          m.comm,
+          dealii::ArrayView<unsigned int>(cache.owner));
+      }
+    const auto &owner = cache.owner;
+    const auto &found = cache.cells;
+
+    std::vector<double> local(3 * n, 0.0);
+    PointValues         at_point;
+    for (unsigned int p = 0; p < n; ++p)
+      if (owner[p] == rank)
+        {
+          const dealii::Quadrature<3> one(found[p].second);
+          evaluate(found[p].first, one, at_point);
+          local[3 * p]     = at_point.potential[0];
+          local[3 * p + 1] = at_point.activation_time[0];
+          local[3 * p + 2] = at_point.latest_activation_time[0];
+        }
+      else if (owner[p] == ranks && rank == 0)
+        for (unsigned int c = 0; c < 3; ++c)
+          local[3 * p + c] = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> global(3 * n);
+    dealii::Utilities::MPI::sum(dealii::ArrayView<const double>(local),
+                                m.comm,
+                                dealii::ArrayView<double>(global));
+
+    PointValues values;
+    for (unsigned int p = 0; p < n; ++p)
+      {
+        values.potential.push_back(global[3 * p]);
+        values.activation_time.push_back(global[3 * p + 1]);
+        values.latest_activation_time.push_back(global[3 * p + 2]);
+      }
+    return values;
+  }
+
+
+  double
+  Monodomain::activated_fraction() const
+  {
+    double active = 0, total = 0;
+    for (unsigned int i = 0; i < impl->n_owned; ++i)
+      {
+        total += impl->lumped_mass[i];
+        if (!std::isnan(impl->tracker.first()[i]))
+          active += impl->lumped_mass[i];
+      }
+    return dealii::Utilities::MPI::sum(active, impl->comm) /
+           dealii::Utilities::MPI::sum(total, impl->comm);
+  }
+
+
+  ActivationSummary
+  Monodomain::activation_summary(const double fraction) const
+  {
+    return summarize_activation(impl->tracker.first(),
+                                impl->lumped_mass,
+                                fraction,
+                                impl->comm);
+  }
+
+
+  void
+  Monodomain::set_deformation_gradients(
+    const std::vector<std::vector<dealii::Tensor<2, 3>>> &F)
+  {
+    if (!impl->params.pull_back)
+      return;
+    AssertThrow(F.size() == impl->tria.n_active_cells(),
+                dealii::ExcMessage("Monodomain::set_deformation_gradients: "
+                                   "give one entry per active cell."));
+    impl->assemble_stiffness(&F);
+  }
+
+
+  const dealii::Quadrature<3> &
+  Monodomain::diffusion_quadrature() const
+  {
+    return impl->quadrature;
+  }
+
+
+  void
+  Monodomain::save()
+  {
+    Impl &m          = *impl;
+    m.saved.state    = m.state;
+    m.saved.t        = m.t;
+    m.saved.first    = m.tracker.first();
+    m.saved.latest   = m.tracker.latest();
+    m.saved.v_sample = m.v_sample;
+  }
+
+
+  void
+  Monodomain::restore()
+  {
+    Impl &m    = *impl;
+    m.state    = m.saved.state;
+    m.t        = m.saved.t;
+    m.v_sample = m.saved.v_sample;
+    m.tracker.set(m.saved.first, m.saved.latest);
+    m.integrator->reset(m.t);
+    m.update_output_vectors();
+  }
+
+
+  void
+  Monodomain::attach_output(dealii::DataOut<3, 3> &data_out) const
+  {
+    data_out.add_data_vector(impl->dof_handler,
+                             impl->potential_mV,
+                             "transmembrane_potential");
+    data_out.add_data_vector(impl->dof_handler,
+                             impl->activation_first,
+                             "activation_time");
+  }
+
+
+  dealii::types::global_dof_index
+  Monodomain::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
+
+
+  Statistics
+  Monodomain::statistics() const
+  {
+    return impl->stats;
+  }
+
+
+  const IonicModel &
+  Monodomain::ionic_model() const
+  {
+    return impl->model;
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,185 @@
+#pragma once
+
+// Internal to src/electrophysiology: the state of Monodomain, shared by its
+// translation units (monodomain.cc, assembly.cc, time_stepping.cc). Not
+// included elsewhere.
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/petsc_precondition.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+#include "base/linear_algebra.h"
+#include "base/logger.h"
+#include "electrophysiology/activation.h"
+#include "electrophysiology/arkode_adapter.h"
+#include "electrophysiology/monodomain.h"
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace systole::Electrophysiology
+{
+  /// Read access to the locally owned entries of a PETSc vector.
+  class LocalRead
+  {
+  public:
+    explicit LocalRead(const LA::MPI::Vector &v);
+    ~LocalRead();
+    const double *
+    data() const
+    {
+      return values;
+    }
+
+  private:
+    Vec           vec;
+    const double *values = nullptr;
+  };
+
+  /// Write access to the locally owned entries of a PETSc vector (no
+  /// compress() needed; update_ghost_values() of a ghosted vector after).
+  class LocalWrite
+  {
+  public:
+    explicit LocalWrite(LA::MPI::Vector &v);
+    ~LocalWrite();
+    double *
+    data() const
+    {
+      return values;
+    }
+
+  private:
+    Vec     vec;
+    double *values = nullptr;
+  };
+
+
+  struct Monodomain::Impl
+  {
+    Impl(const Parameters                                         &params,
+         const dealii::parallel::distributed::Triangulation<3, 3> &tria,
+         const dealii::Mapping<3, 3>                              &mapping,
+         Logger                                                   &logger,
+         const double                                              start_time);
+
+    // --- assembly.cc ---
+    /// Lumped (Gauss-Lobatto) mass of the owned nodes and their positions.
+    void
+    assemble_lumped_mass();
+    /// Fibre directions at the points of diffusion_quadrature, per owned
+    /// cell.
+    void
+    evaluate_fibres(const Fibres::FibreField &fibres);
+    /// Stiffness K_ij = ∫ ∇φ_i · D ∇φ_j with D from the fibres (and the
+    /// deformation, if given); invalidates the stage matrix and AMG.
+    void
+    assemble_stiffness(
+      const std::vector<std::vector<dealii::Tensor<2, 3>>> *deformation);
+    /// For each stimulus, the owned nodes in its region.
+    void
+    locate_stimuli(const Geometry::BoundaryNames &names);
+
+    // --- time_stepping.cc ---
+    /// The ImexIntegrator's callbacks on the interleaved state.
+    void
+    explicit_rhs(const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f);
+    void
+    implicit_rhs(const LA::MPI::Vector &y, LA::MPI::Vector &f);
+    void
+    solve_stage(const double           gamma,
+                const LA::MPI::Vector &b,
+                LA::MPI::Vector       &x);
+    /// One step (one ImexIntegrator::evolve) from t to @p t_next, with the
+    /// stimuli switched as at the step's midpoint; samples the activation
+    /// (@p v_new is scratch space).
+    void
+    step(const double t_next, std::vector<double> &v_new);
+    /// The resting state, interleaved.
+    void
+    initialize_state();
+    /// Copy the potential of the state into @p v (owned nodes).
+    void
+    extract_potential(std::vector<double> &v) const;
+    /// Refresh the ghosted output vectors from the state and the tracker.
+    void
+    update_output_vectors();
+    std::unique_ptr<ImexIntegrator>
+    create_integrator(const double t0);
+
+    Parameters                                                params;
+    const IonicModel                                         &model;
+    const dealii::parallel::distributed::Triangulation<3, 3> &tria;
+    const dealii::Mapping<3, 3>                              &mapping;
+    MPI_Comm                                                  comm;
+    Logger                                                   &logger;
+
+    dealii::FE_Q<3>       fe;
+    dealii::DoFHandler<3> dof_handler;
+    dealii::QGauss<3>     quadrature; ///< of the stiffness
+    dealii::IndexSet      owned, relevant;
+    unsigned int          n_owned;      ///< owned nodes
+    unsigned int          n_components; ///< 1 + model.n_states()
+
+    /// Lumped mass [mm³] and positions [mm] of the owned nodes.
+    std::vector<double>           lumped_mass;
+    std::vector<dealii::Point<3>> node_positions;
+    LA::MPI::Vector               lumped_mass_vector; ///< owned
+
+    /// Fibre direction per owned cell (active_cell_index) and point.
+    std::vector<std::vector<dealii::Tensor<1, 3>>> fibre_directions;
+
+    LA::MPI::SparseMatrix stiffness;  ///< K
+    LA::MPI::SparseMatrix stage;      ///< M_L + gamma_stage K
+    LA::MPI::SparseMatrix amg_matrix; ///< M_L + gamma_amg K
+    double                gamma_stage = -1, gamma_amg = -1;
+    /// BoomerAMG of amg_matrix, or Jacobi of stage.
+    std::unique_ptr<dealii::PETScWrappers::PreconditionBase> preconditioner;
+
+    LA::MPI::Vector v_work, Kv_work, rhs_work; ///< owned, node layout
+
+    /// v_local = model units; activation threshold in model units.
+    double threshold;
+    /// dv/dt of a unit stimulus current density: 1/(χ C_m A).
+    double stimulus_scale;
+    /// Owned nodes of each stimulus.
+    std::vector<std::vector<unsigned int>> stimulus_nodes;
+    /// Whether each stimulus is on during the current step.
+    std::vector<bool> stimulus_on;
+
+    dealii::IndexSet                state_owned; ///< interleaved layout
+    LA::MPI::Vector                 state;
+    double                          t;
+    std::unique_ptr<ImexIntegrator> integrator;
+    ActivationTracker               tracker;
+    std::vector<double>             v_sample; ///< v at time t, owned nodes
+
+    /// Ghosted, node layout: potential [mV], first and latest activation.
+    LA::MPI::Vector potential_mV, activation_first, activation_latest;
+
+    struct Saved
+    {
+      LA::MPI::Vector     state;
+      double              t = 0;
+      std::vector<double> first, latest, v_sample;
+    } saved;
+
+    Statistics stats;
+
+    /// values_at_points(): the cells around the last points asked for.
+    struct PointCache
+    {
+      std::vector<dealii::Point<3>> points;
+      std::vector<unsigned int>     owner; ///< evaluating rank per point
+      std::vector<std::pair<dealii::DoFHandler<3>::active_cell_iterator,
+                            dealii::Point<3>>>
+        cells; ///< cell and reference point (on the owner)
+    } mutable point_cache;
+  };
+} // namespace systole::Electrophysiology

@@ -1,0 +1,79 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+
+#include "electrophysiology/ionic_model.h"
+#include "electrophysiology/stimulus.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole::Electrophysiology
+{
+  /// A named point whose potential and activation time a run reports.
+  struct Probe
+  {
+    std::string      name;
+    dealii::Point<3> position; ///< reference position [mm]
+  };
+
+  /// Subsection "Electrophysiology": the monodomain model, its
+  /// discretization and time integration, the stimulation protocol.
+  /// Defaults: physiology.md (Niederer et al. 2011 tissue values).
+  struct Parameters
+  {
+    /// The ionic model ("Ionic model" and its subsection); never null.
+    std::shared_ptr<const IonicModel> ionic_model;
+
+    double sigma_l = 0.1334; ///< conductivity along the fibres [mS/mm]
+    double sigma_t = 0.0176; ///< conductivity across the fibres [mS/mm]
+    double chi     = 140.0;  ///< membrane surface-to-volume ratio [1/mm]
+    double C_m     = 0.01;   ///< membrane capacitance [µF/mm²]
+
+    unsigned int degree = 1; ///< Lagrange degree of the potential (1 or 2)
+
+    double       time_step = 0.1;   ///< (maximum) ARKode step [ms]
+    unsigned int order     = 3;     ///< order of the IMEX ARK method (3 to 5)
+    bool         adaptive  = false; ///< adapt the step to the tolerances
+    double       relative_tolerance = 1e-4;  ///< adaptive steps only [-]
+    double       absolute_tolerance = 1e-5;  ///< adaptive steps [model units]
+    double       linear_tolerance   = 1e-8;  ///< CG relative residual [-]
+    std::string  preconditioner     = "AMG"; ///< of CG: "AMG" or "Jacobi"
+
+    double activation_threshold_mV = -30.0; ///< upstroke threshold [mV]
+
+    std::vector<Stimulus> stimuli;
+    double                stimulus_period = 0; ///< beat period [ms]; 0: once
+
+    /// Pull the conductivity back through the deformation, J F^-1 σ F^-T,
+    /// when the mechanics passes F (Monodomain::set_deformation_gradients).
+    bool pull_back = false;
+
+    std::vector<Probe> probes;
+
+    /// Diffusivity along / across the fibres D = σ/(χ C_m) [mm²/ms].
+    double
+    diffusivity_l() const;
+    double
+    diffusivity_t() const;
+
+    /// Declares subsection "Electrophysiology" (and the ionic models' own
+    /// subsections inside it).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads and validates it (builds the ionic model).
+    static Parameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Defaults with the ionic model called @p model_name (tests).
+    static Parameters
+    defaults(const std::string &model_name = "Aliev-Panfilov");
+  };
+} // namespace systole::Electrophysiology

@@ -1,0 +1,307 @@
+// Time integration of Monodomain: the right-hand sides and stage solves that
+// ImexIntegrator (ARKode) calls, sub-cycling and activation sampling.
+
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+
+#include "electrophysiology/monodomain_impl.h"
+
+#include <petscmat.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace systole::Electrophysiology
+{
+  LocalRead::LocalRead(const LA::MPI::Vector &v)
+    : vec(static_cast<const Vec &>(v))
+  {
+    const PetscErrorCode ierr = VecGetArrayRead(vec, &values);
+    AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+  }
+
+  LocalRead::~LocalRead()
+  {
+    VecRestoreArrayRead(vec, &values);
+  }
+
+  LocalWrite::LocalWrite(LA::MPI::Vector &v)
+    : vec(static_cast<const Vec &>(v))
+  {
+    const PetscErrorCode ierr = VecGetArray(vec, &values);
+    AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+  }
+
+  LocalWrite::~LocalWrite()
+  {
+    VecRestoreArray(vec, &values);
+  }
+
+
+  void
+  Monodomain::Impl::initialize_state()
+  {
+    state.reinit(state_owned, comm);
+    LocalWrite          y(state);
+    std::vector<double> rest(n_components);
+    rest[0] = model.resting_potential();
+    model.resting_state(rest.data() + 1);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      std::copy(rest.begin(), rest.end(), y.data() + i * n_components);
+  }
+
+
+  void
+  Monodomain::Impl::extract_potential(std::vector<double> &v) const
+  {
+    v.resize(n_owned);
+    const LocalRead y(state);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      v[i] = y.data()[i * n_components];
+  }
+
+
+  void
+  Monodomain::Impl::explicit_rhs(const double /*t*/,
+                                 const LA::MPI::Vector &y_vector,
+                                 LA::MPI::Vector       &f_vector)
+  {
+    const LocalRead  y(y_vector);
+    const LocalWrite f(f_vector);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        const double *yi = y.data() + i * n_components;
+        double       *fi = f.data() + i * n_components;
+        fi[0]            = -model.ionic_current(yi[0], yi + 1);
+        model.state_rhs(yi[0], yi + 1, fi + 1);
+      }
+    // On or off for the whole step (advance() ends steps at the switching
+    // times), not by the stage time.
+    for (unsigned int s = 0; s < params.stimuli.size(); ++s)
+      if (stimulus_on[s])
+        {
+          const double dv_dt = params.stimuli[s].amplitude * stimulus_scale;
+          for (const unsigned int i : stimulus_nodes[s])
+            f.data()[i * n_components] += dv_dt;
+        }
+  }
+
+
+  void
+  Monodomain::Impl::implicit_rhs(const LA::MPI::Vector &y_vector,
+                                 LA::MPI::Vector       &f_vector)
+  {
+    {
+      const LocalRead  y(y_vector);
+      const LocalWrite v(v_work);
+      for (unsigned int i = 0; i < n_owned; ++i)
+        v.data()[i] = y.data()[i * n_components];
+    }
+    stiffness.vmult(Kv_work, v_work);
+    const LocalRead  Kv(Kv_work);
+    const LocalWrite f(f_vector);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        double *fi = f.data() + i * n_components;
+        fi[0]      = -Kv.data()[i] / lumped_mass[i];
+        for (unsigned int c = 1; c < n_components; ++c)
+          fi[c] = 0;
+      }
+  }
+
+
+  void
+  Monodomain::Impl::solve_stage(const double           gamma,
+                                const LA::MPI::Vector &b_vector,
+                                LA::MPI::Vector       &x_vector)
+  {
+    // (I - gamma J) x = b with J = diag(-M_L^-1 K, 0):
+    // (M_L + gamma K) x_v = M_L b_v, and x_s = b_s for the ionic states.
+    const auto update = [&](LA::MPI::SparseMatrix &matrix, double &gamma_of) {
+      PetscErrorCode ierr = MatCopy(static_cast<Mat>(stiffness),
+                                    static_cast<Mat>(matrix),
+                                    SAME_NONZERO_PATTERN);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      ierr = MatScale(static_cast<Mat>(matrix), gamma);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      ierr = MatDiagonalSet(static_cast<Mat>(matrix),
+                            static_cast<const Vec &>(lumped_mass_vector),
+                            ADD_VALUES);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      gamma_of = gamma;
+    };
+    if (std::abs(gamma / gamma_stage - 1) > 1e-10)
+      {
+        update(stage, gamma_stage);
+        if (params.preconditioner == "Jacobi")
+          {
+            auto jacobi = std::make_unique<LA::MPI::PreconditionJacobi>();
+            jacobi->initialize(stage);
+            preconditioner = std::move(jacobi);
+          }
+      }
+    if (params.preconditioner == "AMG" &&
+        (!preconditioner || std::abs(gamma / gamma_amg - 1) > 0.2))
+      {
+        // Its own copy of the matrix: the AMG hierarchy is kept while the
+        // stage matrix follows small changes of gamma (PETSc would set the
+        // preconditioner up again whenever its matrix changes).
+        update(amg_matrix, gamma_amg);
+        // BoomerAMG for a 3D, mass-dominated operator: strong threshold 0.5
+        // and one level of aggressive coarsening halve the cost of a
+        // V-cycle against the defaults (2 CG iterations either way).
+        LA::MPI::PreconditionAMG::AdditionalData data;
+        data.symmetric_operator               = true;
+        data.strong_threshold                 = 0.5;
+        data.aggressive_coarsening_num_levels = 1;
+        auto amg = std::make_unique<LA::MPI::PreconditionAMG>();
+        amg->initialize(amg_matrix, data);
+        preconditioner = std::move(amg);
+        ++stats.amg_setups;
+      }
+
+    {
+      const LocalRead  b(b_vector);
+      const LocalWrite rhs(rhs_work);
+      const LocalWrite v(v_work);
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          v.data()[i]   = b.data()[i * n_components]; // initial guess
+          rhs.data()[i] = lumped_mass[i] * v.data()[i];
+        }
+    }
+    const double rhs_norm = rhs_work.l2_norm();
+    if (rhs_norm > 0)
+      {
+        dealii::SolverControl             control(1000,
+                                      params.linear_tolerance * rhs_norm,
+                                      false,
+                                      false);
+        dealii::SolverCG<LA::MPI::Vector> cg(control);
+        try
+          {
+            cg.solve(stage, v_work, rhs_work, *preconditioner);
+          }
+        catch (const dealii::SolverControl::NoConvergence &e)
+          {
+            AssertThrow(false,
+                        ExcRecoverableStepFailure(
+                          "CG + " + params.preconditioner +
+                          " did not converge on (M + " + std::to_string(gamma) +
+                          " K) x = M b (residual " +
+                          std::to_string(e.last_residual) + " after " +
+                          std::to_string(e.last_step) + " iterations)"));
+          }
+        stats.linear_iterations += control.last_step();
+      }
+    else
+      v_work = 0;
+    ++stats.linear_solves;
+
+    const LocalRead  b(b_vector);
+    const LocalRead  v(v_work);
+    const LocalWrite x(x_vector);
+    for (unsigned int i = 0; i < n_owned; ++i)
+      {
+        x.data()[i * n_components] = v.data()[i];
+        for (unsigned int c = 1; c < n_components; ++c)
+          x.data()[i * n_components + c] = b.data()[i * n_components + c];
+      }
+  }
+
+
+  std::unique_ptr<ImexIntegrator>
+  Monodomain::Impl::create_integrator(const double t0)
+  {
+    ImexIntegrator::Settings settings;
+    settings.order              = params.order;
+    settings.adaptive           = params.adaptive;
+    settings.relative_tolerance = params.relative_tolerance;
+    settings.absolute_tolerance = params.absolute_tolerance;
+    settings.max_step           = params.time_step;
+    ImexIntegrator::Callbacks callbacks;
+    callbacks.explicit_rhs =
+      [this](const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f) {
+        explicit_rhs(t, y, f);
+      };
+    callbacks.implicit_rhs = [this](const LA::MPI::Vector &y,
+                                    LA::MPI::Vector &f) { implicit_rhs(y, f); };
+    callbacks.solve        = [this](const double           gamma,
+                             const LA::MPI::Vector &b,
+                             LA::MPI::Vector &x) { solve_stage(gamma, b, x); };
+    return std::make_unique<ImexIntegrator>(settings, callbacks, t0, comm);
+  }
+
+
+  void
+  Monodomain::Impl::update_output_vectors()
+  {
+    {
+      const LocalRead  y(state);
+      const LocalWrite V(potential_mV);
+      const LocalWrite first(activation_first);
+      const LocalWrite latest(activation_latest);
+      for (unsigned int i = 0; i < n_owned; ++i)
+        {
+          V.data()[i]      = model.to_mV(y.data()[i * n_components]);
+          first.data()[i]  = tracker.first()[i];
+          latest.data()[i] = tracker.latest()[i];
+        }
+    }
+    potential_mV.update_ghost_values();
+    activation_first.update_ghost_values();
+    activation_latest.update_ghost_values();
+  }
+
+
+  void
+  Monodomain::Impl::step(const double t_next, std::vector<double> &v_new)
+  {
+    const double middle = 0.5 * (t + t_next);
+    for (unsigned int s = 0; s < params.stimuli.size(); ++s)
+      stimulus_on[s] = params.stimuli[s].active(middle, params.stimulus_period);
+    integrator->evolve(state, t_next);
+    extract_potential(v_new);
+    tracker.update(t, v_sample.data(), t_next, v_new.data());
+    v_sample.swap(v_new);
+    t = t_next;
+  }
+
+
+  void
+  Monodomain::advance(const double t_end)
+  {
+    Impl      &m     = *impl;
+    const auto start = std::chrono::steady_clock::now();
+    AssertThrow(t_end > m.t,
+                dealii::ExcMessage("Monodomain::advance: t_end (" +
+                                   std::to_string(t_end) +
+                                   " ms) must lie after the current time (" +
+                                   std::to_string(m.t) + " ms)."));
+    // Steps end at t_end and at every stimulus switching time; between
+    // those breakpoints they are equal and at most Time step long (up to
+    // 1e-9 of a step longer, so that a whole number of steps is not split by
+    // round-off).
+    std::vector<double> breakpoints =
+      switching_times(m.params.stimuli, m.params.stimulus_period, m.t, t_end);
+    breakpoints.push_back(t_end);
+    std::vector<double> v_new;
+    double              segment_start = m.t;
+    for (const double segment_end : breakpoints)
+      {
+        const double       span    = segment_end - segment_start;
+        const unsigned int n_steps = static_cast<unsigned int>(
+          std::max(1.0, std::ceil(span / m.params.time_step - 1e-9)));
+        for (unsigned int k = 1; k <= n_steps; ++k)
+          m.step(k == n_steps ? segment_end
+                              : segment_start + k * span / n_steps,
+                 v_new);
+        segment_start = segment_end;
+      }
+    m.update_output_vectors();
+    m.stats.steps = m.integrator->n_steps();
+    m.stats.seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+        .count();
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,160 @@
+#include "simulation/electrophysiology_run.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/numerics/data_out.h>
+
+#include "base/interrupt.h"
+#include "base/logger.h"
+#include "electrophysiology/monodomain.h"
+#include "fibres/fibre_field.h"
+#include "geometry/mesh.h"
+#include "io/results_file.h"
+#include "simulation/parameters.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace systole
+{
+  void
+  run_electrophysiology_problem(const dealii::ParameterHandler &prm,
+                                const RunParameters            &run,
+                                const std::string              &parameter_text,
+                                Logger                         &logger,
+                                const MPI_Comm                  comm)
+  {
+    const auto geometry =
+      Geometry::Parameters::parse(prm, run.parameter_directory);
+    const auto params = Electrophysiology::Parameters::parse(prm);
+
+    dealii::parallel::distributed::Triangulation<3> tria(comm);
+    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    const dealii::MappingQ<3>     mapping(run.mapping_degree);
+
+    Electrophysiology::Monodomain ep(
+      params,
+      tria,
+      mapping,
+      Fibres::create_fibre_field(
+        Fibres::Parameters::parse(prm, run.parameter_directory),
+        geometry.lv_shape,
+        tria,
+        names,
+        &logger),
+      names,
+      logger,
+      run.start_time);
+
+    {
+      std::ostringstream o;
+      o << IO::code_version() << ": problem '" << run.problem << "', "
+        << tria.n_global_active_cells() << " cells, Q" << params.degree << ", "
+        << ep.n_dofs() << " DOFs, "
+        << dealii::Utilities::MPI::n_mpi_processes(comm) << " rank(s), "
+        << params.ionic_model->name();
+      logger.line(o.str());
+    }
+
+    std::vector<dealii::Point<3>> probe_points;
+    for (const auto &p : params.probes)
+      probe_points.push_back(p.position);
+
+    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    Progress        progress(logger,
+                      Progress::parse_mode(run.progress),
+                      run.start_time,
+                      run.end_time);
+
+    const unsigned int n_steps = static_cast<unsigned int>(
+      std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
+    Electrophysiology::Statistics last;
+    const auto write_row = [&](const unsigned int step, const double time) {
+      const auto              now = ep.statistics();
+      std::vector<IO::Column> row = {
+        {"time", "ms", time},
+        {"step", "-", static_cast<double>(step)},
+        {"activated_fraction", "-", ep.activated_fraction()},
+        {"arkode_steps", "-", static_cast<double>(now.steps - last.steps)},
+        {"linear_iterations",
+         "-",
+         static_cast<double>(now.linear_iterations - last.linear_iterations)}};
+      last              = now;
+      const auto values = ep.values_at_points(probe_points);
+      for (unsigned int i = 0; i < probe_points.size(); ++i)
+        row.push_back(
+          {params.probes[i].name + "_potential", "mV", values.potential[i]});
+      results.append_timeseries(row);
+
+      if (run.field_output_interval > 0 &&
+          (step % run.field_output_interval == 0 || step == n_steps))
+        {
+          dealii::DataOut<3> data_out;
+          ep.attach_output(data_out);
+          data_out.build_patches(mapping, params.degree);
+          results.write_fields(data_out, step, time);
+        }
+    };
+
+    write_row(0, run.start_time);
+    unsigned int step = 1;
+    for (; step <= n_steps; ++step)
+      {
+        const double time =
+          std::min(run.start_time + step * run.time_step, run.end_time);
+        progress.update(step, time, "electrophysiology");
+        ep.advance(time);
+        write_row(step, time);
+        if (interrupted(comm))
+          {
+            logger.line("Interrupted: " + results.path() + " holds steps 0.." +
+                        std::to_string(step) + ".");
+            break;
+          }
+      }
+
+    // The activation map: summary over the volume and at the probes.
+    const auto              summary = ep.activation_summary(0.9);
+    const auto              stats   = ep.statistics();
+    const auto              values  = ep.values_at_points(probe_points);
+    std::vector<IO::Column> row     = {
+          {"activated_fraction", "-", summary.activated_fraction},
+          {"first_activation_time", "ms", summary.first},
+          {"last_activation_time", "ms", summary.last},
+          {"total_activation_time", "ms", summary.total},
+          {"activation_time_90", "ms", summary.fraction_time},
+          {"n_dofs", "-", static_cast<double>(ep.n_dofs())},
+          {"arkode_steps", "-", static_cast<double>(stats.steps)},
+          {"linear_solves", "-", static_cast<double>(stats.linear_solves)},
+          {"linear_iterations", "-", static_cast<double>(stats.linear_iterations)}};
+    for (unsigned int i = 0; i < probe_points.size(); ++i)
+      row.push_back({params.probes[i].name + "_activation_time",
+                     "ms",
+                     values.activation_time[i]});
+    results.append_summary(row);
+
+    std::ostringstream o;
+    o << std::setprecision(4)
+      << "Activation: " << 100 * summary.activated_fraction
+      << " % of the volume active, first " << summary.first << " ms, last "
+      << summary.last << " ms, 90 % at " << summary.fraction_time << " ms";
+    for (unsigned int i = 0; i < probe_points.size(); ++i)
+      o << "; " << params.probes[i].name << " " << values.activation_time[i]
+        << " ms";
+    logger.line(o.str());
+    o.str("");
+    const double seconds = dealii::Utilities::MPI::max(stats.seconds, comm);
+    o << std::setprecision(4) << "EP cost: " << seconds << " s in "
+      << stats.steps << " ARKode steps, "
+      << (stats.steps > 0 ? 1e6 * seconds / (stats.steps * ep.n_dofs()) : 0.0)
+      << " us per step per DOF; " << stats.linear_solves << " stage solves, "
+      << (stats.linear_solves > 0
+            ? double(stats.linear_iterations) / stats.linear_solves
+            : 0.0)
+      << " CG iterations per solve, " << stats.amg_setups << " AMG set-up(s)";
+    logger.line(o.str());
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole

@@ -1,0 +1,94 @@
+#!/usr/bin/env python3
+"""Check an electrophysiology results file: activation summary and time series.
+
+    check_activation.py RESULTS.h5 [NAME=VALUE:TOL ...] [--increasing A,B,...]
+                        [--serial SERIAL.h5]
+
+- every time-series value is finite, the activated fraction lies in [0, 1] and never
+  decreases, and the whole volume ends activated;
+- each /summary column NAME (last row) lies within TOL of VALUE (an independent value,
+  e.g. from the refinement table of docs/verification.md);
+- --increasing: the listed /summary columns increase strictly in that order (activation
+  times of points ever farther from the stimulus);
+- --serial: every time-series and /summary column equals the serial run's to 1e-8
+  relative (to the column's scale) plus 1e-10, except the iteration counts of the
+  iterative solver, which depend on the partition.
+"""
+
+import sys
+
+import h5py
+import numpy as np
+
+NOT_COMPARED = ("linear_iterations",)
+
+
+def table(f, group):
+    return {k: np.asarray(f[group][k][()], dtype=float) for k in f[group]} if group in f else {}
+
+
+def read(path):
+    with h5py.File(path, "r") as f:
+        return table(f, "timeseries"), table(f, "summary")
+
+
+def compare(name, values, reference, failures):
+    if len(values) != len(reference):
+        failures.append(f"{name}: {len(values)} rows, serial run {len(reference)}")
+        return
+    allowed = 1e-8 * np.nanmax(np.abs(reference)) + 1e-10
+    if not np.array_equal(np.isnan(values), np.isnan(reference)):
+        failures.append(f"{name}: NaN where the serial run has none (or vice versa)")
+        return
+    diff = np.nanmax(np.abs(values - reference)) if np.any(np.isfinite(values)) else 0.0
+    if not diff <= allowed:
+        failures.append(f"{name} differs from the serial run by {diff:.3g}")
+
+
+def main(argv) -> int:
+    args = argv[1:]
+    serial, increasing = None, []
+    if "--serial" in args:
+        i = args.index("--serial")
+        serial = args[i + 1]
+        del args[i : i + 2]
+    if "--increasing" in args:
+        i = args.index("--increasing")
+        increasing = args[i + 1].split(",")
+        del args[i : i + 2]
+    ts, summary = read(args[0])
+    failures = []
+    for name, values in ts.items():
+        if not np.all(np.isfinite(values)):
+            failures.append(f"time-series column {name} has non-finite values")
+    fraction = ts["activated_fraction"]
+    if np.any(fraction < 0) or np.any(fraction > 1) or np.any(np.diff(fraction) < 0):
+        failures.append("the activated fraction leaves [0, 1] or decreases")
+    if summary["activated_fraction"][-1] != 1.0:
+        failures.append(f"only {summary['activated_fraction'][-1]:.4f} of the volume activated")
+    for spec in args[1:]:
+        name, rest = spec.split("=")
+        value, tolerance = (float(x) for x in rest.split(":"))
+        got = summary[name][-1]
+        status = "ok" if abs(got - value) <= tolerance else "FAIL"
+        print(f"{name}: {got:.4f} (expected {value} +- {tolerance}) {status}")
+        if status != "ok":
+            failures.append(f"{name} = {got} is not within {tolerance} of {value}")
+    times = [summary[name][-1] for name in increasing]
+    print("increasing: " + ", ".join(f"{n} {t:.3f}" for n, t in zip(increasing, times)))
+    if any(not b > a for a, b in zip(times, times[1:])):
+        failures.append("activation times do not increase along " + ", ".join(increasing))
+    if serial is not None:
+        serial_ts, serial_summary = read(serial)
+        for group, ours, theirs in (("time series", ts, serial_ts),
+                                    ("summary", summary, serial_summary)):
+            for name, values in ours.items():
+                if name not in NOT_COMPARED:
+                    compare(f"{group} {name}", values, theirs[name], failures)
+    for failure in failures:
+        print("FAIL:", failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

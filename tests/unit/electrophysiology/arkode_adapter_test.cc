@@ -1,0 +1,143 @@
+// ImexIntegrator (the ARKode adapter) on a small stiff system with a known
+// solution: convergence order, adaptive steps, error propagation.
+#include <deal.II/base/index_set.h>
+
+#include "electrophysiology/arkode_adapter.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+using namespace systole;
+using namespace systole::Electrophysiology;
+
+namespace
+{
+  constexpr double lambda = 50.0; // stiff implicit decay rate [1/ms]
+
+  /// y = (a, b): a' = -lambda a + cos t (implicit: -lambda a), b' = -b
+  /// (explicit). Exact: b = e^-t, a = (lambda cos t + sin t)/(lambda^2 + 1)
+  /// + (1 - lambda/(lambda^2 + 1)) e^(-lambda t) from a(0) = b(0) = 1.
+  ImexIntegrator::Callbacks
+  test_system(unsigned int *solves = nullptr)
+  {
+    ImexIntegrator::Callbacks c;
+    c.explicit_rhs =
+      [](const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f) {
+        f(0) = std::cos(t);
+        f(1) = -y(1);
+        f.compress(dealii::VectorOperation::insert);
+      };
+    c.implicit_rhs = [](const LA::MPI::Vector &y, LA::MPI::Vector &f) {
+      f(0) = -lambda * y(0);
+      f(1) = 0;
+      f.compress(dealii::VectorOperation::insert);
+    };
+    c.solve = [solves](const double           gamma,
+                       const LA::MPI::Vector &b,
+                       LA::MPI::Vector       &x) {
+      x(0) = b(0) / (1 + gamma * lambda);
+      x(1) = b(1);
+      x.compress(dealii::VectorOperation::insert);
+      if (solves)
+        ++*solves;
+    };
+    return c;
+  }
+
+  double
+  exact_a(const double t)
+  {
+    const double l2 = lambda * lambda + 1;
+    return (lambda * std::cos(t) + std::sin(t)) / l2 +
+           (1 - lambda / l2) * std::exp(-lambda * t);
+  }
+
+  /// Error in a at t = 1 after fixed steps of dt (advanced step by step).
+  double
+  error_with_step(const double dt, const unsigned int order)
+  {
+    ImexIntegrator::Settings s;
+    s.order = order;
+    ImexIntegrator  ode(s, test_system(), 0.0, MPI_COMM_SELF);
+    LA::MPI::Vector y(dealii::complete_index_set(2), MPI_COMM_SELF);
+    y                    = 1.0;
+    const unsigned int n = std::lround(1.0 / dt);
+    for (unsigned int k = 1; k <= n; ++k)
+      ode.evolve(y, k * dt);
+    CHECK(ode.n_steps() == n);
+    CHECK(y(1) == Approx(std::exp(-1.0)).epsilon(1e-3));
+    return std::abs(y(0) - exact_a(1.0));
+  }
+} // namespace
+
+TEST_CASE("ARKode IMEX steps converge at the order of the method",
+          "[ep][arkode]")
+{
+  const unsigned int order = GENERATE(3u, 4u);
+  const double       e1    = error_with_step(0.02, order);
+  const double       e2    = error_with_step(0.01, order);
+  INFO("order " << order << ": errors " << e1 << ", " << e2);
+  CHECK(e2 < 1e-5);
+  // The stiff transient e^-50t is long gone by t = 1; the observed order
+  // is that of the method (ARK-4(2)3 and ARK-6(3)4 of Kennedy-Carpenter).
+  CHECK(std::log2(e1 / e2) == Approx(order).margin(0.4));
+}
+
+TEST_CASE("Adaptive ARKode steps meet the tolerance, stop at the end time",
+          "[ep][arkode]")
+{
+  ImexIntegrator::Settings s;
+  s.adaptive             = true;
+  s.relative_tolerance   = 1e-6;
+  s.absolute_tolerance   = 1e-8;
+  s.max_step             = 0.5;
+  unsigned int    solves = 0;
+  ImexIntegrator  ode(s, test_system(&solves), 0.0, MPI_COMM_SELF);
+  LA::MPI::Vector y(dealii::complete_index_set(2), MPI_COMM_SELF);
+  y = 1.0;
+  ode.evolve(y, 0.3);
+  CHECK(ode.time() == 0.3);
+  CHECK(y(0) == Approx(exact_a(0.3)).epsilon(1e-3));
+  ode.evolve(y, 2.0);
+  CHECK(y(0) == Approx(exact_a(2.0)).epsilon(1e-3));
+  CHECK(ode.n_steps() > 4); // the transient needs small steps
+  CHECK(solves > 0);
+
+  // Restart from a given state: the same result as going on.
+  LA::MPI::Vector z(y);
+  ode.evolve(y, 3.0);
+  ode.reset(2.0);
+  ode.evolve(z, 3.0);
+  CHECK(z(0) == Approx(y(0)).epsilon(1e-6));
+}
+
+TEST_CASE("Exceptions in the callbacks leave ARKode as themselves",
+          "[ep][arkode]")
+{
+  auto       callbacks = test_system();
+  const auto original  = callbacks.explicit_rhs;
+  callbacks.explicit_rhs =
+    [original](const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f) {
+      if (t > 0.25)
+        throw std::runtime_error("bad ionic state");
+      original(t, y, f);
+    };
+  ImexIntegrator::Settings s;
+  ImexIntegrator           ode(s, callbacks, 0.0, MPI_COMM_SELF);
+  LA::MPI::Vector          y(dealii::complete_index_set(2), MPI_COMM_SELF);
+  y = 1.0;
+  ode.evolve(y, 0.1);
+  CHECK_THROWS_WITH(ode.evolve(y, 0.3), "bad ionic state");
+
+  // A recoverable failure with fixed steps cannot be cured: it comes back
+  // as itself.
+  auto failing  = test_system();
+  failing.solve = [](const double, const LA::MPI::Vector &, LA::MPI::Vector &) {
+    AssertThrow(false, ExcRecoverableStepFailure("CG did not converge"));
+  };
+  ImexIntegrator other(s, failing, 0.0, MPI_COMM_SELF);
+  y = 1.0;
+  CHECK_THROWS_AS(other.evolve(y, 0.1), ExcRecoverableStepFailure);
+}

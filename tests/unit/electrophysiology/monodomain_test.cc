@@ -1,0 +1,208 @@
+// The monodomain solver on small boxes: time-step convergence against a
+// fine-step reference, anisotropy, stimulus regions, point evaluation,
+// save/restore and the deformation pull-back.
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/fe/mapping_q.h>
+
+#include "base/logger.h"
+#include "electrophysiology/monodomain.h"
+#include "geometry/mesh.h"
+#include "support/ep_fixture.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+using namespace systole;
+using namespace systole::Electrophysiology;
+using test_support::EPBox;
+using test_support::run_ep_box;
+using test_support::unit_vector;
+
+namespace
+{
+  /// A cable along x (fibres along @p fibre), stimulated at x <= 0.5 mm.
+  EPBox
+  cable(const double length, const unsigned int cells, const unsigned int fibre)
+  {
+    EPBox box;
+    box.upper = dealii::Point<3>(length, 0.25, 0.25);
+    box.cells = {{cells, 1, 1}};
+    box.fibre = unit_vector(fibre);
+    return box;
+  }
+
+  Parameters
+  cable_parameters(const double time_step)
+  {
+    Parameters p = Parameters::defaults("Aliev-Panfilov");
+    p.stimuli    = parse_stimuli("left: box 0 0 0 0.5 1 1 from 0 for 2 at 50");
+    p.time_step  = time_step;
+    p.linear_tolerance = 1e-12;
+    return p;
+  }
+} // namespace
+
+TEST_CASE("Monodomain activation times converge to a fine-step reference",
+          "[ep][monodomain]")
+{
+  // 4 mm cable, h = 0.125 mm: the front reaches x = 3.5 mm after ~35 ms.
+  const std::vector<dealii::Point<3>> probe = {dealii::Point<3>(3.5, 0, 0)};
+  const auto                          at    = [&](const double dt) {
+    return run_ep_box(cable_parameters(dt),
+                      cable(4, 32, 0),
+                      40,
+                      5,
+                      probe,
+                      MPI_COMM_SELF)
+      .probes.activation_time[0];
+  };
+  const double reference = at(0.0125);
+  const double coarse    = at(0.2);
+  const double medium    = at(0.1);
+  INFO(std::setprecision(10)
+       << "activation at x = 3.5 mm: dt 0.2 " << coarse << ", dt 0.1 " << medium
+       << ", dt 0.0125 " << reference << " ms");
+  REQUIRE(std::isfinite(reference));
+  CHECK(reference > 20);
+  CHECK(std::abs(medium - reference) < 1e-3 * reference);
+  CHECK(std::abs(medium - reference) < std::abs(coarse - reference));
+}
+
+TEST_CASE("The conduction velocity ratio along/across the fibres is "
+          "sqrt(sigma_l/sigma_t)",
+          "[ep][monodomain]")
+{
+  // The same cable with the fibres along it and across it. Far from the
+  // stimulus and from the sealed end the front travels at a constant speed
+  // c ~ sqrt(D), measured between x = 2 and x = 5 mm of an 8 mm cable.
+  const std::vector<dealii::Point<3>> probes = {dealii::Point<3>(2, 0, 0),
+                                                dealii::Point<3>(5, 0, 0)};
+  const Parameters                    p      = cable_parameters(0.1);
+  const auto velocity = [&](const unsigned int fibre, const double end) {
+    const auto r =
+      run_ep_box(p, cable(8, 64, fibre), end, 10, probes, MPI_COMM_SELF);
+    return 3.0 / (r.probes.activation_time[1] - r.probes.activation_time[0]);
+  };
+  const double along  = velocity(0, 50);
+  const double across = velocity(1, 130);
+  INFO("CV along " << along << " mm/ms, across " << across << " mm/ms");
+  // Travelling-wave speed of the Aliev-Panfilov upstroke (w ~ 0 ahead of
+  // the front): c = sqrt(D k / (2 T)) (1 - 2a).
+  const double c = std::sqrt(p.diffusivity_l() * 8 / (2 * 12.9)) * 0.7;
+  CHECK(along == Approx(c).epsilon(0.03));
+  CHECK(along / across ==
+        Approx(std::sqrt(p.sigma_l / p.sigma_t)).epsilon(0.03));
+}
+
+TEST_CASE("A surface stimulus is the layer along its boundary part",
+          "[ep][monodomain]")
+{
+  // The layer within 0.75 mm of x_min holds the same nodes as the box
+  // x <= 0.75 mm: the runs agree exactly, and the front is plane.
+  EPBox box;
+  box.upper        = dealii::Point<3>(3, 1, 1);
+  box.cells        = {{12, 4, 4}};
+  box.fibre        = unit_vector(0);
+  Parameters layer = cable_parameters(0.1);
+  Parameters brick = layer;
+  layer.stimuli    = parse_stimuli("l: surface x_min 0.75 from 0 for 2 at 50");
+  brick.stimuli    = parse_stimuli("b: box 0 0 0 0.75 1 1 from 0 for 2 at 50");
+  const std::vector<dealii::Point<3>> probes = {dealii::Point<3>(2.5, 0, 0),
+                                                dealii::Point<3>(2.5, 1, 1),
+                                                dealii::Point<3>(2.5, .4, .6)};
+  const auto a = run_ep_box(layer, box, 40, 10, probes, MPI_COMM_SELF);
+  const auto b = run_ep_box(brick, box, 40, 10, probes, MPI_COMM_SELF);
+  REQUIRE(std::isfinite(a.probes.activation_time[0]));
+  for (unsigned int i = 0; i < 3; ++i)
+    {
+      CHECK(a.probes.activation_time[i] == b.probes.activation_time[i]);
+      CHECK(a.probes.activation_time[i] ==
+            Approx(a.probes.activation_time[0]).epsilon(1e-10));
+    }
+  CHECK(a.summary.activated_fraction == 1.0);
+  CHECK(a.summary.total > 0);
+  CHECK(a.summary.fraction_time <= a.summary.last);
+}
+
+TEST_CASE("Monodomain state: point evaluation, save and restore, pull-back",
+          "[ep][monodomain]")
+{
+  Geometry::Parameters geometry;
+  geometry.type      = Geometry::Parameters::Type::box;
+  geometry.box_upper = dealii::Point<3>(8, 0.5, 0.5);
+  geometry.box_cells = {{32, 2, 2}};
+  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_SELF);
+  const auto                names = Geometry::create_mesh(geometry, tria);
+  const dealii::MappingQ<3> mapping(1);
+  const Fibres::FibreField  fibres =
+    [](const auto &, const auto &points, auto &bases) {
+      bases.assign(points.size(), Fibres::FibreBasis::cartesian());
+    };
+  std::ostringstream sink;
+  Logger             logger(MPI_COMM_SELF, sink);
+  Parameters         params = cable_parameters(0.1);
+  params.pull_back          = true;
+  Monodomain ep(params, tria, mapping, fibres, names, logger);
+  CHECK(ep.n_dofs() == 33 * 3 * 3);
+
+  ep.advance(12);
+  CHECK(ep.time() == 12);
+  CHECK(ep.statistics().steps == 120);
+
+  // evaluate() at the vertices of a cell is values_at_points() there.
+  const auto                  cell = tria.begin_active();
+  PointValues                 at_vertices;
+  const dealii::QTrapezoid<3> vertices;
+  ep.evaluate(cell, vertices, at_vertices);
+  std::vector<dealii::Point<3>> points;
+  for (unsigned int v = 0; v < 8; ++v)
+    points.push_back(cell->vertex(v));
+  const auto global = ep.values_at_points(points);
+  for (unsigned int q = 0; q < vertices.size(); ++q)
+    {
+      // QTrapezoid's points are the vertices in deal.II's order.
+      CHECK(at_vertices.potential[q] ==
+            Approx(global.potential[q]).epsilon(1e-12));
+      CHECK(at_vertices.activation_time[q] ==
+            Approx(global.activation_time[q]).epsilon(1e-12));
+      // The stimulated end has fired: depolarised and activated early.
+      CHECK(at_vertices.potential[q] > -20);
+      CHECK(at_vertices.activation_time[q] < 2.5);
+    }
+
+  // Save, advance, restore, advance again: the same state.
+  ep.save();
+  ep.advance(30);
+  const auto first = ep.values_at_points({dealii::Point<3>(2, 0.25, 0.25)});
+  ep.restore();
+  CHECK(ep.time() == 12);
+  ep.advance(30);
+  const auto again = ep.values_at_points({dealii::Point<3>(2, 0.25, 0.25)});
+  CHECK(again.potential[0] == first.potential[0]);
+  CHECK(again.activation_time[0] == first.activation_time[0]);
+
+  // Pull-back: an isochoric stretch lambda along the fibres,
+  // F = diag(lambda, lambda^-1/2, lambda^-1/2), divides the reference
+  // diffusivity along x by lambda^2, so the front crosses the reference
+  // cable lambda times slower (the same speed over a lambda times longer
+  // deformed cable).
+  const auto activation_delay = [&](const double lambda) {
+    Monodomain stretched(params, tria, mapping, fibres, names, logger);
+    dealii::Tensor<2, 3> F;
+    F[0][0] = lambda;
+    F[1][1] = F[2][2] = 1 / std::sqrt(lambda);
+    stretched.set_deformation_gradients(
+      std::vector<std::vector<dealii::Tensor<2, 3>>>(tria.n_active_cells(),
+                                                     {F}));
+    stretched.advance(70);
+    const auto v = stretched.values_at_points(
+      {dealii::Point<3>(2, 0, 0), dealii::Point<3>(5, 0, 0)});
+    return v.activation_time[1] - v.activation_time[0];
+  };
+  CHECK(activation_delay(1.2) / activation_delay(1.0) ==
+        Approx(1.2).epsilon(0.03));
+}
