@@ -18,8 +18,9 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 def activation_results(tmp_path):
     """A 6 x 5 x 3 grid of nodes (1 mm apart); a plane wave along x at 0.5 mm/ms from 1 ms,
     one node never activated; fields at steps 0 (all NaN) and 40."""
+    summary = {"activation_time_90": [9.0], "total_activation_time": [10.0]}
     path = write_results_file(tmp_path / "results.h5", {"time": [0, 20, 40], "step": [0, 1, 2]},
-                              summary={"activation_time_90": [9.0], "total_activation_time": [10.0]})
+                              summary=summary)
     x, y, z = np.meshgrid(np.arange(6.0), np.arange(5.0), np.arange(3.0), indexing="ij")
     nodes = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
     times = 1.0 + 2.0 * nodes[:, 0]
