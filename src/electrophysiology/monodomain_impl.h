@@ -43,7 +43,9 @@ namespace systole::Electrophysiology
   };
 
   /// Write access to the locally owned entries of a PETSc vector (no
-  /// compress() needed; update_ghost_values() of a ghosted vector after).
+  /// compress() needed; a ghosted vector needs VecGhostUpdateBegin/End
+  /// after, as in update_output_vectors(): deal.II 9.4's
+  /// update_ghost_values() does nothing for PETSc vectors).
   class LocalWrite
   {
   public:

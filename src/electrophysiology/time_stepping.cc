@@ -248,9 +248,19 @@ namespace systole::Electrophysiology
           latest.data()[i] = tracker.latest()[i];
         }
     }
-    potential_mV.update_ghost_values();
-    activation_first.update_ghost_values();
-    activation_latest.update_ghost_values();
+    // deal.II 9.4's PETSc update_ghost_values() does nothing (its ghosted
+    // vectors are refreshed by assignment from a non-ghosted one): scatter
+    // the owned values written above to the other ranks' ghosts here.
+    for (LA::MPI::Vector *v :
+         {&potential_mV, &activation_first, &activation_latest})
+      {
+        const Vec      vec = static_cast<const Vec &>(*v);
+        PetscErrorCode ierr =
+          VecGhostUpdateBegin(vec, INSERT_VALUES, SCATTER_FORWARD);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+        ierr = VecGhostUpdateEnd(vec, INSERT_VALUES, SCATTER_FORWARD);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      }
   }
 
 

@@ -22,11 +22,18 @@ TEST_CASE("The monodomain on 2 ranks equals the serial run", "[mpi][ep]")
                                "at 50; far: surface x_max 0.3 from 20 for 2 "
                                "at 50");
   p.time_step  = 0.1;
-  p.linear_tolerance                         = 1e-12;
-  const std::vector<dealii::Point<3>> probes = {dealii::Point<3>(5, 2, 1),
-                                                dealii::Point<3>(2.5, 1, 0.5),
-                                                dealii::Point<3>(0, 2, 1)};
-  const auto                          parallel =
+  p.linear_tolerance                   = 1e-12;
+  std::vector<dealii::Point<3>> probes = {dealii::Point<3>(5, 2, 1),
+                                          dealii::Point<3>(2.5, 1, 0.5),
+                                          dealii::Point<3>(0, 2, 1)};
+  // A lattice of points inside cells all over the slab: some lie in cells of
+  // rank 1 next to the partition boundary, whose nodes include ghosts (a
+  // point is read by the lowest rank that owns a cell around it).
+  for (const double x : {0.3, 1.3, 2.3, 3.3, 4.3})
+    for (const double y : {0.3, 1.1, 1.7})
+      for (const double z : {0.15, 0.45, 0.85})
+        probes.emplace_back(x, y, z);
+  const auto parallel =
     test_support::run_ep_box(p, box, 30, 5, probes, MPI_COMM_WORLD);
   const auto serial =
     test_support::run_ep_box(p, box, 30, 5, probes, MPI_COMM_SELF);
