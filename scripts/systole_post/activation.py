@@ -62,6 +62,35 @@ def slice_mask(nodes: np.ndarray, axis: int, value: float) -> np.ndarray:
     return mask
 
 
+def mesh_cells(path: str | Path) -> np.ndarray:
+    """The hexahedra of /mesh/cells (node indices, (n, 8)); empty if the file has none."""
+    with h5py.File(path, "r") as h5file:
+        if "mesh/cells" not in h5file:
+            return np.zeros((0, 8), dtype=int)
+        return np.asarray(h5file["mesh/cells"][()], dtype=int).reshape(-1, 8)
+
+
+def slice_faces(mask: np.ndarray, cells: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Triangles (indices into the masked nodes) of the cell faces that lie in the slice:
+    every cell with exactly 4 of its nodes in `mask` contributes that face, split in two
+    along a diagonal (its nodes ordered around their centre in the plane `points`). Empty
+    when the slice is not a node layer of the mesh."""
+    local = np.full(mask.size, -1)
+    local[mask] = np.arange(mask.sum())
+    inside = mask[cells] if len(cells) else np.zeros((0, 8), dtype=bool)
+    triangles = set()
+    for cell, flags in zip(cells, inside):
+        if flags.sum() != 4:
+            continue
+        face = local[cell[flags]]
+        centre = points[face].mean(axis=0)
+        angle = np.arctan2(*(points[face] - centre).T[::-1])
+        a, b, c, d = face[np.argsort(angle)]
+        triangles.add(tuple(sorted((a, b, c))))
+        triangles.add(tuple(sorted((a, c, d))))
+    return np.array(sorted(triangles), dtype=int).reshape(-1, 3)
+
+
 def make_activation_figure(path: str | Path, slice_axis: str = "z",
                            slice_value: float | None = None, step: int | None = None) -> Figure:
     """Histogram of the activation times and the isochrones on a plane slice (default: the
@@ -95,12 +124,17 @@ def make_activation_figure(path: str | Path, slice_axis: str = "z",
     points = nodes[mask]
     if len(points) >= 3:
         triangulation = Triangulation(points[:, u], points[:, v])
-        # Drop the long triangles that bridge concave parts (a ventricle's cavity).
-        tri = triangulation.triangles
-        edges = np.max([np.hypot(*(points[tri[:, i]][:, [u, v]] -
-                                   points[tri[:, (i + 1) % 3]][:, [u, v]]).T)
-                        for i in range(3)], axis=0)
-        triangulation.set_mask(edges > 3 * np.median(edges))
+        faces = slice_faces(mask, mesh_cells(path), points[:, [u, v]])
+        if len(faces):
+            # The slice is a layer of mesh nodes: triangulate its cell faces.
+            triangulation = Triangulation(points[:, u], points[:, v], faces)
+        else:
+            # Drop the long triangles that bridge concave parts (a ventricle's cavity).
+            tri = triangulation.triangles
+            edges = np.max([np.hypot(*(points[tri[:, i]][:, [u, v]] -
+                                       points[tri[:, (i + 1) % 3]][:, [u, v]]).T)
+                            for i in range(3)], axis=0)
+            triangulation.set_mask(edges > 3 * np.median(edges))
         filled = picture.tricontourf(triangulation, times[mask], levels=20, cmap="viridis")
         picture.tricontour(triangulation, times[mask], levels=10, colors="white",
                            linewidths=0.5)

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import SCRIPTS_DIR, write_results_file
 from systole_post.activation import activation_field, make_activation_figure, plot_activation, \
-    slice_mask
+    slice_faces, slice_mask
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -87,3 +87,39 @@ def test_script(activation_results, make_results, three_steps, tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 2
     assert "the axis must be x, y or z" in done.stderr
+
+
+def u_shaped_mesh():
+    """Unit hexahedra on the squares of a U in the (x, y) plane (3 x 3 squares without the
+    middle and top-middle ones: 7 squares, area 7), one layer thick in z. Returns the nodes
+    and the cells (8 node indices each, in an arbitrary order)."""
+    squares = [(i, j) for i in range(3) for j in range(3) if not (i == 1 and j >= 1)]
+    index, nodes, cells = {}, [], []
+    for i, j in squares:
+        cell = []
+        for dz in (0, 1):
+            for dx, dy in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                key = (i + dx, j + dy, dz)
+                if key not in index:
+                    index[key] = len(nodes)
+                    nodes.append(key)
+                cell.append(index[key])
+        cells.append(cell)
+    return np.array(nodes, dtype=float), np.array(cells)
+
+
+def test_slice_faces_follow_the_mesh():
+    # A slice through a node layer is triangulated along the cell faces: the triangles
+    # cover the U (area 7) and not its notch, which a Delaunay triangulation would fill.
+    nodes, cells = u_shaped_mesh()
+    mask = nodes[:, 2] == 0
+    points = nodes[mask][:, :2]
+    triangles = slice_faces(mask, cells, points)
+    assert len(triangles) == 2 * 7
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    area = 0.5 * np.abs(np.cross(b - a, c - a)).sum()
+    assert area == pytest.approx(7.0)
+    centres = (a + b + c) / 3
+    assert not np.any((centres[:, 0] > 1) & (centres[:, 0] < 2) & (centres[:, 1] > 1))
+    # A plane between node layers cuts no face: no triangles (the plot falls back).
+    assert len(slice_faces(np.zeros(len(nodes), dtype=bool), cells, points[:0])) == 0

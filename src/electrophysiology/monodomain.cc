@@ -9,6 +9,7 @@
 
 #include "electrophysiology/monodomain_impl.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -151,6 +152,18 @@ namespace systole::Electrophysiology
     dof_cell->get_dof_values(m.activation_first, first);
     dof_cell->get_dof_values(m.activation_latest, latest);
 
+    // With repeated stimulation, the nodes of a cell that the current beat's
+    // wave is crossing hold upstrokes of two beats: their interpolant would
+    // be a time in between. The latest activation is NaN there until every
+    // node has its upstroke of this beat.
+    bool mixed_beats = false;
+    if (m.params.stimulus_period > 0)
+      {
+        const auto [lowest, highest] =
+          std::minmax_element(latest.begin(), latest.end());
+        mixed_beats = *highest - *lowest > 0.5 * m.params.stimulus_period;
+      }
+
     const unsigned int n_q = quadrature.size();
     values.potential.assign(n_q, 0.0);
     values.activation_time.assign(n_q, 0.0);
@@ -164,6 +177,9 @@ namespace systole::Electrophysiology
           values.activation_time[q] += phi * first[i];
           values.latest_activation_time[q] += phi * latest[i];
         }
+    if (mixed_beats)
+      values.latest_activation_time
+        .assign(n_q, std::numeric_limits<double>::quiet_NaN());
   }
 
 
@@ -261,9 +277,10 @@ namespace systole::Electrophysiology
 
 
   ActivationSummary
-  Monodomain::activation_summary(const double fraction) const
+  Monodomain::activation_summary(const double fraction, const bool latest) const
   {
-    return summarize_activation(impl->tracker.first(),
+    return summarize_activation(latest ? impl->tracker.latest()
+                                       : impl->tracker.first(),
                                 impl->lumped_mass,
                                 fraction,
                                 impl->comm);

@@ -113,6 +113,9 @@ namespace systole::Electrophysiology
     /// to the constructor. The activation times are the Q1/Q2 interpolants
     /// of the nodal ones: NaN until every node of the cell has activated
     /// (the cell is then active within one cell-crossing time of the front).
+    /// With a Stimulus period, the latest activation time is also NaN while
+    /// the cell's nodes hold upstrokes more than half a period apart (the
+    /// current beat's wave is crossing the cell).
     /// Not collective; cheap (no mapping, one vector read per cell).
     void
     evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
@@ -130,9 +133,12 @@ namespace systole::Electrophysiology
     activated_fraction() const;
 
     /// Activated volume fraction, first/last/total activation time and the
-    /// time by which @p fraction of the volume is active. Collective.
+    /// time by which @p fraction of the volume is active, of the first
+    /// upstrokes (the activation map of the run) or, with @p latest, of the
+    /// most recent ones (the current beat). Collective.
     ActivationSummary
-    activation_summary(const double fraction = 0.9) const;
+    activation_summary(const double fraction = 0.9,
+                       const bool   latest   = false) const;
 
     /// Pull the conductivity back through the deformation: σ_0 = J F⁻¹ σ(f)
     /// F⁻ᵀ, f = F f_0/|F f_0|, and reassemble the stiffness. @p F holds, per

@@ -99,6 +99,15 @@ namespace systole::Electrophysiology
       "Degree of the Lagrange elements of the potential (Q1 or Q2, with a "
       "Gauss-Lobatto lumped mass), on the mesh of the problem. Units: -.");
     prm.declare_entry(
+      "Mesh refinement",
+      to_string(d.mesh_refinement),
+      Integer(0, 6),
+      "Problem = heartbeat: the EP mesh is the mechanics mesh refined this "
+      "many times (each refinement halves the cell size; the wave front is "
+      "about a millimetre wide, so a ventricle meshed for the mechanics "
+      "needs 2-3; docs/verification.md has the study). The electrophysiology "
+      "problem uses the Geometry mesh as it is. Units: -.");
+    prm.declare_entry(
       "Time step",
       to_string(d.time_step),
       Double(0.0),
@@ -200,6 +209,7 @@ namespace systole::Electrophysiology
     p.chi                     = prm.get_double(s, "Surface to volume ratio");
     p.C_m                     = prm.get_double(s, "Membrane capacitance");
     p.degree                  = prm.get_integer(s, "Polynomial degree");
+    p.mesh_refinement         = prm.get_integer(s, "Mesh refinement");
     p.time_step               = prm.get_double(s, "Time step");
     p.order                   = prm.get_integer(s, "ARKode order");
     p.adaptive                = prm.get_bool(s, "Adaptive time step");

@@ -37,6 +37,9 @@ namespace systole::Electrophysiology
     double C_m     = 0.01;   ///< membrane capacitance [µF/mm²]
 
     unsigned int degree = 1; ///< Lagrange degree of the potential (1 or 2)
+    /// Coupled problems: global refinements of the mechanics mesh that give
+    /// the EP mesh.
+    unsigned int mesh_refinement = 0;
 
     double       time_step = 0.1;   ///< (maximum) ARKode step [ms]
     unsigned int order     = 3;     ///< order of the IMEX ARK method (3 to 5)

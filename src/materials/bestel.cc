@@ -43,12 +43,15 @@ namespace systole::Materials
                       "gamma: width of the tanh switches. Units: ms.");
     prm.declare_entry("Activation map",
                       d.activation_map,
-                      dealii::Patterns::Selection("uniform|apex-to-base"),
-                      "The prescribed activation time of each point (until "
-                      "electrophysiology drives the tension): uniform: 0 "
-                      "everywhere; apex-to-base: Activation delay times the "
-                      "height above the apex, normalized to 1 at the base. "
-                      "Units: -.");
+                      dealii::Patterns::Selection(
+                        "uniform|apex-to-base|electrophysiology"),
+                      "The activation time of each point, which starts its "
+                      "contraction in every beat: electrophysiology: the "
+                      "latest upstroke of the monodomain model (subsection "
+                      "Electrophysiology; the stimulus triggers the beat); "
+                      "or prescribed: uniform: 0 everywhere; apex-to-base: "
+                      "Activation delay times the height above the apex, "
+                      "normalized to 1 at the base. Units: -.");
     prm.declare_entry("Activation delay",
                       std::to_string(d.activation_delay),
                       Double(0.0),

@@ -35,9 +35,9 @@ namespace systole::Materials
       double t_sys         = 160.0;  ///< [ms]
       double t_dias        = 484.0;  ///< [ms]
       double gamma         = 5.0;    ///< [ms]
-      /// "uniform" (every point activates at 0) or "apex-to-base" (a
-      /// prescribed activation time growing linearly with the height above
-      /// the apex, until electrophysiology provides one).
+      /// "electrophysiology" (the latest upstroke of the monodomain
+      /// model), or prescribed: "uniform" (every point activates at 0) or
+      /// "apex-to-base" (growing linearly with the height above the apex).
       std::string activation_map   = "apex-to-base";
       double      activation_delay = 30.0; ///< apex-to-base delay [ms]
 

@@ -17,6 +17,7 @@
 #include "materials/bestel.h"
 #include "materials/factory.h"
 #include "mechanics/problem.h"
+#include "simulation/electrical_activation.h"
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
@@ -32,17 +33,22 @@ namespace systole
   {
     /// The 3D ventricle as the circulation sees it: p = P(t, V), one
     /// volume-constrained mechanics solve per call, warm-started by
-    /// extrapolating the last two accepted states in time.
+    /// extrapolating the last two accepted states in time. The Bestel
+    /// tension of each quadrature point starts at its activation time:
+    /// prescribed, or the latest upstroke at or before t of the
+    /// electrophysiology (@p ep not null).
     class MechanicsVentricle : public Circulation::Ventricle
     {
     public:
       MechanicsVentricle(Mechanics::Problem              &problem,
                          const Materials::Bestel         &bestel,
                          std::vector<std::vector<double>> activation_times,
+                         ElectricalActivation            *ep,
                          Logger                          &logger)
         : problem(problem)
         , bestel(bestel)
         , activation_times(std::move(activation_times))
+        , ep(ep)
         , logger(logger)
       {
         problem.save();
@@ -129,17 +135,32 @@ namespace systole
       }
 
       double mechanics_seconds = 0;
+      /// Wall time in the electrophysiology (advancing, reading) [s].
+      double ep_seconds = 0;
 
     private:
       void
       set_tension(const double t)
       {
+        if (ep != nullptr)
+          {
+            const auto start = std::chrono::steady_clock::now();
+            ep->advance_to(t);
+            ep->activation_times(t, activation_times);
+            ep_seconds += std::chrono::duration<double>(
+                            std::chrono::steady_clock::now() - start)
+                            .count();
+          }
         tension.resize(activation_times.size());
         for (unsigned int c = 0; c < activation_times.size(); ++c)
           {
             tension[c].resize(activation_times[c].size());
             for (unsigned int q = 0; q < activation_times[c].size(); ++q)
-              tension[c][q] = bestel.tension(t, activation_times[c][q]);
+              {
+                const double t_a = activation_times[c][q];
+                // Not activated yet: at rest.
+                tension[c][q] = std::isnan(t_a) ? 0.0 : bestel.tension(t, t_a);
+              }
           }
         problem.set_active_tension(tension);
       }
@@ -147,6 +168,7 @@ namespace systole
       Mechanics::Problem              &problem;
       const Materials::Bestel         &bestel;
       std::vector<std::vector<double>> activation_times;
+      ElectricalActivation            *ep;
       std::vector<std::vector<double>> tension;
       Logger                          &logger;
 
@@ -199,17 +221,19 @@ namespace systole
     class Writer : public Circulation::CardiacCycle::Observer
     {
     public:
-      Writer(IO::ResultsFile     &results,
-             MechanicsVentricle  &ventricle,
-             Mechanics::Problem  &problem,
-             const RunParameters &run,
-             Logger              &logger,
-             Progress            &progress,
-             const double         end_time,
-             const MPI_Comm       comm)
+      Writer(IO::ResultsFile      &results,
+             MechanicsVentricle   &ventricle,
+             Mechanics::Problem   &problem,
+             ElectricalActivation *ep,
+             const RunParameters  &run,
+             Logger               &logger,
+             Progress             &progress,
+             const double          end_time,
+             const MPI_Comm        comm)
         : results(results)
         , ventricle(ventricle)
         , problem(problem)
+        , ep(ep)
         , run(run)
         , logger(logger)
         , progress(progress)
@@ -223,7 +247,7 @@ namespace systole
         const auto [iterations, solves] = ventricle.take_step_counts();
         total_iterations += iterations;
         total_solves += solves;
-        const std::vector<IO::Column> row = {
+        std::vector<IO::Column> row = {
           {"step", "-", static_cast<double>(step)},
           {"time", "ms", r.time},
           {"beat", "-", static_cast<double>(r.beat)},
@@ -258,17 +282,38 @@ namespace systole
           {"newton_iterations", "-", static_cast<double>(iterations)},
           {"mechanics_solves", "-", static_cast<double>(solves)},
           {"time_step", "ms", r.step_size}};
+        if (ep != nullptr)
+          {
+            // The EP steps taken for this step (EP runs ahead to the last
+            // stage of the step, so rejected stages count too).
+            const unsigned long ep_steps = ep->statistics().steps;
+            row.push_back({"ep_steps",
+                           "-",
+                           static_cast<double>(ep_steps - ep_steps_written)});
+            row.push_back(
+              {"activated_fraction", "-", ep->activated_fraction()});
+            ep_steps_written = ep_steps;
+          }
         results.append_timeseries(row);
+        last_time = r.time;
         if (run.field_output_interval > 0 &&
             step % run.field_output_interval == 0)
-          {
-            dealii::DataOut<3> data_out;
-            problem.attach_output(data_out);
-            data_out.build_patches(problem.mapping(), 2);
-            results.write_fields(data_out, step, r.time);
-          }
+          write_fields();
         progress.update(step, r.time, Circulation::name(r.phase));
         ++step;
+      }
+
+      /// The fields of the last step, unless written already. Collective.
+      void
+      finish()
+      {
+        if (run.field_output_interval > 0 && step > 0 &&
+            last_field_step + 1 != step)
+          {
+            --step;
+            write_fields();
+            ++step;
+          }
       }
 
       void
@@ -302,6 +347,25 @@ namespace systole
           {"newton_iterations", "-", static_cast<double>(total_iterations)});
         row.push_back(
           {"mechanics_solves", "-", static_cast<double>(total_solves)});
+        std::ostringstream activation;
+        if (ep != nullptr)
+          {
+            // The activation of this beat, from its stimulus onset (the
+            // beat start); NaN if the wave did not reach 90 % / all of it.
+            const auto a = ep->beat_summary();
+            row.push_back({"activation_time_90",
+                           "ms",
+                           a.fraction_time - summary.start_time});
+            row.push_back({"total_activation_time", "ms", a.total});
+            const unsigned long ep_steps = ep->statistics().steps;
+            row.push_back({"ep_steps",
+                           "-",
+                           static_cast<double>(ep_steps - ep_steps_in_beats)});
+            ep_steps_in_beats = ep_steps;
+            activation << std::fixed << std::setprecision(1)
+                       << ", 90 % active after "
+                       << a.fraction_time - summary.start_time << " ms";
+          }
         results.append_summary(row);
         total_iterations = 0;
         total_solves     = 0;
@@ -312,7 +376,8 @@ namespace systole
           << " mL, EF " << 100 * summary.ejection_fraction << " %, peak "
           << Units::kPa_to_mmHg(summary.peak_pressure) << " mmHg, EDP "
           << Units::kPa_to_mmHg(summary.end_diastolic_pressure)
-          << " mmHg, EDV change " << 100 * summary.periodicity << " %";
+          << " mmHg, EDV change " << 100 * summary.periodicity << " %"
+          << activation.str();
         logger.line(o.str());
       }
 
@@ -323,16 +388,33 @@ namespace systole
       }
 
     private:
-      IO::ResultsFile     &results;
-      MechanicsVentricle  &ventricle;
-      Mechanics::Problem  &problem;
-      const RunParameters &run;
-      Logger              &logger;
-      Progress            &progress;
-      double               end_time;
-      MPI_Comm             comm;
-      unsigned int         step             = 0;
-      unsigned int         total_iterations = 0, total_solves = 0;
+      void
+      write_fields()
+      {
+        dealii::DataOut<3> data_out;
+        problem.attach_output(data_out);
+        if (ep != nullptr)
+          ep->attach_output(data_out);
+        data_out.build_patches(problem.mapping(), 2);
+        results.write_fields(data_out, step, last_time);
+        last_field_step = step;
+      }
+
+      IO::ResultsFile      &results;
+      MechanicsVentricle   &ventricle;
+      Mechanics::Problem   &problem;
+      ElectricalActivation *ep;
+      const RunParameters  &run;
+      Logger               &logger;
+      Progress             &progress;
+      double                end_time;
+      MPI_Comm              comm;
+      unsigned int          step             = 0;
+      unsigned int          total_iterations = 0, total_solves = 0;
+      unsigned long         ep_steps_written = 0, ep_steps_in_beats = 0;
+      double                last_time = 0;
+      /// Step of the last field output (none: the largest value).
+      unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
     };
   } // namespace
 
@@ -366,18 +448,38 @@ namespace systole
       model.banner(run) + ", unloaded cavity " +
       dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volume)) + " mL");
 
-    const auto times =
-      activation_times(problem,
-                       bestel_params,
-                       Geometry::boundary_plane(tria, names.id("base"), "base"),
-                       comm);
+    // The activation times: from the electrophysiology, or prescribed.
+    std::unique_ptr<ElectricalActivation> ep;
+    std::vector<std::vector<double>>      times;
     double earliest = std::numeric_limits<double>::max();
-    for (const auto &cell : times)
-      for (const double t : cell)
-        earliest = std::min(earliest, t);
-    earliest = dealii::Utilities::MPI::min(earliest, comm);
+    if (bestel_params.activation_map == "electrophysiology")
+      {
+        ep = std::make_unique<ElectricalActivation>(prm,
+                                                    run,
+                                                    model.geometry,
+                                                    tria,
+                                                    problem,
+                                                    circulation.period,
+                                                    logger,
+                                                    comm);
+        logger.line(ep->description());
+        earliest = ep->earliest_stimulus();
+      }
+    else
+      {
+        times = activation_times(problem,
+                                 bestel_params,
+                                 Geometry::boundary_plane(tria,
+                                                          names.id("base"),
+                                                          "base"),
+                                 comm);
+        for (const auto &cell : times)
+          for (const double t : cell)
+            earliest = std::min(earliest, t);
+        earliest = dealii::Utilities::MPI::min(earliest, comm);
+      }
 
-    MechanicsVentricle ventricle(problem, bestel, times, logger);
+    MechanicsVentricle ventricle(problem, bestel, times, ep.get(), logger);
     IO::ResultsFile    results(run.output_directory, parameter_text, comm);
     const double       end_time = circulation.period * circulation.n_max_beats;
     Progress           progress(logger,
@@ -387,6 +489,7 @@ namespace systole
     Writer             writer(results,
                   ventricle,
                   problem,
+                  ep.get(),
                   run,
                   logger,
                   progress,
@@ -398,7 +501,12 @@ namespace systole
                                     ventricle,
                                     unloaded_volume,
                                     earliest + bestel.onset());
+    const auto                start = std::chrono::steady_clock::now();
     const auto                stats = cycle.run(writer);
+    writer.finish();
+    const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+        .count();
 
     std::ostringstream o;
     o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
@@ -407,6 +515,21 @@ namespace systole
       << " mechanics solves; " << ventricle.mechanics_seconds
       << " s in the mechanics";
     logger.line(o.str());
+    if (ep != nullptr)
+      {
+        const auto         s = ep->statistics();
+        std::ostringstream e;
+        e << std::fixed << std::setprecision(2)
+          << "Electrophysiology: " << s.steps << " ARKode steps ("
+          << static_cast<double>(s.steps) / std::max(1ul, stats.n_steps)
+          << " per accepted mechanics step), " << s.seconds
+          << " s integrating, " << ep->transfer_seconds()
+          << " s reading it at the mechanics points; of the " << wall
+          << " s of the cycle " << 100 * ventricle.ep_seconds / wall
+          << " % in EP, " << 100 * ventricle.mechanics_seconds / wall
+          << " % in the mechanics";
+        logger.line(e.str());
+      }
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check a heartbeat results file against conservation laws and the phase logic.
 
-    check_heartbeat.py RESULTS.h5 [--serial SERIAL.h5]
+    check_heartbeat.py RESULTS.h5 [--serial SERIAL.h5] [--activation EP.h5]
 
 - every beat passes the phases in the order 0 -> 1 -> 2 -> 3 -> 0 (events table);
 - during the isovolumetric phases (1 and 3) the cavity volume of the deformed mesh stays at
@@ -9,7 +9,12 @@
 - over each ejection, the integrated aortic outflow equals the volume lost by the deformed
   mesh to 1e-6 relative (and over each filling, the mitral inflow the volume gained);
 - with --serial, the valve events and the beat summaries agree with the serial run (event
-  times to 0.05 ms, summary values to 1e-4 relative): 2 ranks reproduce 1 rank.
+  times to 0.05 ms, summary values to 1e-4 relative): 2 ranks reproduce 1 rank;
+- with --activation (an electromechanical beat), the first beat's 90 % and total activation
+  times equal those of the electrophysiology problem alone on the same EP mesh (EP.h5) to
+  1e-6 relative, the last field step holds an activation map with every node activated and
+  no time after that run's last upstroke, and the mitral valve closes after the first
+  upstroke.
 """
 
 import sys
@@ -28,6 +33,11 @@ def main(argv) -> int:
     if "--serial" in args:
         i = args.index("--serial")
         serial = args[i + 1]
+        del args[i : i + 2]
+    activation = None
+    if "--activation" in args:
+        i = args.index("--activation")
+        activation = args[i + 1]
         del args[i : i + 2]
     failures = []
     with h5py.File(args[0], "r") as f:
@@ -101,9 +111,53 @@ def main(argv) -> int:
             if not rel <= 1e-4:
                 failures.append(f"summary {key} differs from the serial run by {rel:.2e}")
 
+    if activation:
+        failures += check_activation(args[0], summary, events, activation)
+
     for failure in failures:
         print("FAIL:", failure)
     return 1 if failures else 0
+
+
+def check_activation(path, summary, events, reference_path):
+    """An electromechanical beat: the first beat's activation equals that of the
+    electrophysiology problem alone on the same EP mesh (one-way coupling), the activation
+    map is among the fields, and the mitral valve closes only after the wave started."""
+    failures = []
+    with h5py.File(reference_path, "r") as f:
+        reference = table(f, "summary")
+    for key in ("activation_time_90", "total_activation_time"):
+        ours, theirs = summary.get(key), reference.get(key)
+        if ours is None or theirs is None:
+            failures.append(f"summary {key} missing")
+            continue
+        diff = abs(ours[0] - theirs[-1])
+        print(f"beat 0 {key} {ours[0]:.4f} ms, electrophysiology alone {theirs[-1]:.4f} ms")
+        if not diff <= 1e-6 * abs(theirs[-1]) + 1e-9:
+            failures.append(f"{key} differs from the electrophysiology alone by {diff:.3g} ms")
+    with h5py.File(path, "r") as f:
+        steps = sorted(f["fields"]) if "fields" in f else []
+        if not steps:
+            failures.append("no fields written")
+        else:
+            last = f["fields"][steps[-1]]
+            if "activation_time" not in last:
+                failures.append("no activation_time field")
+            else:
+                times = np.asarray(last["activation_time"][()], dtype=float)
+                print(f"activation_time field: {np.isfinite(times).mean():.3f} of the nodes "
+                      f"activated, {np.nanmin(times):.2f} to {np.nanmax(times):.2f} ms")
+                if not np.all(np.isfinite(times)):
+                    failures.append("nodes without activation time at the end of the run")
+                elif not np.nanmax(times) <= reference["last_activation_time"][-1] + 1e-6:
+                    failures.append("the activation map holds times after the last upstroke "
+                                    "of the electrophysiology alone")
+    closing = events["time"][(events["from_phase"] == 0) & (events["to_phase"] == 1)]
+    first = reference["first_activation_time"][-1]
+    if len(closing) and not closing[0] > first:
+        failures.append(f"the mitral valve closed at {closing[0]} ms, before the first "
+                        f"upstroke at {first} ms")
+    return failures
 
 
 if __name__ == "__main__":

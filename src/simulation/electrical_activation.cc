@@ -1,0 +1,463 @@
+#include "simulation/electrical_activation.h"
+
+#include <deal.II/base/geometry_info.h>
+#include <deal.II/base/mpi_remote_point_evaluation.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/quadrature.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include "base/logger.h"
+#include "electrophysiology/parameters.h"
+#include "fibres/fibre_field.h"
+#include "geometry/mesh.h"
+#include "mechanics/problem.h"
+#include "simulation/parameters.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace systole
+{
+  namespace
+  {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+    /// A mechanics point is in an EP cell if it lies within this distance of
+    /// it in reference coordinates: the two meshes approximate the curved
+    /// surfaces differently (the mechanics coarser), so points on or near
+    /// the boundary may lie a little outside the EP mesh.
+    constexpr double point_tolerance = 0.05;
+
+    /// Throw unless every point of @p rpe was found (collective).
+    void
+    require_all_found(
+      const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
+      const unsigned int                                      n_points,
+      const std::string                                      &what,
+      const MPI_Comm                                          comm)
+    {
+      unsigned int missing = 0;
+      for (unsigned int i = 0; i < n_points; ++i)
+        if (!rpe.point_found(i))
+          ++missing;
+      missing = dealii::Utilities::MPI::sum(missing, comm);
+      AssertThrow(missing == 0,
+                  dealii::ExcMessage(
+                    std::to_string(missing) + " " + what +
+                    " of the mechanics lie outside the electrophysiology "
+                    "mesh (the mechanics mesh refined Electrophysiology / "
+                    "Mesh refinement times): the two geometries differ "
+                    "more than the cells allow; check Discretization / "
+                    "Mapping degree."));
+    }
+
+    Electrophysiology::Parameters
+    coupled_parameters(const dealii::ParameterHandler &prm, const double period)
+    {
+      auto params = Electrophysiology::Parameters::parse(prm);
+      AssertThrow(
+        !params.pull_back,
+        dealii::ExcMessage(
+          "Electrophysiology / Pull back conductivity = true is not supported "
+          "by the heartbeat: its coupling is one way (the potential does not "
+          "see the deformation). Set it to false."));
+      if (params.stimulus_period == 0)
+        params.stimulus_period = period;
+      AssertThrow(std::abs(params.stimulus_period - period) <= 1e-9 * period,
+                  dealii::ExcMessage(
+                    "Electrophysiology / Stimulus period (" +
+                    dealii::Utilities::to_string(params.stimulus_period) +
+                    " ms) differs from Circulation / Period (" +
+                    dealii::Utilities::to_string(period) +
+                    " ms): the stimulus starts every beat. Set it to 0 (the "
+                    "beat period) or to the period."));
+      AssertThrow(!params.stimuli.empty(),
+                  dealii::ExcMessage(
+                    "Electrophysiology / Stimuli is empty: nothing would "
+                    "trigger the beat."));
+      return params;
+    }
+  } // namespace
+
+  struct ElectricalActivation::Impl
+  {
+    Impl(const dealii::ParameterHandler                           &prm,
+         const RunParameters                                      &run,
+         const Geometry::Parameters                               &geometry,
+         const dealii::parallel::distributed::Triangulation<3, 3> &mech_tria,
+         const Mechanics::Problem                                 &problem,
+         const double                                              period,
+         Logger                                                   &logger,
+         const MPI_Comm                                            comm);
+
+    /// Values (potential, first, latest activation) at the points of @p rpe,
+    /// NaN where a point was not found. Collective.
+    std::vector<dealii::Tensor<1, 3>>
+    evaluate(const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
+             const unsigned int n_points) const;
+
+    /// Sample the potential at the mechanics points (at the current EP time)
+    /// and record their upstrokes since the last sample. Collective.
+    void
+    sample();
+
+    Electrophysiology::Parameters                   params;
+    dealii::parallel::distributed::Triangulation<3> tria;
+    Geometry::BoundaryNames                         names;
+    dealii::MappingQ<3>                             mapping;
+    std::unique_ptr<Electrophysiology::Monodomain>  monodomain;
+    MPI_Comm                                        comm;
+
+    /// Mechanics quadrature points: where each cell's points start in the
+    /// flat list, and the upstroke times of each point (ascending).
+    std::vector<unsigned int>                        cell_start;
+    unsigned int                                     n_points = 0;
+    dealii::Utilities::MPI::RemotePointEvaluation<3> at_quadrature;
+    /// Upstrokes of the potential interpolated at each point (crossings of
+    /// the activation threshold, located linearly in time between samples).
+    Electrophysiology::ActivationTracker                   tracker;
+    std::vector<double>                                    sampled_potential;
+    double                                                 sampled_time = 0;
+    std::vector<std::vector<double>>                       upstrokes;
+    double                                                 transfer_seconds = 0;
+    const dealii::parallel::distributed::Triangulation<3> &mech_tria;
+    const Mechanics::Problem                              &problem;
+
+    /// Output on the mechanics mesh (set up on first use).
+    unsigned int                           output_degree;
+    std::unique_ptr<dealii::FE_Q<3>>       output_fe;
+    std::unique_ptr<dealii::DoFHandler<3>> output_dofs;
+    std::unique_ptr<dealii::Utilities::MPI::RemotePointEvaluation<3>> at_nodes;
+    std::vector<dealii::types::global_dof_index>                      node_dofs;
+    dealii::LinearAlgebra::distributed::Vector<double> out_potential, out_first,
+      out_latest;
+  };
+
+
+  ElectricalActivation::Impl::Impl(
+    const dealii::ParameterHandler                           &prm,
+    const RunParameters                                      &run,
+    const Geometry::Parameters                               &geometry,
+    const dealii::parallel::distributed::Triangulation<3, 3> &mech_tria,
+    const Mechanics::Problem                                 &problem,
+    const double                                              period,
+    Logger                                                   &logger,
+    const MPI_Comm                                            comm)
+    : params(coupled_parameters(prm, period))
+    , tria(comm)
+    , mapping(run.mapping_degree)
+    , comm(comm)
+    , at_quadrature(point_tolerance, /*enforce_unique_mapping=*/true)
+    , tracker(0, params.activation_threshold_mV)
+    , mech_tria(mech_tria)
+    , problem(problem)
+    , output_degree(run.polynomial_degree)
+  {
+    Geometry::Parameters refined = geometry;
+    refined.global_refinements += params.mesh_refinement;
+    names = Geometry::create_mesh(refined, tria);
+    // The fibre generator runs again on the EP mesh (the rule-based one
+    // solves its Laplace problems there); the monodomain model evaluates it
+    // once, at its own quadrature points.
+    monodomain = std::make_unique<Electrophysiology::Monodomain>(
+      params,
+      tria,
+      mapping,
+      Fibres::create_fibre_field(
+        Fibres::Parameters::parse(prm, run.parameter_directory),
+        geometry.lv_shape,
+        tria,
+        names,
+        &logger),
+      names,
+      logger,
+      0.0);
+
+    std::vector<std::vector<dealii::Point<3>>> points;
+    problem.quadrature_points(points);
+    std::vector<dealii::Point<3>> flat;
+    for (const auto &cell : points)
+      {
+        cell_start.push_back(flat.size());
+        flat.insert(flat.end(), cell.begin(), cell.end());
+      }
+    cell_start.push_back(flat.size());
+    n_points = flat.size();
+    at_quadrature.reinit(flat, tria, mapping);
+    require_all_found(at_quadrature, n_points, "quadrature points", comm);
+    upstrokes.assign(n_points, {});
+    tracker =
+      Electrophysiology::ActivationTracker(n_points,
+                                           params.activation_threshold_mV);
+    sample();
+  }
+
+
+  std::vector<dealii::Tensor<1, 3>>
+  ElectricalActivation::Impl::evaluate(
+    const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
+    const unsigned int                                      n) const
+  {
+    using Value = dealii::Tensor<1, 3>;
+    std::vector<Value>             output, buffer;
+    Electrophysiology::PointValues values;
+    rpe.evaluate_and_process<Value>(
+      output,
+      buffer,
+      [&](const dealii::ArrayView<Value> &result,
+          const dealii::Utilities::MPI::RemotePointEvaluation<3>::CellData
+            &data) {
+        for (unsigned int c = 0; c < data.cells.size(); ++c)
+          {
+            const dealii::Triangulation<3>::active_cell_iterator
+              cell(&tria, data.cells[c].first, data.cells[c].second);
+            const unsigned int begin = data.reference_point_ptrs[c];
+            const unsigned int end   = data.reference_point_ptrs[c + 1];
+            // Points found within the tolerance outside the cell are
+            // evaluated on its boundary.
+            std::vector<dealii::Point<3>> reference(
+              data.reference_point_values.begin() + begin,
+              data.reference_point_values.begin() + end);
+            for (auto &point : reference)
+              point = dealii::GeometryInfo<3>::project_to_unit_cell(point);
+            const dealii::Quadrature<3> points(reference);
+            monodomain->evaluate(cell, points, values);
+            for (unsigned int q = 0; q < end - begin; ++q)
+              {
+                result[begin + q][0] = values.potential[q];
+                result[begin + q][1] = values.activation_time[q];
+                result[begin + q][2] = values.latest_activation_time[q];
+              }
+          }
+      });
+    // One entry per point and cell around it (unique mapping: at most one).
+    std::vector<Value> per_point(n, Value({nan, nan, nan}));
+    const auto        &ptr = rpe.get_point_ptrs();
+    for (unsigned int i = 0; i < n; ++i)
+      if (ptr[i + 1] > ptr[i])
+        per_point[i] = output[ptr[i]];
+    return per_point;
+  }
+
+
+  void
+  ElectricalActivation::Impl::sample()
+  {
+    const auto          start  = std::chrono::steady_clock::now();
+    const auto          values = evaluate(at_quadrature, n_points);
+    const double        time   = monodomain->time();
+    std::vector<double> potential(n_points);
+    for (unsigned int i = 0; i < n_points; ++i)
+      potential[i] = values[i][0];
+    if (!sampled_potential.empty() && time > sampled_time)
+      {
+        tracker.update(sampled_time,
+                       sampled_potential.data(),
+                       time,
+                       potential.data());
+        for (unsigned int i = 0; i < n_points; ++i)
+          {
+            const double latest = tracker.latest()[i];
+            if (!std::isnan(latest) &&
+                (upstrokes[i].empty() || latest > upstrokes[i].back()))
+              upstrokes[i].push_back(latest);
+          }
+      }
+    sampled_potential = std::move(potential);
+    sampled_time      = time;
+    transfer_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+        .count();
+  }
+
+
+  ElectricalActivation::ElectricalActivation(
+    const dealii::ParameterHandler                           &prm,
+    const RunParameters                                      &run,
+    const Geometry::Parameters                               &geometry,
+    const dealii::parallel::distributed::Triangulation<3, 3> &mechanics_tria,
+    const Mechanics::Problem                                 &problem,
+    const double                                              period,
+    Logger                                                   &logger,
+    const MPI_Comm                                            comm)
+    : impl(std::make_unique<Impl>(prm,
+                                  run,
+                                  geometry,
+                                  mechanics_tria,
+                                  problem,
+                                  period,
+                                  logger,
+                                  comm))
+  {}
+
+
+  ElectricalActivation::~ElectricalActivation() = default;
+
+
+  void
+  ElectricalActivation::advance_to(const double t)
+  {
+    Impl        &m  = *impl;
+    const double dt = m.params.time_step;
+    // Step by step on the grid of multiples of dt up to the first one at or
+    // after t (EP's steps do not depend on the mechanics' steps), sampling
+    // the mechanics points after each.
+    while (m.monodomain->time() < t - 1e-9 * dt)
+      {
+        const double next =
+          (std::floor(m.monodomain->time() / dt + 1e-9) + 1.0) * dt;
+        m.monodomain->advance(next);
+        m.sample();
+      }
+  }
+
+
+  void
+  ElectricalActivation::activation_times(
+    const double                      t,
+    std::vector<std::vector<double>> &times) const
+  {
+    const Impl &m = *impl;
+    Assert(t <= m.monodomain->time() + 1e-9 * m.params.time_step,
+           dealii::ExcMessage("ElectricalActivation: advance_to(t) first."));
+    times.resize(m.cell_start.size() - 1);
+    for (unsigned int c = 0; c + 1 < m.cell_start.size(); ++c)
+      {
+        times[c].resize(m.cell_start[c + 1] - m.cell_start[c]);
+        for (unsigned int q = 0; q < times[c].size(); ++q)
+          {
+            const auto &list = m.upstrokes[m.cell_start[c] + q];
+            double      time = nan;
+            for (auto it = list.rbegin(); it != list.rend(); ++it)
+              if (*it <= t)
+                {
+                  time = *it;
+                  break;
+                }
+            times[c][q] = time;
+          }
+      }
+  }
+
+
+  double
+  ElectricalActivation::time() const
+  {
+    return impl->monodomain->time();
+  }
+
+
+  double
+  ElectricalActivation::earliest_stimulus() const
+  {
+    double earliest = std::numeric_limits<double>::max();
+    for (const auto &stimulus : impl->params.stimuli)
+      earliest = std::min(earliest, stimulus.start);
+    return earliest;
+  }
+
+
+  void
+  ElectricalActivation::attach_output(dealii::DataOut<3, 3> &data_out)
+  {
+    Impl &m = *impl;
+    if (!m.output_dofs)
+      {
+        // A scalar Q(degree) field on the mechanics mesh: EP is read at the
+        // support points of the locally owned nodes.
+        m.output_fe   = std::make_unique<dealii::FE_Q<3>>(m.output_degree);
+        m.output_dofs = std::make_unique<dealii::DoFHandler<3>>(m.mech_tria);
+        m.output_dofs->distribute_dofs(*m.output_fe);
+        const auto       owned = m.output_dofs->locally_owned_dofs();
+        dealii::IndexSet relevant;
+        dealii::DoFTools::extract_locally_relevant_dofs(*m.output_dofs,
+                                                        relevant);
+        for (auto *v : {&m.out_potential, &m.out_first, &m.out_latest})
+          v->reinit(owned, relevant, m.comm);
+        std::map<dealii::types::global_dof_index, dealii::Point<3>> support;
+        dealii::DoFTools::map_dofs_to_support_points(m.problem.mapping(),
+                                                     *m.output_dofs,
+                                                     support);
+        std::vector<dealii::Point<3>> points;
+        for (const auto &[dof, point] : support)
+          if (owned.is_element(dof))
+            {
+              m.node_dofs.push_back(dof);
+              points.push_back(point);
+            }
+        m.at_nodes =
+          std::make_unique<dealii::Utilities::MPI::RemotePointEvaluation<3>>(
+            point_tolerance,
+            true);
+        m.at_nodes->reinit(points, m.tria, m.mapping);
+        require_all_found(*m.at_nodes, points.size(), "output nodes", m.comm);
+      }
+    const auto values = m.evaluate(*m.at_nodes, m.node_dofs.size());
+    for (unsigned int i = 0; i < m.node_dofs.size(); ++i)
+      {
+        m.out_potential[m.node_dofs[i]] = values[i][0];
+        m.out_first[m.node_dofs[i]]     = values[i][1];
+        m.out_latest[m.node_dofs[i]]    = values[i][2];
+      }
+    for (auto *v : {&m.out_potential, &m.out_first, &m.out_latest})
+      v->update_ghost_values();
+    data_out.add_data_vector(*m.output_dofs,
+                             m.out_potential,
+                             "transmembrane_potential");
+    data_out.add_data_vector(*m.output_dofs, m.out_first, "activation_time");
+    data_out.add_data_vector(*m.output_dofs,
+                             m.out_latest,
+                             "latest_activation_time");
+  }
+
+
+  double
+  ElectricalActivation::activated_fraction() const
+  {
+    return impl->monodomain->activated_fraction();
+  }
+
+
+  Electrophysiology::ActivationSummary
+  ElectricalActivation::beat_summary() const
+  {
+    return impl->monodomain->activation_summary(0.9, true);
+  }
+
+
+  Electrophysiology::Statistics
+  ElectricalActivation::statistics() const
+  {
+    return impl->monodomain->statistics();
+  }
+
+
+  double
+  ElectricalActivation::transfer_seconds() const
+  {
+    return impl->transfer_seconds;
+  }
+
+
+  std::string
+  ElectricalActivation::description() const
+  {
+    const Impl        &m = *impl;
+    std::ostringstream o;
+    o << "Electrophysiology mesh: the mechanics mesh refined "
+      << m.params.mesh_refinement << " time(s), "
+      << m.tria.n_global_active_cells() << " cells, Q" << m.params.degree
+      << ", " << m.monodomain->n_dofs() << " nodes; stimulus every "
+      << m.params.stimulus_period << " ms, read at "
+      << dealii::Utilities::MPI::sum(m.n_points, m.comm)
+      << " mechanics quadrature points";
+    return o.str();
+  }
+} // namespace systole

@@ -1,0 +1,130 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/tria.h>
+
+#include "electrophysiology/activation.h"
+#include "electrophysiology/monodomain.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+  template <int dim, int spacedim>
+  class DataOut;
+} // namespace dealii
+
+namespace systole
+{
+  class Logger;
+  struct RunParameters;
+
+  namespace Geometry
+  {
+    struct Parameters;
+  }
+  namespace Mechanics
+  {
+    class Problem;
+  }
+
+  /// The electrical activation of an electromechanical heartbeat: the
+  /// monodomain model (subsection Electrophysiology) on its own mesh, the
+  /// mechanics mesh refined Electrophysiology / Mesh refinement times, with
+  /// its own fibre field on that mesh (the Fibres generator run there), read
+  /// at the quadrature points of the mechanics.
+  ///
+  /// The coupling is one way: the potential does not depend on the
+  /// deformation, so EP only ever advances, on its own grid of times (the
+  /// multiples of Electrophysiology / Time step, whatever the mechanics'
+  /// steps). After each of those steps the potential is interpolated at the
+  /// mechanics quadrature points; a point's upstroke is the crossing of the
+  /// activation threshold, located linearly in time between two samples
+  /// (the potential is continuous, so this does not depend on which EP cell
+  /// holds a point on a cell face, nor on the partition). Every point keeps
+  /// its upstrokes (one per beat). A mechanics solve at time t (a stage of
+  /// the circulation integrator, which may be rejected and retried shorter)
+  /// uses the latest upstroke at or before t, so EP never has to go back.
+  ///
+  /// The mechanics points are located in the EP mesh once (Utilities::MPI::
+  /// RemotePointEvaluation: the two meshes may be partitioned differently).
+  class ElectricalActivation
+  {
+  public:
+    /// @param[in] geometry the Geometry subsection the mechanics mesh was
+    ///            built from (the EP mesh is built the same way, refined)
+    /// @param[in] mechanics_tria, problem the mechanics (kept by reference)
+    /// @param[in] period beat period [ms]: the Stimulus period (0 there is
+    ///            taken as this period; another value is an error)
+    ElectricalActivation(
+      const dealii::ParameterHandler                           &prm,
+      const RunParameters                                      &run,
+      const Geometry::Parameters                               &geometry,
+      const dealii::parallel::distributed::Triangulation<3, 3> &mechanics_tria,
+      const Mechanics::Problem                                 &problem,
+      const double                                              period,
+      Logger                                                   &logger,
+      const MPI_Comm                                            comm);
+    ~ElectricalActivation();
+
+    /// Advance EP (if needed), one EP time step at a time, to the first
+    /// multiple of the EP time step at or after @p t [ms], recording the new
+    /// upstrokes at the mechanics points. Collective.
+    void
+    advance_to(const double t);
+
+    /// The latest upstroke at or before @p t [ms] of every mechanics
+    /// quadrature point (the layout of Mechanics::Problem::
+    /// quadrature_points()), NaN where none. @p t must not lie after time().
+    void
+    activation_times(const double                      t,
+                     std::vector<std::vector<double>> &times) const;
+
+    /// Time EP has reached [ms].
+    double
+    time() const;
+
+    /// Earliest onset of any stimulus [ms]: no point activates before.
+    double
+    earliest_stimulus() const;
+
+    /// Add the fields "transmembrane_potential" [mV], "activation_time" (the
+    /// first upstroke, the activation map of the run) and
+    /// "latest_activation_time" [ms] (NaN where none) on the mechanics mesh
+    /// (interpolated from EP at the nodes of a Q(degree) field) to
+    /// @p data_out, at time() (which may lie up to one step of the
+    /// circulation integrator ahead of the mechanics). Collective; call
+    /// before build_patches().
+    void
+    attach_output(dealii::DataOut<3, 3> &data_out);
+
+    /// Volume fraction of the EP mesh activated at least once [-].
+    /// Collective.
+    double
+    activated_fraction() const;
+
+    /// Summary of the latest upstrokes (the current beat). Collective.
+    Electrophysiology::ActivationSummary
+    beat_summary() const;
+
+    /// Counters of the EP time integration.
+    Electrophysiology::Statistics
+    statistics() const;
+
+    /// Wall time spent reading EP at the mechanics points [s].
+    double
+    transfer_seconds() const;
+
+    /// One line for the log: the EP mesh, nodes, stimulus period, the
+    /// number of mechanics points read. Collective.
+    std::string
+    description() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace systole
