@@ -206,3 +206,58 @@ TEST_CASE("Monodomain state: point evaluation, save and restore, pull-back",
   CHECK(activation_delay(1.2) / activation_delay(1.0) ==
         Approx(1.2).epsilon(0.03));
 }
+
+TEST_CASE("With a stimulus period, the latest activation time of a cell waits "
+          "for all its nodes",
+          "[ep][monodomain]")
+{
+  // A Mitchell-Schaeffer cable stimulated at x = 0 every 600 ms, stopped
+  // while the second beat's wave crosses it: behind the front the cells hold
+  // the second upstroke, ahead of it the first; the cell with nodes of both
+  // beats has no latest activation time (their interpolant would be a time
+  // in between, when nothing happened).
+  Geometry::Parameters geometry;
+  geometry.type      = Geometry::Parameters::Type::box;
+  geometry.box_upper = dealii::Point<3>(8, 0.5, 0.5);
+  geometry.box_cells = {{32, 2, 2}};
+  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_SELF);
+  const auto                names = Geometry::create_mesh(geometry, tria);
+  const dealii::MappingQ<3> mapping(1);
+  const Fibres::FibreField  fibres =
+    [](const auto &, const auto &points, auto &bases) {
+      bases.assign(points.size(), Fibres::FibreBasis::cartesian());
+    };
+  std::ostringstream sink;
+  Logger             logger(MPI_COMM_SELF, sink);
+  Parameters         params = Parameters::defaults("Mitchell-Schaeffer");
+  params.stimuli = parse_stimuli("left: box 0 0 0 0.5 1 1 from 0 for 2 at 50");
+  params.stimulus_period = 600;
+  params.time_step       = 0.1;
+  Monodomain ep(params, tria, mapping, fibres, names, logger);
+  ep.advance(612);
+
+  const dealii::QGauss<3> centre(1);
+  PointValues             values;
+  unsigned int            first_beat = 0, second_beat = 0, crossing = 0;
+  for (const auto &cell : tria.active_cell_iterators())
+    {
+      ep.evaluate(cell, centre, values);
+      INFO("cell at x = " << cell->center()[0] << " mm");
+      REQUIRE(values.activation_time[0] < 60); // all fired in beat 1
+      const double latest = values.latest_activation_time[0];
+      if (std::isnan(latest))
+        ++crossing;
+      else if (latest < 60)
+        ++first_beat;
+      else
+        {
+          CHECK(latest > 600);
+          CHECK(latest < 612);
+          ++second_beat;
+        }
+    }
+  CHECK(first_beat > 0);
+  CHECK(second_beat > 0);
+  CHECK(crossing > 0);
+  CHECK(crossing <= 8); // one cell across x: 2 x 2 cells of the cable
+}
