@@ -536,8 +536,8 @@ def ep_lv_section(build: Path, workdir: Path, quick: bool) -> str:
 "
             "The electrophysiology of `parameters/lv_heartbeat.prm` alone (Mitchell-Schaeffer, "
             "sigma = 0.432 / 0.0758 mS/mm, endocardial stimulus, rule-based fibres, Q1) on its "
-            "mechanics mesh (16 x 5 x 1 cells, a 10 mm wall) refined 1 to 4 times, fixed steps "
-            "of 0.1 ms, 150 ms; 2 ranks. The heartbeat uses 2 refinements (Electrophysiology / "
+            "mechanics mesh (64 cells, one across the 10 mm wall) refined 1 to 4 times, fixed steps "
+            "of 0.1 ms, 150 ms; 2 ranks. The heartbeat uses 3 refinements (Electrophysiology / "
             "Mesh refinement) with adaptive steps.\n\n" + "\n".join(lines) + "\n")
 
 
