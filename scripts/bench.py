@@ -532,8 +532,7 @@ def ep_lv_section(build: Path, workdir: Path, quick: bool) -> str:
         previous = r
     if any(r.get("busy") for r in rows):
         lines.append(BUSY_NOTE)
-    return ("## Electrophysiology: the default heartbeat's ventricle
-"
+    return ("## Electrophysiology: the default heartbeat's ventricle\n"
             "The electrophysiology of `parameters/lv_heartbeat.prm` alone (Mitchell-Schaeffer, "
             "sigma = 0.432 / 0.0758 mS/mm, endocardial stimulus, rule-based fibres, Q1) on its "
             "mechanics mesh (64 cells, one across the 10 mm wall) refined 1 to 4 times, fixed steps "
