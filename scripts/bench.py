@@ -338,8 +338,9 @@ def heartbeat_section(rows: list[dict]) -> str:
     with_ep = [r for r in rows if r["ok"] and "ep" in r]
     if with_ep:
         lines += ["", "Electrophysiology (the monodomain model on its own, refined mesh): time per "
-                  "EP step per DOF = wall time integrating EP (the slowest rank) / (ARKode steps x "
-                  "EP nodes); the shares are of the wall time of the cardiac cycle (EP: "
+                  "EP step per DOF = wall time integrating EP (rank 0; the ranks advance "
+                  "together) / (ARKode steps x EP nodes); the shares are of the wall time of "
+                  "the cardiac cycle (EP: "
                   "integrating and reading it at the mechanics points).", "",
                   "| ranks | EP nodes | EP steps per mechanics step | EP time per step per DOF "
                   "[µs] | reading EP at the mechanics points [s] | share in EP | share in the "
