@@ -35,6 +35,31 @@ namespace
     return box;
   }
 
+  /// An 8 x 0.5 x 0.5 mm cable of 32 x 2 x 2 cells on one rank, fibres
+  /// along x, a logger that writes nowhere.
+  struct CableMesh
+  {
+    dealii::parallel::distributed::Triangulation<3> tria{MPI_COMM_SELF};
+    Geometry::BoundaryNames                         names = make_mesh(tria);
+    dealii::MappingQ<3>                             mapping{1};
+    Fibres::FibreField                              fibres =
+      [](const auto &, const auto &points, auto &bases) {
+        bases.assign(points.size(), Fibres::FibreBasis::cartesian());
+      };
+    std::ostringstream sink;
+    Logger             logger{MPI_COMM_SELF, sink};
+
+    static Geometry::BoundaryNames
+    make_mesh(dealii::parallel::distributed::Triangulation<3> &tria)
+    {
+      Geometry::Parameters geometry;
+      geometry.type      = Geometry::Parameters::Type::box;
+      geometry.box_upper = dealii::Point<3>(8, 0.5, 0.5);
+      geometry.box_cells = {{32, 2, 2}};
+      return Geometry::create_mesh(geometry, tria);
+    }
+  };
+
   Parameters
   cable_parameters(const double time_step)
   {
@@ -131,21 +156,10 @@ TEST_CASE("A surface stimulus is the layer along its boundary part",
 TEST_CASE("Monodomain state: point evaluation, save and restore, pull-back",
           "[ep][monodomain]")
 {
-  Geometry::Parameters geometry;
-  geometry.type      = Geometry::Parameters::Type::box;
-  geometry.box_upper = dealii::Point<3>(8, 0.5, 0.5);
-  geometry.box_cells = {{32, 2, 2}};
-  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_SELF);
-  const auto                names = Geometry::create_mesh(geometry, tria);
-  const dealii::MappingQ<3> mapping(1);
-  const Fibres::FibreField  fibres =
-    [](const auto &, const auto &points, auto &bases) {
-      bases.assign(points.size(), Fibres::FibreBasis::cartesian());
-    };
-  std::ostringstream sink;
-  Logger             logger(MPI_COMM_SELF, sink);
-  Parameters         params = cable_parameters(0.1);
-  params.pull_back          = true;
+  CableMesh cable_mesh;
+  auto &[tria, names, mapping, fibres, sink, logger] = cable_mesh;
+  Parameters params                                  = cable_parameters(0.1);
+  params.pull_back                                   = true;
   Monodomain ep(params, tria, mapping, fibres, names, logger);
   CHECK(ep.n_dofs() == 33 * 3 * 3);
 
@@ -216,20 +230,9 @@ TEST_CASE("With a stimulus period, the latest activation time of a cell waits "
   // the second upstroke, ahead of it the first; the cell with nodes of both
   // beats has no latest activation time (their interpolant would be a time
   // in between, when nothing happened).
-  Geometry::Parameters geometry;
-  geometry.type      = Geometry::Parameters::Type::box;
-  geometry.box_upper = dealii::Point<3>(8, 0.5, 0.5);
-  geometry.box_cells = {{32, 2, 2}};
-  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_SELF);
-  const auto                names = Geometry::create_mesh(geometry, tria);
-  const dealii::MappingQ<3> mapping(1);
-  const Fibres::FibreField  fibres =
-    [](const auto &, const auto &points, auto &bases) {
-      bases.assign(points.size(), Fibres::FibreBasis::cartesian());
-    };
-  std::ostringstream sink;
-  Logger             logger(MPI_COMM_SELF, sink);
-  Parameters         params = Parameters::defaults("Mitchell-Schaeffer");
+  CableMesh cable_mesh;
+  auto &[tria, names, mapping, fibres, sink, logger] = cable_mesh;
+  Parameters params = Parameters::defaults("Mitchell-Schaeffer");
   params.stimuli = parse_stimuli("left: box 0 0 0 0.5 1 1 from 0 for 2 at 50");
   params.stimulus_period = 600;
   params.time_step       = 0.1;
