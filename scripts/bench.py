@@ -98,7 +98,7 @@ def run(case: Case, build: Path, workdir: Path) -> dict:
     if out.returncode != 0:
         row["error"] = (out.stderr.strip().splitlines() or ["?"])[0]
         return row
-    row["dofs"] = int(re.search(r"cells, Q\d, (\d+) DOFs", log).group(1))
+    row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     match = re.search(r"Wall time ([\d.]+) s; peak memory ([\d.]+) MiB per rank", log)
     row["wall"], row["memory"] = float(match.group(1)), float(match.group(2))
     results = read_results(workdir / "results" / name / "results.h5")
@@ -285,7 +285,7 @@ def run_heartbeat(ranks: int, build: Path, workdir: Path) -> dict:
         row["error"] = (out.stderr.strip().splitlines() or ["?"])[0]
         return row
     log = out.stdout
-    row["dofs"] = int(re.search(r"cells, Q\d, (\d+) DOFs", log).group(1))
+    row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     match = re.search(r"Wall time ([\d.]+) s; peak memory ([\d.]+) MiB per rank", log)
     row["wall"], row["memory"] = float(match.group(1)), float(match.group(2))
     results = read_results(workdir / "results" / name / "results.h5")
@@ -401,7 +401,7 @@ def run_ep(label: str, changes: dict[str, str], ranks: int, build: Path, workdir
         row["error"] = (out.stderr.strip().splitlines() or ["?"])[0]
         return row
     log = out.stdout
-    row["dofs"] = int(re.search(r"cells, Q\d, (\d+) DOFs", log).group(1))
+    row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     row["cells"] = int(re.search(r"(\d+) cells", log).group(1))
     match = re.search(r"Wall time ([\d.]+) s; peak memory ([\d.]+) MiB per rank", log)
     row["wall"], row["memory"] = float(match.group(1)), float(match.group(2))

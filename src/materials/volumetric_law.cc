@@ -198,12 +198,24 @@ namespace systole::Materials
   {
     const double J = dealii::determinant(F);
     AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
+    add_volumetric_stress(F,
+                          first_derivative(J),
+                          second_derivative(J),
+                          S,
+                          dS_dE);
+  }
 
+
+  void
+  add_volumetric_stress(const dealii::Tensor<2, 3>    &F,
+                        const double                   dU,
+                        const double                   d2U,
+                        dealii::SymmetricTensor<2, 3> &S,
+                        dealii::SymmetricTensor<4, 3> &dS_dE)
+  {
+    const double                        J = dealii::determinant(F);
     const dealii::SymmetricTensor<2, 3> C_inv =
       dealii::invert(dealii::symmetrize(dealii::transpose(F) * F));
-    const double dU  = first_derivative(J);
-    const double d2U = second_derivative(J);
-
     // S = 2 dU/dC = J U' C^{-1} (dJ/dC = J/2 C^{-1}); dS/dE = 2 dS/dC, and
     // dC^{-1}/dC = -C^{-1} (.) C^{-1} is what deal.II's dC_inv_dC returns.
     S += (J * dU) * C_inv;

@@ -1,4 +1,6 @@
-// Residual and consistent tangent of the quasi-static mechanics.
+// Residual and consistent tangent of the quasi-static mechanics, as a sum of
+// terms: the bulk (passive + volumetric or pressure + active), the volume
+// flux of the pressure boundary, and the Robin springs.
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
@@ -13,101 +15,277 @@
 
 namespace systole::Mechanics
 {
+  namespace
+  {
+    using dealii::SymmetricTensor;
+    using dealii::Tensor;
+
+    /// The cell-local arrays every term adds to.
+    struct CellSystem
+    {
+      explicit CellSystem(const unsigned int n)
+        : matrix(n, n)
+        , residual(n)
+        , volume_derivative(n)
+      {}
+
+      dealii::FullMatrix<double> matrix;
+      dealii::Vector<double>     residual;
+      dealii::Vector<double>     volume_derivative;
+      /// The Schur-complement preconditioner on the pressure DoFs of the cell.
+      dealii::FullMatrix<double> pressure_matrix;
+    };
+
+    /// Per shape function: block, component, the gradient of its only
+    /// nonzero component, dE = sym(F^T grad phi) and C : dE.
+    struct ShapeScratch
+    {
+      explicit ShapeScratch(const dealii::FiniteElement<3> &fe)
+        : component(fe.n_dofs_per_cell())
+        , grad_phi(fe.n_dofs_per_cell())
+        , dE(fe.n_dofs_per_cell())
+        , C_dE(fe.n_dofs_per_cell())
+        , div_phi(fe.n_dofs_per_cell())
+        , psi(fe.n_dofs_per_cell())
+      {
+        for (unsigned int a = 0; a < fe.n_dofs_per_cell(); ++a)
+          {
+            component[a] = fe.system_to_component_index(a).first;
+            if (component[a] < 3)
+              u_dofs.push_back(a);
+            else
+              p_dofs.push_back(a);
+          }
+      }
+
+      std::vector<unsigned int>          component, u_dofs, p_dofs;
+      std::vector<Tensor<1, 3>>          grad_phi;
+      std::vector<SymmetricTensor<2, 3>> dE, C_dE;
+      /// J F^{-T} : grad phi (u) and the pressure shape values (p).
+      std::vector<double> div_phi, psi;
+    };
+
+    /// Bulk term at one point, displacement rows and columns:
+    /// R_a += P : grad phi_a, K_ab += dE_a : dS/dE : dE_b + S : (grad phi_a^T
+    /// grad phi_b) (material and geometric stiffness), for the stress S and
+    /// tangent dS/dE of everything at the point (passive, volumetric or
+    /// pressure, active).
+    void
+    add_stress_point(const dealii::FEValues<3>   &values,
+                     const unsigned int           q,
+                     const Tensor<2, 3>          &F,
+                     const SymmetricTensor<2, 3> &S,
+                     const SymmetricTensor<4, 3> &dS_dE,
+                     const bool                   with_matrix,
+                     ShapeScratch                &s,
+                     CellSystem                  &cell)
+    {
+      const Tensor<2, 3> P   = F * Tensor<2, 3>(S);
+      const double       JxW = values.JxW(q);
+      for (const unsigned int a : s.u_dofs)
+        {
+          s.grad_phi[a] = values.shape_grad(a, q);
+          // dE_a = sym(F^T (e_c x grad phi)) = sym(F_c. x grad phi)
+          const unsigned int c = s.component[a];
+          Tensor<1, 3>       Fc;
+          for (unsigned int d = 0; d < 3; ++d)
+            Fc[d] = F[c][d];
+          s.dE[a] =
+            dealii::symmetrize(dealii::outer_product(Fc, s.grad_phi[a]));
+          cell.residual(a) += (P[c] * s.grad_phi[a]) * JxW;
+        }
+      if (!with_matrix)
+        return;
+      const Tensor<2, 3> S_full(S);
+      for (const unsigned int b : s.u_dofs)
+        s.C_dE[b] = dS_dE * s.dE[b];
+      for (const unsigned int a : s.u_dofs)
+        {
+          const Tensor<1, 3> S_grad_a = S_full * s.grad_phi[a];
+          for (const unsigned int b : s.u_dofs)
+            if (b >= a)
+              {
+                double value = s.dE[a] * s.C_dE[b];
+                if (s.component[a] == s.component[b])
+                  value += S_grad_a * s.grad_phi[b];
+                cell.matrix(a, b) += value * JxW;
+              }
+        }
+    }
+
+    /// Pressure rows and columns of the mixed formulations at one point
+    /// (energy -p (J - 1) - p^2 / (2 kappa)):
+    /// R_p,a = -psi_a (J - 1 + p / kappa), K_up = K_pu^T = -J F^{-T} : grad
+    /// phi_u psi_p, K_pp = -psi psi / kappa; the displacement rows' share is
+    /// in the stress -p J C^{-1} of add_stress_point(). The Schur
+    /// preconditioner adds -(1/kappa + 1/mu) psi psi, mu the shear stiffness
+    /// of the point.
+    void
+    add_pressure_point(const dealii::FEValues<3> &values,
+                       const unsigned int         q,
+                       const Tensor<2, 3>        &F,
+                       const double               p,
+                       const double               inverse_kappa,
+                       const double               inverse_mu,
+                       const bool                 with_matrix,
+                       const bool                 with_pressure_matrix,
+                       ShapeScratch              &s,
+                       CellSystem                &cell)
+    {
+      const double       J     = dealii::determinant(F);
+      const double       JxW   = values.JxW(q);
+      const Tensor<2, 3> J_F_T = J * dealii::transpose(dealii::invert(F));
+      for (const unsigned int a : s.p_dofs)
+        {
+          s.psi[a] = values.shape_value(a, q);
+          cell.residual(a) -= s.psi[a] * (J - 1.0 + p * inverse_kappa) * JxW;
+        }
+      if (!with_matrix)
+        return;
+      // (grad_phi of the displacement functions was set by add_stress_point.)
+      for (const unsigned int b : s.u_dofs)
+        s.div_phi[b] = J_F_T[s.component[b]] * s.grad_phi[b];
+      for (const unsigned int a : s.p_dofs)
+        {
+          for (const unsigned int b : s.u_dofs)
+            {
+              const double value = -s.psi[a] * s.div_phi[b] * JxW;
+              cell.matrix(a, b) += value;
+              cell.matrix(b, a) += value;
+            }
+          for (const unsigned int b : s.p_dofs)
+            cell.matrix(a, b) -= s.psi[a] * s.psi[b] * inverse_kappa * JxW;
+        }
+      if (with_pressure_matrix)
+        for (unsigned int i = 0; i < s.p_dofs.size(); ++i)
+          for (unsigned int j = 0; j < s.p_dofs.size(); ++j)
+            cell.pressure_matrix(i, j) -= (inverse_kappa + inverse_mu) *
+                                          s.psi[s.p_dofs[i]] *
+                                          s.psi[s.p_dofs[j]] * JxW;
+    }
+
+    /// Robin springs on one face: R_a += k phi_a (u.N)N_c (normal) or k phi_a
+    /// u_c (full), and their constant tangent.
+    void
+    add_robin_face(const dealii::FEFaceValues<3>   &fe_face,
+                   const std::vector<Tensor<1, 3>> &face_u,
+                   const double                     stiffness,
+                   const bool                       normal_only,
+                   const bool                       with_matrix,
+                   const ShapeScratch              &s,
+                   CellSystem                      &cell)
+    {
+      for (const unsigned int q : fe_face.quadrature_point_indices())
+        {
+          const Tensor<1, 3> &N   = fe_face.normal_vector(q);
+          const double        JxW = stiffness * fe_face.JxW(q);
+          const Tensor<1, 3>  traction =
+            normal_only ? (face_u[q] * N) * N : face_u[q];
+          for (const unsigned int a : s.u_dofs)
+            {
+              const double phi_a = fe_face.shape_value(a, q);
+              if (phi_a == 0.0)
+                continue;
+              cell.residual(a) += phi_a * traction[s.component[a]] * JxW;
+              if (!with_matrix)
+                continue;
+              for (const unsigned int b : s.u_dofs)
+                {
+                  const double phi_b = fe_face.shape_value(b, q);
+                  const double coupling =
+                    normal_only
+                      ? N[s.component[a]] * N[s.component[b]]
+                      : (s.component[a] == s.component[b] ? 1.0 : 0.0);
+                  cell.matrix(a, b) += phi_a * phi_b * coupling * JxW;
+                }
+            }
+        }
+    }
+
+    /// Shear stiffness of a point for the Schur preconditioner: the mean of
+    /// the shear entries c_(ij)(ij), i < j, of the spatial tangent
+    /// c_ijkl = J^-1 F_iI F_jJ F_kK F_lL (dS/dE)_IJKL of the passive law
+    /// (mu for an isotropic linear law; the spatial form follows rotations
+    /// and stretches), floored at @p floor.
+    double
+    shear_stiffness(const Tensor<2, 3>          &F,
+                    const SymmetricTensor<4, 3> &dS_dE,
+                    const double                 floor)
+    {
+      const double J  = dealii::determinant(F);
+      double       mu = 0;
+      for (const auto &[i, j] :
+           {std::pair<unsigned int, unsigned int>{0, 1}, {0, 2}, {1, 2}})
+        {
+          // c_ijij = J^-1 F_iI F_jJ F_iK F_jL C_IJKL
+          double c = 0;
+          for (unsigned int I = 0; I < 3; ++I)
+            for (unsigned int J_ = 0; J_ < 3; ++J_)
+              for (unsigned int K = 0; K < 3; ++K)
+                for (unsigned int L = 0; L < 3; ++L)
+                  c +=
+                    F[i][I] * F[j][J_] * F[i][K] * F[j][L] * dS_dE[I][J_][K][L];
+          mu += c / J;
+        }
+      return std::max(mu / 3.0, floor);
+    }
+  } // namespace
+
   double
   Problem::Impl::assemble(const double pressure,
                           const double active_tension,
                           const bool   with_matrix,
                           const bool   with_volume_derivative)
   {
-    using dealii::SymmetricTensor;
-    using dealii::Tensor;
+    dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
+    const bool                 mixed = layout.mixed();
+    const bool                 with_pressure_matrix =
+      with_matrix && mixed && pressure_matrix != nullptr;
 
     // The passive (and active) stress is integrated with the full Gauss rule;
-    // the volumetric penalty with one point less per direction (selective
-    // reduced integration), which relieves the volumetric locking of the
-    // displacement formulation ("Volumetric integration = reduced").
+    // in the penalty formulation the volumetric penalty may use one point
+    // less per direction (selective reduced integration, "Volumetric
+    // integration = reduced"), which relieves its locking.
     const dealii::QGauss<3> quadrature(n_q_1d);
     const dealii::QGauss<3> volumetric_quadrature(
       reduced_volumetric ? n_q_1d - 1 : n_q_1d);
     const dealii::QGauss<2> face_quadrature(n_q_face_1d);
     const auto cell_flags = dealii::update_values | dealii::update_gradients |
                             dealii::update_JxW_values;
-    dealii::FEValues<3>     fe_values(mapping, fe, quadrature, cell_flags);
+    dealii::FEValues<3>     fe_values(mapping, *fe, quadrature, cell_flags);
     dealii::FEValues<3>     fe_volumetric(mapping,
-                                      fe,
+                                      *fe,
                                       volumetric_quadrature,
                                       cell_flags);
     dealii::FEFaceValues<3> fe_face(mapping,
-                                    fe,
+                                    *fe,
                                     face_quadrature,
                                     dealii::update_values |
                                       dealii::update_gradients |
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
-    const dealii::FEValuesExtractors::Vector displacement(0);
 
-    const unsigned int         n = fe.n_dofs_per_cell();
-    dealii::FullMatrix<double> cell_matrix(n, n);
-    dealii::Vector<double>     cell_residual(n);
-    dealii::Vector<double>     cell_volume_derivative(n);
+    const unsigned int n = fe->n_dofs_per_cell();
+    CellSystem         cell_system(n);
+    ShapeScratch       scratch(*fe);
+    cell_system.pressure_matrix.reinit(scratch.p_dofs.size(),
+                                       scratch.p_dofs.size());
     AssertThrow(!with_volume_derivative || cavity.has_value(),
                 dealii::ExcMessage("This problem has no cavity."));
-    std::vector<dealii::types::global_dof_index> dofs(n);
-    std::vector<Tensor<2, 3>>                    grad_u(quadrature.size()),
+    std::vector<dealii::types::global_dof_index> dofs(n),
+      pressure_dofs(scratch.p_dofs.size());
+    std::vector<Tensor<2, 3>> grad_u(quadrature.size()),
       face_grad_u(face_quadrature.size());
+    std::vector<double>       p_values(quadrature.size());
     std::vector<Tensor<1, 3>> face_u(face_quadrature.size());
-
-    // Per shape function at one point: component, gradient of its only
-    // nonzero component, dE = sym(F^T grad phi) and C : dE.
-    std::vector<unsigned int>          component(n);
-    std::vector<Tensor<1, 3>>          grad_phi(n);
-    std::vector<SymmetricTensor<2, 3>> dE(n), C_dE(n);
-    for (unsigned int a = 0; a < n; ++a)
-      component[a] = fe.system_to_component_index(a).first;
-
-    // Adds the point q of @p values with stress S and tangent dS/dE:
-    // R_a += P : grad phi_a, K_ab += dE_a : dS/dE : dE_b + S : (grad phi_a^T
-    // grad phi_b) (material and geometric stiffness).
-    const auto add_point = [&](const dealii::FEValues<3>   &values,
-                               const unsigned int           q,
-                               const Tensor<2, 3>          &F,
-                               const SymmetricTensor<2, 3> &S,
-                               const SymmetricTensor<4, 3> &dS_dE) {
-      const Tensor<2, 3> P   = F * Tensor<2, 3>(S);
-      const double       JxW = values.JxW(q);
-      for (unsigned int a = 0; a < n; ++a)
-        {
-          grad_phi[a] = values.shape_grad(a, q);
-          // dE_a = sym(F^T (e_c x grad phi)) = sym(F_c. x grad phi)
-          Tensor<1, 3> Fc;
-          for (unsigned int d = 0; d < 3; ++d)
-            Fc[d] = F[component[a]][d];
-          dE[a] = dealii::symmetrize(dealii::outer_product(Fc, grad_phi[a]));
-          cell_residual(a) += (P[component[a]] * grad_phi[a]) * JxW;
-        }
-      if (!with_matrix)
-        return;
-      const Tensor<2, 3> S_full(S);
-      for (unsigned int b = 0; b < n; ++b)
-        C_dE[b] = dS_dE * dE[b];
-      for (unsigned int a = 0; a < n; ++a)
-        {
-          const Tensor<1, 3> S_grad_a = S_full * grad_phi[a];
-          for (unsigned int b = a; b < n; ++b)
-            {
-              double value = dE[a] * C_dE[b];
-              if (component[a] == component[b])
-                value += S_grad_a * grad_phi[b];
-              cell_matrix(a, b) += value * JxW;
-            }
-        }
-    };
 
     if (with_matrix)
       {
         tangent            = 0;
         have_factorization = false; // PETSc would refactorize on next solve
       }
+    if (with_pressure_matrix)
+      pressure_matrix->zero();
     residual = 0;
     if (with_volume_derivative)
       volume_derivative = 0;
@@ -118,20 +296,19 @@ namespace systole::Mechanics
         if (!cell->is_locally_owned() || inverted)
           continue;
         fe_values.reinit(cell);
-        fe_values[displacement].get_function_gradients(u, grad_u);
-        cell_matrix       = 0;
-        cell_residual     = 0;
-        const auto &bases = fibre_bases[cell->active_cell_index()];
-        const std::vector<double> *tension_field =
-          active_tension_field.empty()
-            ? nullptr
-            : &active_tension_field[cell->active_cell_index()];
+        fe_values[layout.displacement].get_function_gradients(u, grad_u);
+        if (mixed)
+          fe_values[layout.pressure].get_function_values(u, p_values);
+        cell_system.matrix          = 0;
+        cell_system.residual        = 0;
+        cell_system.pressure_matrix = 0;
+        const auto data             = point_data.get_data(cell);
 
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
             Materials::PassiveInput in;
             in.F     = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-            in.basis = bases[q];
+            in.basis = data[q]->basis;
             if (!(dealii::determinant(in.F) > 0.0))
               {
                 inverted = 1;
@@ -139,22 +316,53 @@ namespace systole::Mechanics
               }
             Materials::PassiveOutput out;
             passive_law.evaluate(in, out);
-            if (!reduced_volumetric)
+            const double inverse_mu =
+              with_pressure_matrix
+                ? 1.0 /
+                    shear_stiffness(in.F, out.dS_dE, reference_shear_stiffness)
+                : 0.0;
+            if (mixed)
+              Materials::add_volumetric_stress(in.F,
+                                               -p_values[q],
+                                               0.0,
+                                               out.S,
+                                               out.dS_dE);
+            else if (!reduced_volumetric)
               volumetric_law.add_to(in.F, out.S, out.dS_dE);
-            const double tension =
-              active_tension + (tension_field ? (*tension_field)[q] : 0.0);
+            // The active stress comes after the volumetric part: it is not
+            // projected.
+            const double tension = active_tension + data[q]->tension;
             if (tension != 0.0)
               Materials::add_active_stress(tension,
                                            params.active_transverse_fraction,
                                            in.basis,
                                            out.S);
-            add_point(fe_values, q, in.F, out.S, out.dS_dE);
+            add_stress_point(fe_values,
+                             q,
+                             in.F,
+                             out.S,
+                             out.dS_dE,
+                             with_matrix,
+                             scratch,
+                             cell_system);
+            if (mixed)
+              add_pressure_point(fe_values,
+                                 q,
+                                 in.F,
+                                 p_values[q],
+                                 inverse_bulk_modulus,
+                                 inverse_mu,
+                                 with_matrix,
+                                 with_pressure_matrix,
+                                 scratch,
+                                 cell_system);
           }
 
         if (reduced_volumetric && !inverted)
           {
             fe_volumetric.reinit(cell);
-            fe_volumetric[displacement].get_function_gradients(u, grad_u);
+            fe_volumetric[layout.displacement].get_function_gradients(u,
+                                                                      grad_u);
             for (const unsigned int q :
                  fe_volumetric.quadrature_point_indices())
               {
@@ -168,18 +376,26 @@ namespace systole::Mechanics
                 SymmetricTensor<2, 3> S;
                 SymmetricTensor<4, 3> dS_dE;
                 volumetric_law.add_to(F, S, dS_dE);
-                add_point(fe_volumetric, q, F, S, dS_dE);
+                add_stress_point(fe_volumetric,
+                                 q,
+                                 F,
+                                 S,
+                                 dS_dE,
+                                 with_matrix,
+                                 scratch,
+                                 cell_system);
               }
           }
         if (inverted)
           continue;
         if (with_matrix)
-          for (unsigned int a = 0; a < n; ++a)
-            for (unsigned int b = 0; b < a; ++b)
-              cell_matrix(a, b) = cell_matrix(b, a);
+          for (const unsigned int a : scratch.u_dofs)
+            for (const unsigned int b : scratch.u_dofs)
+              if (b < a)
+                cell_system.matrix(a, b) = cell_system.matrix(b, a);
 
         // Boundary terms.
-        cell_volume_derivative = 0;
+        cell_system.volume_derivative = 0;
         if (cell->at_boundary())
           for (const auto &face : cell->face_iterators())
             {
@@ -190,12 +406,13 @@ namespace systole::Mechanics
                   (pressure != 0.0 || with_volume_derivative))
                 {
                   fe_face.reinit(cell, face);
-                  fe_face[displacement].get_function_gradients(u, face_grad_u);
+                  fe_face[layout.displacement]
+                    .get_function_gradients(u, face_grad_u);
                   if (with_volume_derivative)
                     add_volume_flux(fe_face,
                                     face_grad_u,
                                     -1.0,
-                                    cell_volume_derivative,
+                                    cell_system.volume_derivative,
                                     nullptr);
                   // R -= p dV/du, K -= p d2V/du2 with the wall normal: the
                   // pressure pushes the wall along -N (into the body).
@@ -203,63 +420,51 @@ namespace systole::Mechanics
                     add_volume_flux(fe_face,
                                     face_grad_u,
                                     pressure,
-                                    cell_residual,
-                                    with_matrix ? &cell_matrix : nullptr);
+                                    cell_system.residual,
+                                    with_matrix ? &cell_system.matrix
+                                                : nullptr);
                 }
               if (robin_ids.count(id) > 0)
                 {
                   fe_face.reinit(cell, face);
-                  fe_face[displacement].get_function_values(u, face_u);
-                  const double k = params.robin_stiffness;
-                  for (const unsigned int q :
-                       fe_face.quadrature_point_indices())
-                    {
-                      const Tensor<1, 3> &N        = fe_face.normal_vector(q);
-                      const double        JxW      = k * fe_face.JxW(q);
-                      const Tensor<1, 3>  traction = params.robin_normal_only
-                                                       ? (face_u[q] * N) * N
-                                                       : face_u[q];
-                      for (unsigned int a = 0; a < n; ++a)
-                        {
-                          const double phi_a = fe_face.shape_value(a, q);
-                          if (phi_a == 0.0)
-                            continue;
-                          cell_residual(a) +=
-                            phi_a * traction[component[a]] * JxW;
-                          if (!with_matrix)
-                            continue;
-                          for (unsigned int b = 0; b < n; ++b)
-                            {
-                              const double phi_b = fe_face.shape_value(b, q);
-                              const double coupling =
-                                params.robin_normal_only
-                                  ? N[component[a]] * N[component[b]]
-                                  : (component[a] == component[b] ? 1.0 : 0.0);
-                              cell_matrix(a, b) +=
-                                phi_a * phi_b * coupling * JxW;
-                            }
-                        }
-                    }
+                  fe_face[layout.displacement].get_function_values(u, face_u);
+                  add_robin_face(fe_face,
+                                 face_u,
+                                 params.robin_stiffness,
+                                 params.robin_normal_only,
+                                 with_matrix,
+                                 scratch,
+                                 cell_system);
                 }
             }
 
         cell->get_dof_indices(dofs);
         if (with_matrix)
-          constraints.distribute_local_to_global(cell_matrix,
-                                                 cell_residual,
+          constraints.distribute_local_to_global(cell_system.matrix,
+                                                 cell_system.residual,
                                                  dofs,
                                                  tangent,
                                                  residual);
         else
-          constraints.distribute_local_to_global(cell_residual, dofs, residual);
+          constraints.distribute_local_to_global(cell_system.residual,
+                                                 dofs,
+                                                 residual);
         if (with_volume_derivative && cell->at_boundary())
-          constraints.distribute_local_to_global(cell_volume_derivative,
+          constraints.distribute_local_to_global(cell_system.volume_derivative,
                                                  dofs,
                                                  volume_derivative);
+        if (with_pressure_matrix)
+          {
+            for (unsigned int i = 0; i < scratch.p_dofs.size(); ++i)
+              pressure_dofs[i] = dofs[scratch.p_dofs[i]];
+            pressure_matrix->add(pressure_dofs, cell_system.pressure_matrix);
+          }
       }
 
     if (with_matrix)
       tangent.compress(dealii::VectorOperation::add);
+    if (with_pressure_matrix)
+      pressure_matrix->compress();
     residual.compress(dealii::VectorOperation::add);
     if (with_volume_derivative)
       volume_derivative.compress(dealii::VectorOperation::add);

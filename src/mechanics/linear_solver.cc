@@ -1,5 +1,6 @@
 #include "mechanics/linear_solver.h"
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe.h>
@@ -9,6 +10,8 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/solver_control.h>
+
+#include "mechanics/field_layout.h"
 
 #include <petscksp.h>
 
@@ -43,7 +46,7 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K) override
+      setup(const LA::MPI::SparseMatrix &K, const PressureMatrix *) override
       {
         // The sparsity pattern never changes: after the first factorization
         // MUMPS reuses its analysis (ordering, symbolic factorization) and
@@ -121,60 +124,90 @@ namespace systole::Mechanics
       PCFailedReason failure = PC_NOERROR;
     };
 
-    /// GMRES + GAMG with the rigid-body modes as near-null space.
+    /// The six rigid-body modes of the displacement (translations, rotations
+    /// about the axes) on the locally owned DoFs, zero on pressure DoFs,
+    /// orthonormalized (as PETSc requires of a near-null space).
+    std::array<LA::MPI::Vector, 6>
+    rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
+                     const dealii::DoFHandler<3, 3> &dof_handler)
+    {
+      std::array<LA::MPI::Vector, 6> modes;
+      const MPI_Comm                 comm  = dof_handler.get_communicator();
+      const auto                    &owned = dof_handler.locally_owned_dofs();
+      for (auto &mode : modes)
+        mode.reinit(owned, comm);
+
+      // Position of the support point of every displacement DoF: the unit
+      // support points of the displacement's base element (FE_Q).
+      const auto                 &fe = dof_handler.get_fe();
+      const dealii::Quadrature<3> support(
+        fe.base_element(0).get_unit_support_points());
+      dealii::FEValues<3>                          fe_values(mapping,
+                                    fe,
+                                    support,
+                                    dealii::update_quadrature_points);
+      std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_values.reinit(cell);
+            cell->get_dof_indices(dofs);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              {
+                const auto [c, base_index] = fe.system_to_component_index(i);
+                if (c >= 3 || !owned.is_element(dofs[i]))
+                  continue;
+                const auto &x     = fe_values.quadrature_point(base_index);
+                modes[c](dofs[i]) = 1.0; // translations
+                // rotations about the axes: (e_k x x)_c = eps_{c k m} x_m,
+                // nonzero for k = c1 (x_c2) and k = c2 (-x_c1).
+                const unsigned int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+                modes[3 + c1](dofs[i]) = x[c2];
+                modes[3 + c2](dofs[i]) = -x[c1];
+              }
+          }
+      for (auto &mode : modes)
+        mode.compress(dealii::VectorOperation::insert);
+      // Modified Gram-Schmidt.
+      for (unsigned int i = 0; i < modes.size(); ++i)
+        {
+          for (unsigned int j = 0; j < i; ++j)
+            modes[i].add(-(modes[i] * modes[j]), modes[j]);
+          modes[i] /= modes[i].l2_norm();
+        }
+      return modes;
+    }
+
+    /// Throws with the Krylov method's PETSc reason when it did not
+    /// converge; returns the iterations.
+    unsigned int
+    checked_iterations(KSP ksp, const std::string &what)
+    {
+      KSPConvergedReason reason;
+      KSPGetConvergedReason(ksp, &reason);
+      PetscInt iterations = 0;
+      KSPGetIterationNumber(ksp, &iterations);
+      AssertThrow(reason > 0,
+                  dealii::ExcMessage(
+                    "The iterative linear solver (" + what +
+                    ") did not converge (PETSc reason " +
+                    std::to_string(reason) + ", " + std::to_string(iterations) +
+                    " iterations). Try Mechanics / Linear solver = direct."));
+      return iterations;
+    }
+
+    /// GMRES + GAMG with the rigid-body modes as near-null space (the
+    /// penalty formulation: displacement only).
     class IterativeSolver : public LinearSolver
     {
     public:
       IterativeSolver(const dealii::Mapping<3, 3>    &mapping,
                       const dealii::DoFHandler<3, 3> &dof_handler,
                       const double                    tolerance)
-        : tolerance(tolerance)
+        : modes(rigid_body_modes(mapping, dof_handler))
       {
-        const MPI_Comm comm  = dof_handler.get_communicator();
-        const auto    &owned = dof_handler.locally_owned_dofs();
-        for (auto &mode : modes)
-          mode.reinit(owned, comm);
-
-        // Position and component of every locally owned DoF.
-        const auto                 &fe = dof_handler.get_fe();
-        const dealii::Quadrature<3> support(fe.get_unit_support_points());
-        dealii::FEValues<3>         fe_values(mapping,
-                                      fe,
-                                      support,
-                                      dealii::update_quadrature_points);
-        std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              fe_values.reinit(cell);
-              cell->get_dof_indices(dofs);
-              for (unsigned int i = 0; i < dofs.size(); ++i)
-                if (owned.is_element(dofs[i]))
-                  {
-                    const unsigned int c =
-                      fe.system_to_component_index(i).first;
-                    const auto &x     = fe_values.quadrature_point(i);
-                    modes[c](dofs[i]) = 1.0; // translations
-                    // rotations about the axes: (e_k x x)_c
-                    const unsigned int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-                    // (e_k x x)_c = eps_{c k m} x_m: nonzero for k = c1 (x_c2)
-                    // and k = c2 (-x_c1).
-                    modes[3 + c1](dofs[i]) = x[c2];
-                    modes[3 + c2](dofs[i]) = -x[c1];
-                  }
-            }
-        for (auto &mode : modes)
-          mode.compress(dealii::VectorOperation::insert);
-
-        // Orthonormalize (modified Gram-Schmidt), as PETSc requires.
-        for (unsigned int i = 0; i < modes.size(); ++i)
-          {
-            for (unsigned int j = 0; j < i; ++j)
-              modes[i].add(-(modes[i] * modes[j]), modes[j]);
-            modes[i] /= modes[i].l2_norm();
-          }
-
-        check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
+        check_petsc(KSPCreate(dof_handler.get_communicator(), &ksp),
+                    "KSPCreate");
         check_petsc(KSPSetType(ksp, KSPGMRES), "KSPSetType");
         check_petsc(KSPGMRESSetRestart(ksp, 200), "KSPGMRESSetRestart");
         PC pc;
@@ -190,7 +223,7 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K) override
+      setup(const LA::MPI::SparseMatrix &K, const PressureMatrix *) override
       {
         Mat                A = K;
         std::array<Vec, 6> vectors;
@@ -206,7 +239,6 @@ namespace systole::Mechanics
         check_petsc(MatSetNearNullSpace(A, near_null_space),
                     "MatSetNearNullSpace");
         MatNullSpaceDestroy(&near_null_space);
-
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
       }
 
@@ -215,18 +247,7 @@ namespace systole::Mechanics
       {
         x = 0;
         check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
-        KSPConvergedReason reason;
-        KSPGetConvergedReason(ksp, &reason);
-        PetscInt iterations = 0;
-        KSPGetIterationNumber(ksp, &iterations);
-        AssertThrow(reason > 0,
-                    dealii::ExcMessage(
-                      "The iterative linear solver (GMRES + GAMG) did not "
-                      "converge (PETSc reason " +
-                      std::to_string(reason) + ", " +
-                      std::to_string(iterations) +
-                      " iterations). Try Mechanics / Linear solver = direct."));
-        return iterations;
+        return checked_iterations(ksp, "GMRES + GAMG");
       }
 
       std::string
@@ -236,9 +257,164 @@ namespace systole::Mechanics
       }
 
     private:
-      double                         tolerance;
       std::array<LA::MPI::Vector, 6> modes;
       KSP                            ksp = nullptr;
+    };
+
+    /// Sets a PETSc option unless the user set it already.
+    void
+    default_option(const std::string &name, const std::string &value)
+    {
+      PetscBool set = PETSC_FALSE;
+      PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set);
+      if (!set)
+        check_petsc(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()),
+                    "PetscOptionsSetValue");
+    }
+
+    /// FGMRES with the block (Schur) preconditioner of the mixed systems.
+    class BlockSolver : public LinearSolver
+    {
+    public:
+      BlockSolver(const dealii::Mapping<3, 3>    &mapping,
+                  const dealii::DoFHandler<3, 3> &dof_handler,
+                  const FieldLayout              &layout,
+                  const double                    tolerance)
+      {
+        const MPI_Comm comm = dof_handler.get_communicator();
+        const auto    &u    = layout.owned(0);
+        const auto    &p    = layout.owned(1);
+        const PetscInt n_u  = u.n_elements();
+        const PetscInt n_p  = p.n_elements();
+        const PetscInt u0   = n_u > 0 ? *u.begin() : 0;
+        const PetscInt p0   = n_p > 0 ? *p.begin() : u0 + n_u;
+        check_petsc(ISCreateStride(comm, n_u, u0, 1, &is_u), "ISCreateStride");
+        check_petsc(ISCreateStride(comm, n_p, p0, 1, &is_p), "ISCreateStride");
+        if (layout.displacement_interleaved())
+          check_petsc(ISSetBlockSize(is_u, 3), "ISSetBlockSize");
+
+        // The rigid-body modes restricted to the displacement block, as the
+        // near-null space of its submatrix (PCFIELDSPLIT looks it up on the
+        // IS).
+        const auto         modes = rigid_body_modes(mapping, dof_handler);
+        std::array<Vec, 6> sub;
+        for (unsigned int i = 0; i < 6; ++i)
+          {
+            check_petsc(VecCreateMPI(comm, n_u, PETSC_DETERMINE, &sub[i]),
+                        "VecCreateMPI");
+            if (layout.displacement_interleaved())
+              VecSetBlockSize(sub[i], 3);
+            const PetscScalar *full;
+            PetscScalar       *part;
+            VecGetArrayRead(modes[i], &full);
+            VecGetArray(sub[i], &part);
+            std::copy(full, full + n_u, part);
+            VecRestoreArray(sub[i], &part);
+            VecRestoreArrayRead(modes[i], &full);
+          }
+        MatNullSpace near_null_space;
+        check_petsc(MatNullSpaceCreate(comm,
+                                       PETSC_FALSE,
+                                       6,
+                                       sub.data(),
+                                       &near_null_space),
+                    "MatNullSpaceCreate");
+        check_petsc(PetscObjectCompose(reinterpret_cast<PetscObject>(is_u),
+                                       "nearnullspace",
+                                       reinterpret_cast<PetscObject>(
+                                         near_null_space)),
+                    "PetscObjectCompose");
+        MatNullSpaceDestroy(&near_null_space);
+        for (auto &v : sub)
+          VecDestroy(&v);
+
+        // Defaults, unless given in PETSc's options database.
+        const std::string prefix = "-mechanics_";
+        default_option(prefix + "pc_fieldsplit_type", "schur");
+        default_option(prefix + "pc_fieldsplit_schur_fact_type", "upper");
+        default_option(prefix + "fieldsplit_u_ksp_type", "preonly");
+        default_option(prefix + "fieldsplit_u_pc_type", "gamg");
+        // Smoothing by two GMRES iterations with Jacobi: the tangent of a
+        // follower pressure on an open surface is not symmetric, and with
+        // PETSc's default (Chebyshev-Jacobi) FGMRES stalls on the bending
+        // beam of Land problem 1 refined twice; SOR smoothing breaks down in
+        // GAMG's eigenvalue estimate there.
+        default_option(prefix + "fieldsplit_u_mg_levels_ksp_type", "gmres");
+        default_option(prefix + "fieldsplit_u_mg_levels_ksp_max_it", "2");
+        default_option(prefix + "fieldsplit_u_mg_levels_pc_type", "jacobi");
+        default_option(prefix + "fieldsplit_p_ksp_type", "preonly");
+        default_option(prefix + "fieldsplit_p_pc_type", "bjacobi");
+
+        check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
+        check_petsc(KSPSetOptionsPrefix(ksp, "mechanics_"),
+                    "KSPSetOptionsPrefix");
+        check_petsc(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
+        check_petsc(KSPGMRESSetRestart(ksp, 100), "KSPGMRESSetRestart");
+        check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 1000),
+                    "KSPSetTolerances");
+        PC pc;
+        check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+        check_petsc(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
+        check_petsc(PCFieldSplitSetIS(pc, "u", is_u), "PCFieldSplitSetIS");
+        check_petsc(PCFieldSplitSetIS(pc, "p", is_p), "PCFieldSplitSetIS");
+      }
+
+      ~BlockSolver() override
+      {
+        KSPDestroy(&ksp);
+        ISDestroy(&is_u);
+        ISDestroy(&is_p);
+      }
+
+      void
+      setup(const LA::MPI::SparseMatrix &K,
+            const PressureMatrix        *schur) override
+      {
+        AssertThrow(schur != nullptr,
+                    dealii::ExcInternalError("no pressure matrix"));
+        Mat A = K;
+        check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+        // (The options first: they would reset the Schur preconditioner to
+        // PETSc's default, the pressure block of K, zero when
+        // incompressible.)
+        if (!configured)
+          {
+            check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+            configured = true;
+          }
+        PC pc;
+        check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
+        check_petsc(PCFieldSplitSetSchurPre(pc,
+                                            PC_FIELDSPLIT_SCHUR_PRE_USER,
+                                            schur->petsc()),
+                    "PCFieldSplitSetSchurPre");
+      }
+
+      unsigned int
+      solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) override
+      {
+        x = 0;
+        check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
+        return checked_iterations(ksp, "FGMRES + block preconditioner");
+      }
+
+      bool
+      needs_pressure_matrix() const override
+      {
+        return true;
+      }
+
+      std::string
+      name() const override
+      {
+        return "iterative (FGMRES, Schur block preconditioner: GAMG on u, "
+               "scaled pressure mass matrix)";
+      }
+
+    private:
+      bool configured = false;
+      KSP  ksp        = nullptr;
+      IS   is_u = nullptr, is_p = nullptr;
     };
   } // namespace
 
@@ -246,6 +422,7 @@ namespace systole::Mechanics
   create_linear_solver(const std::string              &type,
                        const dealii::Mapping<3, 3>    &mapping,
                        const dealii::DoFHandler<3, 3> &dof_handler,
+                       const FieldLayout              &layout,
                        const double                    tolerance,
                        const bool                      symmetric)
   {
@@ -253,6 +430,96 @@ namespace systole::Mechanics
       return std::make_unique<DirectSolver>(symmetric);
     AssertThrow(type == "iterative",
                 dealii::ExcMessage("Unknown linear solver '" + type + "'."));
+    if (layout.mixed())
+      return std::make_unique<BlockSolver>(mapping,
+                                           dof_handler,
+                                           layout,
+                                           tolerance);
     return std::make_unique<IterativeSolver>(mapping, dof_handler, tolerance);
+  }
+
+  PressureMatrix::PressureMatrix(const FieldLayout &layout,
+                                 const MPI_Comm     comm,
+                                 const unsigned int row_length)
+  {
+    const auto &p       = layout.owned(1);
+    const auto  n_local = p.n_elements();
+    const auto  n_ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+    const dealii::types::global_dof_index mine =
+      n_local > 0 ? *p.begin() : dealii::numbers::invalid_dof_index;
+    first = dealii::Utilities::MPI::all_gather(comm, mine);
+    count = dealii::Utilities::MPI::all_gather(
+      comm,
+      static_cast<dealii::types::global_dof_index>(n_local));
+    offset.assign(n_ranks, 0);
+    for (unsigned int r = 1; r < n_ranks; ++r)
+      offset[r] = offset[r - 1] + count[r - 1];
+    check_petsc(MatCreateAIJ(comm,
+                             n_local,
+                             n_local,
+                             PETSC_DETERMINE,
+                             PETSC_DETERMINE,
+                             row_length,
+                             nullptr,
+                             row_length,
+                             nullptr,
+                             &matrix),
+                "MatCreateAIJ");
+    check_petsc(MatSetOption(matrix,
+                             MAT_NEW_NONZERO_ALLOCATION_ERR,
+                             PETSC_FALSE),
+                "MatSetOption");
+  }
+
+  PressureMatrix::~PressureMatrix()
+  {
+    MatDestroy(&matrix);
+  }
+
+  PetscInt
+  PressureMatrix::index(const dealii::types::global_dof_index dof) const
+  {
+    for (unsigned int r = 0; r < first.size(); ++r)
+      if (count[r] > 0 && dof >= first[r] && dof < first[r] + count[r])
+        return static_cast<PetscInt>(offset[r] + (dof - first[r]));
+    AssertThrow(false, dealii::ExcInternalError("not a pressure DoF"));
+    return -1;
+  }
+
+  void
+  PressureMatrix::zero()
+  {
+    check_petsc(MatZeroEntries(matrix), "MatZeroEntries");
+  }
+
+  void
+  PressureMatrix::add(const std::vector<dealii::types::global_dof_index> &dofs,
+                      const dealii::FullMatrix<double>                   &local)
+  {
+    rows.resize(dofs.size());
+    values.resize(dofs.size() * dofs.size());
+    for (unsigned int i = 0; i < dofs.size(); ++i)
+      {
+        rows[i] = index(dofs[i]);
+        for (unsigned int j = 0; j < dofs.size(); ++j)
+          values[i * dofs.size() + j] = local(i, j);
+      }
+    const auto n = static_cast<PetscInt>(rows.size());
+    check_petsc(MatSetValues(matrix,
+                             n,
+                             rows.data(),
+                             n,
+                             rows.data(),
+                             values.data(),
+                             ADD_VALUES),
+                "MatSetValues");
+  }
+
+  void
+  PressureMatrix::compress()
+  {
+    check_petsc(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY),
+                "MatAssemblyBegin");
+    check_petsc(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
   }
 } // namespace systole::Mechanics

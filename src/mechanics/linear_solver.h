@@ -1,8 +1,11 @@
 #pragma once
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/lac/full_matrix.h>
 
 #include "base/linear_algebra.h"
+
+#include <petscmat.h>
 
 #include <memory>
 #include <string>
@@ -18,20 +21,81 @@ namespace dealii
 
 namespace systole::Mechanics
 {
-  /// Solves K x = b for the mechanics tangent: MUMPS LU ("direct"), or GMRES
-  /// preconditioned by PETSc's smoothed-aggregation multigrid GAMG, which is
-  /// given the six rigid-body modes of the displacement as near-null space
-  /// ("iterative").
+  class FieldLayout;
+
+  /// A PETSc matrix on the pressure DoFs alone (block 1 of a FieldLayout,
+  /// numbered in the order of the global DoFs): the approximation
+  /// @f$-(1/\mu + 1/\kappa) M_p@f$ of the pressure Schur complement
+  /// @f$-M_p/\kappa - B A^{-1} B^T@f$ that preconditions the mixed systems.
+  class PressureMatrix
+  {
+  public:
+    /// @param[in] layout the renumbered layout (its owned pressure ranges)
+    /// @param[in] row_length upper bound of the entries per row
+    PressureMatrix(const FieldLayout &layout,
+                   const MPI_Comm     comm,
+                   const unsigned int row_length);
+    ~PressureMatrix();
+    PressureMatrix(const PressureMatrix &) = delete;
+    PressureMatrix &
+    operator=(const PressureMatrix &) = delete;
+
+    /// Set all entries to zero (keeps the pattern).
+    void
+    zero();
+
+    /// Add the cell matrix @p local of the pressure DoFs @p dofs (global DoF
+    /// indices of block 1, any owner).
+    void
+    add(const std::vector<dealii::types::global_dof_index> &dofs,
+        const dealii::FullMatrix<double>                   &local);
+
+    /// Exchange the entries of other ranks' rows (collective).
+    void
+    compress();
+
+    Mat
+    petsc() const
+    {
+      return matrix;
+    }
+
+  private:
+    PetscInt
+    index(const dealii::types::global_dof_index dof) const;
+
+    Mat matrix = nullptr;
+    /// Per rank: first pressure DoF, number of pressure DoFs, first index in
+    /// the pressure numbering.
+    std::vector<dealii::types::global_dof_index> first, count, offset;
+    std::vector<PetscInt>                        rows;
+    std::vector<PetscScalar>                     values;
+  };
+
+  /// Solves K x = b for the mechanics tangent.
+  /// - "direct": MUMPS, LDL^T for symmetric matrices (also the symmetric
+  ///   indefinite mixed systems), LU otherwise;
+  /// - "iterative", penalty formulation: GMRES preconditioned by PETSc's
+  ///   smoothed-aggregation multigrid GAMG, given the six rigid-body modes of
+  ///   the displacement as near-null space;
+  /// - "iterative", mixed formulations: FGMRES with PETSc's PCFIELDSPLIT
+  ///   Schur preconditioner (upper block-triangular): one GAMG V-cycle (with
+  ///   the rigid-body modes and block size 3) for the displacement block, and
+  ///   the PressureMatrix (block Jacobi + ILU: exact for a discontinuous
+  ///   pressure) for the Schur complement. PETSc options with the prefix
+  ///   -mechanics_ (e.g. in PETSC_OPTIONS) override the choices.
   class LinearSolver
   {
   public:
     virtual ~LinearSolver() = default;
 
     /// Prepare solves with @p K (the direct solver factorizes it; the
-    /// iterative one builds its preconditioner). @p K must stay alive and
-    /// unchanged until the next setup().
+    /// iterative ones build their preconditioner; the mixed iterative one
+    /// needs @p schur). Both must stay alive and unchanged until the next
+    /// setup().
     virtual void
-    setup(const LA::MPI::SparseMatrix &K) = 0;
+    setup(const LA::MPI::SparseMatrix &K,
+          const PressureMatrix        *schur = nullptr) = 0;
 
     /// Solve K x = b with the K of the last setup(); returns the number of
     /// iterations (1 for the direct solver). Several right-hand sides share
@@ -40,14 +104,11 @@ namespace systole::Mechanics
     virtual unsigned int
     solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) = 0;
 
-    /// setup(K), then solve(x, b).
-    unsigned int
-    solve(const LA::MPI::SparseMatrix &K,
-          LA::MPI::Vector             &x,
-          const LA::MPI::Vector       &b)
+    /// Whether this solver needs the PressureMatrix in setup().
+    virtual bool
+    needs_pressure_matrix() const
     {
-      setup(K);
-      return solve(x, b);
+      return false;
     }
 
     virtual std::string
@@ -55,8 +116,8 @@ namespace systole::Mechanics
   };
 
   /// The solver named @p type ("direct" or "iterative").
-  /// @param[in] dof_handler vector-valued displacement DoFs (for the
-  ///            rigid-body modes of the iterative solver)
+  /// @param[in] dof_handler the mechanics DoFs, renumbered by @p layout
+  ///            (for the rigid-body modes and the blocks)
   /// @param[in] tolerance relative residual reduction of the iterative solver
   /// @param[in] symmetric whether the matrices are symmetric (the direct
   ///            solver then factorizes LDL^T, about half the work of LU)
@@ -64,6 +125,7 @@ namespace systole::Mechanics
   create_linear_solver(const std::string              &type,
                        const dealii::Mapping<3, 3>    &mapping,
                        const dealii::DoFHandler<3, 3> &dof_handler,
+                       const FieldLayout              &layout,
                        const double                    tolerance,
                        const bool                      symmetric);
 } // namespace systole::Mechanics

@@ -114,6 +114,13 @@ namespace systole::Mechanics
                       "Later increments adapt: x1.5 after a load step that "
                       "took at most 4 Newton iterations, x0.5 after one that "
                       "took 8 or more or failed. Units: -.");
+    prm.declare_entry("Adaptive load steps",
+                      "true",
+                      Bool(),
+                      "true: the load increments adapt to the Newton "
+                      "iterations (see Load steps); false: every increment is "
+                      "1 / Load steps (halved only when Newton fails). "
+                      "Units: -.");
     prm.declare_entry("Maximum step cuts",
                       "8",
                       Integer(0, 30),
@@ -139,9 +146,15 @@ namespace systole::Mechanics
     prm.declare_entry("Linear solver",
                       "auto",
                       Selection("auto|direct|iterative"),
-                      "direct: MUMPS LU; iterative: GMRES with PETSc GAMG "
-                      "(algebraic multigrid given the rigid-body modes); auto: "
-                      "direct up to 'Direct solver limit' DOFs. Units: -.");
+                      "direct: MUMPS (LDL^T when the tangent is symmetric, "
+                      "else LU); iterative: GMRES with PETSc GAMG (algebraic "
+                      "multigrid given the rigid-body modes) for the penalty "
+                      "formulation, FGMRES with a block preconditioner for "
+                      "the mixed ones (GAMG V-cycle on the displacement "
+                      "block, the pressure mass matrix scaled by 1/mu + "
+                      "1/kappa for the Schur complement; PETSc options with "
+                      "the prefix -mechanics_ override it); auto: direct up to "
+                      "'Direct solver limit' DOFs. Units: -.");
     prm.declare_entry("Direct solver limit",
                       "200000",
                       Integer(0),
@@ -178,8 +191,20 @@ namespace systole::Mechanics
       prm.get_double(m, "Active transverse fraction");
     p.reduced_volumetric_integration =
       prm.get(m, "Volumetric integration") == "reduced";
-    p.load_steps    = prm.get_integer(m, "Load steps");
-    p.max_step_cuts = prm.get_integer(m, "Maximum step cuts");
+    p.load_steps          = prm.get_integer(m, "Load steps");
+    p.max_step_cuts       = prm.get_integer(m, "Maximum step cuts");
+    p.adaptive_load_steps = prm.get_bool(m, "Adaptive load steps");
+    const std::string incompressibility =
+      prm.get({"Material"}, "Incompressibility");
+    p.incompressibility = incompressibility == "penalty"
+                            ? Incompressibility::penalty
+                          : incompressibility == "incompressible"
+                            ? Incompressibility::incompressible
+                            : Incompressibility::nearly_incompressible;
+    p.pressure_element =
+      prm.get({"Discretization"}, "Pressure element") == "continuous"
+        ? PressureElement::continuous
+        : PressureElement::discontinuous;
     p.newton_relative_tolerance =
       prm.get_double(m, "Newton relative tolerance");
     p.newton_absolute_tolerance =
@@ -197,6 +222,48 @@ namespace systole::Mechanics
                 dealii::ExcMessage("Mechanics / Pressure is not zero but "
                                    "Pressure boundary is empty: name the "
                                    "boundary part that carries it."));
+    AssertThrow(!(p.mixed() && p.reduced_volumetric_integration),
+                dealii::ExcMessage(
+                  "Mechanics / Volumetric integration = reduced is a remedy "
+                  "of the penalty formulation; with Material / "
+                  "Incompressibility = " +
+                  incompressibility +
+                  " the pressure field already removes the locking: set it "
+                  "to full."));
     return p;
+  }
+
+  void
+  Parameters::declare_incompressibility(dealii::ParameterHandler &prm)
+  {
+    prm.declare_entry(
+      "Incompressibility",
+      "penalty",
+      dealii::Patterns::Selection(
+        "penalty|nearly incompressible|incompressible"),
+      "How the volume of the tissue is held. penalty: displacement only, "
+      "the volumetric energy U(J) of subsection Volumetric added to the "
+      "stress (locks in bending with the full Gauss rule); nearly "
+      "incompressible: mixed displacement-pressure formulation with the "
+      "energy -p (J - 1) - p^2 / (2 kappa), kappa = Volumetric / Bulk "
+      "modulus (the quadratic form of U whatever Volumetric / Form says); "
+      "incompressible: the same with 1/kappa = 0, J = 1 exactly in the "
+      "pressure space. The pressure p [kPa] is positive in compression. "
+      "Units: -.");
+  }
+
+  void
+  Parameters::declare_pressure_element(dealii::ParameterHandler &prm)
+  {
+    prm.declare_entry(
+      "Pressure element",
+      "discontinuous",
+      dealii::Patterns::Selection("discontinuous|continuous"),
+      "Pressure space of the mixed formulations (Material / "
+      "Incompressibility not penalty). discontinuous: Q_k-P_{k-1}disc "
+      "(Q2-P1disc, inf-sup stable; Q1-P0, the mean-dilatation element), "
+      "element-wise incompressibility and a block-diagonal pressure mass "
+      "matrix; continuous: Taylor-Hood Q_k-Q_{k-1} (needs Polynomial degree "
+      "2). Units: -.");
   }
 } // namespace systole::Mechanics

@@ -21,9 +21,47 @@ namespace systole::Mechanics
     dealii::Point<3> position; ///< reference position [mm]
   };
 
-  /// Settings of the quasi-static mechanics (subsection "Mechanics").
+  /// How the near-incompressibility of the myocardium is imposed
+  /// ("Material / Incompressibility").
+  enum class Incompressibility
+  {
+    /// Displacement only, with the volumetric penalty U(J) of
+    /// Materials::VolumetricLaw added to the stress.
+    penalty,
+    /// Mixed u-p: a pressure field p with the energy
+    /// @f$-p(J-1) - p^2/(2\kappa)@f$ (eliminated, the quadratic penalty
+    /// @f$\frac\kappa2(J-1)^2@f$).
+    nearly_incompressible,
+    /// Mixed u-p with @f$1/\kappa = 0@f$: J = 1 in the weak sense of the
+    /// pressure space.
+    incompressible
+  };
+
+  /// The pressure space of the mixed formulations ("Discretization /
+  /// Pressure element").
+  enum class PressureElement
+  {
+    /// Q_k - P_{k-1} discontinuous (Q2-P1disc, Q1-P0): element-wise
+    /// incompressibility, a block-diagonal pressure mass matrix.
+    discontinuous,
+    /// Taylor-Hood Q_k - Q_{k-1} (k >= 2), continuous pressure.
+    continuous
+  };
+
+  /// Settings of the quasi-static mechanics (subsection "Mechanics", plus
+  /// "Material / Incompressibility" and "Discretization / Pressure element").
   struct Parameters
   {
+    Incompressibility incompressibility = Incompressibility::penalty;
+    PressureElement   pressure_element  = PressureElement::discontinuous;
+
+    /// Whether the formulation has a pressure field.
+    bool
+    mixed() const
+    {
+      return incompressibility != Incompressibility::penalty;
+    }
+
     /// Boundary parts with all displacement components fixed to zero.
     std::vector<std::string> fixed_boundaries;
     /// Flat boundary parts on which only the normal displacement is zero.
@@ -53,6 +91,9 @@ namespace systole::Mechanics
 
     /// The first load increment is 1 / load_steps; later ones adapt.
     unsigned int load_steps = 5;
+    /// Whether the load increments adapt to the Newton iterations (otherwise
+    /// all are 1 / load_steps, cut only when Newton fails).
+    bool adaptive_load_steps = true;
     /// How often a load step may be halved when Newton fails.
     unsigned int max_step_cuts = 8;
 
@@ -63,7 +104,9 @@ namespace systole::Mechanics
     unsigned int max_newton_iterations     = 12;
 
     /// "auto", "direct" (MUMPS) or "iterative" (GMRES + GAMG with rigid-body
-    /// modes).
+    /// modes; for the mixed formulations FGMRES with a block preconditioner:
+    /// GAMG on the displacement block, the scaled pressure mass matrix for
+    /// the Schur complement).
     std::string linear_solver = "auto";
     /// Above this many DOFs "auto" picks the iterative solver.
     unsigned int direct_solver_limit = 200000;
@@ -75,7 +118,18 @@ namespace systole::Mechanics
     static void
     declare(dealii::ParameterHandler &prm);
 
+    /// Reads subsection Mechanics and the two entries above; throws naming
+    /// the entry when a value or a combination is invalid.
     static Parameters
     parse(const dealii::ParameterHandler &prm);
+
+    /// Declares "Incompressibility" in the current subsection (Material).
+    static void
+    declare_incompressibility(dealii::ParameterHandler &prm);
+
+    /// Declares "Pressure element" in the current subsection
+    /// (Discretization).
+    static void
+    declare_pressure_element(dealii::ParameterHandler &prm);
   };
 } // namespace systole::Mechanics

@@ -3,6 +3,7 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/sparsity_tools.h>
@@ -11,9 +12,10 @@
 
 #include "base/errors.h"
 #include "geometry/mesh.h"
+#include "materials/passive_law.h"
+#include "materials/volumetric_law.h"
 #include "mechanics/problem_impl.h"
 
-#include <chrono>
 #include <iomanip>
 #include <sstream>
 
@@ -34,7 +36,8 @@ namespace systole::Mechanics
     , logger(logger)
     , passive_law(passive_law)
     , volumetric_law(volumetric_law)
-    , fe(dealii::FE_Q<3>(degree), 3)
+    , layout(degree, params)
+    , fe(layout.make_fe())
     , mapping(mapping_degree)
     , dof_handler(tria)
     , n_q_1d(degree + 1)
@@ -43,8 +46,39 @@ namespace systole::Mechanics
     // two degrees): p + 1 Gauss points integrate them exactly for p <= 2.
     , n_q_face_1d(std::max(degree, mapping_degree) + 1)
     , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
+    , timer(timer_sink,
+            dealii::TimerOutput::never,
+            dealii::TimerOutput::wall_times)
   {
     mapping.initialize(dealii::MappingQ<3>(mapping_degree), tria);
+    if (params.incompressibility == Incompressibility::nearly_incompressible)
+      {
+        const double kappa = volumetric_law.bulk_modulus();
+        AssertThrow(kappa > 0.0,
+                    dealii::ExcMessage(
+                      "Material / Incompressibility = nearly incompressible "
+                      "needs Material / Volumetric / Bulk modulus > 0 (it is " +
+                      dealii::Utilities::to_string(kappa) +
+                      " kPa); for J = 1 exactly choose incompressible."));
+        inverse_bulk_modulus = 1.0 / kappa;
+      }
+    // Shear stiffness of the law in the reference state (the floor of the
+    // Schur preconditioner's local stiffness).
+    Materials::PassiveInput  in;
+    Materials::PassiveOutput out;
+    in.F       = dealii::unit_symmetric_tensor<3>();
+    in.basis.f = dealii::Tensor<1, 3>({1, 0, 0});
+    in.basis.s = dealii::Tensor<1, 3>({0, 1, 0});
+    in.basis.n = dealii::Tensor<1, 3>({0, 0, 1});
+    passive_law.evaluate(in, out);
+    reference_shear_stiffness =
+      (out.dS_dE[0][1][0][1] + out.dS_dE[0][2][0][2] + out.dS_dE[1][2][1][2]) /
+      3.0;
+    AssertThrow(reference_shear_stiffness > 0.0,
+                dealii::ExcMessage("The passive law " + passive_law.name() +
+                                   " has no shear stiffness at F = I: check "
+                                   "its parameters."));
+    reference_shear_stiffness *= 0.1;
   }
 
   Problem::Problem(const Parameters                                   &params,
@@ -104,7 +138,8 @@ namespace systole::Mechanics
 
     // DoFs and constraints (zero displacement on fixed parts, zero normal
     // displacement on sliding ones: the Newton updates are homogeneous too).
-    m.dof_handler.distribute_dofs(m.fe);
+    m.dof_handler.distribute_dofs(*m.fe);
+    m.layout.renumber(m.dof_handler);
     m.owned = m.dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
     m.constraints.reinit(m.relevant);
@@ -115,8 +150,9 @@ namespace systole::Mechanics
         m.mapping,
         m.dof_handler,
         id,
-        dealii::Functions::ZeroFunction<3>(3),
-        m.constraints);
+        dealii::Functions::ZeroFunction<3>(m.layout.n_components()),
+        m.constraints,
+        m.fe->component_mask(m.layout.displacement));
     if (!m.sliding_ids.empty())
       dealii::VectorTools::compute_no_normal_flux_constraints(m.dof_handler,
                                                               0,
@@ -143,23 +179,41 @@ namespace systole::Mechanics
     m.u.reinit(m.owned, m.relevant, m.comm);
 
     // Fibre frames at the quadrature points of the locally owned cells.
-    const dealii::QGauss<3> quadrature(m.n_q_1d);
-    dealii::FEValues<3>     fe_values(m.mapping,
-                                  m.fe,
+    const dealii::QGauss<3>         quadrature(m.n_q_1d);
+    dealii::FEValues<3>             fe_values(m.mapping,
+                                  *m.fe,
                                   quadrature,
                                   dealii::update_quadrature_points);
-    m.fibre_bases.resize(tria.n_active_cells());
-    m.quadrature_points.resize(tria.n_active_cells());
+    std::vector<Fibres::FibreBasis> bases;
     for (const auto &cell : m.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
-          m.quadrature_points[cell->active_cell_index()] =
-            fe_values.get_quadrature_points();
-          fibres(cell,
-                 fe_values.get_quadrature_points(),
-                 m.fibre_bases[cell->active_cell_index()]);
+          fibres(cell, fe_values.get_quadrature_points(), bases);
+          m.point_data.initialize(cell, quadrature.size());
+          const auto data = m.point_data.get_data(cell);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              data[q]->basis    = bases[q];
+              data[q]->position = fe_values.quadrature_point(q);
+            }
         }
+    {
+      const dealii::QGauss<3> rule(m.n_q_1d);
+      dealii::FEValues<3>     fe_jxw(m.mapping,
+                                 *m.fe,
+                                 rule,
+                                 dealii::update_JxW_values);
+      double                  volume = 0;
+      for (const auto &cell : m.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_jxw.reinit(cell);
+            for (const unsigned int q : fe_jxw.quadrature_point_indices())
+              volume += fe_jxw.JxW(q);
+          }
+      m.body_volume = dealii::Utilities::MPI::sum(volume, m.comm);
+    }
 
     std::string solver = params.linear_solver;
     if (solver == "auto")
@@ -170,12 +224,20 @@ namespace systole::Mechanics
     // hyperelastic energy, the springs, and a pressure on a cavity (whose load
     // is the exact derivative of the discrete cavity volume, so its tangent is
     // a Hessian). A follower pressure on an open surface is not.
-    const bool symmetric = !m.pressure_id.has_value() || m.cavity.has_value();
+    const bool symmetric = (!m.pressure_id.has_value() || m.cavity.has_value());
     m.linear_solver      = create_linear_solver(solver,
                                            m.mapping,
                                            m.dof_handler,
+                                           m.layout,
                                            params.linear_tolerance,
                                            symmetric);
+    if (m.linear_solver->needs_pressure_matrix())
+      m.pressure_matrix = std::make_unique<PressureMatrix>(
+        m.layout,
+        m.comm,
+        params.pressure_element == PressureElement::discontinuous
+          ? m.fe->base_element(1).n_dofs_per_cell()
+          : 64);
   }
 
   Problem::~Problem() = default;
@@ -223,6 +285,36 @@ namespace systole::Mechanics
     return impl->newton(pressure, active_tension, &target_volume);
   }
 
+  double
+  Problem::Impl::seconds_in(const std::string &section) const
+  {
+    const auto times =
+      timer.get_summary_data(dealii::TimerOutput::total_wall_time);
+    const auto it = times.find(section);
+    return it == times.end() ? 0.0 : it->second;
+  }
+
+  std::array<double, 2>
+  block_norms(const FieldLayout &layout, const LA::MPI::Vector &v)
+  {
+    // Owned entries: the displacement range comes first, then the pressure.
+    const auto         n_u = layout.owned(0).n_elements();
+    const auto         n   = v.locally_owned_size();
+    const PetscScalar *x;
+    VecGetArrayRead(v, &x);
+    std::array<double, 2> squares = {{0.0, 0.0}};
+    for (std::size_t i = 0; i < n; ++i)
+      squares[i < n_u ? 0 : 1] += x[i] * x[i];
+    VecRestoreArrayRead(v, &x);
+    MPI_Allreduce(MPI_IN_PLACE,
+                  squares.data(),
+                  2,
+                  MPI_DOUBLE,
+                  MPI_SUM,
+                  v.get_mpi_communicator());
+    return {{std::sqrt(squares[0]), std::sqrt(squares[1])}};
+  }
+
   NewtonReport
   Problem::Impl::newton(double       &pressure,
                         const double  active_tension,
@@ -231,49 +323,58 @@ namespace systole::Mechanics
     Impl           &m = *this;
     NewtonReport    report;
     LA::MPI::Vector du(m.owned, m.comm), w_volume(m.owned, m.comm);
-    double          residual     = 0;
-    double          volume_error = 0; // |V(u) - V_target| / V_target
-    const bool      bordered     = target_volume != nullptr;
+    // Block norms of the residual (u: force [mN]; p: volume [mm^3]).
+    std::array<double, 2> residual     = {{0.0, 0.0}};
+    double                volume_error = 0; // |V(u) - V_target| / V_target
+    const bool            bordered     = target_volume != nullptr;
+    const bool            mixed        = m.layout.mixed();
 
     auto &out = m.logger.detail();
-    // Residual scale: the largest residual seen in this solve, and for a
-    // volume-constrained solve at least the cavity pressure load |p b| (a
-    // solve that starts close to equilibrium is not held to a fraction of
-    // its tiny first residual).
+    // Residual scale: the largest displacement residual seen in this solve,
+    // and for a volume-constrained solve at least the cavity pressure load
+    // |p b| (a solve that starts close to equilibrium is not held to a
+    // fraction of its tiny first residual). The pressure rows are volumes:
+    // held to the relative tolerance times the volume of the body.
     double     reference     = 0;
     const auto pressure_load = [&](const LA::MPI::Vector &b) {
       return bordered ? std::abs(pressure) * b.l2_norm() : 0.0;
     };
-    double du_norm = 0;
+    const auto p_converged = [&]() {
+      return !mixed ||
+             residual[1] <= m.params.newton_relative_tolerance * m.body_volume;
+    };
+    const auto converged = [&](const double reference) {
+      const bool u_ok =
+        residual[0] <= m.params.newton_absolute_tolerance ||
+        residual[0] <= m.params.newton_relative_tolerance * reference;
+      return u_ok && p_converged();
+    };
+    std::array<double, 2> du_norm = {{0.0, 0.0}};
 
-    // Residual and tangent (and dV/du when bordered) at the current u; false
+    const double assembly_start = m.seconds_in("Mechanics / assembly");
+    const double solver_start   = m.seconds_in("Mechanics / linear solver");
+    // Residual (with_matrix: and tangent and dV/du) at the current u; false
     // if an element inverted or the residual is not finite (decided on all
     // ranks alike).
-    double     assembly_seconds = 0, solver_seconds = 0;
-    const auto seconds_since = [](const auto start) {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                           start)
-        .count();
-    };
-    // Residual (with_matrix: and tangent and dV/du) at the current u.
-    const auto try_assemble = [&](double &norm, const bool with_matrix) {
-      const auto start = std::chrono::steady_clock::now();
+    const auto try_assemble = [&](std::array<double, 2> &norms,
+                                  const bool             with_matrix) {
       try
         {
-          norm = m.assemble(pressure,
-                            active_tension,
-                            with_matrix,
-                            with_matrix && bordered);
+          m.assemble(pressure,
+                     active_tension,
+                     with_matrix,
+                     with_matrix && bordered);
+          norms = block_norms(m.layout, m.residual);
           if (bordered)
             volume_error =
               (cavity_volume_now() - *target_volume) / *target_volume;
-          assembly_seconds += seconds_since(start);
         }
       catch (const ExcInvertedElement &)
         {
           return false;
         }
-      return std::isfinite(norm) && std::isfinite(volume_error);
+      return std::isfinite(norms[0]) && std::isfinite(norms[1]) &&
+             std::isfinite(volume_error);
     };
 
     // Chord iterations on the factorization of an earlier solve: residual
@@ -285,30 +386,31 @@ namespace systole::Mechanics
         const double          pressure_start = pressure;
         const double b0_w0 = m.factorized_volume_derivative * m.factorized_w;
         bool         ok    = try_assemble(residual, false) && b0_w0 != 0.0;
-        double       start_residual                 = residual;
+        const double start_residual                 = residual[0];
         constexpr unsigned int max_chord_iterations = 12;
         for (unsigned int it = 0; ok; ++it)
           {
             reference =
               std::max({reference,
-                        residual,
+                        residual[0],
                         pressure_load(m.factorized_volume_derivative)});
             if (std::abs(volume_error) <= volume_tolerance &&
-                (residual <= m.params.newton_absolute_tolerance ||
-                 residual <= m.params.newton_relative_tolerance * reference))
+                converged(reference))
               {
-                report.final_residual   = residual;
+                report.final_residual   = residual[0];
                 report.initial_residual = start_residual;
                 return report;
               }
             if (it == max_chord_iterations)
               break;
             m.residual *= -1.0;
-            const auto solver_start = std::chrono::steady_clock::now();
             try
               {
+                dealii::TimerOutput::Scope scope(m.timer,
+                                                 "Mechanics / linear solver");
                 du = 0;
-                m.linear_solver->solve(du, m.residual);
+                report.linear_iterations +=
+                  m.linear_solver->solve(du, m.residual);
                 m.constraints.distribute(du);
               }
             catch (const dealii::ExceptionBase &)
@@ -320,23 +422,25 @@ namespace systole::Mechanics
             const double dp =
               -(g + m.factorized_volume_derivative * du) / b0_w0;
             du.add(dp, m.factorized_w);
-            solver_seconds += seconds_since(solver_start);
             m.u_owned.add(1.0, du);
             m.u = m.u_owned;
             pressure += dp;
             ++report.reused_iterations;
-            const double previous = residual;
+            const double previous = residual[0];
             ok                    = try_assemble(residual, false);
             out << "      chord " << report.reused_iterations
-                << ": |R| = " << std::scientific << std::setprecision(3)
-                << residual << "  |dV|/V = " << std::abs(volume_error)
+                << ": |R_u| = " << std::scientific << std::setprecision(3)
+                << residual[0];
+            if (mixed)
+              out << "  |R_p| = " << residual[1];
+            out << "  |dV|/V = " << std::abs(volume_error)
                 << "  p = " << pressure << std::defaultfloat << std::endl;
             // (The first iteration mostly corrects the volume, which |R|
             // does not measure: judge the rate from the second on.)
-            if (ok && it > 0 && !(residual < 0.3 * previous))
+            if (ok && it > 0 && !(residual[0] < 0.3 * previous))
               break; // slow: continue with full Newton from here
           }
-        if (!ok || !(residual < start_residual))
+        if (!ok || !(residual[0] < start_residual))
           {
             // Failed or no better: full Newton from the start.
             m.u_owned = u_start;
@@ -353,25 +457,33 @@ namespace systole::Mechanics
                                         "of the load step",
                                         0,
                                         1.0));
-    report.initial_residual = residual;
+    report.initial_residual = residual[0];
     for (unsigned int it = 0;; ++it)
       {
-        reference = std::max(reference, residual);
+        reference = std::max(reference, residual[0]);
         if (it > 0)
           reference = std::max(reference, pressure_load(m.volume_derivative));
-        const double relative = residual / std::max(reference, 1e-300);
-        const double u_norm   = m.u_owned.l2_norm();
+        const double relative = residual[0] / std::max(reference, 1e-300);
+        const auto   u_norm   = block_norms(m.layout, m.u_owned);
         if (it > 0)
           {
             out << "      Newton " << std::setw(2) << it
-                << ": |R| = " << std::scientific << std::setprecision(3)
-                << residual << "  |R|/|R|max = " << relative
-                << "  |du|/|u| = " << du_norm / std::max(u_norm, 1e-300);
+                << ": |R_u| = " << std::scientific << std::setprecision(3)
+                << residual[0] << "  |R_u|/|R_u|max = " << relative;
+            if (mixed)
+              out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+            out << "  |du|/|u| = " << du_norm[0] / std::max(u_norm[0], 1e-300);
+            if (mixed)
+              out << "  |dp|/|p| = "
+                  << du_norm[1] / std::max(u_norm[1], 1e-300);
             if (bordered)
               out << "  |dV|/V = " << std::abs(volume_error)
-                  << "  p = " << pressure;
+                  << "  p_cavity = " << pressure;
             out << std::defaultfloat << std::setprecision(2) << "  (assembly "
-                << assembly_seconds << " s, solver " << solver_seconds << " s)"
+                << m.seconds_in("Mechanics / assembly") - assembly_start
+                << " s, solver "
+                << m.seconds_in("Mechanics / linear solver") - solver_start
+                << " s, " << report.linear_iterations << " linear its)"
                 << std::endl;
           }
         // Converged: the residual fell by the relative tolerance, or is at
@@ -379,13 +491,13 @@ namespace systole::Mechanics
         // the cavity volume is on its target.
         const bool volume_ok =
           !bordered || std::abs(volume_error) <= volume_tolerance;
-        if (volume_ok &&
-            (residual <= m.params.newton_absolute_tolerance ||
-             (it > 0 && (relative <= m.params.newton_relative_tolerance ||
-                         du_norm <= 1e-12 * u_norm))))
+        if (volume_ok && ((residual[0] <= m.params.newton_absolute_tolerance &&
+                           p_converged()) ||
+                          (it > 0 && (converged(reference) ||
+                                      du_norm[0] <= 1e-12 * u_norm[0]))))
           {
             report.iterations     = it;
-            report.final_residual = residual;
+            report.final_residual = residual[0];
             return report;
           }
         AssertThrow(it < m.params.max_newton_iterations,
@@ -402,37 +514,40 @@ namespace systole::Mechanics
         // The tangent (and dV/du) at this iterate; the residual again.
         try_assemble(residual, true);
         m.residual *= -1.0;
-        const auto solver_start = std::chrono::steady_clock::now();
-        try
-          {
-            m.linear_solver->setup(m.tangent);
-          }
-        catch (const dealii::ExceptionBase &e)
-          {
-            AssertThrow(false,
-                        ExcNewtonDidNotConverge(std::string("linear solver: ") +
-                                                  one_line_message(e),
-                                                it,
-                                                relative));
-          }
-        report.linear_iterations +=
-          m.linear_solve(du, m.residual, it, relative);
         double dp = 0;
-        if (bordered)
-          {
-            report.linear_iterations +=
-              m.linear_solve(w_volume, m.volume_derivative, it, relative);
-            const double g = volume_error * *target_volume;
-            // b.w with the constrained entries of the distributed w: b is
-            // condensed (zero there), so the plain dot product is b^T w.
-            dp = -(g + m.volume_derivative * du) /
-                 (m.volume_derivative * w_volume);
-            du.add(dp, w_volume);
-            m.factorized_volume_derivative = m.volume_derivative;
-            m.factorized_w                 = w_volume;
-            m.have_factorization           = true;
-          }
-        solver_seconds += seconds_since(solver_start);
+        {
+          dealii::TimerOutput::Scope scope(m.timer,
+                                           "Mechanics / linear solver");
+          try
+            {
+              m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+            }
+          catch (const dealii::ExceptionBase &e)
+            {
+              AssertThrow(false,
+                          ExcNewtonDidNotConverge(std::string(
+                                                    "linear solver: ") +
+                                                    one_line_message(e),
+                                                  it,
+                                                  relative));
+            }
+          report.linear_iterations +=
+            m.linear_solve(du, m.residual, it, relative);
+          if (bordered)
+            {
+              report.linear_iterations +=
+                m.linear_solve(w_volume, m.volume_derivative, it, relative);
+              const double g = volume_error * *target_volume;
+              // b.w with the constrained entries of the distributed w: b is
+              // condensed (zero there), so the plain dot product is b^T w.
+              dp = -(g + m.volume_derivative * du) /
+                   (m.volume_derivative * w_volume);
+              du.add(dp, w_volume);
+              m.factorized_volume_derivative = m.volume_derivative;
+              m.factorized_w                 = w_volume;
+              m.have_factorization           = true;
+            }
+        }
 
         // Safeguarded update: halve the step while it inverts an element. (A
         // residual-norm merit test is no use here: the first iterations of a
@@ -445,9 +560,9 @@ namespace systole::Mechanics
           {
             m.u_owned = u_start;
             m.u_owned.add(alpha, du);
-            m.u          = m.u_owned;
-            pressure     = pressure_start + alpha * dp;
-            double trial = 0;
+            m.u      = m.u_owned;
+            pressure = pressure_start + alpha * dp;
+            std::array<double, 2> trial;
             if (try_assemble(trial, false))
               {
                 residual = trial;
@@ -461,7 +576,9 @@ namespace systole::Mechanics
           }
         if (alpha < 1.0)
           out << "      (step length " << alpha << ")" << std::endl;
-        du_norm = alpha * du.l2_norm();
+        du_norm = block_norms(m.layout, du);
+        du_norm[0] *= alpha;
+        du_norm[1] *= alpha;
       }
   }
 
@@ -547,28 +664,98 @@ namespace systole::Mechanics
   Problem::quadrature_points(
     std::vector<std::vector<dealii::Point<3>>> &points) const
   {
-    points = impl->quadrature_points;
+    const Impl &m = *impl;
+    points.assign(m.tria.n_active_cells(), {});
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &data : m.point_data.get_data(cell))
+          points[cell->active_cell_index()].push_back(data->position);
   }
 
   void
   Problem::set_active_tension(std::vector<std::vector<double>> tension)
   {
-    AssertThrow(tension.empty() ||
-                  tension.size() == impl->quadrature_points.size(),
+    Impl &m = *impl;
+    AssertThrow(tension.empty() || tension.size() == m.tria.n_active_cells(),
                 dealii::ExcMessage("set_active_tension: one vector per cell "
                                    "(by active cell index) expected."));
-    impl->active_tension_field = std::move(tension);
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const auto data = m.point_data.get_data(cell);
+          const auto c    = cell->active_cell_index();
+          AssertThrow(tension.empty() || tension[c].size() == data.size(),
+                      dealii::ExcMessage("set_active_tension: one value per "
+                                         "quadrature point expected."));
+          for (unsigned int q = 0; q < data.size(); ++q)
+            data[q]->tension = tension.empty() ? 0.0 : tension[c][q];
+        }
   }
 
   void
   Problem::set_displacement(const dealii::Function<3> &displacement)
   {
-    dealii::VectorTools::interpolate(impl->mapping,
-                                     impl->dof_handler,
-                                     displacement,
-                                     impl->u_owned);
-    impl->constraints.distribute(impl->u_owned);
-    impl->u = impl->u_owned;
+    Impl &m = *impl;
+    if (!m.layout.mixed())
+      dealii::VectorTools::interpolate(m.mapping,
+                                       m.dof_handler,
+                                       displacement,
+                                       m.u_owned);
+    else
+      {
+        // The pressure element has no support points: interpolate the
+        // displacement on a displacement-only space and copy it node by node
+        // (same FE_Q base, same cells); the pressure becomes zero.
+        const dealii::FESystem<3> fe_u(m.fe->base_element(0), 3);
+        dealii::DoFHandler<3>     dof_u(m.tria);
+        dof_u.distribute_dofs(fe_u);
+        dealii::IndexSet relevant_u;
+        dealii::DoFTools::extract_locally_relevant_dofs(dof_u, relevant_u);
+        LA::MPI::Vector owned_u(dof_u.locally_owned_dofs(), m.comm);
+        dealii::VectorTools::interpolate(m.mapping,
+                                         dof_u,
+                                         displacement,
+                                         owned_u);
+        LA::MPI::Vector ghosted_u(dof_u.locally_owned_dofs(),
+                                  relevant_u,
+                                  m.comm);
+        ghosted_u = owned_u;
+        m.u_owned = 0;
+        std::vector<dealii::types::global_dof_index> dofs(
+          m.fe->n_dofs_per_cell()),
+          dofs_u(fe_u.n_dofs_per_cell());
+        auto cell_u = dof_u.begin_active();
+        for (const auto &cell : m.dof_handler.active_cell_iterators())
+          {
+            if (cell->is_locally_owned())
+              {
+                cell->get_dof_indices(dofs);
+                cell_u->get_dof_indices(dofs_u);
+                for (unsigned int j = 0; j < dofs_u.size(); ++j)
+                  {
+                    const auto i = m.fe->component_to_system_index(
+                      fe_u.system_to_component_index(j).first,
+                      fe_u.system_to_component_index(j).second);
+                    if (m.owned.is_element(dofs[i]))
+                      m.u_owned(dofs[i]) = ghosted_u(dofs_u[j]);
+                  }
+              }
+            ++cell_u;
+          }
+        m.u_owned.compress(dealii::VectorOperation::insert);
+      }
+    m.constraints.distribute(m.u_owned);
+    m.u = m.u_owned;
+  }
+
+  void
+  Problem::set_pressure_field(const double amplitude)
+  {
+    Impl &m = *impl;
+    for (const auto i : m.layout.owned(1))
+      m.u_owned(i) = amplitude * std::sin(1.0 + 0.7 * i);
+    m.u_owned.compress(dealii::VectorOperation::insert);
+    m.u = m.u_owned;
   }
 
   void
@@ -663,7 +850,7 @@ namespace systole::Mechanics
             const dealii::Quadrature<3> at(
               dealii::GeometryInfo<3>::project_to_unit_cell(found.second));
             dealii::FEValues<3> fe_values(m.mapping,
-                                          m.fe,
+                                          *m.fe,
                                           at,
                                           dealii::update_values);
             fe_values.reinit(found.first);
@@ -682,14 +869,21 @@ namespace systole::Mechanics
   Problem::attach_output(dealii::DataOut<3, 3> &data_out) const
   {
     data_out.attach_dof_handler(impl->dof_handler);
-    const std::vector<
+    std::vector<
       dealii::DataComponentInterpretation::DataComponentInterpretation>
-      vector(3,
-             dealii::DataComponentInterpretation::component_is_part_of_vector);
+                             kinds(3,
+            dealii::DataComponentInterpretation::component_is_part_of_vector);
+    std::vector<std::string> names(3, "displacement");
+    if (impl->layout.mixed())
+      {
+        kinds.push_back(
+          dealii::DataComponentInterpretation::component_is_scalar);
+        names.emplace_back("pressure");
+      }
     data_out.add_data_vector(impl->u,
-                             std::vector<std::string>(3, "displacement"),
+                             names,
                              dealii::DataOut<3>::type_dof_data,
-                             vector);
+                             kinds);
   }
 
   const dealii::Mapping<3, 3> &
@@ -708,5 +902,26 @@ namespace systole::Mechanics
   Problem::linear_solver_name() const
   {
     return impl->linear_solver->name();
+  }
+
+  std::string
+  Problem::discretization_name() const
+  {
+    return impl->layout.name();
+  }
+
+  std::array<dealii::types::global_dof_index, 2>
+  Problem::n_block_dofs() const
+  {
+    return {{dealii::Utilities::MPI::sum(impl->layout.owned(0).n_elements(),
+                                         impl->comm),
+             dealii::Utilities::MPI::sum(impl->layout.owned(1).n_elements(),
+                                         impl->comm)}};
+  }
+
+  std::map<std::string, double>
+  Problem::timings() const
+  {
+    return impl->timer.get_summary_data(dealii::TimerOutput::total_wall_time);
   }
 } // namespace systole::Mechanics

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -190,6 +191,24 @@ namespace systole::Mechanics
     /// "direct (MUMPS)" or "iterative (GMRES + GAMG)".
     std::string
     linear_solver_name() const;
+
+    /// The fields and elements, e.g. "Q2-P1disc (u-p, incompressible)".
+    std::string
+    discretization_name() const;
+
+    /// Global DoFs of the displacement and of the pressure (0 for penalty).
+    std::array<dealii::types::global_dof_index, 2>
+    n_block_dofs() const;
+
+    /// Total wall times [s] of the mechanics' timer sections so far
+    /// ("Mechanics / assembly", "Mechanics / linear solver"), on this rank.
+    std::map<std::string, double>
+    timings() const;
+
+    /// Verification hook (mixed formulations): set every pressure DoF i to
+    /// amplitude sin(1 + 0.7 i) [kPa], a non-trivial pressure field.
+    void
+    set_pressure_field(const double amplitude);
 
   private:
     struct Impl;

@@ -3,6 +3,8 @@
 // Internal to src/mechanics: the state of Mechanics::Problem, shared by its
 // translation units (problem.cc, assembly.cc). Not included elsewhere.
 
+#include <deal.II/base/quadrature_point_data.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
@@ -13,15 +15,32 @@
 
 #include "base/linear_algebra.h"
 #include "base/logger.h"
+#include "fibres/fibre_basis.h"
 #include "mechanics/cavity_volume.h"
+#include "mechanics/field_layout.h"
 #include "mechanics/linear_solver.h"
 #include "mechanics/problem.h"
 
 #include <optional>
 #include <set>
+#include <sstream>
 
 namespace systole::Mechanics
 {
+  /// What the mechanics keeps at one quadrature point of a locally owned
+  /// cell (in a CellDataStorage; set up once).
+  struct PointData
+  {
+    Fibres::FibreBasis basis;    ///< fibre frame
+    dealii::Point<3>   position; ///< reference position [mm]
+    double tension = 0.0; ///< active tension added to the uniform one [kPa]
+  };
+
+  /// Euclidean norms of the two blocks (u, p) of a vector in the layout of
+  /// @p layout (collective).
+  std::array<double, 2>
+  block_norms(const FieldLayout &layout, const LA::MPI::Vector &v);
+
   struct Problem::Impl
   {
     Impl(const Parameters                                   &params,
@@ -74,7 +93,16 @@ namespace systole::Mechanics
     const Materials::PassiveLaw                        &passive_law;
     const Materials::VolumetricLaw                     &volumetric_law;
 
-    dealii::FESystem<3> fe;
+    /// The fields (u, or u and p) and their blocks.
+    FieldLayout                                  layout;
+    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
+    /// 1/kappa of the mixed formulations (0 when incompressible).
+    double inverse_bulk_modulus = 0.0;
+    /// Lower bound of the local shear stiffness in the Schur preconditioner
+    /// [kPa] (a tenth of the law's at F = I).
+    double reference_shear_stiffness = 0.0;
+    /// Reference volume of the body [mm^3] (the scale of the pressure rows).
+    double body_volume = 0.0;
     /// The curved geometry: MappingQ of the manifolds, its support points
     /// computed once (the manifold evaluations would otherwise dominate
     /// every assembly).
@@ -91,24 +119,34 @@ namespace systole::Mechanics
     std::optional<dealii::types::boundary_id> pressure_id;
     std::optional<CavityVolume>               cavity;
 
-    /// Fibre frames per locally owned cell (active_cell_index) and point.
-    std::vector<std::vector<Fibres::FibreBasis>> fibre_bases;
-    /// Reference positions of those points.
-    std::vector<std::vector<dealii::Point<3>>> quadrature_points;
-    /// Active tension per locally owned cell and point [kPa], added to the
-    /// uniform one (empty: none).
-    std::vector<std::vector<double>> active_tension_field;
+    /// Fibre frame, position and active tension at the quadrature points of
+    /// the locally owned cells.
+    dealii::CellDataStorage<dealii::Triangulation<3, 3>::cell_iterator,
+                            PointData>
+      point_data;
 
     LA::MPI::SparseMatrix tangent;
-    LA::MPI::Vector       residual;          ///< owned
-    LA::MPI::Vector       volume_derivative; ///< owned: dV/du, condensed
-    LA::MPI::Vector       u_owned;           ///< owned
-    LA::MPI::Vector       u;                 ///< ghosted copy of u_owned
-    LA::MPI::Vector       u_saved;           ///< owned
-    LA::MPI::Vector       u_previous; ///< owned, the save() before u_saved
-    unsigned int          n_saves = 0;
+    /// The Schur-complement preconditioner of the mixed iterative solver.
+    std::unique_ptr<PressureMatrix> pressure_matrix;
+    LA::MPI::Vector                 residual; ///< owned
+    LA::MPI::Vector volume_derivative;        ///< owned: dV/du, condensed
+    LA::MPI::Vector u_owned;                  ///< owned
+    LA::MPI::Vector u;                        ///< ghosted copy of u_owned
+    LA::MPI::Vector u_saved;                  ///< owned
+    LA::MPI::Vector u_previous; ///< owned, the save() before u_saved
+    unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
+
+    /// Wall times of assembly and linear solves (sections "Mechanics /
+    /// ..."), summed over the run.
+    std::ostringstream  timer_sink;
+    dealii::TimerOutput timer;
+
+    /// Total wall time of a timer section so far [s] (0 before its first
+    /// use).
+    double
+    seconds_in(const std::string &section) const;
 
     /// The linear solver holds a factorization of the bordered system of an
     /// earlier Newton iteration: the tangent, b0 = dV/du and w0 = K^-1 b0

@@ -47,13 +47,18 @@ namespace systole::Mechanics
                 A[i][j][K] += p[3] * r[3] * F[k][L] * N[J];
               }
 
+        // Only the displacement components (0-2) take part; a pressure field
+        // of the mixed formulations (component 3) does not.
         if (matrix != nullptr)
           for (unsigned int b = 0; b < n; ++b)
-            grad[b] = fe_face.shape_grad_component(b, q, component[b]);
+            if (component[b] < 3)
+              grad[b] = fe_face.shape_grad_component(b, q, component[b]);
         for (unsigned int a = 0; a < n; ++a)
           {
-            const unsigned int ca  = component[a];
-            const double       phi = fe_face.shape_value(a, q);
+            const unsigned int ca = component[a];
+            if (ca >= 3)
+              continue;
+            const double phi = fe_face.shape_value(a, q);
             if (phi == 0.0)
               continue;
             vector(a) += phi * area[ca] * JxW;
@@ -61,6 +66,8 @@ namespace systole::Mechanics
               continue;
             for (unsigned int b = 0; b < n; ++b)
               {
+                if (component[b] >= 3)
+                  continue;
                 const double *row  = A[ca][component[b]];
                 const double value = row[0] * grad[b][0] + row[1] * grad[b][1] +
                                      row[2] * grad[b][2];

@@ -45,8 +45,9 @@ namespace systole
   {
     std::ostringstream o;
     o << IO::code_version() << ": problem '" << run.problem << "', "
-      << tria.n_global_active_cells() << " cells, Q" << run.polynomial_degree
-      << ", " << problem->n_dofs() << " DOFs, "
+      << tria.n_global_active_cells() << " cells, "
+      << problem->discretization_name() << ", " << problem->n_dofs()
+      << " DOFs, "
       << dealii::Utilities::MPI::n_mpi_processes(tria.get_communicator())
       << " rank(s), " << passive->name() << ", linear solver "
       << problem->linear_solver_name();

@@ -156,12 +156,16 @@ namespace systole
       Integer(1, 4),
       "Degree of the polynomial geometry of curved cells (1: straight edges). "
       "Units: -.");
+    Mechanics::Parameters::declare_pressure_element(prm);
     prm.leave_subsection();
 
     Geometry::Parameters::declare(prm);
     KinematicsParameters::declare(prm);
     Fibres::Parameters::declare(prm);
     Materials::declare_parameters(prm);
+    prm.enter_subsection("Material");
+    Mechanics::Parameters::declare_incompressibility(prm);
+    prm.leave_subsection();
     Mechanics::Parameters::declare(prm);
     Materials::Bestel::Parameters::declare(prm);
     Circulation::Parameters::declare(prm);

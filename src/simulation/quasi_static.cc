@@ -87,6 +87,7 @@ namespace systole
     double       increment      = nominal;
     double       last_increment = nominal;
     unsigned int cuts           = 0;
+    unsigned int total_newton = 0, total_linear = 0, total_solves = 0;
     problem.save();
     while (fraction < 1.0 - 1e-12)
       {
@@ -103,6 +104,9 @@ namespace systole
             const auto report = problem.solve(target * params.pressure,
                                               target * params.active_tension);
             problem.save();
+            total_newton += report.iterations;
+            total_linear += report.linear_iterations;
+            total_solves += report.iterations;
             fraction       = target;
             last_increment = increment;
             ++step;
@@ -111,9 +115,9 @@ namespace systole
             // an easy step (at most 4 iterations), shrink it after a hard one
             // (8 or more), so that the steps follow the nonlinearity of the
             // response (the exponential laws are soft first, stiff later).
-            if (report.iterations <= 4)
+            if (params.adaptive_load_steps && report.iterations <= 4)
               increment *= 1.5;
-            else if (report.iterations >= 8)
+            else if (params.adaptive_load_steps && report.iterations >= 8)
               increment *= 0.5;
           }
         catch (const ExcNewtonDidNotConverge &e)
@@ -135,6 +139,28 @@ namespace systole
               << "); cutting the load step to " << increment << std::endl;
           }
       }
+    // One summary row: sizes, counts and the mechanics' timer sections
+    // (this rank's wall times), read by scripts/bench.
+    const auto blocks  = problem.n_block_dofs();
+    const auto timings = problem.timings();
+    const auto seconds = [&](const std::string &section) {
+      const auto it = timings.find(section);
+      return it == timings.end() ? 0.0 : it->second;
+    };
+    results.append_summary(
+      {{"n_dofs", "-", static_cast<double>(problem.n_dofs())},
+       {"n_displacement_dofs", "-", static_cast<double>(blocks[0])},
+       {"n_pressure_dofs", "-", static_cast<double>(blocks[1])},
+       {"load_steps", "-", static_cast<double>(step)},
+       {"step_cuts", "-", static_cast<double>(cuts)},
+       {"newton_iterations", "-", static_cast<double>(total_newton)},
+       {"linear_iterations", "-", static_cast<double>(total_linear)},
+       {"linear_iterations_per_solve",
+        "-",
+        total_solves > 0 ? static_cast<double>(total_linear) / total_solves
+                         : 0.0},
+       {"assembly_seconds", "s", seconds("Mechanics / assembly")},
+       {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}});
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

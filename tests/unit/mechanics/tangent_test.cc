@@ -119,4 +119,56 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     problem.set_displacement(Wobble(0.5));
     CHECK(observed_order(problem, 0.5, 5.0, 1e-3) == Approx(2.0).margin(0.2));
   }
+
+  SECTION("Land ventricle, mixed Q2-P1disc and Q2-Q1, nearly incompressible "
+          "and incompressible, with a pressure field, follower pressure, "
+          "active tension and Robin springs")
+  {
+    Geometry::Parameters geometry; // the Land ventricle
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto names = Geometry::create_mesh(geometry, tria);
+    for (const auto element : {Mechanics::PressureElement::discontinuous,
+                               Mechanics::PressureElement::continuous})
+      for (const auto incompressibility :
+           {Mechanics::Incompressibility::nearly_incompressible,
+            Mechanics::Incompressibility::incompressible})
+        {
+          Mechanics::Parameters params;
+          params.incompressibility = incompressibility;
+          params.pressure_element  = element;
+          params.fixed_boundaries  = {"base"};
+          params.pressure_boundary = "endocardium";
+          params.robin_boundaries  = {"epicardium"};
+          params.robin_stiffness   = 0.5;
+          params.linear_solver     = "direct";
+          Mechanics::Problem
+            problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
+          problem.set_displacement(Wobble(0.8));
+          problem.set_pressure_field(4.0);
+          INFO(problem.discretization_name());
+          CHECK(observed_order(problem, 3.0, 20.0, 1e-3) ==
+                Approx(2.0).margin(0.2));
+        }
+  }
+
+  SECTION("Beam, mixed Q1-P0, follower pressure on a free face, sliding face")
+  {
+    Geometry::Parameters geometry;
+    geometry.type      = Geometry::Parameters::Type::box;
+    geometry.box_upper = dealii::Point<3>(10, 1, 1);
+    geometry.box_cells = {{5, 2, 2}};
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto            names = Geometry::create_mesh(geometry, tria);
+    Mechanics::Parameters params;
+    params.incompressibility  = Mechanics::Incompressibility::incompressible;
+    params.fixed_boundaries   = {"x_min"};
+    params.sliding_boundaries = {"y_min"};
+    params.pressure_boundary  = "z_min";
+    params.linear_solver      = "direct";
+    Mechanics::Problem
+      problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+    problem.set_displacement(Wobble(0.5));
+    problem.set_pressure_field(2.0);
+    CHECK(observed_order(problem, 0.5, 5.0, 1e-3) == Approx(2.0).margin(0.2));
+  }
 }
