@@ -116,8 +116,27 @@ namespace systole::Mechanics
         KSPGetPC(ksp, &pc);
         failure = PC_NOERROR;
         PCGetFailedReason(pc, &failure);
+        negative = -1;
+        if (code == 0 && failure == PC_NOERROR && symmetric)
+          {
+            Mat      F;
+            PetscInt n = -1;
+            if (PCFactorGetMatrix(pc, &F) == 0 &&
+                MatMumpsGetInfog(F, 12, &n) == 0)
+              negative = n;
+          }
         return code == 0 && failure == PC_NOERROR;
       }
+
+    public:
+      long
+      negative_pivots() const override
+      {
+        return negative;
+      }
+
+    private:
+      long negative = -1;
 
       bool           symmetric;
       KSP            ksp     = nullptr;

@@ -104,6 +104,17 @@ namespace systole::Mechanics
     virtual unsigned int
     solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) = 0;
 
+    /// Number of negative pivots of the last LDL^T factorization (MUMPS
+    /// INFOG(12)), the number of negative eigenvalues of K (Sylvester's law
+    /// of inertia); -1 when unknown (LU, iterative solvers). A stable
+    /// equilibrium of the mixed formulation has exactly as many as there are
+    /// pressure DoFs (the saddle point), of the penalty one none.
+    virtual long
+    negative_pivots() const
+    {
+      return -1;
+    }
+
     /// Whether this solver needs the PressureMatrix in setup().
     virtual bool
     needs_pressure_matrix() const

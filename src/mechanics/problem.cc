@@ -213,6 +213,10 @@ namespace systole::Mechanics
               volume += fe_jxw.JxW(q);
           }
       m.body_volume = dealii::Utilities::MPI::sum(volume, m.comm);
+      m.n_pressure_dofs =
+        dealii::Utilities::MPI::sum(static_cast<long>(
+                                      m.layout.owned(1).n_elements()),
+                                    m.comm);
     }
 
     std::string solver = params.linear_solver;
@@ -483,8 +487,11 @@ namespace systole::Mechanics
                 << m.seconds_in("Mechanics / assembly") - assembly_start
                 << " s, solver "
                 << m.seconds_in("Mechanics / linear solver") - solver_start
-                << " s, " << report.linear_iterations << " linear its)"
-                << std::endl;
+                << " s, " << report.linear_iterations << " linear its";
+            const long negative = m.linear_solver->negative_pivots();
+            if (negative >= 0)
+              out << ", " << negative << " negative pivots";
+            out << ")" << std::endl;
           }
         // Converged: the residual fell by the relative tolerance, or is at
         // the absolute floor, or the last update was at round-off level; and

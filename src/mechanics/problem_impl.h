@@ -103,6 +103,8 @@ namespace systole::Mechanics
     double reference_shear_stiffness = 0.0;
     /// Reference volume of the body [mm^3] (the scale of the pressure rows).
     double body_volume = 0.0;
+    /// Global number of pressure DoFs.
+    long n_pressure_dofs = 0;
     /// The curved geometry: MappingQ of the manifolds, its support points
     /// computed once (the manifold evaluations would otherwise dominate
     /// every assembly).
