@@ -80,6 +80,12 @@ BUSY_NOTE = ("\n\\* The machine was busy during the run (other work used more th
              f"{os.cpu_count()} cores on average, from the load average): the time is inflated.")
 
 
+#: The mechanics' run banner: '... N cells, <discretization>, N DOFs, N rank(s), <passive law>,
+#: linear solver <name>'.
+BANNER = re.compile(r"\d+ cells, (.+?), \d+ DOFs, \d+ rank\(s\), .*?, linear solver (.+)$",
+                    re.MULTILINE)
+
+
 def run(case: Case, build: Path, workdir: Path) -> dict:
     """Run one case; return the numbers of its table row."""
     text = (ROOT / "parameters" / case.base).read_text()
@@ -109,6 +115,10 @@ def run(case: Case, build: Path, workdir: Path) -> dict:
     row["newton"] = int(np.sum(newton))
     row["newton_per_step"] = " ".join(str(int(n)) for n in newton)
     row["cut"] = len(re.findall(r"cutting the load step", log))
+    banner = BANNER.search(log)
+    if banner:
+        row["discretization"], row["solver"] = banner.group(1), banner.group(2).strip()
+    row["summary"] = {k: float(v[-1]) for k, v in results.summary.items()}
     return row
 
 
@@ -259,6 +269,128 @@ def p3_note(rows: list[dict]) -> str:
     return (f"\n\nFrom the second finest ({coarse['dofs']} DOFs) to the finest mesh "
             f"({fine['dofs']} DOFs): {change}. The apexes stay on the axis "
             f"(|x|, |y| <= {off_axis:.1e} mm at every level).")
+
+
+#: Land problem 1 (C = 2 kPa) with the formulations and solvers of the 'mixed' group.
+MIXED_FORMULATIONS = [
+    ("incompressible, direct", {"Material/Incompressibility": "incompressible",
+                                "Mechanics/Linear solver": "direct"}),
+    ("incompressible, iterative", {"Material/Incompressibility": "incompressible",
+                                   "Mechanics/Linear solver": "iterative"}),
+    ("penalty, direct", {"Material/Incompressibility": "penalty",
+                         "Material/Volumetric/Bulk modulus": "1000",
+                         "Mechanics/Volumetric integration": "reduced",
+                         "Mechanics/Linear solver": "direct"})]
+MIXED_KAPPA = ["200", "20000", "2000000"]
+MIXED_C = 2.0
+
+
+def mixed_cells(r: dict) -> str:
+    """The columns of a mixed-group row from the formulation on (its run banner, /summary row,
+    last beam_tip_z, log)."""
+    s = r["summary"]
+    busy = " *" if r.get("busy") else ""
+    per_dof = 1e6 * (s["assembly_seconds"] + s["linear_solver_seconds"]) / \
+        max(1.0, s["newton_iterations"]) / s["n_dofs"]
+    return (f"{r.get('discretization', '?')} | {r.get('solver', '?')} "
+            f"| {s['n_dofs']:.0f} ({s['n_displacement_dofs']:.0f} + {s['n_pressure_dofs']:.0f}) "
+            f"| {r['values']['beam_tip_z']:.4f} | {s['load_steps']:.0f} | {s['step_cuts']:.0f} "
+            f"| {s['newton_iterations']:.0f} | {s['linear_iterations_per_solve']:.1f} "
+            f"| {s['assembly_seconds']:.2f}{busy} | {s['linear_solver_seconds']:.2f}{busy} "
+            f"| {per_dof:.2f}{busy} | {r['wall']:.1f}{busy} | {r['memory']:.0f} |")
+
+
+MIXED_HEAD = ("formulation | solver | DOFs (u + p) | beam tip z [mm] | load steps | step cuts "
+              "| Newton iterations | Krylov iterations per solve | assembly [s] "
+              "| linear solver [s] | (assembly + solver) per Newton iteration per DOF [µs] "
+              "| wall [s] | peak memory per rank [MiB] |")
+
+
+def mixed_table(rows: list[tuple[str, dict]], first: str) -> str:
+    """Markdown table of (first column, row) pairs."""
+    head = f"| {first} | " + MIXED_HEAD
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    for label, r in rows:
+        if not r["ok"]:
+            lines.append(f"| {label} | failed: {r['error']} |")
+            continue
+        lines.append(f"| {label} | " + mixed_cells(r))
+    if any(r.get("busy") for _, r in rows):
+        lines.append(BUSY_NOTE)
+    return "\n".join(lines)
+
+
+def mixed_section(build: Path, workdir: Path, quick: bool) -> str:
+    """Land problem 1 refined 1, 2 (and 3) times with the incompressible mixed formulation
+    (direct and iterative solvers) and the penalty (direct), and a bulk-modulus sweep of the
+    nearly incompressible formulation (iterative) at 1 refinement."""
+    levels = [1, 2] + ([] if quick else [3])
+    series = {}
+    for formulation, changes in MIXED_FORMULATIONS:
+        for r in levels:
+            case = Case("mixed", "land_problem1.prm", f"{formulation}, {r} refinement(s)",
+                        {"Global refinements": str(r), **changes})
+            print(f"running Land problem 1, {case.label} on {case.ranks} rank(s) ...", flush=True)
+            series.setdefault(formulation, []).append((r, run(case, build, workdir)))
+    rows = [(f"{r}", row) for formulation, _ in MIXED_FORMULATIONS
+            for r, row in series[formulation]]
+
+    growth = []
+    for formulation, runs in series.items():
+        done = [(r, row) for r, row in runs if row["ok"]]
+        if "iterative" not in formulation or len(done) < 2:
+            continue
+        (r0, coarse), (r1, fine) = done[0], done[-1]
+        k0 = coarse["summary"]["linear_iterations_per_solve"]
+        k1 = fine["summary"]["linear_iterations_per_solve"]
+        n0, n1 = coarse["summary"]["n_dofs"], fine["summary"]["n_dofs"]
+        plural = lambda n: f"{n} refinement{'' if n == 1 else 's'}"  # noqa: E731
+        growth.append(f"With {formulation}, the Krylov iterations per solve grow from {k0:.1f} "
+                      f"({plural(r0)}, {n0:.0f} DOFs) to {k1:.1f} ({plural(r1)}, {n1:.0f} "
+                      f"DOFs): a ratio of {k1 / k0:.2f} for {n1 / n0:.1f} times the DOFs.")
+
+    sweep = []
+    for kappa in MIXED_KAPPA:
+        case = Case("mixed", "land_problem1.prm", f"nearly incompressible, kappa = {kappa} kPa",
+                    {"Global refinements": "1",
+                     "Material/Incompressibility": "nearly incompressible",
+                     "Material/Volumetric/Bulk modulus": kappa,
+                     "Mechanics/Linear solver": "iterative"})
+        print(f"running Land problem 1, {case.label} on {case.ranks} rank(s) ...", flush=True)
+        power = lambda x: f"{x:.0e}".replace("e+0", "e")  # noqa: E731
+        sweep.append((f"{power(float(kappa))} | {power(float(kappa) / MIXED_C)}",
+                      run(case, build, workdir)))
+    # The incompressible end of the sweep is the iterative run at 1 refinement above.
+    sweep += [("∞ | ∞", row) for r, row in series["incompressible, iterative"] if r == 1]
+    done = [row for _, row in sweep if row["ok"]]
+    if len(done) >= 2:
+        k0 = done[0]["summary"]["linear_iterations_per_solve"]
+        k1 = done[-1]["summary"]["linear_iterations_per_solve"]
+        growth.append(f"In the sweep below, from the smallest bulk modulus to the incompressible "
+                      f"limit, the Krylov iterations per solve go from {k0:.1f} to {k1:.1f} "
+                      f"(ratio {k1 / k0:.2f}).")
+
+    title = "Mechanics: penalty and mixed formulations, direct and iterative solvers"
+    return (
+        f"## {title}\n"
+        "Land problem 1 (`parameters/land_problem1.prm`: the beam, 10 x 1 x 1 coarse cells "
+        "refined globally, Guccione C = 2 kPa, Q2, first load increment 1/10, then adaptive), "
+        "2 ranks: the incompressible "
+        "mixed formulation (the shipped file: Q2-P1disc, full Gauss rule) with the direct "
+        "solver (MUMPS) and with the iterative one (FGMRES with the PETSc fieldsplit Schur "
+        "block preconditioner), and the penalty formulation of the file before it (bulk "
+        "modulus 1000 kPa, selective reduced integration) with the direct solver. The "
+        "formulation and the solver are those the run banner names; the sizes, counts and "
+        "times are the run's /summary row (assembly and linear solver: rank 0's wall time in "
+        "those timer sections; Krylov iterations per solve: linear iterations over Newton "
+        "solves, the direct solver counts 1); time per Newton iteration per DOF = (assembly + "
+        "linear solver) / Newton iterations / DOFs. Beam tip z: the deformed z of (10, 0.5, 1) "
+        "at the last load step (reference 4.17 mm, converged codes 4.151 ... 4.185 mm).\n\n"
+        + mixed_table(rows, "refinements") + "\n\n" + " ".join(growth) + "\n\n"
+        "Bulk modulus sweep at 1 refinement: the nearly incompressible mixed formulation "
+        "(Q2-P1disc, energy -p (J - 1) - p^2 / (2 kappa)) with the iterative solver, and the "
+        "incompressible one (1/kappa = 0; the run of the table above).\n\n"
+        + mixed_table(sweep, "kappa [kPa] | kappa / C") + "\n")
 
 
 #: Physiological bounds of the default heartbeat (the heartbeat issue): column -> (low, high).
@@ -686,7 +818,7 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="skip the finest levels")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
-                                           "ep-lv"],
+                                           "ep-lv", "mixed"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -697,8 +829,12 @@ def main() -> int:
     p1 = [Case("p1", "land_problem1.prm", f"10x1x1 cells, {r} refinement(s), Q2",
                {"Global refinements": str(r)}) for r in levels]
     p1 += [Case("p1", "land_problem1.prm", "10x1x1 cells, 1 refinement, Q2", {"Global refinements": "1"}, 1)]
-    kappa = [Case("p1", "land_problem1.prm", f"1 refinement, Q2, kappa = {k} kPa",
-                  {"Global refinements": "1", "Bulk modulus": str(k)}) for k in (200, 1000, 5000)]
+    # The penalty formulation's convergence in the bulk modulus (land_problem1.prm itself is
+    # incompressible and mixed now; the mixed group sweeps kappa for the mixed formulation).
+    kappa = [Case("p1", "land_problem1.prm", f"1 refinement, Q2 penalty, kappa = {k} kPa",
+                  {"Global refinements": "1", "Material/Incompressibility": "penalty",
+                   "Mechanics/Volumetric integration": "reduced",
+                   "Material/Volumetric/Bulk modulus": str(k)}) for k in (200, 1000, 5000)]
     def ventricle(a: int, b: int, r: int) -> dict[str, str]:
         """a x b coarse cells (around the axis x from apex to base), r global refinements."""
         return {"Global refinements": str(r),
@@ -726,7 +862,8 @@ def main() -> int:
         sections = {}
         for title, cases, columns, note in (
             ("Land problem 1 (beam): deflection", p1, ["beam_tip_z"],
-             "Reference: 4.17 mm, converged codes 4.151 ... 4.185 mm. Bulk modulus 1000 kPa."),
+             "Reference: 4.17 mm, converged codes 4.151 ... 4.185 mm. Incompressible, mixed "
+             "Q2-P1disc (parameters/land_problem1.prm)."),
             ("Land problem 1: bulk modulus", kappa, ["beam_tip_z"],
              "The penalty result as the bulk modulus grows (near-incompressibility)."),
             ("Land problem 2 (inflation)", p2, ["endo_apex_z", "epi_apex_z"],
@@ -776,6 +913,10 @@ def main() -> int:
         if args.only in (None, "ep-lv"):
             title = "Electrophysiology: the default heartbeat's ventricle"
             sections[title] = ep_lv_section(args.build, workdir, args.quick)
+            print(sections[title], flush=True)
+        if args.only in (None, "mixed"):
+            title = "Mechanics: penalty and mixed formulations, direct and iterative solvers"
+            sections[title] = mixed_section(args.build, workdir, args.quick)
             print(sections[title], flush=True)
 
     if args.no_write:

@@ -17,6 +17,7 @@
 #include "mechanics/problem_impl.h"
 
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace systole::Mechanics
@@ -34,7 +35,11 @@ namespace systole::Mechanics
     , tria(tria)
     , comm(tria.get_communicator())
     , logger(logger)
-    , passive_law(passive_law)
+    , isochoric_law(
+        params.mixed()
+          ? std::optional<Materials::IsochoricPart>(std::in_place, passive_law)
+          : std::nullopt)
+    , passive_law(isochoric_law ? *isochoric_law : passive_law)
     , volumetric_law(volumetric_law)
     , layout(degree, params)
     , fe(layout.make_fe())
@@ -784,6 +789,32 @@ namespace systole::Mechanics
         m.u_owned.add(-ratio, m.u_previous);
       }
     m.u = m.u_owned;
+  }
+
+  void
+  Problem::predict(const double ratio,
+                   const double pressure,
+                   const double active_tension)
+  {
+    Impl      &m        = *impl;
+    const auto residual = [&]() {
+      try
+        {
+          m.assemble(pressure, active_tension, false);
+        }
+      catch (const ExcInvertedElement &)
+        {
+          return std::numeric_limits<double>::infinity();
+        }
+      const auto norms = block_norms(m.layout, m.residual);
+      return std::isfinite(norms[0]) ? norms[0]
+                                     : std::numeric_limits<double>::infinity();
+    };
+    predict(0.0);
+    const double at_saved = residual();
+    predict(ratio);
+    if (!(residual() < at_saved))
+      predict(0.0);
   }
 
   void

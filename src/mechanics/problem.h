@@ -142,6 +142,17 @@ namespace systole::Mechanics
     /// last increment). No-op before the second save().
     void
     predict(const double ratio);
+
+    /// predict(@p ratio), kept only if the residual under the loads of the
+    /// next step (@p pressure [kPa], @p active_tension [kPa]) is smaller there
+    /// than at the last saved state; otherwise the saved state (whose first
+    /// Newton step is the tangent predictor). The secant extrapolation
+    /// overshoots where the exponential laws stiffen. Collective; two
+    /// residual assemblies.
+    void
+    predict(const double ratio,
+            const double pressure,
+            const double active_tension);
     /// Go back to the displacement of the last save().
     void
     restore();

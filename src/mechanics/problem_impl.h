@@ -16,6 +16,7 @@
 #include "base/linear_algebra.h"
 #include "base/logger.h"
 #include "fibres/fibre_basis.h"
+#include "materials/isochoric_part.h"
 #include "mechanics/cavity_volume.h"
 #include "mechanics/field_layout.h"
 #include "mechanics/linear_solver.h"
@@ -90,8 +91,10 @@ namespace systole::Mechanics
     dealii::parallel::distributed::Triangulation<3, 3> &tria;
     MPI_Comm                                            comm;
     Logger                                             &logger;
-    const Materials::PassiveLaw                        &passive_law;
-    const Materials::VolumetricLaw                     &volumetric_law;
+    /// The law as given (penalty) or its isochoric part (mixed formulations).
+    std::optional<Materials::IsochoricPart> isochoric_law;
+    const Materials::PassiveLaw            &passive_law;
+    const Materials::VolumetricLaw         &volumetric_law;
 
     /// The fields (u, or u and p) and their blocks.
     FieldLayout                                  layout;

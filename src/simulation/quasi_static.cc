@@ -96,9 +96,12 @@ namespace systole
         progress.update(step, fraction, "mechanics");
         logger.stream() << "  Load step " << step + 1 << ": load fraction "
                         << target << std::endl;
-        // Extrapolate, but never further than the last increment: the
-        // exponential laws stiffen, and a longer extrapolation overshoots.
-        problem.predict(std::min(increment / last_increment, 1.0));
+        // Extrapolate, but never further than the last increment and only
+        // where it lowers the residual: the exponential laws stiffen, and
+        // the extrapolation overshoots.
+        problem.predict(std::min(increment / last_increment, 1.0),
+                        target * params.pressure,
+                        target * params.active_tension);
         try
           {
             const auto report = problem.solve(target * params.pressure,

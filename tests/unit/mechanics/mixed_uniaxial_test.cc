@@ -7,8 +7,14 @@
 // S_passive = C exp(Q) E whatever the fibre frame. Try F = diag(l, t, t):
 //   E = diag(E11, E22, E22), E11 = (l^2 - 1)/2, E22 = (t^2 - 1)/2,
 //   Q = E11^2 + 2 E22^2, J = l t^2, C^{-1} = diag(1/l^2, 1/t^2, 1/t^2).
-// The mixed energy W(E) - p (J - 1) - p^2/(2 kappa) gives
-//   S = C exp(Q) E - p J C^{-1},   p = -kappa (J - 1)
+// The mixed energy W(E_bar) - p (J - 1) - p^2/(2 kappa), with the isochoric
+// part of the law (E_bar of C_bar = J^{-2/3} C, materials/isochoric_part.h),
+// gives
+//   S = J^{-2/3} (S_bar - (C : S_bar)/3 C^{-1}) - p J C^{-1},
+//   S_bar = C exp(Q_bar) E_bar,   p = -kappa (J - 1);
+// for J = 1 the first term differs from C exp(Q) E only by a multiple of
+// C^{-1}, which p absorbs, so the incompressible solution below uses
+// S = C exp(Q) E - p J C^{-1}
 // (p the pressure unknown, positive in compression; 1/kappa = 0, J = 1 for
 // the incompressible formulation). The stress is uniform, so equilibrium
 // holds in the body; on the symmetry planes x, y, z = 0 the shear tractions
@@ -19,6 +25,7 @@
 // the deformed normal n = e1: the traction is -(-P) n = P e1, and with the
 // Cauchy stress sigma = F S F^T / J,
 //   sigma11 = l^2 S11 / J = (l^2 C exp(Q) E11 - p J) / J = P.           (2)
+// (with S_bar, E_bar in place of C exp(Q) E, E when J != 1).
 // Incompressible: t = 1/sqrt(l), J = 1; (1) gives p = C exp(Q) E22 t^2 and
 // (2) becomes the scalar equation
 //   P(l) = C exp(Q) (l^2 E11 - t^2 E22) = P,
@@ -62,13 +69,21 @@ namespace
                        const double P,
                        const double kappa)
   {
-    const double E11 = 0.5 * (l * l - 1.0);
-    const double E22 = 0.5 * (t * t - 1.0);
-    const double Q   = E11 * E11 + 2.0 * E22 * E22;
-    const double J   = l * t * t;
+    // The isochoric part of the law (what the mixed formulations use):
+    // S_bar = C exp(Q_bar) E_bar at C_bar = J^(-2/3) C, and
+    // S_iso = J^(-2/3) (S_bar - (C : S_bar)/3 C^-1).
+    const double J       = l * t * t;
+    const double Jm23    = std::pow(J, -2.0 / 3.0);
+    const double E11     = 0.5 * (Jm23 * l * l - 1.0);
+    const double E22     = 0.5 * (Jm23 * t * t - 1.0);
+    const double Q       = E11 * E11 + 2.0 * E22 * E22;
+    const double Ce      = stiffness * std::exp(Q);
+    const double S11_bar = Ce * E11, S22_bar = Ce * E22;
+    const double C_S = l * l * S11_bar + 2.0 * t * t * S22_bar;
+    const double S11 = Jm23 * (S11_bar - C_S / (3.0 * l * l));
+    const double S22 = Jm23 * (S22_bar - C_S / (3.0 * t * t));
     const double p   = -kappa * (J - 1.0);
-    const double Ce  = stiffness * std::exp(Q);
-    return {{Ce * E22 - p * J / (t * t), (l * l * Ce * E11 - p * J) / J - P}};
+    return {{S22 - p * J / (t * t), (l * l * S11 - p * J) / J - P}};
   }
 
   /// The incompressible uniaxial stretch l under the traction P > 0:
