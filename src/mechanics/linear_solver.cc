@@ -102,6 +102,11 @@ namespace systole::Mechanics
             check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
                         "PCFactorSetMatSolverType");
             check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+            // PETSc options with the prefix -mechanics_direct_ (e.g.
+            // -mechanics_direct_mat_mumps_icntl_7 for the ordering) apply.
+            check_petsc(KSPSetOptionsPrefix(ksp, "mechanics_direct_"),
+                        "KSPSetOptionsPrefix");
+            check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
             // Room for delayed pivots when the analysis is reused.
             check_petsc(PCFactorSetUpMatSolverType(pc),
                         "PCFactorSetUpMatSolverType");
