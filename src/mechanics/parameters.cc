@@ -248,7 +248,9 @@ namespace systole::Mechanics
       "energy -p (J - 1) - p^2 / (2 kappa), kappa = Volumetric / Bulk "
       "modulus (the quadratic form of U whatever Volumetric / Form says); "
       "incompressible: the same with 1/kappa = 0, J = 1 exactly in the "
-      "pressure space. The pressure p [kPa] is positive in compression. "
+      "pressure space. The mixed formulations use the isochoric part of the "
+      "passive law (the law at F J^(-1/3)), so that the pressure alone "
+      "governs the volume. The pressure p [kPa] is positive in compression. "
       "Units: -.");
   }
 
