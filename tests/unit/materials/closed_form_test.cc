@@ -48,6 +48,7 @@
 #include "materials/mooney_rivlin.h"
 #include "materials/neo_hookean.h"
 #include "materials/st_venant_kirchhoff.h"
+#include "support/law_parameters.h"
 #include "support/random_tensors.h"
 
 #include <catch2/catch.hpp>
@@ -313,14 +314,6 @@ namespace
     return result;
   }
 
-  Materials::HolzapfelOgden::Parameters
-  transversely_isotropic_holzapfel_ogden()
-  {
-    Materials::HolzapfelOgden::Parameters p;
-    p.a_s  = 0.0;
-    p.a_fs = 0.0;
-    return p;
-  }
 
   // ---------------------------------------------------------------------
   // neo-Hookean: W = mu/2 (Ibar1 - 3), so S = 2 dW/dC = mu dIbar1/dC
@@ -411,7 +404,7 @@ namespace
     const Guccione::Parameters       guccione;
     const HolzapfelOgden::Parameters ho;
     const HolzapfelOgden::Parameters ho_ti =
-      transversely_isotropic_holzapfel_ogden();
+      test_support::transversely_isotropic_holzapfel_ogden();
     const NeoHookean::Parameters        neo_hookean;
     const MooneyRivlin::Parameters      mooney_rivlin;
     const StVenantKirchhoff::Parameters svk;

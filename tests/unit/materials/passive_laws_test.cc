@@ -23,6 +23,7 @@
 #include "materials/st_venant_kirchhoff.h"
 #include "materials/volumetric_law.h"
 #include "support/finite_differences.h"
+#include "support/law_parameters.h"
 #include "support/random_tensors.h"
 
 #include <catch2/catch.hpp>
@@ -65,14 +66,6 @@ namespace
     std::shared_ptr<const Materials::PassiveLaw> law;
   };
 
-  Materials::HolzapfelOgden::Parameters
-  transversely_isotropic_holzapfel_ogden()
-  {
-    Materials::HolzapfelOgden::Parameters p;
-    p.a_s  = 0.0;
-    p.a_fs = 0.0;
-    return p;
-  }
 
   std::vector<LawCase>
   full_passive_laws();
@@ -138,7 +131,7 @@ namespace
        std::make_shared<HolzapfelOgden>(HolzapfelOgden::Parameters())},
       {"Holzapfel-Ogden (transversely isotropic)",
        std::make_shared<HolzapfelOgden>(
-         transversely_isotropic_holzapfel_ogden())},
+         test_support::transversely_isotropic_holzapfel_ogden())},
       {"neo-Hookean", std::make_shared<NeoHookean>(NeoHookean::Parameters())},
       {"Mooney-Rivlin",
        std::make_shared<MooneyRivlin>(MooneyRivlin::Parameters())},
@@ -495,7 +488,8 @@ TEST_CASE("The transversely isotropic Holzapfel-Ogden law ignores the sheet "
 {
   // Rotating (s0, n0) about f0 must not change the transversely isotropic
   // law, and must change the orthotropic one (a sanity check of the test).
-  const Materials::HolzapfelOgden ti(transversely_isotropic_holzapfel_ogden());
+  const Materials::HolzapfelOgden ti(
+    test_support::transversely_isotropic_holzapfel_ogden());
   const Materials::HolzapfelOgden orthotropic{
     Materials::HolzapfelOgden::Parameters()};
 

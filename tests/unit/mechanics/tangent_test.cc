@@ -98,26 +98,37 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     CHECK(observed_order(problem, 3.0, 20.0, 1e-3) == Approx(2.0).margin(0.2));
   }
 
-  SECTION("Beam, Q1, follower pressure on a free face, sliding face")
+  SECTION("Beam, Q1 (penalty) and Q1-P0 (mixed, incompressible), follower "
+          "pressure on a free face, sliding face, Robin springs")
   {
     Geometry::Parameters geometry;
     geometry.type      = Geometry::Parameters::Type::box;
     geometry.box_upper = dealii::Point<3>(10, 1, 1);
     geometry.box_cells = {{5, 2, 2}};
     dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-    const auto            names = Geometry::create_mesh(geometry, tria);
-    Mechanics::Parameters params;
-    params.fixed_boundaries   = {"x_min"};
-    params.sliding_boundaries = {"y_min"};
-    params.pressure_boundary  = "z_min";
-    params.robin_boundaries   = {"x_max"};
-    params.robin_stiffness    = 0.2;
-    params.robin_normal_only  = false;
-    params.linear_solver      = "direct";
-    Mechanics::Problem
-      problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
-    problem.set_displacement(Wobble(0.5));
-    CHECK(observed_order(problem, 0.5, 5.0, 1e-3) == Approx(2.0).margin(0.2));
+    const auto names = Geometry::create_mesh(geometry, tria);
+    for (const auto incompressibility :
+         {Mechanics::Incompressibility::penalty,
+          Mechanics::Incompressibility::incompressible})
+      {
+        Mechanics::Parameters params;
+        params.incompressibility  = incompressibility;
+        params.fixed_boundaries   = {"x_min"};
+        params.sliding_boundaries = {"y_min"};
+        params.pressure_boundary  = "z_min";
+        params.robin_boundaries   = {"x_max"};
+        params.robin_stiffness    = 0.2;
+        params.robin_normal_only  = false;
+        params.linear_solver      = "direct";
+        Mechanics::Problem
+          problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+        problem.set_displacement(Wobble(0.5));
+        if (params.mixed())
+          problem.set_pressure_field(2.0);
+        INFO(problem.discretization_name());
+        CHECK(observed_order(problem, 0.5, 5.0, 1e-3) ==
+              Approx(2.0).margin(0.2));
+      }
   }
 
   SECTION("Land ventricle, mixed Q2-P1disc and Q2-Q1, nearly incompressible "
@@ -149,26 +160,5 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
           CHECK(observed_order(problem, 3.0, 20.0, 1e-3) ==
                 Approx(2.0).margin(0.2));
         }
-  }
-
-  SECTION("Beam, mixed Q1-P0, follower pressure on a free face, sliding face")
-  {
-    Geometry::Parameters geometry;
-    geometry.type      = Geometry::Parameters::Type::box;
-    geometry.box_upper = dealii::Point<3>(10, 1, 1);
-    geometry.box_cells = {{5, 2, 2}};
-    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-    const auto            names = Geometry::create_mesh(geometry, tria);
-    Mechanics::Parameters params;
-    params.incompressibility  = Mechanics::Incompressibility::incompressible;
-    params.fixed_boundaries   = {"x_min"};
-    params.sliding_boundaries = {"y_min"};
-    params.pressure_boundary  = "z_min";
-    params.linear_solver      = "direct";
-    Mechanics::Problem
-      problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
-    problem.set_displacement(Wobble(0.5));
-    problem.set_pressure_field(2.0);
-    CHECK(observed_order(problem, 0.5, 5.0, 1e-3) == Approx(2.0).margin(0.2));
   }
 }
