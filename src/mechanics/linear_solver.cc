@@ -15,6 +15,7 @@
 
 #include <petscksp.h>
 
+#include <algorithm>
 #include <array>
 
 namespace systole::Mechanics
@@ -478,6 +479,20 @@ namespace systole::Mechanics
     offset.assign(n_ranks, 0);
     for (unsigned int r = 1; r < n_ranks; ++r)
       offset[r] = offset[r - 1] + count[r - 1];
+    // Keep the ranks that own pressure DoFs: their ranges are increasing, so
+    // index() finds the owner by bisection (it is called for every entry).
+    std::size_t kept = 0;
+    for (unsigned int r = 0; r < n_ranks; ++r)
+      if (count[r] > 0)
+        {
+          first[kept]  = first[r];
+          count[kept]  = count[r];
+          offset[kept] = offset[r];
+          ++kept;
+        }
+    first.resize(kept);
+    count.resize(kept);
+    offset.resize(kept);
     check_petsc(MatCreateAIJ(comm,
                              n_local,
                              n_local,
@@ -503,11 +518,13 @@ namespace systole::Mechanics
   PetscInt
   PressureMatrix::index(const dealii::types::global_dof_index dof) const
   {
-    for (unsigned int r = 0; r < first.size(); ++r)
-      if (count[r] > 0 && dof >= first[r] && dof < first[r] + count[r])
-        return static_cast<PetscInt>(offset[r] + (dof - first[r]));
-    AssertThrow(false, dealii::ExcInternalError("not a pressure DoF"));
-    return -1;
+    const auto it = std::upper_bound(first.begin(), first.end(), dof);
+    AssertThrow(it != first.begin(),
+                dealii::ExcInternalError("not a pressure DoF"));
+    const std::size_t r = (it - first.begin()) - 1;
+    AssertThrow(dof < first[r] + count[r],
+                dealii::ExcInternalError("not a pressure DoF"));
+    return static_cast<PetscInt>(offset[r] + (dof - first[r]));
   }
 
   void
