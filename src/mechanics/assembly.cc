@@ -13,6 +13,9 @@
 #include "mechanics/problem_impl.h"
 #include "mechanics/surface_terms.h"
 
+#include <algorithm>
+#include <array>
+
 namespace systole::Mechanics
 {
   namespace
@@ -37,39 +40,55 @@ namespace systole::Mechanics
     };
 
     /// Per shape function: block, component, the gradient of its only
-    /// nonzero component, dE = sym(F^T grad phi) and C : dE.
+    /// nonzero component, J F^{-T} : grad phi and the pressure values; per
+    /// node of the displacement element: its three DoFs and scalar gradient;
+    /// the displacement block of the cell matrix by node pairs.
     struct ShapeScratch
     {
       explicit ShapeScratch(const dealii::FiniteElement<3> &fe)
         : component(fe.n_dofs_per_cell())
         , grad_phi(fe.n_dofs_per_cell())
-        , dE(fe.n_dofs_per_cell())
-        , C_dE(fe.n_dofs_per_cell())
         , div_phi(fe.n_dofs_per_cell())
         , psi(fe.n_dofs_per_cell())
       {
         for (unsigned int a = 0; a < fe.n_dofs_per_cell(); ++a)
           {
-            component[a] = fe.system_to_component_index(a).first;
-            if (component[a] < 3)
-              u_dofs.push_back(a);
+            const auto [c, index] = fe.system_to_component_index(a);
+            component[a]          = c;
+            if (c < 3)
+              {
+                u_dofs.push_back(a);
+                if (index >= node_dofs.size())
+                  node_dofs.resize(index + 1);
+                node_dofs[index][c] = a;
+              }
             else
               p_dofs.push_back(a);
           }
+        AssertThrow(3 * node_dofs.size() == u_dofs.size(),
+                    dealii::ExcInternalError());
+        node_grad.resize(node_dofs.size());
+        uu.resize(node_dofs.size() * node_dofs.size() * 9);
       }
 
-      std::vector<unsigned int>          component, u_dofs, p_dofs;
-      std::vector<Tensor<1, 3>>          grad_phi;
-      std::vector<SymmetricTensor<2, 3>> dE, C_dE;
+      std::vector<unsigned int>                component, u_dofs, p_dofs;
+      std::vector<std::array<unsigned int, 3>> node_dofs;
+      std::vector<Tensor<1, 3>>                grad_phi, node_grad;
       /// J F^{-T} : grad phi (u) and the pressure shape values (p).
       std::vector<double> div_phi, psi;
+      /// K_(A c)(B d) of node pairs A <= B at uu[(B n + A) 9 + 3 c + d].
+      std::vector<double> uu;
     };
 
     /// Bulk term at one point, displacement rows and columns:
     /// R_a += P : grad phi_a, K_ab += dE_a : dS/dE : dE_b + S : (grad phi_a^T
     /// grad phi_b) (material and geometric stiffness), for the stress S and
     /// tangent dS/dE of everything at the point (passive, volumetric or
-    /// pressure, active).
+    /// pressure, active). With phi_a = N_A e_c, dE_a = sym(F^T e_c x grad
+    /// N_A), so the 3 x 3 block of nodes A, B is
+    /// K_(A c)(B d) = grad N_A . D_c.d. grad N_B with
+    /// D_cJdL = F_cI C_IJKL F_dK + delta_cd S_JL (one 81-entry tensor per
+    /// point instead of one contraction per pair of shape functions).
     void
     add_stress_point(const dealii::FEValues<3>   &values,
                      const unsigned int           q,
@@ -82,35 +101,85 @@ namespace systole::Mechanics
     {
       const Tensor<2, 3> P   = F * Tensor<2, 3>(S);
       const double       JxW = values.JxW(q);
-      for (const unsigned int a : s.u_dofs)
+      const unsigned int n   = s.node_dofs.size();
+      for (unsigned int A = 0; A < n; ++A)
         {
-          s.grad_phi[a] = values.shape_grad(a, q);
-          // dE_a = sym(F^T (e_c x grad phi)) = sym(F_c. x grad phi)
-          const unsigned int c = s.component[a];
-          Tensor<1, 3>       Fc;
-          for (unsigned int d = 0; d < 3; ++d)
-            Fc[d] = F[c][d];
-          s.dE[a] =
-            dealii::symmetrize(dealii::outer_product(Fc, s.grad_phi[a]));
-          cell.residual(a) += (P[c] * s.grad_phi[a]) * JxW;
+          const Tensor<1, 3> g = values.shape_grad(s.node_dofs[A][0], q);
+          s.node_grad[A]       = g;
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              const unsigned int a = s.node_dofs[A][c];
+              s.grad_phi[a]        = g;
+              cell.residual(a) += (P[c] * g) * JxW;
+            }
         }
       if (!with_matrix)
         return;
-      const Tensor<2, 3> S_full(S);
-      for (const unsigned int b : s.u_dofs)
-        s.C_dE[b] = dS_dE * s.dE[b];
-      for (const unsigned int a : s.u_dofs)
+
+      double C[3][3][3][3], T[3][3][3][3], D[3][3][3][3];
+      for (unsigned int I = 0; I < 3; ++I)
+        for (unsigned int J = 0; J < 3; ++J)
+          for (unsigned int K = 0; K < 3; ++K)
+            for (unsigned int L = 0; L < 3; ++L)
+              C[I][J][K][L] = dS_dE[I][J][K][L];
+      for (unsigned int c = 0; c < 3; ++c)
+        for (unsigned int J = 0; J < 3; ++J)
+          for (unsigned int K = 0; K < 3; ++K)
+            for (unsigned int L = 0; L < 3; ++L)
+              T[c][J][K][L] = F[c][0] * C[0][J][K][L] +
+                              F[c][1] * C[1][J][K][L] + F[c][2] * C[2][J][K][L];
+      for (unsigned int c = 0; c < 3; ++c)
+        for (unsigned int J = 0; J < 3; ++J)
+          for (unsigned int d = 0; d < 3; ++d)
+            for (unsigned int L = 0; L < 3; ++L)
+              D[c][J][d][L] =
+                (T[c][J][0][L] * F[d][0] + T[c][J][1][L] * F[d][1] +
+                 T[c][J][2][L] * F[d][2] + (c == d ? S[J][L] : 0.0)) *
+                JxW;
+
+      for (unsigned int B = 0; B < n; ++B)
         {
-          const Tensor<1, 3> S_grad_a = S_full * s.grad_phi[a];
-          for (const unsigned int b : s.u_dofs)
-            if (b >= a)
-              {
-                double value = s.dE[a] * s.C_dE[b];
-                if (s.component[a] == s.component[b])
-                  value += S_grad_a * s.grad_phi[b];
-                cell.matrix(a, b) += value * JxW;
-              }
+          // h_cJd = D_cJdL grad N_B,L
+          const Tensor<1, 3> &gB = s.node_grad[B];
+          double              h[3][3][3];
+          for (unsigned int c = 0; c < 3; ++c)
+            for (unsigned int J = 0; J < 3; ++J)
+              for (unsigned int d = 0; d < 3; ++d)
+                h[c][J][d] = D[c][J][d][0] * gB[0] + D[c][J][d][1] * gB[1] +
+                             D[c][J][d][2] * gB[2];
+          double *block = &s.uu[B * n * 9];
+          for (unsigned int A = 0; A <= B; ++A, block += 9)
+            {
+              const Tensor<1, 3> &gA = s.node_grad[A];
+              for (unsigned int c = 0; c < 3; ++c)
+                for (unsigned int d = 0; d < 3; ++d)
+                  block[3 * c + d] += gA[0] * h[c][0][d] + gA[1] * h[c][1][d] +
+                                      gA[2] * h[c][2][d];
+            }
         }
+    }
+
+    /// Move the node-pair blocks of the displacement block (both triangles)
+    /// into the cell matrix and zero them.
+    void
+    finish_displacement_block(ShapeScratch &s, CellSystem &cell)
+    {
+      const unsigned int n = s.node_dofs.size();
+      for (unsigned int B = 0; B < n; ++B)
+        for (unsigned int A = 0; A <= B; ++A)
+          {
+            double *block = &s.uu[(B * n + A) * 9];
+            for (unsigned int c = 0; c < 3; ++c)
+              for (unsigned int d = 0; d < 3; ++d)
+                {
+                  const unsigned int a = s.node_dofs[A][c];
+                  const unsigned int b = s.node_dofs[B][d];
+                  cell.matrix(a, b) += block[3 * c + d];
+                  if (A != B)
+                    cell.matrix(b, a) += block[3 * c + d];
+                }
+            std::fill(block, block + 9, 0.0);
+          }
     }
 
     /// Pressure rows and columns of the mixed formulations at one point
@@ -389,10 +458,7 @@ namespace systole::Mechanics
         if (inverted)
           continue;
         if (with_matrix)
-          for (const unsigned int a : scratch.u_dofs)
-            for (const unsigned int b : scratch.u_dofs)
-              if (b < a)
-                cell_system.matrix(a, b) = cell_system.matrix(b, a);
+          finish_displacement_block(scratch, cell_system);
 
         // Boundary terms.
         cell_system.volume_derivative = 0;
