@@ -461,7 +461,13 @@ namespace systole::Mechanics
             << " chord iterations on the old factorization)" << std::endl;
       }
 
-    AssertThrow(try_assemble(residual, false),
+    // One assembly pass per iteration: outside the bordered solves (whose
+    // chord iterations above reuse the last factorization, which assembling a
+    // tangent discards), the tangent is assembled with the residual at the
+    // start and at every trial point, unless the quadratic rate says the
+    // trial point will be converged.
+    bool tangent_ready = !bordered;
+    AssertThrow(try_assemble(residual, tangent_ready),
                 ExcNewtonDidNotConverge("an element is inverted at the start "
                                         "of the load step",
                                         0,
@@ -523,8 +529,11 @@ namespace systole::Mechanics
         // [K -b; b^T 0] [du; dp] = -[R; g] with b = dV/du. Two solves with
         // one factorization: K w_R = -R, K w_b = b; then
         // dp = -(g + b.w_R) / (b.w_b), du = w_R + dp w_b.
-        // The tangent (and dV/du) at this iterate; the residual again.
-        try_assemble(residual, true);
+        // The tangent (and dV/du) at this iterate, unless the last pass made
+        // it; the residual again.
+        if (!tangent_ready)
+          try_assemble(residual, true);
+        tangent_ready = false;
         m.residual *= -1.0;
         double dp = 0;
         {
@@ -568,6 +577,12 @@ namespace systole::Mechanics
         const LA::MPI::Vector u_start        = m.u_owned;
         const double          pressure_start = pressure;
         double                alpha          = 1.0;
+        // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
+        // point is expected to be converged, so the tangent there is not
+        // needed.
+        const bool trial_tangent =
+          !bordered &&
+          !(relative * relative <= m.params.newton_relative_tolerance);
         for (unsigned int cut = 0;; ++cut)
           {
             m.u_owned = u_start;
@@ -575,9 +590,10 @@ namespace systole::Mechanics
             m.u      = m.u_owned;
             pressure = pressure_start + alpha * dp;
             std::array<double, 2> trial;
-            if (try_assemble(trial, false))
+            if (try_assemble(trial, trial_tangent))
               {
-                residual = trial;
+                residual      = trial;
+                tangent_ready = trial_tangent;
                 break;
               }
             AssertThrow(cut < 6,
