@@ -114,13 +114,16 @@ namespace systole::Materials
           const double w    = (a == b ? 1.0 : 2.0) * weight[a][b];
           Q += w * E_ab * E_ab;
           H += (w * E_ab) * M;
-          dH += w * dealii::outer_product(M, M);
+          if (in.with_tangent)
+            dH += w * dealii::outer_product(M, M);
         }
 
     const double exp_Q = std::exp(Q);
     out.psi            = 0.5 * params.C * std::expm1(Q);
     out.S              = (params.C * exp_Q) * H;
-    out.dS_dE = (params.C * exp_Q) * (2.0 * dealii::outer_product(H, H) + dH);
+    if (in.with_tangent)
+      out.dS_dE =
+        (params.C * exp_Q) * (2.0 * dealii::outer_product(H, H) + dH);
   }
 
 

@@ -27,21 +27,23 @@ namespace systole::Materials
       dealii::symmetrize(dealii::transpose(in.F) * in.F);
     const SymmetricTensor<2, 3> C_inv    = dealii::invert(C);
     const double                J_m23    = std::pow(J, -2.0 / 3.0);
+    const SymmetricTensor<2, 3> S_bar = law_out.S;
+    const double                trace = J_m23 * (S_bar * C);
+    // S = J^-2/3 P : S_bar with P = I - C^-1 x C / 3.
+    const SymmetricTensor<2, 3> S = J_m23 * S_bar - (trace / 3.0) * C_inv;
+    out.psi                       = law_out.psi;
+    out.S                         = S;
+    if (!in.with_tangent)
+      return;
     const SymmetricTensor<4, 3> identity = dealii::identity_tensor<3>();
     const SymmetricTensor<4, 3> P =
       identity - (1.0 / 3.0) * dealii::outer_product(C_inv, C);
     const SymmetricTensor<4, 3> P_T =
       identity - (1.0 / 3.0) * dealii::outer_product(C, C_inv);
-    const SymmetricTensor<2, 3> S_bar = law_out.S;
-    const SymmetricTensor<2, 3> S     = J_m23 * (P * S_bar);
-    const double                trace = J_m23 * (S_bar * C);
     // C^-1 (.) C^-1 = -dC^-1/dC (deal.II's dC_inv_dC).
     const SymmetricTensor<4, 3> P_tilde =
       -dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F) -
       (1.0 / 3.0) * dealii::outer_product(C_inv, C_inv);
-
-    out.psi   = law_out.psi;
-    out.S     = S;
     out.dS_dE = (J_m23 * J_m23) * (P * law_out.dS_dE * P_T) +
                 (2.0 / 3.0) * trace * P_tilde -
                 (2.0 / 3.0) * (dealii::outer_product(C_inv, S) +

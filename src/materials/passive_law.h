@@ -12,6 +12,9 @@ namespace systole::Materials
   {
     dealii::Tensor<2, 3> F; ///< deformation gradient (reference -> current) [-]
     Fibres::FibreBasis basis; ///< orthonormal f0, s0, n0 in the reference frame
+    /// false when the caller needs psi and S only (a residual without its
+    /// tangent): a law may then skip dS_dE, which is left unspecified.
+    bool with_tangent = true;
   };
 
   /// What a passive law returns at one quadrature point.

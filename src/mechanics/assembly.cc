@@ -377,7 +377,8 @@ namespace systole::Mechanics
           {
             Materials::PassiveInput in;
             in.F     = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-            in.basis = data[q]->basis;
+            in.basis        = data[q]->basis;
+            in.with_tangent = with_matrix;
             if (!(dealii::determinant(in.F) > 0.0))
               {
                 inverted = 1;

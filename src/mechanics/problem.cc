@@ -829,8 +829,15 @@ namespace systole::Mechanics
     predict(0.0);
     const double at_saved = residual();
     predict(ratio);
-    if (!(residual() < at_saved))
+    const double at_extrapolated = residual();
+    const bool   keep            = at_extrapolated < at_saved;
+    if (!keep)
       predict(0.0);
+    m.logger.detail() << "      predictor: " << (keep ? "secant" : "last state")
+                      << " (|R_u| " << std::scientific << std::setprecision(3)
+                      << at_extrapolated << " extrapolated, " << at_saved
+                      << " at the last state)" << std::defaultfloat
+                      << std::endl;
   }
 
   void

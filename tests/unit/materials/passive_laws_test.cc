@@ -335,6 +335,28 @@ TEST_CASE("Every passive law's tangent is the derivative of its stress",
 }
 
 
+TEST_CASE("Every passive law without its tangent returns the same energy "
+          "and stress",
+          "[materials]")
+{
+  for (const LawCase &c : passive_laws())
+    DYNAMIC_SECTION(c.name)
+    {
+      for (const unsigned int seed : seeds)
+        {
+          INFO("state seed " << seed);
+          auto in = test_support::random_passive_input(seed, strain);
+          Materials::PassiveOutput with, without;
+          c.law->evaluate(in, with);
+          in.with_tangent = false;
+          c.law->evaluate(in, without);
+          CHECK(without.psi == with.psi);
+          CHECK((without.S - with.S).norm() == 0.0);
+        }
+    }
+}
+
+
 TEST_CASE("Every passive law is objective", "[materials][objectivity]")
 {
   for (const LawCase &c : passive_laws())
