@@ -46,6 +46,28 @@ namespace systole::Geometry
         Integer(0, 8),
         "How many times every cell of the coarse mesh is split in 8. Curved "
         "generated meshes stay on their exact surfaces. Units: -.");
+      prm.declare_entry(
+        "Local refinements",
+        "0",
+        Integer(0, 8),
+        "After the global refinements, how many more times the cells near "
+        "'Local refinement center' are split in 8 (a cell is refined when a "
+        "vertex lies within 'Local refinement radius'; neighbours differ by "
+        "at most one level, with hanging nodes between them). For a "
+        "singularity such as the apex of a ventricle with helical fibres. "
+        "Units: -.");
+      prm.declare_entry(
+        "Local refinement center",
+        "",
+        dealii::Patterns::Anything(),
+        "Center x, y, z of the locally refined region. Empty: the ellipsoid's "
+        "apex at mid-wall, (0, 0, -(endocardium + epicardium long radius) / "
+        "2); other meshes must give it when 'Local refinements' > 0. Units: "
+        "mm.");
+      prm.declare_entry("Local refinement radius",
+                        "3",
+                        Double(0.0),
+                        "Radius of the locally refined region. Units: mm.");
 
       prm.enter_subsection("Ellipsoid");
       {
@@ -148,6 +170,13 @@ namespace systole::Geometry
                              : (type == "box")     ? Type::box
                                                    : Type::gmsh;
     p.global_refinements = prm.get_integer({"Geometry"}, "Global refinements");
+    p.local_refinements  = prm.get_integer({"Geometry"}, "Local refinements");
+    p.local_refinement_radius =
+      prm.get_double({"Geometry"}, "Local refinement radius");
+    const std::string center = prm.get({"Geometry"}, "Local refinement center");
+    if (!center.empty())
+      p.local_refinement_center =
+        parse_point(center, "Geometry / Local refinement center");
 
     const std::vector<std::string> e = {"Geometry", "Ellipsoid"};
     p.lv_shape.endo_short_radius =
@@ -162,6 +191,16 @@ namespace systole::Geometry
     p.lv_cells.transmural   = prm.get_integer(e, "Cells through wall");
     if (p.type == Type::ellipsoid)
       p.lv_shape.validate();
+    if (center.empty() && p.type == Type::ellipsoid)
+      p.local_refinement_center =
+        dealii::Point<3>(0,
+                         0,
+                         -0.5 * (p.lv_shape.endo_long_radius +
+                                 p.lv_shape.epi_long_radius));
+    AssertThrow(p.local_refinements == 0 || p.local_refinement_center,
+                dealii::ExcMessage(
+                  "Geometry / Local refinements > 0 needs Geometry / Local "
+                  "refinement center (x, y, z in mm) for this mesh type."));
 
     const std::vector<std::string> b = {"Geometry", "Box"};
     p.box_lower =
@@ -227,6 +266,20 @@ namespace systole::Geometry
           break;
       }
     tria.refine_global(params.global_refinements);
+    for (unsigned int i = 0; i < params.local_refinements; ++i)
+      {
+        const dealii::Point<3> center = *params.local_refinement_center;
+        for (const auto &cell : tria.active_cell_iterators())
+          if (cell->is_locally_owned())
+            for (const unsigned int v : cell->vertex_indices())
+              if (cell->vertex(v).distance(center) <
+                  params.local_refinement_radius)
+                {
+                  cell->set_refine_flag();
+                  break;
+                }
+        tria.execute_coarsening_and_refinement();
+      }
     return names;
   }
 

@@ -6,6 +6,8 @@
 #include "geometry/boundary_names.h"
 #include "geometry/ellipsoid.h"
 
+#include <array>
+#include <optional>
 #include <string>
 
 namespace dealii
@@ -29,6 +31,10 @@ namespace systole::Geometry
 
     Type         type               = Type::ellipsoid;
     unsigned int global_refinements = 0;
+    /// Refinements near local_refinement_center after the global ones.
+    unsigned int                    local_refinements = 0;
+    std::optional<dealii::Point<3>> local_refinement_center;       ///< [mm]
+    double                          local_refinement_radius = 3.0; ///< [mm]
 
     LVShape     lv_shape;
     LVMeshCells lv_cells;

@@ -122,8 +122,7 @@ namespace systole::Materials
     out.psi            = 0.5 * params.C * std::expm1(Q);
     out.S              = (params.C * exp_Q) * H;
     if (in.with_tangent)
-      out.dS_dE =
-        (params.C * exp_Q) * (2.0 * dealii::outer_product(H, H) + dH);
+      out.dS_dE = (params.C * exp_Q) * (2.0 * dealii::outer_product(H, H) + dH);
   }
 
 

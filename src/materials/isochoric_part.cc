@@ -25,8 +25,8 @@ namespace systole::Materials
 
     const SymmetricTensor<2, 3> C =
       dealii::symmetrize(dealii::transpose(in.F) * in.F);
-    const SymmetricTensor<2, 3> C_inv    = dealii::invert(C);
-    const double                J_m23    = std::pow(J, -2.0 / 3.0);
+    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
+    const double                J_m23 = std::pow(J, -2.0 / 3.0);
     const SymmetricTensor<2, 3> S_bar = law_out.S;
     const double                trace = J_m23 * (S_bar * C);
     // S = J^-2/3 P : S_bar with P = I - C^-1 x C / 3.

@@ -376,7 +376,7 @@ namespace systole::Mechanics
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
             Materials::PassiveInput in;
-            in.F     = dealii::unit_symmetric_tensor<3>() + grad_u[q];
+            in.F            = dealii::unit_symmetric_tensor<3>() + grad_u[q];
             in.basis        = data[q]->basis;
             in.with_tangent = with_matrix;
             if (!(dealii::determinant(in.F) > 0.0))

@@ -21,6 +21,7 @@
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -347,6 +348,25 @@ namespace systole
           {"newton_iterations", "-", static_cast<double>(total_iterations)});
         row.push_back(
           {"mechanics_solves", "-", static_cast<double>(total_solves)});
+        // The cost of this beat (wall times on rank 0, the slowest rank's
+        // share is similar): the mechanics solves, their assembly and
+        // linear solver sections, the electrophysiology.
+        const auto timings = problem.timings();
+        const auto in      = [&](const std::string &section) {
+          const auto it = timings.find(section);
+          return it == timings.end() ? 0.0 : it->second;
+        };
+        const std::array<double, 4> seconds  = {{ventricle.mechanics_seconds,
+                                                 in("Mechanics / assembly"),
+                                                 in("Mechanics / linear solver"),
+                                                 ventricle.ep_seconds}};
+        const char                 *names[4] = {"mechanics_seconds",
+                                                "assembly_seconds",
+                                                "linear_solver_seconds",
+                                                "ep_seconds"};
+        for (unsigned int i = 0; i < 4; ++i)
+          row.push_back({names[i], "s", seconds[i] - seconds_written[i]});
+        seconds_written = seconds;
         std::ostringstream activation;
         if (ep != nullptr)
           {
@@ -412,7 +432,10 @@ namespace systole
       unsigned int          step             = 0;
       unsigned int          total_iterations = 0, total_solves = 0;
       unsigned long         ep_steps_written = 0, ep_steps_in_beats = 0;
-      double                last_time = 0;
+      /// Totals at the last summary row: mechanics, assembly, linear solver,
+      /// electrophysiology [s].
+      std::array<double, 4> seconds_written = {{0, 0, 0, 0}};
+      double                last_time       = 0;
       /// Step of the last field output (none: the largest value).
       unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
     };
