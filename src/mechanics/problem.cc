@@ -329,9 +329,10 @@ namespace systole::Mechanics
                         const double  active_tension,
                         const double *target_volume)
   {
-    Impl           &m = *this;
-    NewtonReport    report;
-    LA::MPI::Vector du(m.owned, m.comm), w_volume(m.owned, m.comm);
+    Impl                      &m = *this;
+    dealii::TimerOutput::Scope scope(m.timer, "Mechanics / Newton");
+    NewtonReport               report;
+    LA::MPI::Vector            du(m.owned, m.comm), w_volume(m.owned, m.comm);
     // Block norms of the residual (u: force [mN]; p: volume [mm^3]).
     std::array<double, 2> residual     = {{0.0, 0.0}};
     double                volume_error = 0; // |V(u) - V_target| / V_target
@@ -613,6 +614,7 @@ namespace systole::Mechanics
   double
   Problem::Impl::cavity_volume_now() const
   {
+    dealii::TimerOutput::Scope scope(timer, "Mechanics / cavity volume");
     return cavity->volume(mapping, dof_handler, u, n_q_face_1d);
   }
 

@@ -212,7 +212,9 @@ namespace systole::Mechanics
     n_block_dofs() const;
 
     /// Total wall times [s] of the mechanics' timer sections so far
-    /// ("Mechanics / assembly", "Mechanics / linear solver"), on this rank.
+    /// ("Mechanics / Newton", and inside it "Mechanics / assembly",
+    /// "Mechanics / linear solver", "Mechanics / cavity volume"), on this
+    /// rank.
     std::map<std::string, double>
     timings() const;
 

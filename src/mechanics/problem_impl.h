@@ -145,8 +145,11 @@ namespace systole::Mechanics
 
     /// Wall times of assembly and linear solves (sections "Mechanics /
     /// ..."), summed over the run.
-    std::ostringstream  timer_sink;
-    dealii::TimerOutput timer;
+    /// Sections: "Mechanics / Newton" (whole solves), "Mechanics /
+    /// assembly", "Mechanics / linear solver", "Mechanics / cavity volume"
+    /// (the latter three inside the first).
+    std::ostringstream          timer_sink;
+    mutable dealii::TimerOutput timer;
 
     /// Total wall time of a timer section so far [s] (0 before its first
     /// use).

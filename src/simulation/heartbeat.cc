@@ -350,21 +350,23 @@ namespace systole
           {"mechanics_solves", "-", static_cast<double>(total_solves)});
         // The cost of this beat (wall times on rank 0, the slowest rank's
         // share is similar): the mechanics solves, their assembly and
-        // linear solver sections, the electrophysiology.
+        // linear solver and cavity volume sections, the electrophysiology.
         const auto timings = problem.timings();
         const auto in      = [&](const std::string &section) {
           const auto it = timings.find(section);
           return it == timings.end() ? 0.0 : it->second;
         };
-        const std::array<double, 4> seconds  = {{ventricle.mechanics_seconds,
+        const std::array<double, 5> seconds  = {{ventricle.mechanics_seconds,
                                                  in("Mechanics / assembly"),
                                                  in("Mechanics / linear solver"),
+                                                 in("Mechanics / cavity volume"),
                                                  ventricle.ep_seconds}};
-        const char                 *names[4] = {"mechanics_seconds",
+        const char                 *names[5] = {"mechanics_seconds",
                                                 "assembly_seconds",
                                                 "linear_solver_seconds",
+                                                "cavity_volume_seconds",
                                                 "ep_seconds"};
-        for (unsigned int i = 0; i < 4; ++i)
+        for (unsigned int i = 0; i < 5; ++i)
           row.push_back({names[i], "s", seconds[i] - seconds_written[i]});
         seconds_written = seconds;
         std::ostringstream activation;
@@ -433,8 +435,8 @@ namespace systole
       unsigned int          total_iterations = 0, total_solves = 0;
       unsigned long         ep_steps_written = 0, ep_steps_in_beats = 0;
       /// Totals at the last summary row: mechanics, assembly, linear solver,
-      /// electrophysiology [s].
-      std::array<double, 4> seconds_written = {{0, 0, 0, 0}};
+      /// cavity volume, electrophysiology [s].
+      std::array<double, 5> seconds_written = {{0, 0, 0, 0, 0}};
       double                last_time       = 0;
       /// Step of the last field output (none: the largest value).
       unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
