@@ -40,10 +40,13 @@ namespace systole::Circulation
       "Windkessel model",
       "3-element",
       Selection("2-element|3-element"),
-      "Afterload of the left ventricle. 3-element: characteristic impedance "
-      "Z_c in series with the parallel peripheral resistance R_p and "
-      "compliance C (the aortic valve is ideal); 2-element: R_p and C behind "
-      "the aortic valve resistance. Units: -.");
+      "Afterload of the 3D left ventricle of Problem = heartbeat (ideal "
+      "valves, four-phase cycle). 3-element: characteristic impedance Z_c in "
+      "series with the parallel peripheral resistance R_p and compliance C "
+      "(the aortic valve is ideal); 2-element: R_p and C behind the aortic "
+      "valve resistance. The 0D models of Problem = circulation are chosen "
+      "by Model below (their Windkessels use the resistances, compliance and "
+      "pressures of this subsection too). Units: -.");
     prm.declare_entry("Peripheral resistance",
                       "1.0",
                       Double(0.0),
@@ -56,13 +59,16 @@ namespace systole::Circulation
     prm.declare_entry("Characteristic impedance",
                       "0.05",
                       Double(0.0),
-                      "Z_c of the proximal aorta (3-element model only). "
+                      "Z_c of the proximal aorta (heartbeat: 3-element "
+                      "model only; Model = 3- and 4-element Windkessel). "
                       "Units: mmHg s/mL. Typical 0.03-0.07.");
     prm.declare_entry("Aortic valve resistance",
                       "0.0075",
                       Double(0.0),
-                      "Resistance of the open aortic valve (2-element model "
-                      "only). Units: mmHg s/mL.");
+                      "Resistance of the open aortic valve (heartbeat: "
+                      "2-element model only; the R_min of the aortic diode "
+                      "valve of every Model = n-element Windkessel). Units: "
+                      "mmHg s/mL.");
     prm.declare_entry("Mitral valve resistance",
                       "0.0075",
                       Double(0.0),
@@ -91,26 +97,33 @@ namespace systole::Circulation
     prm.declare_entry("Number of beats",
                       "4",
                       Integer(1),
-                      "Largest number of beats to simulate (the run may stop "
-                      "earlier, see Periodicity tolerance). Units: -.");
+                      "Largest number of beats to simulate, heartbeat and "
+                      "circulation problems (the run may stop earlier, see "
+                      "Periodicity tolerance). Units: -.");
     prm.declare_entry(
       "Periodicity tolerance",
       "0.01",
       Double(0.0, 1.0),
       "The run stops after a beat (from the second on) whose end-diastolic "
       "volume differs from that of the previous beat by less than this "
-      "fraction; 0 runs all beats. Units: -.");
+      "fraction (Problem = circulation: the largest change of any "
+      "ventricle); 0 runs all beats. Units: -.");
     prm.declare_entry("Relative tolerance",
                       "1e-4",
                       Double(0.0, 1.0),
-                      "Relative tolerance of the adaptive explicit "
-                      "Runge-Kutta integrator (SUNDIALS ARKode). Units: -.");
+                      "Relative tolerance of the adaptive ODE integrator "
+                      "(SUNDIALS ARKode): explicit Runge-Kutta for "
+                      "Problem = heartbeat, implicit (DIRK, order 5) for "
+                      "Problem = circulation. Units: -.");
     prm.declare_entry("Absolute volume tolerance",
                       "1e-3",
                       Double(0.0),
                       "Absolute tolerance of the cavity volume and the "
                       "integrated flows; that of the arterial pressure is "
-                      "this divided by the compliance. Units: mL.");
+                      "this divided by the compliance (Problem = "
+                      "circulation: every volume; a pressure gets this "
+                      "divided by its compliance, a flow this per ms). "
+                      "Units: mL.");
     prm.declare_entry("Maximum time step",
                       "10",
                       Double(0.0),

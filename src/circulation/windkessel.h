@@ -31,6 +31,30 @@ namespace systole::Circulation
     return q / Units::mL * Units::second;
   }
 
+  /// Flow from mL/s (parameter files) to mm^3/ms (internal).
+  constexpr double
+  flow_from_mL_per_s(const double q)
+  {
+    return q * Units::mL / Units::second;
+  }
+
+  /// Elastance from mmHg/mL (parameter files) to kPa/mm^3 (internal):
+  /// 1 mmHg/mL = 0.133322 kPa / 1000 mm^3.
+  constexpr double
+  elastance_from_mmHg_per_mL(const double e)
+  {
+    return e * Units::mmHg / Units::mL;
+  }
+
+  /// Inductance (inertance) from mmHg s^2/mL (parameter files) to
+  /// kPa ms^2/mm^3 (internal): 1 mmHg s^2/mL = 0.133322 kPa x 10^6 ms^2 /
+  /// 1000 mm^3 = 133.322 kPa ms^2/mm^3.
+  constexpr double
+  inductance_from_mmHg_s2_per_mL(const double l)
+  {
+    return l * Units::mmHg * Units::second * Units::second / Units::mL;
+  }
+
   /// The Windkessel model of the systemic arteries with one state, the
   /// distal (capacitor) pressure p_ar:
   /// @f[ C \frac{dp_{ar}}{dt} = Q_{ao} - \frac{p_{ar} - p_{ven}}{R_p},

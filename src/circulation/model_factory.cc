@@ -1,0 +1,167 @@
+#include "circulation/model_factory.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "circulation/chamber_elastance.h"
+#include "circulation/closed_loop.h"
+#include "circulation/windkessel_model.h"
+
+namespace systole::Circulation
+{
+  namespace
+  {
+    /// What every model gets from the shared entries of subsection
+    /// Circulation.
+    struct SharedInputs
+    {
+      double                       period;
+      ChamberElastance::Parameters left_ventricle, right_ventricle;
+    };
+
+    /// One model: how users call it, what it is, how to declare its own
+    /// parameters (may be null) and build it.
+    struct Entry
+    {
+      const char *name;
+      const char *description; // one sentence + reference, for the docs
+      void (*declare)(dealii::ParameterHandler &);
+      std::unique_ptr<Model> (*create)(const dealii::ParameterHandler &,
+                                       const SharedInputs &);
+    };
+
+    template <unsigned int n_elements>
+    std::unique_ptr<Model>
+    create_windkessel(const dealii::ParameterHandler &prm,
+                      const SharedInputs             &in)
+    {
+      return std::make_unique<WindkesselModel>(
+        WindkesselModel::Parameters::parse(prm,
+                                           n_elements,
+                                           in.period,
+                                           in.left_ventricle));
+    }
+
+    void
+    declare_closed_loop(dealii::ParameterHandler &prm)
+    {
+      prm.enter_subsection("Closed loop");
+      ClosedLoop::Parameters::declare(prm);
+      prm.leave_subsection();
+    }
+
+    /// Every model, in the order of the Selection (alphabetical).
+    const std::vector<Entry> &
+    table()
+    {
+      static const std::vector<Entry> entries = {
+        {"2-element Windkessel",
+         "the left ventricle between a constant atrial pressure and a "
+         "compliance parallel to the peripheral resistance (Frank 1899), "
+         "diode valves;",
+         &WindkesselModel::Parameters::declare,
+         &create_windkessel<2>},
+        {"3-element Windkessel",
+         "as the 2-element one with the characteristic impedance in series "
+         "(Westerhof et al. 1971);",
+         nullptr, // its entries are declared with the 2-element's
+         &create_windkessel<3>},
+        {"4-element Windkessel",
+         "as the 3-element one with an inductance in series with the "
+         "impedance, the law of reference/physiology.md (Stergiopulos et al. "
+         "1999);",
+         nullptr,
+         &create_windkessel<4>},
+        {ClosedLoop::model_name,
+         "both ventricles, elastance atria, systemic and pulmonary arteries "
+         "and veins (R, C, L) and four diode valves (Regazzoni et al. 2022, "
+         "J. Comput. Phys. 457:111083); conserves the blood volume.",
+         &declare_closed_loop,
+         [](const dealii::ParameterHandler &prm,
+            const SharedInputs             &in) -> std::unique_ptr<Model> {
+           return std::make_unique<ClosedLoop>(
+             ClosedLoop::Parameters::parse(prm,
+                                           in.period,
+                                           in.left_ventricle,
+                                           in.right_ventricle));
+         }},
+      };
+      return entries;
+    }
+
+    std::string
+    joined_names(const char *separator)
+    {
+      std::string result;
+      for (const Entry &e : table())
+        result += (result.empty() ? "" : separator) + std::string(e.name);
+      return result;
+    }
+  } // namespace
+
+
+  std::vector<std::string>
+  model_names()
+  {
+    std::vector<std::string> names;
+    for (const Entry &e : table())
+      names.emplace_back(e.name);
+    return names;
+  }
+
+
+  void
+  declare_model_parameters(dealii::ParameterHandler &prm)
+  {
+    std::string help =
+      "The 0D circulation model of Problem = circulation (integrated with "
+      "elastance ventricles). Problem = heartbeat still couples its 3D "
+      "ventricle to the Windkessel model entry above; the models of this "
+      "table are built for the coupled 3D-0D step to come. Choices:";
+    for (const Entry &e : table())
+      help += std::string(" ") + e.name + ": " + e.description;
+    help += " Units: none.";
+
+    prm.enter_subsection("Circulation");
+    prm.declare_entry("Model",
+                      ClosedLoop::model_name,
+                      dealii::Patterns::Selection(joined_names("|")),
+                      help);
+    prm.enter_subsection("Left ventricle");
+    ChamberElastance::Parameters::declare(prm,
+                                          default_left_ventricle(),
+                                          "left ventricle (0D elastance)");
+    prm.leave_subsection();
+    prm.enter_subsection("Right ventricle");
+    ChamberElastance::Parameters::declare(prm,
+                                          default_right_ventricle(),
+                                          "right ventricle (0D elastance)");
+    prm.leave_subsection();
+    for (const Entry &e : table())
+      if (e.declare != nullptr)
+        e.declare(prm);
+    prm.leave_subsection();
+  }
+
+
+  std::unique_ptr<Model>
+  create_model(const dealii::ParameterHandler &prm)
+  {
+    SharedInputs in;
+    in.period = prm.get_double({"Circulation"}, "Period");
+    in.left_ventricle =
+      ChamberElastance::Parameters::parse(prm,
+                                          {"Circulation", "Left ventricle"});
+    in.right_ventricle =
+      ChamberElastance::Parameters::parse(prm,
+                                          {"Circulation", "Right ventricle"});
+    const std::string name = prm.get({"Circulation"}, "Model");
+    for (const Entry &e : table())
+      if (name == e.name)
+        return e.create(prm, in);
+    AssertThrow(false,
+                dealii::ExcMessage("Circulation / Model = \"" + name +
+                                   "\" is unknown; choose one of " +
+                                   joined_names(", ") + "."));
+    return nullptr;
+  }
+} // namespace systole::Circulation

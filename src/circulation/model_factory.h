@@ -1,0 +1,45 @@
+#pragma once
+
+#include "circulation/model.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+/// @file
+/// The one place that knows every 0D circulation model (an explicit table
+/// in model_factory.cc, like the passive laws'). To add a model, see the
+/// recipe in circulation/model.h.
+
+namespace systole::Circulation
+{
+  /// Declares, in subsection "Circulation":
+  /// - "Model": a Patterns::Selection of model_names(), default "closed
+  ///   loop", whose help lists every model;
+  /// - subsections "Left ventricle" and "Right ventricle": the 0D
+  ///   elastance ventricles of the models (ChamberElastance rows);
+  /// - every model's own entries (subsection "Closed loop", subsection
+  ///   "4-element Windkessel", "Closed valve resistance"; all declared, so
+  ///   a file is fully checked whatever model it selects).
+  /// Call once, besides Circulation::Parameters::declare(), before
+  /// ParameterHandler::parse_input().
+  void
+  declare_model_parameters(dealii::ParameterHandler &prm);
+
+  /// The model named in "Circulation / Model", built from its parsed and
+  /// validated parameters, with 0D elastance ventricles and the period of
+  /// "Circulation / Period". Throws ExcMessage naming the entry on a bad
+  /// value.
+  std::unique_ptr<Model>
+  create_model(const dealii::ParameterHandler &prm);
+
+  /// Names of all models as shown to users: "2-element Windkessel",
+  /// "3-element Windkessel", "4-element Windkessel", "closed loop".
+  std::vector<std::string>
+  model_names();
+} // namespace systole::Circulation
