@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "circulation/model_factory.h"
 #include "circulation/parameters.h"
 #include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
@@ -81,7 +82,8 @@ namespace systole
     prm.declare_entry(
       "Problem",
       "cavity volume",
-      Selection("cavity volume|mechanics|heartbeat|electrophysiology"),
+      Selection(
+        "cavity volume|mechanics|heartbeat|electrophysiology|circulation"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
@@ -92,7 +94,10 @@ namespace systole
       "cardiac cycle (subsections Circulation, Active tension, Material, "
       "Mechanics). 'electrophysiology': the monodomain model alone, "
       "activation times and their summary (subsections Electrophysiology, "
-      "Fibres).");
+      "Fibres). 'circulation': the 0D circulation model of Circulation / "
+      "Model alone, with elastance ventricles, for Circulation / Number of "
+      "beats beats; a time-series row every Time / Time step (subsection "
+      "Circulation).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -169,6 +174,7 @@ namespace systole
     Mechanics::Parameters::declare(prm);
     Materials::Bestel::Parameters::declare(prm);
     Circulation::Parameters::declare(prm);
+    Circulation::declare_model_parameters(prm);
     Electrophysiology::Parameters::declare(prm);
   }
 
@@ -217,6 +223,7 @@ namespace systole
     Mechanics::Parameters::parse(prm);
     Materials::Bestel::Parameters::parse(prm);
     Circulation::Parameters::parse(prm);
+    Circulation::create_model(prm);
     Electrophysiology::Parameters::parse(prm);
   }
 

@@ -6,6 +6,7 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "io/results_file.h"
+#include "simulation/circulation_run.h"
 #include "simulation/electrophysiology_run.h"
 #include "simulation/heartbeat.h"
 #include "simulation/kinematics.h"
@@ -79,6 +80,12 @@ namespace systole
                             impl->text,
                             impl->logger,
                             impl->comm);
+    else if (impl->run.problem == "circulation")
+      run_circulation_problem(impl->prm,
+                              impl->run,
+                              impl->text,
+                              impl->logger,
+                              impl->comm);
     else if (impl->run.problem == "electrophysiology")
       run_electrophysiology_problem(impl->prm,
                                     impl->run,

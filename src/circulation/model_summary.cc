@@ -1,0 +1,178 @@
+#include "circulation/model_summary.h"
+
+#include "base/units.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace systole::Circulation
+{
+  namespace
+  {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+  } // namespace
+
+  CavityPhases::CavityPhases(const Model             &model,
+                             const std::vector<bool> &valves_open)
+    : model(model)
+    , phases(model.n_cavities(), Phase::isovolumetric_relaxation)
+  {
+    update(valves_open);
+  }
+
+  void
+  CavityPhases::update(const std::vector<bool> &valves_open)
+  {
+    for (unsigned int c = 0; c < model.n_cavities(); ++c)
+      {
+        const auto &cavity = model.cavities()[c];
+        Phase      &phase  = phases[c];
+        if (valves_open[cavity.outlet_valve])
+          phase = Phase::ejection;
+        else if (valves_open[cavity.inlet_valve])
+          phase = Phase::filling;
+        else if (phase == Phase::filling)
+          phase = Phase::isovolumetric_contraction;
+        else if (phase == Phase::ejection)
+          phase = Phase::isovolumetric_relaxation;
+      }
+  }
+
+  ModelBeatRecorder::ModelBeatRecorder(const Model &model)
+    : model(model)
+    , previous_edv(model.n_cavities(), nan)
+    , last_periodicity(nan)
+  {}
+
+  void
+  ModelBeatRecorder::start(const unsigned int beat, const double start_time)
+  {
+    this->beat       = beat;
+    this->start_time = start_time;
+    if (!samples.empty())
+      samples.erase(samples.begin(), samples.end() - 1);
+  }
+
+  void
+  ModelBeatRecorder::add(const double                  time,
+                         const dealii::Vector<double> &y,
+                         const dealii::Vector<double> &cavity_pressures,
+                         const dealii::Vector<double> &outputs)
+  {
+    samples.push_back({time, y, cavity_pressures, outputs});
+  }
+
+  std::vector<SummaryColumn>
+  ModelBeatRecorder::finish(const double end_time)
+  {
+    const auto mL   = [](const double v) { return Units::mm3_to_mL(v); };
+    const auto mmHg = [](const double p) { return Units::kPa_to_mmHg(p); };
+    std::vector<SummaryColumn> row = {{"beat", "-", static_cast<double>(beat)},
+                                      {"start_time", "ms", start_time},
+                                      {"end_time", "ms", end_time}};
+
+    std::vector<double> edv(model.n_cavities(), nan);
+    double              periodicity = samples.empty() ? nan : 0.0;
+    for (unsigned int c = 0; c < model.n_cavities(); ++c)
+      {
+        const auto        &cavity = model.cavities()[c];
+        const unsigned int iv     = cavity.volume_state;
+        const double       inf    = std::numeric_limits<double>::infinity();
+        double             v_max = -inf, v_min = inf, p_peak = -inf;
+        double             p_ed = nan;
+        double             work = 0;
+        for (std::size_t i = 0; i < samples.size(); ++i)
+          {
+            const auto  &s = samples[i];
+            const double v = s.y[iv], p = s.cavity_pressures[c];
+            if (v > v_max)
+              {
+                v_max = v;
+                p_ed  = p;
+              }
+            v_min  = std::min(v_min, v);
+            p_peak = std::max(p_peak, p);
+            if (i > 0)
+              {
+                // The loop runs counter-clockwise in (V, p): the work done
+                // on the blood, -oint p dV, is positive.
+                const auto &q = samples[i - 1];
+                work -= 0.5 * (p + q.cavity_pressures[c]) * (v - q.y[iv]);
+              }
+          }
+        if (samples.empty())
+          v_max = v_min = p_peak = nan;
+        edv[c]          = v_max;
+        const double sv = v_max - v_min;
+        periodicity =
+          std::max(periodicity,
+                   std::abs(v_max - previous_edv[c]) / previous_edv[c]);
+        const std::string n = cavity.name + "_";
+        row.push_back({n + "EDV_mL", "mL", mL(v_max)});
+        row.push_back({n + "ESV_mL", "mL", mL(v_min)});
+        row.push_back({n + "SV_mL", "mL", mL(sv)});
+        row.push_back({n + "EF", "%", 100.0 * sv / v_max});
+        row.push_back({n + "EDP_mmHg", "mmHg", mmHg(p_ed)});
+        row.push_back({n + "peak_pressure_mmHg", "mmHg", mmHg(p_peak)});
+        row.push_back({n + "stroke_work_mmHg_mL",
+                       "mmHg mL",
+                       work / (Units::mmHg * Units::mL)});
+      }
+    // std::max ignores a NaN second argument only; the first beat has no
+    // previous EDV.
+    if (std::isnan(previous_edv.empty() ? nan : previous_edv[0]))
+      periodicity = nan;
+
+    // Every pressure: max, min, time average.
+    const auto pressure_statistics = [&](const std::string &name,
+                                         const auto        &value_of) {
+      double max = -std::numeric_limits<double>::infinity(), min = -max;
+      double integral = 0;
+      for (std::size_t i = 0; i < samples.size(); ++i)
+        {
+          const double p = value_of(samples[i]);
+          max            = std::max(max, p);
+          min            = std::min(min, p);
+          if (i > 0)
+            integral += 0.5 * (p + value_of(samples[i - 1])) *
+                        (samples[i].time - samples[i - 1].time);
+        }
+      const double duration =
+        samples.empty() ? 0.0 : samples.back().time - samples.front().time;
+      row.push_back({name + "_max_mmHg", "mmHg", mmHg(max)});
+      row.push_back({name + "_min_mmHg", "mmHg", mmHg(min)});
+      row.push_back({name + "_mean_mmHg",
+                     "mmHg",
+                     duration > 0 ? mmHg(integral / duration) : nan});
+    };
+    for (unsigned int i = 0; i < model.n_states(); ++i)
+      if (model.states()[i].quantity == Quantity::pressure)
+        pressure_statistics(model.states()[i].name,
+                            [i](const Sample &s) { return s.y[i]; });
+    for (unsigned int i = 0; i < model.outputs().size(); ++i)
+      if (model.outputs()[i].quantity == Quantity::pressure)
+        pressure_statistics(model.outputs()[i].name,
+                            [i](const Sample &s) { return s.outputs[i]; });
+
+    double v_end = nan, drift = nan;
+    if (!samples.empty())
+      {
+        const double v0 = model.total_blood_volume(samples.front().y);
+        v_end           = model.total_blood_volume(samples.back().y);
+        drift           = 0;
+        for (const auto &s : samples)
+          drift = std::max(drift,
+                           std::abs(model.total_blood_volume(s.y) - v0) /
+                             std::abs(v0));
+      }
+    row.push_back({"total_blood_volume_mL", "mL", mL(v_end)});
+    row.push_back({"total_blood_volume_drift", "-", drift});
+    row.push_back({"periodicity", "-", periodicity});
+    row.push_back({"samples", "-", static_cast<double>(samples.size())});
+
+    previous_edv     = edv;
+    last_periodicity = periodicity;
+    return row;
+  }
+} // namespace systole::Circulation

@@ -1,0 +1,103 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include "circulation/beat_summary.h"
+#include "circulation/model.h"
+#include "circulation/phase.h"
+
+#include <vector>
+
+namespace systole::Circulation
+{
+  /// The phase of each cavity of a model, from its valves: ejection while
+  /// the outlet valve is open, filling while the inlet valve is open,
+  /// otherwise isovolumetric contraction after filling and isovolumetric
+  /// relaxation after ejection.
+  class CavityPhases
+  {
+  public:
+    /// @param[in] valves_open the valve states at the start
+    CavityPhases(const Model &model, const std::vector<bool> &valves_open);
+
+    /// Update with the valve states after an event (or any time).
+    void
+    update(const std::vector<bool> &valves_open);
+
+    /// Phase of cavity @p c.
+    Phase
+    phase(const unsigned int c) const
+    {
+      return phases[c];
+    }
+
+  private:
+    const Model       &model;
+    std::vector<Phase> phases;
+  };
+
+  /// Collects the samples of one beat of a 0D model (output times and valve
+  /// events, in time order) and computes its summary row:
+  /// - per cavity c: c_EDV_mL, c_ESV_mL (largest and smallest volume),
+  ///   c_SV_mL, c_EF (%), c_EDP_mmHg (the pressure at the largest volume),
+  ///   c_peak_pressure_mmHg, c_stroke_work_mmHg_mL (-oint p dV, trapezoidal);
+  /// - per pressure (states and outputs): name_max_mmHg, name_min_mmHg,
+  ///   name_mean_mmHg (time average, trapezoidal);
+  /// - total_blood_volume_mL at the beat's end, and its largest relative
+  ///   change within the beat (total_blood_volume_drift);
+  /// - periodicity: the largest relative change of a cavity's EDV since the
+  ///   previous beat (NaN in the first).
+  /// Extremes are taken over the samples, so their accuracy is that of the
+  /// output interval (valve events are samples too, so EDV and ESV, which
+  /// lie at valve closures, are accurate to the tolerance).
+  class ModelBeatRecorder
+  {
+  public:
+    explicit ModelBeatRecorder(const Model &model);
+
+    /// Start beat @p beat at @p start_time; the last sample of the previous
+    /// beat (its end) is the first one of this beat.
+    void
+    start(const unsigned int beat, const double start_time);
+
+    /// A sample: time [ms], state, all cavity pressures [kPa] and outputs.
+    void
+    add(const double                  time,
+        const dealii::Vector<double> &y,
+        const dealii::Vector<double> &cavity_pressures,
+        const dealii::Vector<double> &outputs);
+
+    /// The summary row of the beat ending at @p end_time; stores the EDVs
+    /// for the next beat's periodicity.
+    std::vector<SummaryColumn>
+    finish(const double end_time);
+
+    /// The periodicity of the last finished beat (NaN for the first).
+    double
+    periodicity() const
+    {
+      return last_periodicity;
+    }
+
+    /// EDV of each cavity in the last finished beat [mm^3].
+    const std::vector<double> &
+    end_diastolic_volumes() const
+    {
+      return previous_edv;
+    }
+
+  private:
+    struct Sample
+    {
+      double                 time;
+      dealii::Vector<double> y, cavity_pressures, outputs;
+    };
+
+    const Model        &model;
+    unsigned int        beat       = 0;
+    double              start_time = 0;
+    std::vector<Sample> samples;
+    std::vector<double> previous_edv;
+    double              last_periodicity;
+  };
+} // namespace systole::Circulation
