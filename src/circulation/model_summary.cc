@@ -52,6 +52,19 @@ namespace systole::Circulation
     this->start_time = start_time;
     if (!samples.empty())
       samples.erase(samples.begin(), samples.end() - 1);
+    closures.clear();
+  }
+
+  void
+  ModelBeatRecorder::add_valve_event(
+    const unsigned int            valve,
+    const bool                    opens,
+    const double                  time,
+    const dealii::Vector<double> &y,
+    const dealii::Vector<double> &cavity_pressures)
+  {
+    if (!opens)
+      closures.push_back({valve, {time, y, cavity_pressures, {}}});
   }
 
   void
@@ -103,6 +116,15 @@ namespace systole::Circulation
           }
         if (samples.empty())
           v_max = v_min = p_peak = nan;
+        // The valve closures, where the beat has them.
+        for (const auto &closure : closures)
+          if (closure.valve == cavity.inlet_valve)
+            {
+              v_max = closure.sample.y[iv];
+              p_ed  = closure.sample.cavity_pressures[c];
+            }
+          else if (closure.valve == cavity.outlet_valve)
+            v_min = closure.sample.y[iv];
         edv[c]          = v_max;
         const double sv = v_max - v_min;
         periodicity =

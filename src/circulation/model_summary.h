@@ -38,9 +38,13 @@ namespace systole::Circulation
 
   /// Collects the samples of one beat of a 0D model (output times and valve
   /// events, in time order) and computes its summary row:
-  /// - per cavity c: c_EDV_mL, c_ESV_mL (largest and smallest volume),
-  ///   c_SV_mL, c_EF (%), c_EDP_mmHg (the pressure at the largest volume),
-  ///   c_peak_pressure_mmHg, c_stroke_work_mmHg_mL (-oint p dV, trapezoidal);
+  /// - per cavity c: c_EDV_mL and c_EDP_mmHg, the volume and pressure at
+  ///   the (last) closure of its inlet valve in the beat, c_ESV_mL the
+  ///   volume at the closure of its outlet valve (the largest and smallest
+  ///   volume of the beat if a valve did not close: with diode valves the
+  ///   volume still changes by the leaks after a closure, by about 1e-5 mL
+  ///   per beat), c_SV_mL, c_EF (%), c_peak_pressure_mmHg,
+  ///   c_stroke_work_mmHg_mL (-oint p dV, trapezoidal);
   /// - per pressure (states and outputs): name_max_mmHg, name_min_mmHg,
   ///   name_mean_mmHg (time average, trapezoidal);
   /// - total_blood_volume_mL at the beat's end, and its largest relative
@@ -66,6 +70,15 @@ namespace systole::Circulation
         const dealii::Vector<double> &y,
         const dealii::Vector<double> &cavity_pressures,
         const dealii::Vector<double> &outputs);
+
+    /// A sample at a valve event (add() it too, before or after): the
+    /// closures of inlet and outlet valves mark EDV and ESV.
+    void
+    add_valve_event(const unsigned int            valve,
+                    const bool                    opens,
+                    const double                  time,
+                    const dealii::Vector<double> &y,
+                    const dealii::Vector<double> &cavity_pressures);
 
     /// The summary row of the beat ending at @p end_time; stores the EDVs
     /// for the next beat's periodicity.
@@ -93,11 +106,18 @@ namespace systole::Circulation
       dealii::Vector<double> y, cavity_pressures, outputs;
     };
 
-    const Model        &model;
-    unsigned int        beat       = 0;
-    double              start_time = 0;
-    std::vector<Sample> samples;
-    std::vector<double> previous_edv;
-    double              last_periodicity;
+    struct Closure
+    {
+      unsigned int valve;
+      Sample       sample;
+    };
+
+    const Model         &model;
+    unsigned int         beat       = 0;
+    double               start_time = 0;
+    std::vector<Sample>  samples;
+    std::vector<Closure> closures;
+    std::vector<double>  previous_edv;
+    double               last_periodicity;
   };
 } // namespace systole::Circulation

@@ -128,6 +128,7 @@ namespace systole
       open[e.valve] = e.opens;
       phases.update(open);
       sample(e.time, e.state);
+      recorder.add_valve_event(e.valve, e.opens, e.time, e.state, p_cavities);
       std::vector<IO::Column> row = {{"time", "ms", e.time},
                                      {"beat", "-", static_cast<double>(beat)},
                                      {"valve",
@@ -211,7 +212,8 @@ namespace systole
               << value(summary, n + "EF") << " %, peak "
               << value(summary, n + "peak_pressure_mmHg") << " mmHg;";
           }
-        o << " EDV change " << 100 * recorder.periodicity() << " %";
+        o << " EDV change " << std::defaultfloat << std::setprecision(2)
+          << 100 * recorder.periodicity() << " %";
         logger.line(o.str());
 
         if (beat >= 1 && circulation.periodicity_tolerance > 0 &&
