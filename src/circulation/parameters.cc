@@ -133,8 +133,9 @@ namespace systole::Circulation
     prm.declare_entry("Initial time step",
                       "0.5",
                       Double(0.0),
-                      "First step of the integrator, and the first step after "
-                      "every valve event. Units: ms.");
+                      "First step of the integrator, and (Problem = "
+                      "heartbeat) the first step after every valve event. "
+                      "Units: ms.");
     prm.leave_subsection();
   }
 
