@@ -536,6 +536,100 @@ def heartbeat_section(rows: list[dict]) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: Bounds of the periodic state of the closed loop (the heartbeat issue's bands for the LV in
+#: the closed loop; physiology.md's typical right ventricle).
+CIRCULATION_BOUNDS = {
+    "lv_EDV_mL": (100, 160), "lv_EF": (45, 65), "lv_peak_pressure_mmHg": (90, 140),
+    "systemic_arterial_pressure_min_mmHg": (60, 90), "la_pressure_mean_mmHg": (5, 15),
+    "rv_EF": (45, 60), "rv_peak_pressure_mmHg": (20, 30),
+}
+
+
+def run_circulation(name: str, text: str, build: Path, workdir: Path) -> dict:
+    """One Problem = circulation run (1 rank): its time series, summary, log and wall time."""
+    prm = workdir / f"{name}.prm"
+    prm.write_text(text + f"\nsubsection Output\n  set Run name = {name}\nend\n")
+    out, busy = run_watched([str(build / "systole"), str(prm)], workdir, 1)
+    if out.returncode != 0:
+        return {"ok": False, "error": (out.stderr.strip().splitlines() or ["?"])[0]}
+    results = read_results(workdir / "results" / name / "results.h5")
+    wall = float(re.search(r"Wall time ([\d.]+) s", out.stdout).group(1))
+    steps = int(re.search(r"(\d+) ARKode steps", out.stdout).group(1))
+    return {"ok": True, "busy": busy, "timeseries": results.timeseries,
+            "summary": results.summary, "wall": wall, "steps": steps}
+
+
+def circulation_section(build: Path, workdir: Path) -> str:
+    """The 0D closed loop: agreement with the independent reference over 5 beats, and the
+    periodic state of parameters/circulation_closed_loop.prm."""
+    from systole_post.closed_loop_reference import STATES, reference_solution
+
+    title = "0D closed loop (Problem = circulation)"
+    lines = [f"## {title}",
+             "The closed loop of physiology.md (Regazzoni et al. 2022, elastance ventricles, "
+             "the defaults of subsection Circulation) integrated by `systole` (ARKode, implicit "
+             "DIRK of order 5, analytic Jacobian, valve events by root finding).", "",
+             "Against the independent SciPy implementation of `scripts/systole_post/"
+             "closed_loop_reference.py` (Radau, rtol 1e-10): 5 beats, app at relative "
+             "tolerance 1e-10 and absolute volume tolerance 1e-9 mL, compared at its 4001 "
+             "output times (every 1 ms, exact); the difference is the largest over the run "
+             "divided by the state's largest magnitude (the pytest and ctest "
+             "`run.circulation_closed_loop_reference` require < 1e-6).", ""]
+    text = ("set Problem = circulation\nsubsection Time\n  set Time step = 1\nend\n"
+            "subsection Circulation\n  set Number of beats = 5\n  set Periodicity tolerance = 0\n"
+            "  set Relative tolerance = 1e-10\n  set Absolute volume tolerance = 1e-9\nend\n")
+    tight = run_circulation("closed_loop_reference", text, build, workdir)
+    if not tight["ok"]:
+        lines.append(f"failed: {tight['error']}")
+    else:
+        ts = tight["timeseries"]
+        reference = reference_solution(ts["time"] / 1000.0)
+        lines += ["| state | largest value | largest difference | relative |", "|---|---|---|---|"]
+        for i, (name, _) in enumerate(STATES):
+            scale = np.max(np.abs(reference[i]))
+            diff = np.max(np.abs(ts[name] - reference[i]))
+            lines.append(f"| {name} | {scale:.4g} | {diff:.2e} | {diff / scale:.2e} |")
+        volume = ts["total_blood_volume_mL"]
+        drift = np.max(np.abs(volume - volume[0])) / volume[0]
+        lines += ["", f"Blood volume {volume[0]:.3f} mL, largest relative change over the 5 "
+                  f"beats {drift:.1e} (required < 1e-8). {tight['steps']} ARKode steps, "
+                  f"{tight['wall']:.1f} s wall time (mostly writing and flushing the 4001 "
+                  "rows)."]
+
+    shipped = run_circulation("circulation_closed_loop",
+                              (ROOT / "parameters" / "circulation_closed_loop.prm").read_text(),
+                              build, workdir)
+    lines += ["", "Periodic state of `parameters/circulation_closed_loop.prm` (until both EDVs "
+              "change by less than 1e-4 between beats; relative tolerance 1e-8; EDV, EDP and "
+              "ESV at the valve closures, extremes and means over the 1 ms rows and the valve "
+              "events of the last beat):", ""]
+    if not shipped["ok"]:
+        lines.append(f"failed: {shipped['error']}")
+        return "\n".join(lines) + "\n"
+    summary = shipped["summary"]
+    n = len(summary["beat"])
+    lines += [f"{n} beats to periodicity (last EDV change {summary['periodicity'][-1]:.1e}), "
+              f"{shipped['wall']:.1f} s.", "",
+              "| quantity | last beat | bounds |", "|---|---|---|"]
+    keys = ["lv_EDV_mL", "lv_ESV_mL", "lv_SV_mL", "lv_EF", "lv_EDP_mmHg",
+            "lv_peak_pressure_mmHg", "systemic_arterial_pressure_max_mmHg",
+            "systemic_arterial_pressure_min_mmHg", "systemic_arterial_pressure_mean_mmHg",
+            "la_pressure_mean_mmHg", "rv_EDV_mL", "rv_ESV_mL", "rv_SV_mL", "rv_EF",
+            "rv_peak_pressure_mmHg", "pulmonary_arterial_pressure_max_mmHg",
+            "pulmonary_arterial_pressure_min_mmHg", "ra_pressure_mean_mmHg",
+            "lv_stroke_work_mmHg_mL", "total_blood_volume_mL"]
+    for k in keys:
+        bound = ""
+        if k in CIRCULATION_BOUNDS:
+            low, high = CIRCULATION_BOUNDS[k]
+            bound = f"{low} ... {high}: " + ("yes" if low <= summary[k][-1] <= high else "**no**")
+        lines.append(f"| {k} | {summary[k][-1]:.4g} | {bound} |")
+    lines += ["", "Aortic pressures are those of the systemic arterial compliance; the bounds "
+              "are the LV bands of the heartbeat issue for its closed loop and physiology.md's "
+              "typical right ventricle (reported, not asserted)."]
+    return "\n".join(lines) + "\n"
+
+
 EP_COST = re.compile(r"EP cost: ([\d.]+) s in (\d+) ARKode steps, ([\d.]+) us per step per DOF; "
                      r"(\d+) stage solves, ([\d.]+) CG iterations per solve")
 #: sqrt(sigma_l / sigma_t) of the Niederer et al. conductivities (the defaults).
@@ -846,7 +940,7 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="skip the finest levels")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
-                                           "ep-lv", "mixed"],
+                                           "ep-lv", "mixed", "circulation"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -945,6 +1039,12 @@ def main() -> int:
         if args.only in (None, "mixed"):
             title = "Mechanics: penalty and mixed formulations, direct and iterative solvers"
             sections[title] = mixed_section(args.build, workdir, args.quick)
+            print(sections[title], flush=True)
+
+        if args.only in (None, "circulation"):
+            title = "0D closed loop (Problem = circulation)"
+            print("running the 0D closed loop ...", flush=True)
+            sections[title] = circulation_section(args.build, workdir)
             print(sections[title], flush=True)
 
     if args.no_write:
