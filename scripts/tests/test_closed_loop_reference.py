@@ -130,3 +130,14 @@ def test_summary_has_one_row_per_beat_per_ventricle(run, reference):
         volume = reference[i][last]
         assert summary[f"{prefix}_EDV_mL"][-1] == pytest.approx(volume.max(), rel=1e-4)
         assert summary[f"{prefix}_ESV_mL"][-1] == pytest.approx(volume.min(), rel=1e-4)
+
+
+def test_each_ventricle_passes_its_four_phases_in_order(run):
+    timeseries, _ = run
+    for prefix in ("lv", "rv"):
+        phases = timeseries[f"{prefix}_phase"].astype(int)
+        changes = phases[np.flatnonzero(np.diff(phases)) + 1]
+        sequence = np.concatenate([[phases[0]], changes])
+        # filling 0 -> isovolumetric contraction 1 -> ejection 2 -> isovolumetric relaxation 3
+        assert np.all((sequence[1:] - sequence[:-1]) % 4 == 1), (prefix, sequence)
+        assert len(sequence) >= 4 * N_BEATS
