@@ -35,8 +35,12 @@ namespace systole::Materials
   /// Parameters struct
   ///    (declare/parse, units in every help text, bounds checked in parse);
   /// 2. add one line to the table in materials/factory.cc;
-  /// 3. add tests/unit/materials/<law>_test.cc with the finite-difference
-  /// checks of the other laws.
+  /// 3. add its test parameter sets to tests/support/law_parameters.cc and
+  /// its closed-form stress (derived by hand from the formula) to
+  /// tests/unit/materials/closed_form_test.cc. The tests take their list of
+  /// laws from the factory table, so the finite-difference, objectivity,
+  /// symmetry and mechanics tangent checks then cover the law, and a law
+  /// missing from either file fails them.
   class PassiveLaw
   {
   public:

@@ -11,6 +11,10 @@
 // which shows that the anisotropic laws take their directions from the frame
 // and not from the axes.
 //
+// The laws are those of the factory table with their test parameter sets
+// (test_support::passive_law_cases()); each has its closed form in
+// closed_forms() below, and a law of the table without one fails.
+//
 // The passive_laws_test.cc checks only show that psi, S and dS/dE agree with
 // each other; these pin S (and psi) to independent values. The closed forms
 // below use only the parameters and the hand-derived kinematics of the three
@@ -43,6 +47,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
+#include "materials/factory.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
 #include "materials/mooney_rivlin.h"
@@ -57,6 +62,7 @@
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -386,6 +392,44 @@ namespace
     return result;
   }
 
+  /// The closed form of a law, given the law (whose parameters() it reads).
+  using ClosedFormOf = std::function<ClosedForm(const Materials::PassiveLaw &,
+                                                const Deformation &)>;
+
+  /// The closed form @p f of the law type @p Law, fed with the parameters
+  /// of the law it is given (which must be a @p Law).
+  template <class Law>
+  ClosedFormOf
+  closed_form_of(ClosedForm (*f)(const typename Law::Parameters &,
+                                 const Deformation &))
+  {
+    return [f](const Materials::PassiveLaw &law, const Deformation &d) {
+      const auto *typed = dynamic_cast<const Law *>(&law);
+      REQUIRE(typed != nullptr);
+      return f(typed->parameters(), d);
+    };
+  }
+
+  /// The closed form of every law, keyed by its name in the factory table.
+  /// A law of the table without an entry here fails the checks below.
+  const std::map<std::string, ClosedFormOf> &
+  closed_forms()
+  {
+    using namespace Materials;
+    static const std::map<std::string, ClosedFormOf> forms = {
+      {Guccione::law_name, closed_form_of<Guccione>(guccione_closed_form)},
+      {HolzapfelOgden::law_name,
+       closed_form_of<HolzapfelOgden>(holzapfel_ogden_closed_form)},
+      {MooneyRivlin::law_name,
+       closed_form_of<MooneyRivlin>(mooney_rivlin_closed_form)},
+      {NeoHookean::law_name,
+       closed_form_of<NeoHookean>(neo_hookean_closed_form)},
+      {StVenantKirchhoff::law_name,
+       closed_form_of<StVenantKirchhoff>(st_venant_kirchhoff_closed_form)},
+    };
+    return forms;
+  }
+
   /// A law under test and its closed form.
   struct LawCase
   {
@@ -394,50 +438,27 @@ namespace
     std::function<ClosedForm(const Deformation &)> closed_form;
   };
 
-  /// Every passive law with its default parameters (as in
-  /// passive_laws_test.cc), and the transversely isotropic reduction of
-  /// Holzapfel-Ogden.
+  /// Every law of the factory table with its test parameter sets (as in
+  /// passive_laws_test.cc: test_support::passive_law_cases()), each with
+  /// its closed form. Fails (REQUIRE) for a law without one.
   std::vector<LawCase>
   passive_laws()
   {
-    using namespace Materials;
-    const Guccione::Parameters       guccione;
-    const HolzapfelOgden::Parameters ho;
-    const HolzapfelOgden::Parameters ho_ti =
-      test_support::transversely_isotropic_holzapfel_ogden();
-    const NeoHookean::Parameters        neo_hookean;
-    const MooneyRivlin::Parameters      mooney_rivlin;
-    const StVenantKirchhoff::Parameters svk;
-    return {
-      {"Guccione",
-       std::make_shared<Guccione>(guccione),
-       [=](const Deformation &d) { return guccione_closed_form(guccione, d); }},
-      {"Holzapfel-Ogden (orthotropic)",
-       std::make_shared<HolzapfelOgden>(ho),
-       [=](const Deformation &d) {
-         return holzapfel_ogden_closed_form(ho, d);
-       }},
-      {"Holzapfel-Ogden (transversely isotropic)",
-       std::make_shared<HolzapfelOgden>(ho_ti),
-       [=](const Deformation &d) {
-         return holzapfel_ogden_closed_form(ho_ti, d);
-       }},
-      {"neo-Hookean",
-       std::make_shared<NeoHookean>(neo_hookean),
-       [=](const Deformation &d) {
-         return neo_hookean_closed_form(neo_hookean, d);
-       }},
-      {"Mooney-Rivlin",
-       std::make_shared<MooneyRivlin>(mooney_rivlin),
-       [=](const Deformation &d) {
-         return mooney_rivlin_closed_form(mooney_rivlin, d);
-       }},
-      {"St Venant-Kirchhoff",
-       std::make_shared<StVenantKirchhoff>(svk),
-       [=](const Deformation &d) {
-         return st_venant_kirchhoff_closed_form(svk, d);
-       }},
-    };
+    std::vector<LawCase> result;
+    for (const test_support::LawCase &c : test_support::passive_law_cases())
+      {
+        const auto found = closed_forms().find(c.law->name());
+        INFO("The passive law \"" << c.law->name()
+                                  << "\" has no closed form in "
+                                     "closed_form_test.cc: derive one.");
+        REQUIRE(found != closed_forms().end());
+        const ClosedFormOf                           form = found->second;
+        std::shared_ptr<const Materials::PassiveLaw> law  = c.law;
+        result.push_back({c.label, law, [form, law](const Deformation &d) {
+                            return form(*law, d);
+                          }});
+      }
+    return result;
   }
 
   /// A fibre frame as the rotation Q = [f0 s0 n0] (columns).
@@ -545,6 +566,21 @@ TEST_CASE("The hand-derived kinematics of the closed-form checks are those "
       CHECK(std::abs(d.C * d.dI1_bar) <= 1e-13 * d.dI1_bar.norm());
       CHECK(std::abs(d.C * d.dI2_bar) <= 1e-13 * d.dI2_bar.norm());
     }
+}
+
+
+TEST_CASE("Every law of the factory table has a closed form",
+          "[materials][closed-form]")
+{
+  // The list of laws below comes from the factory table; a law added there
+  // must get its hand-derived closed form here.
+  for (const std::string &name : Materials::passive_law_names())
+    {
+      INFO("\"" << name << "\" is in the factory table; derive its closed "
+                << "form in closed_form_test.cc");
+      CHECK(closed_forms().count(name) == 1);
+    }
+  CHECK(closed_forms().size() == Materials::passive_law_names().size());
 }
 
 

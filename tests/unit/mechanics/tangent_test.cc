@@ -6,6 +6,7 @@
 #include "materials/guccione.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/problem.h"
+#include "support/law_parameters.h"
 
 #include <catch2/catch.hpp>
 
@@ -161,4 +162,77 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
                 Approx(2.0).margin(0.2));
         }
   }
+}
+
+
+TEST_CASE("The mechanics tangent is the derivative of the residual with "
+          "every passive law in every formulation",
+          "[mechanics][fd]")
+{
+  // The laws of the factory table (test_support::passive_law_cases()) on
+  // the beam with Q1 displacements: penalty, and Q1-P0 nearly
+  // incompressible and incompressible (the mixed ones evaluate the
+  // isochoric part of the law), with a pressure field, follower pressure,
+  // active tension, a sliding face and Robin springs.
+  std::ostringstream             sink;
+  Logger                         logger(MPI_COMM_WORLD, sink);
+  const Materials::VolumetricLaw volumetric(
+    Materials::VolumetricLaw::Form::simo_taylor,
+    100.0);
+  const Fibres::FibreField fibres =
+    [](const auto &, const auto &points, auto &bases) {
+      bases.resize(points.size());
+      for (unsigned int i = 0; i < points.size(); ++i)
+        {
+          const double a = 0.3 * points[i][2];
+          bases[i].f     = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
+          bases[i].s     = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
+          bases[i].n     = dealii::Tensor<1, 3>({0, 0, 1});
+        }
+    };
+  Geometry::Parameters geometry;
+  geometry.type      = Geometry::Parameters::Type::box;
+  geometry.box_upper = dealii::Point<3>(10, 1, 1);
+  geometry.box_cells = {{5, 2, 2}};
+  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+  const auto names = Geometry::create_mesh(geometry, tria);
+
+  for (const test_support::LawCase &c : test_support::passive_law_cases())
+    DYNAMIC_SECTION(c.label)
+    {
+      // A tension switch blends over I4 - 1 in [0, 0.01]: its higher
+      // derivatives (~ width^-3) make the truncation error large unless the
+      // step is small (the observed order is 2 either way).
+      const double h = c.tension_switches.empty() ? 1e-3 : 1e-4;
+      for (const auto incompressibility :
+           {Mechanics::Incompressibility::penalty,
+            Mechanics::Incompressibility::nearly_incompressible,
+            Mechanics::Incompressibility::incompressible})
+        {
+          Mechanics::Parameters params;
+          params.incompressibility  = incompressibility;
+          params.fixed_boundaries   = {"x_min"};
+          params.sliding_boundaries = {"y_min"};
+          params.pressure_boundary  = "z_min";
+          params.robin_boundaries   = {"x_max"};
+          params.robin_stiffness    = 0.2;
+          params.robin_normal_only  = false;
+          params.linear_solver      = "direct";
+          Mechanics::Problem problem(params,
+                                     tria,
+                                     names,
+                                     1,
+                                     1,
+                                     *c.law,
+                                     volumetric,
+                                     fibres,
+                                     logger);
+          problem.set_displacement(Wobble(0.3));
+          if (params.mixed())
+            problem.set_pressure_field(2.0);
+          INFO(problem.discretization_name());
+          CHECK(observed_order(problem, 0.5, 5.0, h) ==
+                Approx(2.0).margin(0.2));
+        }
+    }
 }
