@@ -1,5 +1,6 @@
 #include "materials/factory.h"
 
+#include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
 #include "materials/mooney_rivlin.h"
@@ -38,6 +39,9 @@ namespace systole::Materials
     table()
     {
       static const std::vector<Entry> entries = {
+        entry<FungIsotropic>(
+          "Isotropic isochoric exponential law in the first invariant (Fung "
+          "1967, Am. J. Physiol. 213:1532; Demiray 1972, J. Biomech. 5:309)."),
         entry<Guccione>(
           "Transversely isotropic Fung-type exponential law in the "
           "Green-Lagrange strain of the fibre frame (Guccione et al. 1991, "

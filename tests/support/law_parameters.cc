@@ -1,6 +1,7 @@
 #include "support/law_parameters.h"
 
 #include "materials/factory.h"
+#include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
 #include "materials/mooney_rivlin.h"
@@ -65,6 +66,7 @@ namespace test_support
         const HolzapfelOgden::Parameters ho_ti =
           transversely_isotropic_holzapfel_ogden();
         std::map<std::string, std::vector<LawCase>> t;
+        t[FungIsotropic::law_name]  = {defaults<FungIsotropic>()};
         t[Guccione::law_name]       = {defaults<Guccione>()};
         t[HolzapfelOgden::law_name] = {
           law_case<HolzapfelOgden>(ho, true, "orthotropic", switches_of(ho)),

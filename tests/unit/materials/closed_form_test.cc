@@ -48,6 +48,7 @@
 #include <deal.II/base/tensor.h>
 
 #include "materials/factory.h"
+#include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
 #include "materials/mooney_rivlin.h"
@@ -392,6 +393,35 @@ namespace
     return result;
   }
 
+  // ---------------------------------------------------------------------
+  // Fung isotropic: W = mu/2 (e^{gamma (Ibar1 - 3)} - 1), so
+  // S = 2 dW/dC = mu gamma e^{gamma (Ibar1 - 3)} dIbar1/dC. At J = 1:
+  // - uniaxial along a: e = e^{gamma (l^2 + 2/l - 3)},
+  //   S_aa = 2/3 mu gamma e (1 - l^-3), S_bb = S_cc = mu gamma e (1 - l^3)/3,
+  //   psi = mu/2 (e - 1);
+  // - shear e_i x e_j: e = e^{gamma g^2}, S_ij = mu gamma e g (1 + g^2/3),
+  //   S_ii = -mu gamma e g^2 (4 + g^2)/3, S_jj = S_kk = -mu gamma e g^2/3,
+  //   psi = mu/2 (e - 1).
+  // ---------------------------------------------------------------------
+  ClosedForm
+  fung_isotropic_closed_form(const double       mu,
+                             const double       gamma,
+                             const Deformation &d)
+  {
+    const double x = gamma * (d.I1 - 3.0); // gamma (Ibar1 - 3) at J = 1
+    ClosedForm   result;
+    result.psi = 0.5 * mu * std::expm1(x);
+    result.S   = mu * gamma * std::exp(x) * d.dI1_bar;
+    return result;
+  }
+
+  ClosedForm
+  fung_isotropic_closed_form(const Materials::FungIsotropic::Parameters &p,
+                             const Deformation                          &d)
+  {
+    return fung_isotropic_closed_form(p.mu, p.gamma, d);
+  }
+
   /// The closed form of a law, given the law (whose parameters() it reads).
   using ClosedFormOf = std::function<ClosedForm(const Materials::PassiveLaw &,
                                                 const Deformation &)>;
@@ -417,6 +447,8 @@ namespace
   {
     using namespace Materials;
     static const std::map<std::string, ClosedFormOf> forms = {
+      {FungIsotropic::law_name,
+       closed_form_of<FungIsotropic>(fung_isotropic_closed_form)},
       {Guccione::law_name, closed_form_of<Guccione>(guccione_closed_form)},
       {HolzapfelOgden::law_name,
        closed_form_of<HolzapfelOgden>(holzapfel_ogden_closed_form)},

@@ -1,0 +1,122 @@
+#include "materials/fung_isotropic.h"
+
+#include <deal.II/physics/elasticity/standard_tensors.h>
+
+#include "materials/volumetric_law.h"
+
+#include <cmath>
+
+namespace systole::Materials
+{
+  void
+  FungIsotropic::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Tools::to_string;
+    const Parameters defaults;
+    prm.declare_entry(
+      "mu",
+      to_string(defaults.mu),
+      dealii::Patterns::Double(0.0),
+      "Stress scale mu of the isochoric Fung energy mu/2 (exp(gamma "
+      "(J^{-2/3} I1 - 3)) - 1); the small-strain shear modulus is mu gamma. "
+      "Units: kPa. Range: illustrative default 10 kPa (with gamma = 1 a "
+      "shear modulus of 10 kPa, as the neo-Hookean default); must be > 0.");
+    prm.declare_entry(
+      "gamma",
+      to_string(defaults.gamma),
+      dealii::Patterns::Double(0.0),
+      "Exponent gamma of the isochoric Fung energy: how fast the law "
+      "stiffens with J^{-2/3} I1 - 3 (gamma -> 0 with mu gamma fixed gives "
+      "neo-Hookean; gamma = 1/2, mu = C is the small-strain match of the "
+      "isotropic Guccione law of Land problem 2). Units: none. Range: "
+      "illustrative default 1, of order 1-10 for soft tissue; must be > 0.");
+  }
+
+
+  FungIsotropic::Parameters
+  FungIsotropic::Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> path = {"Material", law_name};
+    Parameters                     p;
+    p.mu    = prm.get_double(path, "mu");
+    p.gamma = prm.get_double(path, "gamma");
+    p.validate();
+    return p;
+  }
+
+
+  void
+  FungIsotropic::Parameters::validate() const
+  {
+    using dealii::Patterns::Tools::to_string;
+    AssertThrow(std::isfinite(mu) && mu > 0.0,
+                dealii::ExcMessage(
+                  "Material / Fung isotropic / mu = " + to_string(mu) +
+                  " must be > 0; set e.g. 10 kPa."));
+    AssertThrow(std::isfinite(gamma) && gamma > 0.0,
+                dealii::ExcMessage(
+                  "Material / Fung isotropic / gamma = " + to_string(gamma) +
+                  " must be > 0; set e.g. 1 (for gamma = 0 use neo-Hookean "
+                  "with mu = the shear modulus)."));
+  }
+
+
+  FungIsotropic::FungIsotropic(const Parameters &parameters)
+    : params(parameters)
+  {
+    params.validate();
+  }
+
+
+  void
+  FungIsotropic::evaluate(const PassiveInput &in, PassiveOutput &out) const
+  {
+    using dealii::outer_product;
+    using dealii::SymmetricTensor;
+
+    const double J = dealii::determinant(in.F);
+    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
+
+    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
+    const SymmetricTensor<2, 3> C =
+      dealii::symmetrize(dealii::transpose(in.F) * in.F);
+    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
+    const double                I1    = dealii::trace(C);
+    const double                J_m23 = std::pow(J, -2.0 / 3.0);
+    const double                x     = params.gamma * (J_m23 * I1 - 3.0);
+
+    // d Ibar1/dC and d2 Ibar1/dC2 as in neo_hookean.cc (Holzapfel 2000,
+    // sec. 6.6).
+    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
+    const SymmetricTensor<4, 3> d2I1_bar =
+      J_m23 *
+      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
+       (I1 / 9.0) * outer_product(C_inv, C_inv) -
+       (I1 / 3.0) *
+         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
+
+    // W = mu/2 (e^x - 1): W_1 = dW/dIbar1 = mu gamma/2 e^x,
+    // W_11 = gamma W_1; expm1 keeps W accurate at small strain.
+    const double W_1  = 0.5 * params.mu * params.gamma * std::exp(x);
+    const double W_11 = params.gamma * W_1;
+
+    // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
+    out.psi   = 0.5 * params.mu * std::expm1(x);
+    out.S     = (2.0 * W_1) * dI1_bar;
+    out.dS_dE = 4.0 * (W_11 * outer_product(dI1_bar, dI1_bar) + W_1 * d2I1_bar);
+  }
+
+
+  std::string
+  FungIsotropic::name() const
+  {
+    return law_name;
+  }
+
+
+  const FungIsotropic::Parameters &
+  FungIsotropic::parameters() const
+  {
+    return params;
+  }
+} // namespace systole::Materials

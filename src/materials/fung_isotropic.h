@@ -1,0 +1,89 @@
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
+
+#include "materials/passive_law.h"
+
+#include <string>
+
+namespace systole::Materials
+{
+  /// Isotropic, isochoric Fung-type exponential law (Fung 1967, Am. J.
+  /// Physiol. 213:1532; the isotropic exponential of Demiray 1972, J.
+  /// Biomech. 5:309, in the decoupled form of Holzapfel 2000, Nonlinear Solid
+  /// Mechanics, sec. 6.4):
+  /// @f[
+  ///   W = \frac{\mu}{2}\left(e^{\gamma(\bar I_1 - 3)} - 1\right),\qquad
+  ///   \bar I_1 = J^{-2/3}\,\mathrm{tr}\,C,\quad J = \det F,
+  /// @f]
+  /// W [kPa], @f$\mu@f$ a stress scale [kPa], @f$\gamma@f$ the exponent [-].
+  /// The small-strain shear modulus is @f$\mu\gamma@f$ (W ≈
+  /// @f$\frac{\mu\gamma}{2}(\bar I_1 - 3)@f$, the neo-Hookean law).
+  ///
+  /// Why this form and not @f$\frac{\mu}{2} e^{\mathrm{tr}\,E}@f$: since
+  /// @f$\mathrm{tr}\,E = (I_1 - 3)/2@f$, that form is this one with
+  /// @f$\gamma = 1/2@f$, but (a) on the full @f$I_1@f$, which holds the
+  /// volume change, so the law would carry its own (compression-softening)
+  /// volumetric response beside the VolumetricLaw, and (b) without the
+  /// @f$-1@f$, so W(I) = @f$\mu/2@f$ instead of 0. On @f$\bar I_1@f$ the bulk
+  /// response is the VolumetricLaw's (or the pressure's) alone, the mixed
+  /// formulations use the law unchanged (IsochoricPart is the identity for
+  /// it), and @f$\gamma = 1/2@f$, @f$\mu = C@f$ matches the isotropic
+  /// Guccione law @f$\frac{C}{2}(e^{E:E} - 1)@f$ in its small-strain shear
+  /// modulus C/2 and, for an isochoric deformation, in the exponent to
+  /// leading order (@f$\bar I_1 - 3 = 2 E:E + O(|E|^3)@f$).
+  ///
+  /// Zero energy and stress at F = I and under pure dilation; add a
+  /// VolumetricLaw for the bulk response. Requires det F > 0 (throws
+  /// ExcNonPositiveVolumeRatio). The fibre basis is not used.
+  class FungIsotropic : public PassiveLaw
+  {
+  public:
+    /// Parameters of subsection "Material / Fung isotropic".
+    struct Parameters
+    {
+      double mu    = 10.0; ///< stress scale @f$\mu@f$ [kPa], > 0
+      double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
+
+      /// Declares "mu" and "gamma" in the current subsection (the factory
+      /// enters "Material / Fung isotropic" first).
+      static void
+      declare(dealii::ParameterHandler &prm);
+
+      /// Reads "Material / Fung isotropic" with the path getters and
+      /// validates.
+      static Parameters
+      parse(const dealii::ParameterHandler &prm);
+
+      /// Throws ExcMessage naming "Material / Fung isotropic / <entry>" and
+      /// the fix unless mu > 0 and gamma > 0.
+      void
+      validate() const;
+    };
+
+    /// Name in the parameter file ("Material / Passive law").
+    static constexpr const char *law_name = "Fung isotropic";
+
+    /// @param[in] parameters validated on construction.
+    explicit FungIsotropic(const Parameters &parameters);
+
+    /// Energy [kPa], 2nd Piola-Kirchhoff stress
+    /// @f$S = \mu\gamma\, e^{\gamma(\bar I_1 - 3)}\, J^{-2/3}
+    /// (I - \frac{I_1}{3} C^{-1})@f$ [kPa] and dS/dE [kPa].
+    void
+    evaluate(const PassiveInput &in, PassiveOutput &out) const override;
+
+    /// Returns law_name.
+    std::string
+    name() const override;
+
+    /// The parameters in use.
+    const Parameters &
+    parameters() const;
+
+  private:
+    const Parameters params;
+  };
+} // namespace systole::Materials
