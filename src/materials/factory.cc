@@ -1,5 +1,6 @@
 #include "materials/factory.h"
 
+#include "materials/fung_anisotropic.h"
 #include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
@@ -39,6 +40,10 @@ namespace systole::Materials
     table()
     {
       static const std::vector<Entry> entries = {
+        entry<FungAnisotropic>(
+          "Transversely isotropic law: the Fung isotropic matrix plus the "
+          "exponential fibre term of Holzapfel, Gasser and Ogden (2000, J. "
+          "Elasticity 61:1), active in tension only."),
         entry<FungIsotropic>(
           "Isotropic isochoric exponential law in the first invariant (Fung "
           "1967, Am. J. Physiol. 213:1532; Demiray 1972, J. Biomech. 5:309)."),

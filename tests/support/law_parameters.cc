@@ -1,6 +1,7 @@
 #include "support/law_parameters.h"
 
 #include "materials/factory.h"
+#include "materials/fung_anisotropic.h"
 #include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
@@ -65,7 +66,13 @@ namespace test_support
         const HolzapfelOgden::Parameters ho;
         const HolzapfelOgden::Parameters ho_ti =
           transversely_isotropic_holzapfel_ogden();
+        const FungAnisotropic::Parameters           fung;
         std::map<std::string, std::vector<LawCase>> t;
+        t[FungAnisotropic::law_name] = {
+          law_case<FungAnisotropic>(fung,
+                                    true,
+                                    "",
+                                    {{&FibreBasis::f, fung.switch_width}})};
         t[FungIsotropic::law_name]  = {defaults<FungIsotropic>()};
         t[Guccione::law_name]       = {defaults<Guccione>()};
         t[HolzapfelOgden::law_name] = {

@@ -3,8 +3,10 @@
 // psi and the tangent against central differences of S, in E, with the
 // observed order checked (about 2); objectivity; major symmetry of the
 // tangent; plus the law-specific facts (volumetric
-// U(1) = U'(1) = 0, U''(1) = kappa; the tension switch and the transversely
-// isotropic reduction of Holzapfel-Ogden; the active stress). The laws
+// U(1) = U'(1) = 0, U''(1) = kappa; the tension switches of Holzapfel-Ogden
+// and Fung anisotropic; the transversely isotropic reduction of
+// Holzapfel-Ogden; Fung anisotropic against Holzapfel-Ogden and Fung
+// isotropic; the active stress). The laws
 // come from the factory table through test_support::passive_law_cases().
 //
 // Finite differences perturb the Green-Lagrange strain E exactly, through
@@ -16,6 +18,8 @@
 #include <deal.II/base/tensor.h>
 
 #include "materials/active_stress.h"
+#include "materials/fung_anisotropic.h"
+#include "materials/fung_isotropic.h"
 #include "materials/guccione.h"
 #include "materials/holzapfel_ogden.h"
 #include "materials/isochoric_part.h"
@@ -163,7 +167,7 @@ namespace
     return std::max(-x, x - delta);
   }
 
-  /// For a law with a tension switch (Holzapfel-Ogden):
+  /// For a law with a tension switch (Holzapfel-Ogden, Fung anisotropic):
   /// the central differences must not cross its blend, where the energy is
   /// only C^2 (a step h in E moves I4 by at most 2h). Other laws are smooth
   /// everywhere. The states are chosen clear of the blend for the full laws
@@ -394,7 +398,7 @@ TEST_CASE("Every passive law with a tension switch has a consistent "
   // keep them inside (2h well below the distance to its ends), and the
   // smootherstep's large higher derivatives (~ delta^-3) need small steps
   // for the truncation error to be asymptotic. The laws with a switch
-  // (Holzapfel-Ogden) come from the factory table.
+  // (Holzapfel-Ogden, Fung anisotropic) come from the factory table.
   const std::vector<double> small_steps = {4e-5, 2e-5, 1e-5};
   unsigned int              n_laws      = 0;
   for (const test_support::LawCase &c : test_support::passive_law_cases())
@@ -537,6 +541,79 @@ TEST_CASE("Mooney-Rivlin with c2 = 0 is neo-Hookean with mu = 2 c1",
       mooney_rivlin.evaluate(in, a);
       neo_hookean.evaluate(in, b);
       check_same_output(a, b, 1e-12);
+    }
+}
+
+
+TEST_CASE("Fung anisotropic is Holzapfel-Ogden with a = mu gamma, b = gamma, "
+          "a_f = k1, b_f = k2 and no sheet terms",
+          "[materials]")
+{
+  // Two independent implementations of the same energy: mu/2 (e^{gamma x}
+  // - 1) = a/(2b) (e^{b x} - 1) for a = mu gamma, b = gamma, and the same
+  // tension-switched fibre term.
+  Materials::FungAnisotropic::Parameters fung;
+  fung.mu    = 3.0;
+  fung.gamma = 2.5;
+  fung.k1    = 7.0;
+  fung.k2    = 4.0;
+  Materials::HolzapfelOgden::Parameters ho;
+  ho.a    = fung.mu * fung.gamma;
+  ho.b    = fung.gamma;
+  ho.a_f  = fung.k1;
+  ho.b_f  = fung.k2;
+  ho.a_s  = 0.0;
+  ho.a_fs = 0.0;
+  const Materials::FungAnisotropic fung_law(fung);
+  const Materials::HolzapfelOgden  ho_law(ho);
+  const double                     delta = fung.switch_width;
+  for (const unsigned int seed : seeds)
+    for (const double x_f : {-0.1, 0.4 * delta, 0.15})
+      {
+        INFO("seed " << seed << ", I4f - 1 = " << x_f);
+        const auto in = input_with_fibre_invariants(seed, x_f, 0.05);
+        Materials::PassiveOutput a, b;
+        fung_law.evaluate(in, a);
+        ho_law.evaluate(in, b);
+        check_same_output(a, b, 1e-12);
+      }
+}
+
+
+TEST_CASE("Fung anisotropic is Fung isotropic with a compressed fibre or "
+          "with k1 = 0",
+          "[materials]")
+{
+  const Materials::FungAnisotropic::Parameters fung;
+  Materials::FungAnisotropic::Parameters       no_fibres = fung;
+  no_fibres.k1                                           = 0.0;
+  Materials::FungIsotropic::Parameters matrix;
+  matrix.mu    = fung.mu;
+  matrix.gamma = fung.gamma;
+  const Materials::FungAnisotropic law(fung), law_without_fibres(no_fibres);
+  const Materials::FungIsotropic   isotropic(matrix);
+  for (const unsigned int seed : seeds)
+    {
+      INFO("seed " << seed);
+      // A compressed fibre (I4f < 1) carries no fibre stress at all.
+      const auto compressed = input_with_fibre_invariants(seed, -0.08, 0.1);
+      Materials::PassiveOutput a, b;
+      law.evaluate(compressed, a);
+      isotropic.evaluate(compressed, b);
+      check_same_output(a, b, 1e-14);
+
+      const auto in = test_support::random_passive_input(seed, strain);
+      law_without_fibres.evaluate(in, a);
+      isotropic.evaluate(in, b);
+      check_same_output(a, b, 1e-14);
+
+      // A stretched fibre does (the check above is not vacuous).
+      const auto stretched = input_with_fibre_invariants(seed, 0.08, 0.1);
+      law.evaluate(stretched, a);
+      isotropic.evaluate(stretched, b);
+      CHECK(a.psi > b.psi);
+      const dealii::Tensor<1, 3> f = stretched.basis.f;
+      CHECK(f * ((a.S - b.S) * f) > 0.0);
     }
 }
 

@@ -1,0 +1,177 @@
+#include "materials/fung_anisotropic.h"
+
+#include "materials/holzapfel_ogden.h"
+#include "materials/volumetric_law.h"
+
+#include <array>
+#include <cmath>
+
+namespace systole::Materials
+{
+  namespace
+  {
+    void
+    require(const bool        condition,
+            const char       *entry,
+            const double      value,
+            const std::string requirement)
+    {
+      AssertThrow(condition,
+                  dealii::ExcMessage(
+                    std::string("Material / Fung anisotropic / ") + entry +
+                    " = " + dealii::Patterns::Tools::to_string(value) +
+                    " must be " + requirement + "."));
+    }
+
+    FungIsotropic::Parameters
+    matrix_parameters(const FungAnisotropic::Parameters &p)
+    {
+      FungIsotropic::Parameters matrix;
+      matrix.mu    = p.mu;
+      matrix.gamma = p.gamma;
+      return matrix;
+    }
+  } // namespace
+
+
+  void
+  FungAnisotropic::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    using dealii::Patterns::Tools::to_string;
+    const Parameters defaults;
+    prm.declare_entry(
+      "mu",
+      to_string(defaults.mu),
+      dealii::Patterns::Double(0.0),
+      "Stress scale mu of the isotropic matrix term mu/2 (exp(gamma "
+      "(J^{-2/3} I1 - 3)) - 1), as in Fung isotropic; the small-strain shear "
+      "modulus across the fibres is mu gamma. Units: kPa. Range: illustrative "
+      "default 10 kPa; must be > 0.");
+    prm.declare_entry(
+      "gamma",
+      to_string(defaults.gamma),
+      dealii::Patterns::Double(0.0),
+      "Exponent gamma of the isotropic matrix term. Units: none. Range: "
+      "illustrative default 1; must be > 0.");
+    prm.declare_entry(
+      "k1",
+      to_string(defaults.k1),
+      dealii::Patterns::Double(0.0),
+      "Stiffness k1 of the fibre term k1/(2 k2) (exp(k2 (I4f - 1)^2) - 1) "
+      "(Holzapfel, Gasser and Ogden 2000), I4f = f0.C f0, active in tension "
+      "only. Units: kPa. Source: the fibre term a_f of Holzapfel and Ogden "
+      "2009, Table 1 (default); >= 0 (0 gives Fung isotropic).");
+    prm.declare_entry(
+      "k2",
+      to_string(defaults.k2),
+      dealii::Patterns::Double(0.0),
+      "Exponent k2 of the fibre term. Units: none. Source: b_f of Holzapfel "
+      "and Ogden 2009, Table 1 (default); must be > 0.");
+    prm.declare_entry(
+      "Tension switch width",
+      to_string(defaults.switch_width),
+      dealii::Patterns::Double(0.0),
+      "Width delta in I4f - 1 of the C^2 blend that switches the fibre term "
+      "on in tension (as in Holzapfel-Ogden): off for I4f <= 1, the full term "
+      "for I4f >= 1 + delta; 0 gives a hard switch (discontinuous tangent). "
+      "Units: none. Range: 0-0.05; default 0.01 (a stretch of 0.5 %).");
+  }
+
+
+  FungAnisotropic::Parameters
+  FungAnisotropic::Parameters::parse(const dealii::ParameterHandler &prm)
+  {
+    const std::vector<std::string> path = {"Material", law_name};
+    Parameters                     p;
+    p.mu           = prm.get_double(path, "mu");
+    p.gamma        = prm.get_double(path, "gamma");
+    p.k1           = prm.get_double(path, "k1");
+    p.k2           = prm.get_double(path, "k2");
+    p.switch_width = prm.get_double(path, "Tension switch width");
+    p.validate();
+    return p;
+  }
+
+
+  void
+  FungAnisotropic::Parameters::validate() const
+  {
+    const auto positive = [](const double v) {
+      return std::isfinite(v) && v > 0.0;
+    };
+    const auto non_negative = [](const double v) {
+      return std::isfinite(v) && v >= 0.0;
+    };
+    require(positive(mu), "mu", mu, "> 0; set e.g. 10 kPa");
+    require(positive(gamma), "gamma", gamma, "> 0; set e.g. 1");
+    require(non_negative(k1),
+            "k1",
+            k1,
+            ">= 0; set e.g. 18.472 kPa, or 0 for Fung isotropic");
+    require(positive(k2), "k2", k2, "> 0; set e.g. 16.026");
+    require(non_negative(switch_width),
+            "Tension switch width",
+            switch_width,
+            ">= 0; set e.g. 0.01, or 0 for a hard switch");
+  }
+
+
+  FungAnisotropic::FungAnisotropic(const Parameters &parameters)
+    // Validated first, so that a bad mu or gamma is reported under this
+    // law's name rather than by the matrix's constructor.
+    : params((parameters.validate(), parameters))
+    , matrix(matrix_parameters(parameters))
+  {}
+
+
+  void
+  FungAnisotropic::evaluate(const PassiveInput &in, PassiveOutput &out) const
+  {
+    using dealii::outer_product;
+    using dealii::SymmetricTensor;
+
+    // The isotropic matrix (also checks det F > 0).
+    matrix.evaluate(in, out);
+    if (params.k1 == 0.0)
+      return;
+
+    // Fibre term w(x) Psi(x), x = I4f - 1 = f0.C f0 - 1, with
+    // Psi = k1/(2 k2) (e^{k2 x^2} - 1), Psi' = k1 x e^{k2 x^2},
+    // Psi'' = k1 e^{k2 x^2} (1 + 2 k2 x^2); dI4/dC = M = f0 x f0.
+    const dealii::Tensor<1, 3>  Ff = in.F * in.basis.f;
+    const double                x  = Ff * Ff - 1.0;
+    const std::array<double, 3> w =
+      HolzapfelOgden::tension_switch(x, params.switch_width);
+    if (w[0] == 0.0 && w[1] == 0.0 && w[2] == 0.0)
+      return;
+    const double e = std::exp(params.k2 * x * x);
+    const double psi =
+      0.5 * params.k1 / params.k2 * std::expm1(params.k2 * x * x);
+    const double dpsi   = params.k1 * x * e;
+    const double d2psi  = params.k1 * e * (1.0 + 2.0 * params.k2 * x * x);
+    const double value  = w[0] * psi;
+    const double first  = w[1] * psi + w[0] * dpsi;
+    const double second = w[2] * psi + 2.0 * w[1] * dpsi + w[0] * d2psi;
+
+    const SymmetricTensor<2, 3> M =
+      dealii::symmetrize(outer_product(in.basis.f, in.basis.f));
+    // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
+    out.psi += value;
+    out.S += (2.0 * first) * M;
+    out.dS_dE += (4.0 * second) * outer_product(M, M);
+  }
+
+
+  std::string
+  FungAnisotropic::name() const
+  {
+    return law_name;
+  }
+
+
+  const FungAnisotropic::Parameters &
+  FungAnisotropic::parameters() const
+  {
+    return params;
+  }
+} // namespace systole::Materials
