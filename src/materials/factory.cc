@@ -7,6 +7,7 @@
 #include "materials/mooney_rivlin.h"
 #include "materials/neo_hookean.h"
 #include "materials/st_venant_kirchhoff.h"
+#include "materials/veronda_westman.h"
 
 namespace systole::Materials
 {
@@ -64,6 +65,10 @@ namespace systole::Materials
         entry<StVenantKirchhoff>(
           "Isotropic compressible law quadratic in the Green-Lagrange strain, "
           "for verification (Holzapfel 2000, Nonlinear Solid Mechanics)."),
+        entry<VerondaWestman>(
+          "Isotropic isochoric exponential law in the first invariant with a "
+          "linear second-invariant term (Veronda and Westman 1970, J. "
+          "Biomech. 3:111)."),
       };
       return entries;
     }

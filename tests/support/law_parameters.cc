@@ -8,6 +8,7 @@
 #include "materials/mooney_rivlin.h"
 #include "materials/neo_hookean.h"
 #include "materials/st_venant_kirchhoff.h"
+#include "materials/veronda_westman.h"
 
 #include <map>
 #include <stdexcept>
@@ -84,6 +85,7 @@ namespace test_support
         t[MooneyRivlin::law_name]      = {defaults<MooneyRivlin>()};
         t[NeoHookean::law_name]        = {defaults<NeoHookean>()};
         t[StVenantKirchhoff::law_name] = {defaults<StVenantKirchhoff>()};
+        t[VerondaWestman::law_name]    = {defaults<VerondaWestman>()};
         return t;
       }();
       return cases;

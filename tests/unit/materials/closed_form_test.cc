@@ -55,6 +55,7 @@
 #include "materials/mooney_rivlin.h"
 #include "materials/neo_hookean.h"
 #include "materials/st_venant_kirchhoff.h"
+#include "materials/veronda_westman.h"
 #include "support/law_parameters.h"
 #include "support/random_tensors.h"
 
@@ -449,6 +450,35 @@ namespace
     return result;
   }
 
+  // ---------------------------------------------------------------------
+  // Veronda-Westman: W = c1 (e^{gamma (Ibar1 - 3)} - 1)
+  //                    - c1 gamma/2 (Ibar2 - 3), so
+  // S = 2 c1 gamma e^{gamma (Ibar1 - 3)} dIbar1/dC - c1 gamma dIbar2/dC.
+  // At J = 1, with e = e^{gamma (I1 - 3)}:
+  // - uniaxial along a: S_aa = 4/3 c1 gamma e (1 - l^-3)
+  //   - 2/3 c1 gamma (l^-1 - l^-4), S_bb = S_cc = 2/3 c1 gamma e (1 - l^3)
+  //   - c1 gamma/3 (l^-1 - l^2), psi = c1 (e - 1) - c1 gamma/2 (2l + l^-2
+  //   - 3);
+  // - shear e_i x e_j: e = e^{gamma g^2},
+  //   S_ij = 2 c1 gamma e g (1 + g^2/3) - c1 gamma g (1 + 2g^2/3),
+  //   S_ii = -2/3 c1 gamma e g^2 (4 + g^2) + c1 gamma g^2 (5 + 2g^2)/3,
+  //   S_jj = -2/3 c1 gamma e g^2 + 2/3 c1 gamma g^2,
+  //   S_kk = -2/3 c1 gamma e g^2 - c1 gamma g^2/3,
+  //   psi = c1 (e - 1) - c1 gamma g^2/2.
+  // ---------------------------------------------------------------------
+  ClosedForm
+  veronda_westman_closed_form(const Materials::VerondaWestman::Parameters &p,
+                              const Deformation                           &d)
+  {
+    const double e = std::exp(p.gamma * (d.I1 - 3.0));
+    ClosedForm   result;
+    result.psi = p.c1 * std::expm1(p.gamma * (d.I1 - 3.0)) -
+                 0.5 * p.c1 * p.gamma * (d.I2 - 3.0);
+    result.S =
+      2.0 * p.c1 * p.gamma * e * d.dI1_bar - p.c1 * p.gamma * d.dI2_bar;
+    return result;
+  }
+
   /// The closed form of a law, given the law (whose parameters() it reads).
   using ClosedFormOf = std::function<ClosedForm(const Materials::PassiveLaw &,
                                                 const Deformation &)>;
@@ -487,6 +517,8 @@ namespace
        closed_form_of<NeoHookean>(neo_hookean_closed_form)},
       {StVenantKirchhoff::law_name,
        closed_form_of<StVenantKirchhoff>(st_venant_kirchhoff_closed_form)},
+      {VerondaWestman::law_name,
+       closed_form_of<VerondaWestman>(veronda_westman_closed_form)},
     };
     return forms;
   }
