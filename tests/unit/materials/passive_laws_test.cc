@@ -6,7 +6,7 @@
 // U(1) = U'(1) = 0, U''(1) = kappa; the tension switches of Holzapfel-Ogden
 // and Fung anisotropic; the transversely isotropic reduction of
 // Holzapfel-Ogden; Fung anisotropic against Holzapfel-Ogden and Fung
-// isotropic; the active stress). The laws
+// isotropic; the small-strain shear moduli; the active stress). The laws
 // come from the factory table through test_support::passive_law_cases().
 //
 // Finite differences perturb the Green-Lagrange strain E exactly, through
@@ -25,6 +25,7 @@
 #include "materials/isochoric_part.h"
 #include "materials/mooney_rivlin.h"
 #include "materials/neo_hookean.h"
+#include "materials/veronda_westman.h"
 #include "materials/volumetric_law.h"
 #include "support/finite_differences.h"
 #include "support/law_parameters.h"
@@ -615,6 +616,68 @@ TEST_CASE("Fung anisotropic is Fung isotropic with a compressed fibre or "
       const dealii::Tensor<1, 3> f = stretched.basis.f;
       CHECK(f * ((a.S - b.S) * f) > 0.0);
     }
+}
+
+
+TEST_CASE("Each isotropic law has the small-strain shear modulus its "
+          "documentation states",
+          "[materials]")
+{
+  // At F = I an isotropic law linearizes to S = lambda tr(E) I + 2 mu0 E; an
+  // isochoric one to dS/dE = 2 mu0 (II - I x I / 3). The parameter sets are
+  // those of the verification table (scripts/bench.py, group "laws": the
+  // shear modulus 5 kPa of the isotropic Guccione law of Land problem 2).
+  using namespace Materials;
+  const double                        mu0 = 5.0;
+  const dealii::SymmetricTensor<2, 3> I   = dealii::unit_symmetric_tensor<3>();
+  const dealii::SymmetricTensor<4, 3> deviatoric =
+    2.0 * mu0 *
+    (dealii::identity_tensor<3>() - (1.0 / 3.0) * dealii::outer_product(I, I));
+
+  NeoHookean::Parameters nh;
+  nh.mu = mu0;
+  MooneyRivlin::Parameters mr;
+  mr.c1 = 2.0;
+  mr.c2 = 0.5; // 2 (c1 + c2) = 5
+  FungIsotropic::Parameters fung;
+  fung.mu    = 10.0;
+  fung.gamma = 0.5; // mu gamma = 5
+  VerondaWestman::Parameters vw;
+  vw.c1    = 10.0;
+  vw.gamma = 0.5; // c1 gamma = 5
+  FungAnisotropic::Parameters fung_anisotropic;
+  fung_anisotropic.mu    = 10.0;
+  fung_anisotropic.gamma = 0.5; // across the fibres as Fung isotropic
+  const std::vector<std::pair<std::string, std::shared_ptr<PassiveLaw>>>
+    isochoric = {
+      {"neo-Hookean", std::make_shared<NeoHookean>(nh)},
+      {"Mooney-Rivlin", std::make_shared<MooneyRivlin>(mr)},
+      {"Fung isotropic", std::make_shared<FungIsotropic>(fung)},
+      {"Veronda-Westman", std::make_shared<VerondaWestman>(vw)},
+      {"Fung anisotropic", std::make_shared<FungAnisotropic>(fung_anisotropic)},
+    };
+  for (const auto &[name, law] : isochoric)
+    DYNAMIC_SECTION(name)
+    {
+      PassiveOutput out;
+      law->evaluate(test_support::identity_input(3), out);
+      CHECK((out.dS_dE - deviatoric).norm() <= 1e-13 * deviatoric.norm());
+    }
+
+  SECTION("Guccione, isotropic (b_f = b_t = b_fs = 1): mu0 = C/2, lambda = 0")
+  {
+    Guccione::Parameters g;
+    g.C    = 2.0 * mu0;
+    g.b_f  = 1.0;
+    g.b_t  = 1.0;
+    g.b_fs = 1.0;
+    const Guccione law(g);
+    PassiveOutput  out;
+    law.evaluate(test_support::identity_input(3), out);
+    const dealii::SymmetricTensor<4, 3> expected =
+      2.0 * mu0 * dealii::identity_tensor<3>();
+    CHECK((out.dS_dE - expected).norm() <= 1e-13 * expected.norm());
+  }
 }
 
 
