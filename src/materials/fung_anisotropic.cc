@@ -130,7 +130,7 @@ namespace systole::Materials
     using dealii::outer_product;
     using dealii::SymmetricTensor;
 
-    // The isotropic matrix (also checks det F > 0).
+    // The isotropic matrix (also checks det F > 0; honours in.with_tangent).
     matrix.evaluate(in, out);
     if (params.k1 == 0.0)
       return;
@@ -158,7 +158,8 @@ namespace systole::Materials
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
     out.psi += value;
     out.S += (2.0 * first) * M;
-    out.dS_dE += (4.0 * second) * outer_product(M, M);
+    if (in.with_tangent)
+      out.dS_dE += (4.0 * second) * outer_product(M, M);
   }
 
 

@@ -85,15 +85,8 @@ namespace systole::Materials
     const double                J_m23 = std::pow(J, -2.0 / 3.0);
     const double                x     = params.gamma * (J_m23 * I1 - 3.0);
 
-    // d Ibar1/dC and d2 Ibar1/dC2 as in neo_hookean.cc (Holzapfel 2000,
-    // sec. 6.6).
+    // d Ibar1/dC as in neo_hookean.cc (Holzapfel 2000, sec. 6.6).
     const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
-    const SymmetricTensor<4, 3> d2I1_bar =
-      J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) -
-       (I1 / 3.0) *
-         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
 
     // W = mu/2 (e^x - 1): W_1 = dW/dIbar1 = mu gamma/2 e^x,
     // W_11 = gamma W_1; expm1 keeps W accurate at small strain.
@@ -101,8 +94,16 @@ namespace systole::Materials
     const double W_11 = params.gamma * W_1;
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
-    out.psi   = 0.5 * params.mu * std::expm1(x);
-    out.S     = (2.0 * W_1) * dI1_bar;
+    out.psi = 0.5 * params.mu * std::expm1(x);
+    out.S   = (2.0 * W_1) * dI1_bar;
+    if (!in.with_tangent)
+      return;
+    const SymmetricTensor<4, 3> d2I1_bar =
+      J_m23 *
+      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
+       (I1 / 9.0) * outer_product(C_inv, C_inv) -
+       (I1 / 3.0) *
+         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
     out.dS_dE = 4.0 * (W_11 * outer_product(dI1_bar, dI1_bar) + W_1 * d2I1_bar);
   }
 
