@@ -1137,6 +1137,15 @@ def main() -> int:
     p3 = [Case("p3", "land_problem3.prm", f"{a}x{b}x1 cells, {r} refinement(s), Q2",
                ventricle(a, b, r)) for a, b, r in p3_levels]
 
+    # Problem 3 refined at the apex (the fibre direction is undefined on the axis): global
+    # level and local refinements within 1.5 mm of the mid-wall apex.
+    p3a_levels = [(8, 3, 1, 1), (8, 3, 1, 2)] + ([] if args.quick else [
+        (16, 5, 1, 2), (8, 3, 2, 1), (8, 3, 1, 3), (16, 5, 1, 3)])
+    p3a = [Case("p3", "land_problem3.prm",
+                f"{a}x{b}x1 cells, {r} refinement(s), apex refined {l} time(s), Q2",
+                {**ventricle(a, b, r), "Geometry/Local refinements": str(l),
+                 "Geometry/Local refinement radius": "1.5"}) for a, b, r, l in p3a_levels]
+
     fibre_cases = [("Land, 8x3x1 cells, 1 refinement", {**LAND_LV, "Global refinements": "1"}),
                    ("Land, 8x3x1 cells, 2 refinements", {**LAND_LV, "Global refinements": "2"}),
                    ("human-size, 16x5x1 cells, 0 refinements", {**HUMAN_LV, "Global refinements": "0"}),
@@ -1165,6 +1174,12 @@ def main() -> int:
              "(t = 0.5) at its apex (0, 0, -18.5) and at the equator (-8.5, 0, 0). Sign check: "
              "the midwall line at v = 0 twists toward +y (midwall_equator_y > 0). The reference "
              "values are checked independently of this table."),
+            ("Land problem 3: refinement at the apex", p3a,
+             ["endo_apex_z", "epi_apex_z", "midwall_apex_z", "midwall_equator_y"],
+             "The analytic helix fibre direction is undefined on the axis, so the apex "
+             "displacements converge slowly under global refinement. Here the cells with a "
+             "vertex within 1.5 mm of the mid-wall apex (0, 0, -18.5) are refined again "
+             "(`Geometry / Local refinements`, hanging nodes), on top of the global level."),
         ):
             if args.only and cases[0].problem != args.only:
                 continue
