@@ -86,6 +86,21 @@ BANNER = re.compile(r"\d+ cells, (.+?), \d+ DOFs, \d+ rank\(s\), .*?, linear sol
                     re.MULTILINE)
 
 
+def failed_row(row: dict, out: subprocess.CompletedProcess, path: Path) -> dict:
+    """A failed run's row: its error line and, from the results file (which keeps the
+    converged steps of a failed run), the last converged pressure, volumes and points."""
+    lines = out.stderr.strip().splitlines() or ["?"]
+    row["error"] = next((line for line in lines if "error" in line), lines[0])
+    if path.exists():
+        ts = read_results(path).timeseries
+        if "volume" in ts and len(ts["volume"]) > 0:
+            row["last_converged"] = {
+                "pressure": float(ts["pressure"][-1]),
+                "volume": (float(ts["volume"][0]), float(ts["volume"][-1])),
+                "values": {k: ts[k][-1] for k in ts if k.endswith(("_x", "_y", "_z"))}}
+    return row
+
+
 def run(case: Case, build: Path, workdir: Path) -> dict:
     """Run one case; return the numbers of its table row."""
     text = (ROOT / "parameters" / case.base).read_text()
@@ -102,18 +117,7 @@ def run(case: Case, build: Path, workdir: Path) -> dict:
     row = {"case": case, "ok": out.returncode == 0, "busy": busy}
     log = out.stdout
     if out.returncode != 0:
-        lines = out.stderr.strip().splitlines() or ["?"]
-        row["error"] = next((line for line in lines if "error" in line), lines[0])
-        # The results file keeps the converged steps of a failed run.
-        path = workdir / "results" / name / "results.h5"
-        if path.exists():
-            ts = read_results(path).timeseries
-            if "volume" in ts and len(ts["volume"]) > 0:
-                row["last_converged"] = {
-                    "pressure": float(ts["pressure"][-1]),
-                    "volume": (float(ts["volume"][0]), float(ts["volume"][-1])),
-                    "values": {k: ts[k][-1] for k in ts if k.endswith(("_x", "_y", "_z"))}}
-        return row
+        return failed_row(row, out, workdir / "results" / name / "results.h5")
     row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     match = re.search(r"Wall time ([\d.]+) s; peak memory ([\d.]+) MiB per rank", log)
     row["wall"], row["memory"] = float(match.group(1)), float(match.group(2))
@@ -585,18 +589,7 @@ def run_heartbeat(ranks: int, build: Path, workdir: Path) -> dict:
     out, busy = run_watched(command, workdir, ranks)
     row = {"ranks": ranks, "ok": out.returncode == 0, "busy": busy}
     if out.returncode != 0:
-        lines = out.stderr.strip().splitlines() or ["?"]
-        row["error"] = next((line for line in lines if "error" in line), lines[0])
-        # The results file keeps the converged steps of a failed run.
-        path = workdir / "results" / name / "results.h5"
-        if path.exists():
-            ts = read_results(path).timeseries
-            if "volume" in ts and len(ts["volume"]) > 0:
-                row["last_converged"] = {
-                    "pressure": float(ts["pressure"][-1]),
-                    "volume": (float(ts["volume"][0]), float(ts["volume"][-1])),
-                    "values": {k: ts[k][-1] for k in ts if k.endswith(("_x", "_y", "_z"))}}
-        return row
+        return failed_row(row, out, workdir / "results" / name / "results.h5")
     log = out.stdout
     row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     match = re.search(r"Wall time ([\d.]+) s; peak memory ([\d.]+) MiB per rank", log)
@@ -805,18 +798,7 @@ def run_ep(label: str, changes: dict[str, str], ranks: int, build: Path, workdir
     out, busy = run_watched(command, workdir, ranks)
     row = {"label": label, "ranks": ranks, "ok": out.returncode == 0, "busy": busy}
     if out.returncode != 0:
-        lines = out.stderr.strip().splitlines() or ["?"]
-        row["error"] = next((line for line in lines if "error" in line), lines[0])
-        # The results file keeps the converged steps of a failed run.
-        path = workdir / "results" / name / "results.h5"
-        if path.exists():
-            ts = read_results(path).timeseries
-            if "volume" in ts and len(ts["volume"]) > 0:
-                row["last_converged"] = {
-                    "pressure": float(ts["pressure"][-1]),
-                    "volume": (float(ts["volume"][0]), float(ts["volume"][-1])),
-                    "values": {k: ts[k][-1] for k in ts if k.endswith(("_x", "_y", "_z"))}}
-        return row
+        return failed_row(row, out, workdir / "results" / name / "results.h5")
     log = out.stdout
     row["dofs"] = int(re.search(r"(\d+) DOFs, \d+ rank", log).group(1))
     row["cells"] = int(re.search(r"(\d+) cells", log).group(1))
