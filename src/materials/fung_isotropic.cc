@@ -1,8 +1,6 @@
 #include "materials/fung_isotropic.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
-#include "materials/volumetric_law.h"
+#include "materials/isochoric_invariants.h"
 
 #include <cmath>
 
@@ -71,22 +69,9 @@ namespace systole::Materials
   void
   FungIsotropic::evaluate(const PassiveInput &in, PassiveOutput &out) const
   {
-    using dealii::outer_product;
-    using dealii::SymmetricTensor;
-
-    const double J = dealii::determinant(in.F);
-    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-
-    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-    const SymmetricTensor<2, 3> C =
-      dealii::symmetrize(dealii::transpose(in.F) * in.F);
-    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
-    const double                I1    = dealii::trace(C);
-    const double                J_m23 = std::pow(J, -2.0 / 3.0);
-    const double                x     = params.gamma * (J_m23 * I1 - 3.0);
-
-    // d Ibar1/dC as in neo_hookean.cc (Holzapfel 2000, sec. 6.6).
-    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
+    const IsochoricInvariants inv =
+      isochoric_invariants(in, InvariantSet::Ibar1);
+    const double x = params.gamma * (inv.I1_bar - 3.0);
 
     // W = mu/2 (e^x - 1): W_1 = dW/dIbar1 = mu gamma/2 e^x,
     // W_11 = gamma W_1; expm1 keeps W accurate at small strain.
@@ -95,18 +80,12 @@ namespace systole::Materials
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
     out.psi = 0.5 * params.mu * std::expm1(x);
-    out.S   = (2.0 * W_1) * dI1_bar;
+    out.S   = (2.0 * W_1) * inv.dI1_bar;
     if (!in.with_tangent)
       return;
-    const SymmetricTensor<4, 3> d2I1_bar =
-      J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) -
-       (I1 / 3.0) *
-         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
-    out.dS_dE = 4.0 * (W_11 * outer_product(dI1_bar, dI1_bar) + W_1 * d2I1_bar);
+    out.dS_dE = 4.0 * (W_11 * dealii::outer_product(inv.dI1_bar, inv.dI1_bar) +
+                       W_1 * inv.d2I1_bar);
   }
-
 
   std::string
   FungIsotropic::name() const

@@ -1,8 +1,6 @@
 #include "materials/holzapfel_ogden.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
-#include "materials/volumetric_law.h"
+#include "materials/isochoric_invariants.h"
 
 #include <cmath>
 
@@ -199,32 +197,20 @@ namespace systole::Materials
     using dealii::outer_product;
     using dealii::SymmetricTensor;
 
-    const double J = dealii::determinant(in.F);
-    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-
-    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-    const SymmetricTensor<2, 3> C =
-      dealii::symmetrize(dealii::transpose(in.F) * in.F);
-    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
-    const double                I1    = dealii::trace(C);
-    const double                J_m23 = std::pow(J, -2.0 / 3.0);
-
-    // Isotropic term on Ibar1 (same derivatives as in neo_hookean.cc).
-    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
-    const SymmetricTensor<4, 3> d2I1_bar =
-      J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) -
-       (I1 / 3.0) *
-         dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F));
-    const double e_iso = std::exp(params.b * (J_m23 * I1 - 3.0));
-    const double psi_1 = 0.5 * params.a * e_iso;
+    // Isotropic term on Ibar1.
+    const IsochoricInvariants inv =
+      isochoric_invariants(in, InvariantSet::Ibar1);
+    const SymmetricTensor<2, 3> &C = inv.C;
+    const double e_iso             = std::exp(params.b * (inv.I1_bar - 3.0));
+    const double psi_1             = 0.5 * params.a * e_iso;
 
     double psi =
-      0.5 * params.a / params.b * std::expm1(params.b * (J_m23 * I1 - 3.0));
-    SymmetricTensor<2, 3> dpsi_dC = psi_1 * dI1_bar;
-    SymmetricTensor<4, 3> d2psi_dC2 =
-      (params.b * psi_1) * outer_product(dI1_bar, dI1_bar) + psi_1 * d2I1_bar;
+      0.5 * params.a / params.b * std::expm1(params.b * (inv.I1_bar - 3.0));
+    SymmetricTensor<2, 3> dpsi_dC = psi_1 * inv.dI1_bar;
+    SymmetricTensor<4, 3> d2psi_dC2;
+    if (in.with_tangent)
+      d2psi_dC2 = (params.b * psi_1) * outer_product(inv.dI1_bar, inv.dI1_bar) +
+                  psi_1 * inv.d2I1_bar;
 
     // Fibre and sheet terms on the full I4 = a0.C a0, dI4/dC = a0 x a0.
     const auto add_switched = [&](const dealii::Tensor<1, 3> &axis,
@@ -238,7 +224,8 @@ namespace systole::Materials
         switched_term(M * C - 1.0, a_i, b_i, params.switch_width);
       psi += term.value;
       dpsi_dC += term.first * M;
-      d2psi_dC2 += term.second * outer_product(M, M);
+      if (in.with_tangent)
+        d2psi_dC2 += term.second * outer_product(M, M);
     };
     add_switched(in.basis.f, params.a_f, params.b_f);
     add_switched(in.basis.s, params.a_s, params.b_s);
@@ -251,13 +238,15 @@ namespace systole::Materials
         const Scalar3 term = exponential_term(M * C, params.a_fs, params.b_fs);
         psi += term.value;
         dpsi_dC += term.first * M;
-        d2psi_dC2 += term.second * outer_product(M, M);
+        if (in.with_tangent)
+          d2psi_dC2 += term.second * outer_product(M, M);
       }
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
-    out.psi   = psi;
-    out.S     = 2.0 * dpsi_dC;
-    out.dS_dE = 4.0 * d2psi_dC2;
+    out.psi = psi;
+    out.S   = 2.0 * dpsi_dC;
+    if (in.with_tangent)
+      out.dS_dE = 4.0 * d2psi_dC2;
   }
 
 

@@ -1,8 +1,6 @@
 #include "materials/mooney_rivlin.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
-#include "materials/volumetric_law.h"
+#include "materials/isochoric_invariants.h"
 
 #include <cmath>
 
@@ -71,48 +69,16 @@ namespace systole::Materials
   void
   MooneyRivlin::evaluate(const PassiveInput &in, PassiveOutput &out) const
   {
-    using dealii::outer_product;
-    using dealii::SymmetricTensor;
-
-    const double J = dealii::determinant(in.F);
-    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-
-    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-    const SymmetricTensor<2, 3> C =
-      dealii::symmetrize(dealii::transpose(in.F) * in.F);
-    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
-    const SymmetricTensor<4, 3> dC_inv_dC =
-      dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F);
-    const double I1    = dealii::trace(C);
-    const double I2    = 0.5 * (I1 * I1 - C * C);
-    const double J_m23 = std::pow(J, -2.0 / 3.0);
-    const double J_m43 = J_m23 * J_m23;
-
-    // First invariant: d Ibar1/dC = J^{-2/3} (I - I1/3 C^{-1}).
-    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
-    const SymmetricTensor<4, 3> d2I1_bar =
-      J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) - (I1 / 3.0) * dC_inv_dC);
-
-    // Second invariant: dI2/dC = I1 I - C =: G, d2I2/dC2 = I x I - II, and
-    // d Ibar2/dC = J^{-4/3} (G - 2/3 I2 C^{-1}).
-    const SymmetricTensor<2, 3> G = I1 * I - C;
-    const SymmetricTensor<2, 3> dI2_bar =
-      J_m43 * (G - (2.0 * I2 / 3.0) * C_inv);
-    const SymmetricTensor<4, 3> d2I2_bar =
-      J_m43 *
-      (outer_product(I, I) - dealii::identity_tensor<3>() -
-       (2.0 / 3.0) * (outer_product(G, C_inv) + outer_product(C_inv, G)) +
-       (4.0 * I2 / 9.0) * outer_product(C_inv, C_inv) -
-       (2.0 * I2 / 3.0) * dC_inv_dC);
+    const IsochoricInvariants inv =
+      isochoric_invariants(in, InvariantSet::Ibar1_and_Ibar2);
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2 (W linear in the invariants).
-    out.psi   = params.c1 * (J_m23 * I1 - 3.0) + params.c2 * (J_m43 * I2 - 3.0);
-    out.S     = 2.0 * (params.c1 * dI1_bar + params.c2 * dI2_bar);
-    out.dS_dE = 4.0 * (params.c1 * d2I1_bar + params.c2 * d2I2_bar);
+    out.psi = params.c1 * (inv.I1_bar - 3.0) + params.c2 * (inv.I2_bar - 3.0);
+    out.S   = 2.0 * (params.c1 * inv.dI1_bar + params.c2 * inv.dI2_bar);
+    if (!in.with_tangent)
+      return;
+    out.dS_dE = 4.0 * (params.c1 * inv.d2I1_bar + params.c2 * inv.d2I2_bar);
   }
-
 
   std::string
   MooneyRivlin::name() const

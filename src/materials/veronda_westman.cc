@@ -1,8 +1,6 @@
 #include "materials/veronda_westman.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
-#include "materials/volumetric_law.h"
+#include "materials/isochoric_invariants.h"
 
 #include <cmath>
 
@@ -69,57 +67,24 @@ namespace systole::Materials
   void
   VerondaWestman::evaluate(const PassiveInput &in, PassiveOutput &out) const
   {
-    using dealii::outer_product;
-    using dealii::SymmetricTensor;
-
-    const double J = dealii::determinant(in.F);
-    AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-
-    const SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-    const SymmetricTensor<2, 3> C =
-      dealii::symmetrize(dealii::transpose(in.F) * in.F);
-    const SymmetricTensor<2, 3> C_inv = dealii::invert(C);
-    const double                I1    = dealii::trace(C);
-    const double                I2    = 0.5 * (I1 * I1 - C * C);
-    const double                J_m23 = std::pow(J, -2.0 / 3.0);
-    const double                J_m43 = J_m23 * J_m23;
-
-    // Derivatives of the isochoric invariants as in mooney_rivlin.cc:
-    // d Ibar1/dC = J^{-2/3} (I - I1/3 C^{-1}),
-    // d Ibar2/dC = J^{-4/3} (G - 2/3 I2 C^{-1}), G = dI2/dC = I1 I - C.
-    const SymmetricTensor<2, 3> dI1_bar = J_m23 * (I - (I1 / 3.0) * C_inv);
-    const SymmetricTensor<2, 3> G       = I1 * I - C;
-    const SymmetricTensor<2, 3> dI2_bar =
-      J_m43 * (G - (2.0 * I2 / 3.0) * C_inv);
+    const IsochoricInvariants inv =
+      isochoric_invariants(in, InvariantSet::Ibar1_and_Ibar2);
 
     // W_1 = dW/dIbar1 = c1 gamma e^x, W_11 = gamma W_1, W_2 = -c1 gamma/2
     // (constant), x = gamma (Ibar1 - 3).
-    const double x    = params.gamma * (J_m23 * I1 - 3.0);
+    const double x    = params.gamma * (inv.I1_bar - 3.0);
     const double W_1  = params.c1 * params.gamma * std::exp(x);
     const double W_11 = params.gamma * W_1;
     const double W_2  = -0.5 * params.c1 * params.gamma;
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
-    out.psi = params.c1 * std::expm1(x) + W_2 * (J_m43 * I2 - 3.0);
-    out.S   = 2.0 * (W_1 * dI1_bar + W_2 * dI2_bar);
+    out.psi = params.c1 * std::expm1(x) + W_2 * (inv.I2_bar - 3.0);
+    out.S   = 2.0 * (W_1 * inv.dI1_bar + W_2 * inv.dI2_bar);
     if (!in.with_tangent)
       return;
-    const SymmetricTensor<4, 3> dC_inv_dC =
-      dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F);
-    const SymmetricTensor<4, 3> d2I1_bar =
-      J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) - (I1 / 3.0) * dC_inv_dC);
-    const SymmetricTensor<4, 3> d2I2_bar =
-      J_m43 *
-      (outer_product(I, I) - dealii::identity_tensor<3>() -
-       (2.0 / 3.0) * (outer_product(G, C_inv) + outer_product(C_inv, G)) +
-       (4.0 * I2 / 9.0) * outer_product(C_inv, C_inv) -
-       (2.0 * I2 / 3.0) * dC_inv_dC);
-    out.dS_dE = 4.0 * (W_11 * outer_product(dI1_bar, dI1_bar) + W_1 * d2I1_bar +
-                       W_2 * d2I2_bar);
+    out.dS_dE = 4.0 * (W_11 * dealii::outer_product(inv.dI1_bar, inv.dI1_bar) +
+                       W_1 * inv.d2I1_bar + W_2 * inv.d2I2_bar);
   }
-
 
   std::string
   VerondaWestman::name() const
