@@ -135,31 +135,25 @@ namespace systole::Materials
     if (params.k1 == 0.0)
       return;
 
-    // Fibre term w(x) Psi(x), x = I4f - 1 = f0.C f0 - 1, with
-    // Psi = k1/(2 k2) (e^{k2 x^2} - 1), Psi' = k1 x e^{k2 x^2},
-    // Psi'' = k1 e^{k2 x^2} (1 + 2 k2 x^2); dI4/dC = M = f0 x f0.
+    // Fibre term w(x) k1/(2 k2) (e^{k2 x^2} - 1), x = I4f - 1 = f0.C f0 - 1,
+    // as Holzapfel-Ogden's fibre term; dI4/dC = M = f0 x f0.
     const dealii::Tensor<1, 3>  Ff = in.F * in.basis.f;
     const double                x  = Ff * Ff - 1.0;
-    const std::array<double, 3> w =
-      HolzapfelOgden::tension_switch(x, params.switch_width);
-    if (w[0] == 0.0 && w[1] == 0.0 && w[2] == 0.0)
+    const std::array<double, 3> term =
+      HolzapfelOgden::switched_exponential(x,
+                                           params.k1,
+                                           params.k2,
+                                           params.switch_width);
+    if (term[0] == 0.0 && term[1] == 0.0 && term[2] == 0.0)
       return;
-    const double e = std::exp(params.k2 * x * x);
-    const double psi =
-      0.5 * params.k1 / params.k2 * std::expm1(params.k2 * x * x);
-    const double dpsi   = params.k1 * x * e;
-    const double d2psi  = params.k1 * e * (1.0 + 2.0 * params.k2 * x * x);
-    const double value  = w[0] * psi;
-    const double first  = w[1] * psi + w[0] * dpsi;
-    const double second = w[2] * psi + 2.0 * w[1] * dpsi + w[0] * d2psi;
 
     const SymmetricTensor<2, 3> M =
       dealii::symmetrize(outer_product(in.basis.f, in.basis.f));
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.
-    out.psi += value;
-    out.S += (2.0 * first) * M;
+    out.psi += term[0];
+    out.S += (2.0 * term[1]) * M;
     if (in.with_tangent)
-      out.dS_dE += (4.0 * second) * outer_product(M, M);
+      out.dS_dE += (4.0 * term[2]) * outer_product(M, M);
   }
 
 

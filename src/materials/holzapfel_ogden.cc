@@ -69,6 +69,17 @@ namespace systole::Materials
   }
 
 
+  std::array<double, 3>
+  HolzapfelOgden::switched_exponential(const double x,
+                                       const double a,
+                                       const double b,
+                                       const double delta)
+  {
+    const Scalar3 term = switched_term(x, a, b, delta);
+    return {{term.value, term.first, term.second}};
+  }
+
+
   void
   HolzapfelOgden::Parameters::declare(dealii::ParameterHandler &prm)
   {

@@ -105,6 +105,18 @@ namespace systole::Materials
     static std::array<double, 3>
     tension_switch(const double x, const double delta);
 
+    /// A switched fibre or sheet term @f$w(x)\,\frac{a}{2b}(e^{b x^2} - 1)@f$
+    /// [kPa] and its first two derivatives in @f$x = I_4 - 1@f$, with
+    /// @f$w@f$ = tension_switch(x, delta); returned as {value, first,
+    /// second}, all exactly 0 where w = 0.
+    /// @param[in] a stiffness [kPa]
+    /// @param[in] b exponent [-], > 0
+    static std::array<double, 3>
+    switched_exponential(const double x,
+                         const double a,
+                         const double b,
+                         const double delta);
+
   private:
     const Parameters params;
   };
