@@ -1,6 +1,7 @@
 #pragma once
 
 #include "circulation/cycle_records.h"
+#include "circulation/model_summary.h"
 
 #include <array>
 #include <string>
@@ -59,14 +60,6 @@ namespace systole::Circulation
     unsigned long n_ventricle_calls = 0;
     /// Steps cut after a recoverable failure of the ventricle.
     unsigned int n_step_cuts = 0;
-  };
-
-  /// One column of the per-beat summary table of the results file.
-  struct SummaryColumn
-  {
-    std::string name;
-    std::string unit;
-    double      value;
   };
 
   /// The summary as output columns, volumes in mL and pressures in mmHg

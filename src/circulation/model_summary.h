@@ -2,14 +2,22 @@
 
 #include <deal.II/lac/vector.h>
 
-#include "circulation/beat_summary.h"
 #include "circulation/model.h"
 #include "circulation/phase.h"
 
+#include <string>
 #include <vector>
 
 namespace systole::Circulation
 {
+  /// One column of the per-beat summary table of the results file.
+  struct SummaryColumn
+  {
+    std::string name;
+    std::string unit;
+    double      value;
+  };
+
   /// The phase of each cavity of a model, from its valves: ejection while
   /// the outlet valve is open, filling while the inlet valve is open,
   /// otherwise isovolumetric contraction after filling and isovolumetric
