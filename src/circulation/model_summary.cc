@@ -39,10 +39,14 @@ namespace systole::Circulation
       }
   }
 
-  ModelBeatRecorder::ModelBeatRecorder(const Model &model)
+  ModelBeatRecorder::ModelBeatRecorder(const Model             &model,
+                                       const std::vector<bool> &valves_open)
     : model(model)
     , previous_edv(model.n_cavities(), nan)
     , last_periodicity(nan)
+    , valves_open(valves_open)
+    , phases(model, valves_open)
+    , phase_durations(model.n_cavities(), {{0, 0, 0, 0}})
   {}
 
   void
@@ -53,6 +57,20 @@ namespace systole::Circulation
     if (!samples.empty())
       samples.erase(samples.begin(), samples.end() - 1);
     closures.clear();
+    // The phases carry over from the end of the previous beat.
+    for (auto &d : phase_durations)
+      d = {{0, 0, 0, 0}};
+    phase_time = start_time;
+  }
+
+  void
+  ModelBeatRecorder::accumulate_phase_durations(const double time)
+  {
+    if (time <= phase_time)
+      return;
+    for (unsigned int c = 0; c < model.n_cavities(); ++c)
+      phase_durations[c][code(phases.phase(c))] += time - phase_time;
+    phase_time = time;
   }
 
   void
@@ -65,6 +83,9 @@ namespace systole::Circulation
   {
     if (!opens)
       closures.push_back({valve, {time, y, cavity_pressures, {}}});
+    accumulate_phase_durations(time);
+    valves_open[valve] = opens;
+    phases.update(valves_open);
   }
 
   void
@@ -81,6 +102,9 @@ namespace systole::Circulation
   {
     const auto mL   = [](const double v) { return Units::mm3_to_mL(v); };
     const auto mmHg = [](const double p) { return Units::kPa_to_mmHg(p); };
+    // kPa/ms -> mmHg/s
+    const double mmHg_per_s = Units::second / Units::mmHg;
+    accumulate_phase_durations(end_time);
     std::vector<SummaryColumn> row = {{"beat", "-", static_cast<double>(beat)},
                                       {"start_time", "ms", start_time},
                                       {"end_time", "ms", end_time}};
@@ -93,8 +117,9 @@ namespace systole::Circulation
         const unsigned int iv     = cavity.volume_state;
         const double       inf    = std::numeric_limits<double>::infinity();
         double             v_max = -inf, v_min = inf, p_peak = -inf;
-        double             p_ed = nan;
-        double             work = 0;
+        double             p_ed     = nan;
+        double             work     = 0;
+        double             dpdt_max = -inf, dpdt_min = inf;
         for (std::size_t i = 0; i < samples.size(); ++i)
           {
             const auto  &s = samples[i];
@@ -112,10 +137,20 @@ namespace systole::Circulation
                 // on the blood, -oint p dV, is positive.
                 const auto &q = samples[i - 1];
                 work -= 0.5 * (p + q.cavity_pressures[c]) * (v - q.y[iv]);
+                // An event sample can share its time with an output sample.
+                const double dt = s.time - q.time;
+                if (dt > 0)
+                  {
+                    const double dpdt = (p - q.cavity_pressures[c]) / dt;
+                    dpdt_max          = std::max(dpdt_max, dpdt);
+                    dpdt_min          = std::min(dpdt_min, dpdt);
+                  }
               }
           }
         if (samples.empty())
           v_max = v_min = p_peak = nan;
+        if (dpdt_max == -inf)
+          dpdt_max = dpdt_min = nan;
         // The valve closures, where the beat has them.
         for (const auto &closure : closures)
           if (closure.valve == cavity.inlet_valve)
@@ -140,6 +175,15 @@ namespace systole::Circulation
         row.push_back({n + "stroke_work_mmHg_mL",
                        "mmHg mL",
                        work / (Units::mmHg * Units::mL)});
+        row.push_back({n + "dpdt_max", "mmHg/s", mmHg_per_s * dpdt_max});
+        row.push_back({n + "dpdt_min", "mmHg/s", mmHg_per_s * dpdt_min});
+        for (const Phase phase : {Phase::filling,
+                                  Phase::isovolumetric_contraction,
+                                  Phase::ejection,
+                                  Phase::isovolumetric_relaxation})
+          row.push_back({n + name(phase) + "_duration",
+                         "ms",
+                         phase_durations[c][code(phase)]});
       }
     // std::max ignores a NaN second argument only; the first beat has no
     // previous EDV.

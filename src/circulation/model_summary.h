@@ -5,6 +5,7 @@
 #include "circulation/model.h"
 #include "circulation/phase.h"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -52,7 +53,16 @@ namespace systole::Circulation
   ///   volume of the beat if a valve did not close: with diode valves the
   ///   volume still changes by the leaks after a closure, by about 1e-5 mL
   ///   per beat), c_SV_mL, c_EF (%), c_peak_pressure_mmHg,
-  ///   c_stroke_work_mmHg_mL (-oint p dV, trapezoidal);
+  ///   c_stroke_work_mmHg_mL (-oint p dV, trapezoidal), c_dpdt_max and
+  ///   c_dpdt_min (mmHg/s: the largest and smallest difference quotient of
+  ///   the cavity pressure between consecutive samples), and the time spent
+  ///   in each phase of CavityPhases within the beat (ms):
+  ///   c_filling_duration, c_isovolumetric_contraction_duration,
+  ///   c_ejection_duration, c_isovolumetric_relaxation_duration. The phase
+  ///   changes at the valve events (add_valve_event()); a beat starts in the
+  ///   phase in which the previous one ended, the first one in the phase of
+  ///   the valve states given to the constructor. The four durations add up
+  ///   to end_time - start_time;
   /// - per pressure (states and outputs): name_max_mmHg, name_min_mmHg,
   ///   name_mean_mmHg (time average, trapezoidal);
   /// - total_blood_volume_mL at the beat's end, and its largest relative
@@ -65,7 +75,9 @@ namespace systole::Circulation
   class ModelBeatRecorder
   {
   public:
-    explicit ModelBeatRecorder(const Model &model);
+    /// @param[in] valves_open the valve states at the start of the first
+    ///   beat (the phase of each cavity there, see CavityPhases)
+    ModelBeatRecorder(const Model &model, const std::vector<bool> &valves_open);
 
     /// Start beat @p beat at @p start_time; the last sample of the previous
     /// beat (its end) is the first one of this beat.
@@ -80,7 +92,8 @@ namespace systole::Circulation
         const dealii::Vector<double> &outputs);
 
     /// A sample at a valve event (add() it too, before or after): the
-    /// closures of inlet and outlet valves mark EDV and ESV.
+    /// closures of inlet and outlet valves mark EDV and ESV, and the cavity
+    /// phases follow the new valve state (CavityPhases::update()).
     void
     add_valve_event(const unsigned int            valve,
                     const bool                    opens,
@@ -108,6 +121,11 @@ namespace systole::Circulation
     }
 
   private:
+    /// Adds the time from the last phase change (or the beat's start) to
+    /// @p time to the durations of the current phases.
+    void
+    accumulate_phase_durations(const double time);
+
     struct Sample
     {
       double                 time;
@@ -127,5 +145,12 @@ namespace systole::Circulation
     std::vector<Closure> closures;
     std::vector<double>  previous_edv;
     double               last_periodicity;
+    /// The valve states after the last event, and the cavity phases.
+    std::vector<bool> valves_open;
+    CavityPhases      phases;
+    /// Time [ms] in each phase within the beat, per cavity, up to
+    /// phase_time.
+    std::vector<std::array<double, n_phases>> phase_durations;
+    double                                    phase_time = 0;
   };
 } // namespace systole::Circulation

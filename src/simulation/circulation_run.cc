@@ -72,7 +72,7 @@ namespace systole
     Integrator        integrator(*model, settings, 0.0, y0);
     CavityPhases      phases(*model, integrator.valves_open());
     std::vector<bool> open = integrator.valves_open();
-    ModelBeatRecorder recorder(*model);
+    ModelBeatRecorder recorder(*model, integrator.valves_open());
 
     IO::ResultsFile results(run.output_directory, parameter_text, comm);
     Progress        progress(logger,
