@@ -1,17 +1,22 @@
 #!/usr/bin/env python3
-"""Draw the pressure-volume loop and the cardiac-cycle traces of a Systole results file.
+"""Draw the pressure-volume loops and the cardiac-cycle traces of a Systole results file.
 
     pv_loop.py RESULTS.h5 [-o OUT_PREFIX]
 
-Writes OUT_PREFIX_loop.png (cavity pressure against volume, one curve per beat, segments
-coloured by phase) and OUT_PREFIX_traces.png (pressures, volume and flow against time,
-phases shaded), prints the paths written, then the per-beat /summary table as aligned
-text. Default OUT_PREFIX: "pv" next to the results file (pv_loop.png, pv_traces.png).
+Writes OUT_PREFIX_loop.png (one panel per cavity: its pressure against its volume, one
+curve per beat, segments coloured by the cavity's phase) and OUT_PREFIX_traces.png (the
+cavity and vessel pressures of the left and the right heart, the cavity volumes and the
+valve flows against time, the first ventricle's phases shaded), prints the paths written,
+then the per-beat /summary as aligned text: a table per ventricle, the pressures of the
+last beat, the other columns. Default OUT_PREFIX: "pv" next to the results file
+(pv_loop.png, pv_traces.png).
 
-Time-series columns used: time [ms], pressure_mmHg, volume_mL (required); beat, phase,
-flow [mL/s], aortic_pressure_mmHg (optional). The value of ``phase`` at a row is the
-phase during the step that ends there, so the segment from row i-1 to row i takes the
-colour of phase[i].
+Reads the files of Problem = heartbeat and Problem = circulation: a cavity is every prefix
+c with time-series columns c_pressure_mmHg and c_volume_mL (optional c_phase,
+c_mechanics_volume_mL), see systole_post.cavities. An old-style heartbeat file with only
+pressure_mmHg, volume_mL (optional phase, flow, aortic_pressure_mmHg) is one cavity. A
+phase column holds the phase at the end of each row's step, so the segment from row i-1 to
+row i takes the colour of phase[i].
 """
 
 from __future__ import annotations
@@ -29,9 +34,11 @@ from matplotlib.lines import Line2D
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
+from systole_post.cavities import (PRESSURE_STATISTICS, Cavity, find_cavities,  # noqa: E402
+                                   flow_traces, pressure_traces, summary_groups)
 from systole_post.results import Results, ResultsError, read_results  # noqa: E402
 
-#: Phase codes of the time-series column ``phase`` (src/circulation/phase.h).
+#: Phase codes of the phase columns (src/circulation/phase.h).
 PHASES = {
     0: ("filling", "tab:blue"),
     1: ("isovolumetric contraction", "tab:orange"),
@@ -40,8 +47,8 @@ PHASES = {
 }
 #: Colour of rows whose phase code is unknown (or missing).
 OTHER_COLOUR = "0.4"
-
-REQUIRED = ("time", "pressure_mmHg", "volume_mL")
+#: Colour of the loop of a cavity without a phase column (the atria of the closed loop).
+NO_PHASE_COLOUR = "tab:purple"
 
 
 def _column(results: Results, name: str, default: float | None = None) -> np.ndarray:
@@ -53,16 +60,19 @@ def _column(results: Results, name: str, default: float | None = None) -> np.nda
     return np.full(results.n_rows, default)
 
 
-def check_columns(results: Results) -> None:
-    """Raise ValueError naming the missing required columns, or when there are no rows."""
-    missing = [name for name in REQUIRED if name not in results.timeseries]
-    if missing:
+def cavities_of(results: Results) -> list[Cavity]:
+    """The cavities of the file; raise ValueError when there is none, no time column or no
+    rows."""
+    cavities = find_cavities(results.timeseries)
+    if not cavities or "time" not in results.timeseries:
         raise ValueError(
-            f"{results.path}: no time-series column {missing}; "
+            f"{results.path}: no time-series column 'time' and no cavity (columns "
+            "c_pressure_mmHg and c_volume_mL, or pressure_mmHg and volume_mL); "
             f"available: {sorted(results.timeseries)}"
         )
     if results.n_rows == 0:
         raise ValueError(f"{results.path}: the time series is empty")
+    return cavities
 
 
 def beat_rows(beat: np.ndarray) -> dict[int, np.ndarray]:
@@ -85,18 +95,14 @@ def phase_colours(phase: np.ndarray) -> list[str]:
     return [PHASES.get(int(code), (None, OTHER_COLOUR))[1] for code in phase]
 
 
-def make_loop_figure(results: Results) -> Figure:
-    """The PV loop: one curve per beat, segments coloured by phase, later beats darker."""
-    check_columns(results)
-    volume = _column(results, "volume_mL")
-    pressure = _column(results, "pressure_mmHg")
-    beat = _column(results, "beat", 0.0)
-    colours = phase_colours(_column(results, "phase", -1.0))
-
-    figure = Figure(figsize=(6.5, 5.5), layout="constrained")
-    FigureCanvasAgg(figure)
-    ax = figure.subplots()
-    rows = beat_rows(beat)
+def _draw_loop(ax, results: Results, cavity: Cavity, rows: dict[int, np.ndarray]) -> None:
+    """The loop of one cavity: one curve per beat, later beats darker."""
+    volume = _column(results, cavity.volume)
+    pressure = _column(results, cavity.pressure)
+    if cavity.phase:
+        colours = phase_colours(_column(results, cavity.phase))
+    else:
+        colours = [NO_PHASE_COLOUR] * results.n_rows
     for n, (number, index) in enumerate(rows.items()):
         # Older beats fade out; the last one is drawn fully opaque.
         alpha = 1.0 if n == len(rows) - 1 else 0.3 + 0.5 * n / max(len(rows) - 1, 1)
@@ -105,15 +111,31 @@ def make_loop_figure(results: Results) -> Figure:
         ax.add_collection(LineCollection(segments, colors=[colours[i] for i in index[1:]],
                                          linewidths=1.8, alpha=alpha, label=f"beat {number}"))
     ax.autoscale()
-    ax.set_xlabel("volume [mL]")
-    ax.set_ylabel("cavity pressure [mmHg]")
+    ax.set_xlabel(f"{cavity.label} volume [mL]")
+    ax.set_ylabel(f"{cavity.label} pressure [mmHg]")
     numbers = list(rows)
     beats = (f"beat {numbers[0]}" if len(numbers) == 1 else
              f"beats {numbers[0]}-{numbers[-1]}, earlier beats lighter")
-    ax.set_title(f"pressure-volume loop ({beats})")
+    ax.set_title(f"{cavity.label} pressure-volume loop ({beats})", fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend(handles=[Line2D([], [], color=colour, label=name)
-                       for name, colour in PHASES.values()], loc="best", fontsize=8)
+    if cavity.phase:
+        ax.legend(handles=[Line2D([], [], color=colour, label=name)
+                           for name, colour in PHASES.values()], loc="best", fontsize=8)
+
+
+def make_loop_figure(results: Results) -> Figure:
+    """The PV loops: one panel per cavity (ventricles first), two panels a row."""
+    cavities = cavities_of(results)
+    rows = beat_rows(_column(results, "beat", 0.0))
+    n_columns = min(len(cavities), 2)
+    n_rows = math.ceil(len(cavities) / n_columns)
+    figure = Figure(figsize=(6.0 * n_columns, 5.0 * n_rows), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(n_rows, n_columns, squeeze=False).ravel()
+    for ax, cavity in zip(axes, cavities):
+        _draw_loop(ax, results, cavity, rows)
+    for ax in axes[len(cavities):]:
+        ax.remove()
     return figure
 
 
@@ -130,31 +152,52 @@ def _shade_phases(ax, time: np.ndarray, phase: np.ndarray) -> None:
         i = j + 1
 
 
+def trace_panels(results: Results, cavities: list[Cavity]
+                 ) -> list[tuple[str, list[tuple[str, str, str]]]]:
+    """The panels of the traces figure: (y label, [(column, legend, line style)]), empty
+    panels left out. Pressures of the left and the right heart apart when the file has
+    both (closed loop), one pressure panel otherwise."""
+    columns = results.timeseries
+    left, right = pressure_traces(columns, cavities)
+    volumes = []
+    for cavity in cavities:
+        volumes.append((cavity.volume, cavity.label, "-"))
+        if cavity.mechanics_volume:
+            volumes.append((cavity.mechanics_volume, f"{cavity.label} (3D mesh)", "--"))
+    flows = [(column, legend, "-") for column, legend in flow_traces(columns)]
+    panels = [("left heart pressure [mmHg]" if right else "pressure [mmHg]",
+               [(column, legend, "-") for column, legend in left]),
+              ("right heart pressure [mmHg]", [(column, legend, "-") for column, legend in right]),
+              ("volume [mL]", volumes),
+              ("flow [mL/s]", flows)]
+    return [(label, curves) for label, curves in panels if curves]
+
+
 def make_traces_figure(results: Results) -> Figure:
-    """Pressures, volume and flow against time, with the phases shaded."""
-    check_columns(results)
+    """Pressures, volumes and flows against time, the first ventricle's phases shaded."""
+    cavities = cavities_of(results)
     time = _column(results, "time")
-    phase = _column(results, "phase", -1.0)
-    panels = [("pressure [mmHg]", [("pressure_mmHg", "cavity"),
-                                   ("aortic_pressure_mmHg", "aortic root")]),
-              ("volume [mL]", [("volume_mL", "cavity")]),
-              ("flow [mL/s]", [("flow", "outflow - inflow")])]
-    panels = [(label, [(name, text) for name, text in curves if name in results.timeseries])
-              for label, curves in panels]
-    panels = [(label, curves) for label, curves in panels if curves]
+    shading = cavities[0] if cavities[0].phase else None
+    phase = _column(results, shading.phase) if shading else np.full(results.n_rows, -1.0)
+    panels = trace_panels(results, cavities)
 
     figure = Figure(figsize=(8.0, 2.4 * len(panels) + 0.6), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    # One colour per cavity or vessel in every panel; a 3D-mesh volume takes the colour of
+    # its cavity.
+    colours: dict[str, str] = {}
     for ax, (label, curves) in zip(axes, panels):
         _shade_phases(ax, time, phase)
-        for name, text in curves:
-            ax.plot(time, _column(results, name), label=text, lw=1.2)
+        for column, legend, style in curves:
+            colour = colours.setdefault(legend.removesuffix(" (3D mesh)"), f"C{len(colours) % 10}")
+            ax.plot(time, _column(results, column), style, label=legend, lw=1.2, color=colour)
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
         if len(curves) > 1:
             ax.legend(loc="upper right", fontsize=8)
-    axes[0].set_title("cardiac cycle (shading: " +
+    whose = f"{shading.label} " if shading and shading.name else ""
+    axes[0].set_title(f"cardiac cycle (shading: {whose}" +
                       ", ".join(f"{name}" for name, _ in PHASES.values()) + ")", fontsize=9)
     axes[-1].set_xlabel(f"time [{results.units.get('time') or 'ms'}]")
     return figure
@@ -169,23 +212,55 @@ def _format_value(value: float) -> str:
     return f"{value:.5g}"
 
 
-def format_summary(results: Results) -> str:
-    """The /summary table as aligned text, one row per beat, headed "name [unit]".
-
-    Columns in file order, except that ``beat`` comes first. Returns a one-line note if
-    the file has no summary.
-    """
-    if not results.summary:
-        return f"{results.path}: no /summary table"
-    names = sorted(results.summary, key=lambda name: name != "beat")  # stable
-    headers = [f"{name} [{results.summary_units.get(name) or '-'}]" for name in names]
-    n_rows = len(next(iter(results.summary.values())))
-    cells = [[_format_value(results.summary[name][row]) for name in names]
-             for row in range(n_rows)]
-    widths = [max([len(header)] + [len(row[j]) for row in cells])
+def _aligned(headers: list[str], rows: list[list[str]], left_first: bool = False
+             ) -> list[str]:
+    """Lines of a table with right-aligned columns (the first one left-aligned if
+    ``left_first``)."""
+    widths = [max([len(header)] + [len(row[j]) for row in rows])
               for j, header in enumerate(headers)]
-    lines = ["  ".join(header.rjust(width) for header, width in zip(headers, widths))]
-    lines += ["  ".join(cell.rjust(width) for cell, width in zip(row, widths)) for row in cells]
+
+    def cell(text: str, j: int) -> str:
+        return text.ljust(widths[j]) if left_first and j == 0 else text.rjust(widths[j])
+
+    return ["  ".join(cell(text, j) for j, text in enumerate(line)) for line in [headers] + rows]
+
+
+def format_summary(results: Results) -> str:
+    """The /summary as aligned text.
+
+    One table per ventricle (rows: beats; columns: EDV, ESV, SV, EF, EDP, peak pressure,
+    stroke work, dp/dt, the phase durations, headed "name [unit]"), then the max/min/mean
+    of every pressure in the last beat (one row per pressure), then the other columns (one
+    row per beat, file order). ``beat`` heads every per-beat table. Returns a one-line
+    note if the file has no summary.
+    """
+    summary = results.summary
+    if not summary:
+        return f"{results.path}: no /summary table"
+    n_rows = len(next(iter(summary.values())))
+    beats = summary.get("beat", np.arange(n_rows))
+    groups = summary_groups(summary)
+
+    def per_beat(title: str, columns: list[tuple[str, str, str | None]]) -> list[str]:
+        headers = ["beat [-]"] + [f"{heading} [{unit or summary_units.get(column) or '-'}]"
+                                  for column, heading, unit in columns]
+        cells = [[_format_value(beats[row])] +
+                 [_format_value(summary[column][row]) for column, _, _ in columns]
+                 for row in range(n_rows)]
+        return [title] + _aligned(headers, cells)
+
+    summary_units = results.summary_units
+    lines = []
+    for name, columns in groups.ventricles.items():
+        label = name.upper() if name else "cavity"
+        lines += per_beat(f"{label}, per beat:", columns)
+    if groups.pressures:
+        cells = [[name] + [_format_value(summary[f"{name}_{s}_mmHg"][-1])
+                           for s in PRESSURE_STATISTICS] for name in groups.pressures]
+        lines += [f"pressures [mmHg] in beat {_format_value(beats[-1])}:"]
+        lines += _aligned(["pressure"] + list(PRESSURE_STATISTICS), cells, left_first=True)
+    if groups.others:
+        lines += per_beat("per beat:", [(column, column, None) for column in groups.others])
     return "\n".join(lines)
 
 

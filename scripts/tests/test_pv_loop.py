@@ -1,4 +1,8 @@
-"""Tests of scripts/pv_loop.py on small synthetic results files (outputs go to tmp_path)."""
+"""Tests of scripts/pv_loop.py on small synthetic results files (outputs go to tmp_path).
+
+The first tests use an old-style heartbeat file (pressure_mmHg, volume_mL, phase, the
+unprefixed summary); test_pv_loop_cavities.py has the files of the 0D models.
+"""
 
 import subprocess
 import sys
@@ -61,15 +65,16 @@ def test_loop_has_one_curve_per_beat_coloured_by_phase(cycle_file):
     figure = make_loop_figure(read_results(cycle_file))
     ax = figure.axes[0]
     assert [c.get_label() for c in ax.collections] == ["beat 0", "beat 1"]
-    assert ax.get_title() == "pressure-volume loop (beats 0-1, earlier beats lighter)"
+    assert ax.get_title() == "cavity pressure-volume loop (beats 0-1, earlier beats lighter)"
     first = ax.collections[0]
     n_segments = 6 * 5
     assert len(first.get_segments()) == n_segments
     # Segment colours follow the phase of the row that ends the segment: 4 phases seen.
     colours = {tuple(np.round(c, 3)) for c in first.get_colors()}
     assert len(colours) == 4
-    assert ax.get_xlabel() == "volume [mL]"
+    assert ax.get_xlabel() == "cavity volume [mL]"
     assert ax.get_ylabel() == "cavity pressure [mmHg]"
+    assert len(figure.axes) == 1
     assert [t.get_text() for t in ax.get_legend().get_texts()][0] == "filling"
     # The second beat starts from the last row of the first (the curve is closed).
     assert np.allclose(ax.collections[1].get_segments()[0][0], [55.0, 6.0])
@@ -79,20 +84,27 @@ def test_traces_have_pressure_volume_and_flow_panels(cycle_file):
     figure = make_traces_figure(read_results(cycle_file))
     labels = [ax.get_ylabel() for ax in figure.axes]
     assert labels == ["pressure [mmHg]", "volume [mL]", "flow [mL/s]"]
-    assert len(figure.axes[0].get_lines()) == 2  # cavity and aortic root
+    assert [t.get_text() for t in figure.axes[0].get_legend().get_texts()] == [
+        "cavity", "aortic root"]
+    assert [line.get_label() for line in figure.axes[2].get_lines()] == ["outflow - inflow"]
     assert figure.axes[-1].get_xlabel() == "time [ms]"
+    assert figure.axes[0].get_title().startswith("cardiac cycle (shading: filling, ")
 
 
 def test_summary_table_is_aligned_with_one_row_per_beat(cycle_file):
     text = format_summary(read_results(cycle_file))
     lines = text.splitlines()
-    assert len(lines) == 3
-    assert len({len(line) for line in lines}) == 1  # aligned
-    header = lines[0].split()
-    # beat first, then the file's link order (alphabetical here)
-    assert header[:4] == ["beat", "[-]", "EDV_mL", "[-]"]
-    assert "58.333" in lines[1] and "-" in lines[1].split()  # NaN periodicity shown as -
-    assert lines[2].split()[0] == "1"  # the beat number, as an integer
+    # The cavity's table (EDV, ESV, EF), then the other columns (periodicity).
+    assert len(lines) == 8
+    assert lines[0] == "cavity, per beat:"
+    assert len({len(line) for line in lines[1:4]}) == 1  # aligned
+    assert lines[1].split() == ["beat", "[-]", "EDV", "[mL]", "ESV", "[mL]", "EF", "[%]"]
+    assert lines[2].split() == ["0", "120", "50", "58.333"]
+    assert lines[3].split()[0] == "1"  # the beat number, as an integer
+    assert lines[4] == "per beat:"
+    assert lines[5].split() == ["beat", "[-]", "periodicity", "[-]"]
+    assert lines[6].split() == ["0", "-"]  # NaN periodicity shown as -
+    assert lines[7].split() == ["1", "0.0004"]
 
 
 def test_script_writes_pngs_and_prints_paths_and_table(cycle_file, tmp_path):
@@ -108,8 +120,8 @@ def test_script_writes_pngs_and_prints_paths_and_table(cycle_file, tmp_path):
         data = (tmp_path / "out" / name).read_bytes()
         assert data[:8] == PNG_MAGIC
         assert len(data) > 5000
-    assert lines[2].split()[:2] == ["beat", "[-]"]
-    assert len(lines) == 5
+    assert lines[2] == "cavity, per beat:"
+    assert len(lines) == 2 + 8
 
 
 def test_script_default_prefix_next_to_results(make_results, tmp_path):
@@ -137,7 +149,7 @@ def test_script_reports_missing_columns_and_files(make_results, three_steps, tmp
     done = subprocess.run([sys.executable, str(SCRIPT), str(make_results(three_steps))],
                           capture_output=True, text=True)
     assert done.returncode == 1
-    assert "no time-series column ['pressure_mmHg', 'volume_mL']" in done.stderr
+    assert "no cavity (columns c_pressure_mmHg and c_volume_mL" in done.stderr
     done = subprocess.run([sys.executable, str(SCRIPT), str(tmp_path / "none.h5")],
                           capture_output=True, text=True)
     assert done.returncode == 1
