@@ -3,8 +3,10 @@
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
+from circulation_files import closed_loop_file, heartbeat_file, windkessel_file
 from conftest import SCRIPTS_DIR
 from systole_post.plot import make_figure, plot_timeseries
 from systole_post.results import read_results
@@ -72,3 +74,41 @@ def test_script_reports_missing_file(tmp_path):
                            str(tmp_path / "none.h5")], capture_output=True, text=True)
     assert done.returncode == 1
     assert "no such results file" in done.stderr
+
+
+def test_closed_loop_panels_gather_each_quantity(tmp_path):
+    results = read_results(closed_loop_file(tmp_path / "closed_loop.h5"))
+    figure = make_figure(results)
+    titles = [ax.get_title() for ax in figure.axes]
+    # In the order of their first column; the blood volume alone (another scale).
+    assert titles == ["beat [-]", "volume [mL]", "pressure [mmHg]", "flow [mL/s]", "phase [-]",
+                      "total_blood_volume_mL [mL]"]
+    volume, pressure, flow, phase = figure.axes[1:5]
+    assert [line.get_label() for line in volume.get_lines()] == [
+        "la_volume", "lv_volume", "ra_volume", "rv_volume"]
+    assert len(pressure.get_lines()) == 8  # 4 vessel and 4 chamber pressures
+    assert [t.get_text() for t in pressure.get_legend().get_texts()][:2] == [
+        "systemic_arterial_pressure", "systemic_venous_pressure"]
+    assert len(flow.get_lines()) == 8  # 4 vessel and 4 valve flows
+    assert [line.get_label() for line in phase.get_lines()] == ["lv", "rv"]
+    assert phase.get_lines()[0].get_drawstyle() == "steps-post"
+    assert np.array_equal(volume.get_lines()[3].get_ydata(), results.timeseries["rv_volume_mL"])
+
+
+def test_heartbeat_panels_skip_the_aliases_of_the_cavity(tmp_path):
+    figure = make_figure(read_results(heartbeat_file(tmp_path / "heartbeat.h5")))
+    panels = {ax.get_title(): [line.get_label() for line in ax.get_lines()]
+              for ax in figure.axes}
+    assert panels["volume [mL]"] == ["lv_volume", "lv_mechanics_volume"]
+    assert panels["pressure [mmHg]"] == ["arterial_pressure", "lv_pressure", "atrial_pressure",
+                                         "aortic_root_pressure"]
+    assert panels["lv_phase [-]"] == ["lv_phase"]  # one column: a panel of its own
+    assert "phase [-]" not in panels and "pressure_mmHg [mmHg]" not in panels
+    assert "newton_iterations [-]" in panels and "step [-]" not in panels
+
+
+def test_windkessel_selected_columns_stay_one_panel_each(tmp_path):
+    results = read_results(windkessel_file(tmp_path / "windkessel.h5"))
+    figure = make_figure(results, ["lv_pressure_mmHg", "arterial_pressure_mmHg"])
+    assert [ax.get_title() for ax in figure.axes] == [
+        "lv_pressure_mmHg [mmHg]", "arterial_pressure_mmHg [mmHg]"]
