@@ -24,6 +24,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "scripts"))
+from systole_post.cavities import ventricles  # noqa: E402
 from systole_post.results import read_results  # noqa: E402
 
 
@@ -568,7 +569,34 @@ def laws_section(build: Path, workdir: Path) -> str:
         + "\n".join(small) + "\n")
 
 
-#: Physiological bounds of the default heartbeat (the heartbeat issue): column -> (low, high).
+#: The per-beat quantities of the heartbeat table, by their names in the first
+#: ventricle's /summary columns without its prefix (lv_EDV_mL: EDV_mL); see
+#: heartbeat_column() for the aortic pressures.
+HEARTBEAT_KEYS = ["EDV_mL", "ESV_mL", "SV_mL", "EF", "EDP_mmHg", "peak_pressure_mmHg",
+                  "aortic_systolic_mmHg", "aortic_diastolic_mmHg", "dpdt_max", "dpdt_min",
+                  "isovolumetric_contraction_duration", "ejection_duration",
+                  "isovolumetric_relaxation_duration", "filling_duration",
+                  "stroke_work_mmHg_mL", "activation_time_90", "total_activation_time",
+                  "ep_steps", "periodicity"]
+#: Where the aortic pressures are in a heartbeat on a 0D model: the Windkessel's aortic
+#: root, else the closed loop's systemic arteries (old files: aortic_systolic_mmHg, ...).
+AORTIC_COLUMNS = {"aortic_systolic_mmHg": ("aortic_root_pressure_max_mmHg",
+                                           "systemic_arterial_pressure_max_mmHg"),
+                  "aortic_diastolic_mmHg": ("aortic_root_pressure_min_mmHg",
+                                            "systemic_arterial_pressure_min_mmHg")}
+
+
+def heartbeat_column(summary: dict, key: str) -> str | None:
+    """The /summary column of a HEARTBEAT_KEYS entry: the first ventricle's (lv_EDV_mL),
+    the aortic pressure of AORTIC_COLUMNS, or the unprefixed name of an old file; None if
+    the file has none of them."""
+    found = ventricles(summary)
+    prefix = f"{found[0]}_" if found and found[0] else ""
+    candidates = [prefix + key, *AORTIC_COLUMNS.get(key, ()), key]
+    return next((name for name in candidates if name in summary), None)
+
+
+#: Physiological bounds of the default heartbeat (the heartbeat issue): key -> (low, high).
 HEARTBEAT_BOUNDS = {"EDV_mL": (100, 160), "EF": (45, 65), "peak_pressure_mmHg": (90, 140),
                     "aortic_diastolic_mmHg": (60, 90),
                     "isovolumetric_contraction_duration": (20, 80),
@@ -659,26 +687,23 @@ def heartbeat_section(rows: list[dict]) -> str:
     done = [r for r in rows if r["ok"]]
     if done:
         summary = done[-1]["summary"]
-        keys = ["EDV_mL", "ESV_mL", "SV_mL", "EF", "EDP_mmHg", "peak_pressure_mmHg",
-                "aortic_systolic_mmHg", "aortic_diastolic_mmHg", "dpdt_max", "dpdt_min",
-                "isovolumetric_contraction_duration", "ejection_duration",
-                "isovolumetric_relaxation_duration", "filling_duration", "stroke_work_mmHg_mL",
-                "activation_time_90", "total_activation_time", "ep_steps", "periodicity"]
-        keys = [k for k in keys if k in summary]
+        columns = {k: heartbeat_column(summary, k) for k in HEARTBEAT_KEYS}
         lines += ["", f"Beat summaries ({done[-1]['ranks']} rank(s)); the last column checks the "
                   "last beat against the physiological bounds of the heartbeat issue:", "",
                   "| quantity | " + " | ".join(f"beat {int(b)}" for b in summary["beat"]) +
                   " | bounds |", "|---|" + "---|" * (len(summary["beat"]) + 1)]
-        for k in keys:
-            values = " | ".join(f"{v:.4g}" for v in summary[k])
+        for k, column in columns.items():
+            if column is None:
+                continue
+            values = " | ".join(f"{v:.4g}" for v in summary[column])
             bound = ""
             if k in HEARTBEAT_BOUNDS:
                 low, high = HEARTBEAT_BOUNDS[k]
-                last = summary[k][-1]
+                last = summary[column][-1]
                 bound = f"{low} ... {high}: " + ("yes" if low <= last <= high else "**no**")
             if k == "periodicity":
-                bound = "< 0.01: " + ("yes" if summary[k][-1] < 0.01 else "**no**")
-            lines.append(f"| {k} | {values} | {bound} |")
+                bound = "< 0.01: " + ("yes" if summary[column][-1] < 0.01 else "**no**")
+            lines.append(f"| {column} | {values} | {bound} |")
     return "\n".join(lines) + "\n"
 
 
