@@ -26,15 +26,19 @@ namespace systole::Mechanics
     /// The cell-local arrays every term adds to.
     struct CellSystem
     {
-      explicit CellSystem(const unsigned int n)
+      /// @p n DoFs per cell, @p n_cavities cavities.
+      CellSystem(const unsigned int n, const unsigned int n_cavities)
         : matrix(n, n)
         , residual(n)
-        , volume_derivative(n)
+        , volume_derivative(n_cavities, dealii::Vector<double>(n))
+        , on_cavity(n_cavities, false)
       {}
 
       dealii::FullMatrix<double> matrix;
       dealii::Vector<double>     residual;
-      dealii::Vector<double>     volume_derivative;
+      /// dV_i/du of each cavity, and whether the cell has faces on it.
+      std::vector<dealii::Vector<double>> volume_derivative;
+      std::vector<bool>                   on_cavity;
       /// The Schur-complement preconditioner on the pressure DoFs of the cell.
       dealii::FullMatrix<double> pressure_matrix;
     };
@@ -301,10 +305,10 @@ namespace systole::Mechanics
   } // namespace
 
   double
-  Problem::Impl::assemble(const double pressure,
-                          const double active_tension,
-                          const bool   with_matrix,
-                          const bool   with_volume_derivative)
+  Problem::Impl::assemble(const dealii::Vector<double> &pressures,
+                          const double                  active_tension,
+                          const bool                    with_matrix,
+                          const bool                    with_volume_derivative)
   {
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
     const bool                 mixed = layout.mixed();
@@ -335,12 +339,17 @@ namespace systole::Mechanics
                                       dealii::update_JxW_values);
 
     const unsigned int n = fe->n_dofs_per_cell();
-    CellSystem         cell_system(n);
+    CellSystem         cell_system(n, cavities.size());
     ShapeScratch       scratch(*fe);
     cell_system.pressure_matrix.reinit(scratch.p_dofs.size(),
                                        scratch.p_dofs.size());
-    AssertThrow(!with_volume_derivative || cavity.has_value(),
+    AssertThrow(!with_volume_derivative || !cavities.empty(),
                 dealii::ExcMessage("This problem has no cavity."));
+    AssertThrow(pressures.size() == pressure_ids.size(),
+                dealii::ExcMessage(
+                  "Mechanics: " + std::to_string(pressures.size()) +
+                  " pressures given for " +
+                  std::to_string(pressure_ids.size()) + " pressure parts."));
     std::vector<dealii::types::global_dof_index> dofs(n),
       pressure_dofs(scratch.p_dofs.size());
     std::vector<Tensor<2, 3>> grad_u(quadrature.size()),
@@ -357,7 +366,8 @@ namespace systole::Mechanics
       pressure_matrix->zero();
     residual = 0;
     if (with_volume_derivative)
-      volume_derivative = 0;
+      for (auto &b : volume_derivatives)
+        b = 0;
 
     unsigned int inverted = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -462,31 +472,45 @@ namespace systole::Mechanics
           finish_displacement_block(scratch, cell_system);
 
         // Boundary terms.
-        cell_system.volume_derivative = 0;
+        for (unsigned int i = 0; i < cavities.size(); ++i)
+          if (cell_system.on_cavity[i])
+            {
+              cell_system.volume_derivative[i] = 0;
+              cell_system.on_cavity[i]         = false;
+            }
         if (cell->at_boundary())
           for (const auto &face : cell->face_iterators())
             {
               if (!face->at_boundary())
                 continue;
               const auto id = face->boundary_id();
-              if (pressure_id && id == *pressure_id &&
-                  (pressure != 0.0 || with_volume_derivative))
+              // The pressure part of the face (the cavity, when there are
+              // cavities), if any.
+              const auto part =
+                std::find(pressure_ids.begin(), pressure_ids.end(), id) -
+                pressure_ids.begin();
+              const bool on_part =
+                part < static_cast<std::ptrdiff_t>(pressure_ids.size());
+              if (on_part && (pressures[part] != 0.0 || with_volume_derivative))
                 {
                   fe_face.reinit(cell, face);
                   fe_face[layout.displacement]
                     .get_function_gradients(u, face_grad_u);
                   if (with_volume_derivative)
-                    add_volume_flux(fe_face,
-                                    face_grad_u,
-                                    -1.0,
-                                    cell_system.volume_derivative,
-                                    nullptr);
+                    {
+                      add_volume_flux(fe_face,
+                                      face_grad_u,
+                                      -1.0,
+                                      cell_system.volume_derivative[part],
+                                      nullptr);
+                      cell_system.on_cavity[part] = true;
+                    }
                   // R -= p dV/du, K -= p d2V/du2 with the wall normal: the
                   // pressure pushes the wall along -N (into the body).
-                  if (pressure != 0.0)
+                  if (pressures[part] != 0.0)
                     add_volume_flux(fe_face,
                                     face_grad_u,
-                                    pressure,
+                                    pressures[part],
                                     cell_system.residual,
                                     with_matrix ? &cell_system.matrix
                                                 : nullptr);
@@ -516,10 +540,13 @@ namespace systole::Mechanics
           constraints.distribute_local_to_global(cell_system.residual,
                                                  dofs,
                                                  residual);
-        if (with_volume_derivative && cell->at_boundary())
-          constraints.distribute_local_to_global(cell_system.volume_derivative,
-                                                 dofs,
-                                                 volume_derivative);
+        if (with_volume_derivative)
+          for (unsigned int i = 0; i < cavities.size(); ++i)
+            if (cell_system.on_cavity[i])
+              constraints.distribute_local_to_global(
+                cell_system.volume_derivative[i],
+                dofs,
+                volume_derivatives[i]);
         if (with_pressure_matrix)
           {
             for (unsigned int i = 0; i < scratch.p_dofs.size(); ++i)
@@ -534,7 +561,8 @@ namespace systole::Mechanics
       pressure_matrix->compress();
     residual.compress(dealii::VectorOperation::add);
     if (with_volume_derivative)
-      volume_derivative.compress(dealii::VectorOperation::add);
+      for (auto &b : volume_derivatives)
+        b.compress(dealii::VectorOperation::add);
 
     // An inverted element on any rank fails the step on every rank.
     inverted = dealii::Utilities::MPI::max(inverted, comm);

@@ -57,17 +57,24 @@ namespace systole::Mechanics
                       "Comma-separated flat boundary parts on which only the "
                       "normal displacement is zero (a base free to slide in "
                       "its plane). Units: -.");
-    prm.declare_entry("Pressure boundary",
-                      "endocardium",
-                      Anything(),
-                      "Boundary part that carries the follower pressure (it "
-                      "acts along the deformed normal on the deformed area); "
-                      "empty for none. Units: -.");
+    prm.declare_entry(
+      "Pressure boundary",
+      "endocardium",
+      Anything(),
+      "Comma-separated boundary parts that carry a follower pressure each (it "
+      "acts along the deformed normal on the deformed area); empty for none. "
+      "When the mesh has a boundary part named base, every part listed is a "
+      "cavity closed by the base plane (e.g. endocardium, or the two "
+      "endocardia of a biventricular mesh): it has a volume, its pressure may "
+      "be the multiplier of a volume constraint, and the tangent is "
+      "symmetric. Each part carries its own pressure; the mechanics problem "
+      "applies Pressure to all of them. Units: -.");
     prm.declare_entry("Pressure",
                       "0",
                       Double(),
                       "Pressure at the end of the load ramp, pushing into the "
-                      "body (cavity pressure on the endocardium). Units: kPa "
+                      "body, the same on every part of Pressure boundary "
+                      "(cavity pressure on the endocardium). Units: kPa "
                       "(1 mmHg = 0.133322 kPa).");
     prm.declare_entry("Robin boundaries",
                       "",
@@ -218,7 +225,7 @@ namespace systole::Mechanics
                 dealii::ExcMessage(
                   "Mechanics / Robin boundaries are set but Robin stiffness "
                   "is 0: give the spring stiffness in kPa/mm."));
-    AssertThrow(p.pressure == 0.0 || !p.pressure_boundary.empty(),
+    AssertThrow(p.pressure == 0.0 || !p.pressure_boundaries().empty(),
                 dealii::ExcMessage("Mechanics / Pressure is not zero but "
                                    "Pressure boundary is empty: name the "
                                    "boundary part that carries it."));
@@ -231,6 +238,12 @@ namespace systole::Mechanics
                   " the pressure field already removes the locking: set it "
                   "to full."));
     return p;
+  }
+
+  std::vector<std::string>
+  Parameters::pressure_boundaries() const
+  {
+    return names(pressure_boundary);
   }
 
   void

@@ -67,8 +67,15 @@ namespace systole::Mechanics
     /// Flat boundary parts on which only the normal displacement is zero.
     std::vector<std::string> sliding_boundaries;
 
-    /// Boundary part that carries the follower pressure ("" for none).
+    /// Boundary parts that carry a follower pressure each, as written in
+    /// "Mechanics / Pressure boundary": comma-separated names ("" for none).
+    /// With a boundary part "base" in the mesh every one is a cavity.
     std::string pressure_boundary;
+
+    /// The parts of pressure_boundary, in order (empty for none).
+    std::vector<std::string>
+    pressure_boundaries() const;
+
     /// Pressure at the end of the load ramp [kPa].
     double pressure = 0.0;
 

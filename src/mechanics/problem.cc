@@ -16,6 +16,7 @@
 #include "materials/volumetric_law.h"
 #include "mechanics/problem_impl.h"
 
+#include <algorithm>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -129,16 +130,28 @@ namespace systole::Mechanics
     m.fixed_ids   = ids(params.fixed_boundaries, "Fixed boundaries");
     m.sliding_ids = ids(params.sliding_boundaries, "Sliding boundaries");
     m.robin_ids   = ids(params.robin_boundaries, "Robin boundaries");
-    if (!params.pressure_boundary.empty())
-      m.pressure_id =
-        *ids({params.pressure_boundary}, "Pressure boundary").begin();
-    if (params.pressure_boundary == "endocardium" && names.has("base"))
+    // Pressure parts, each with its own pressure; with a base, each is a
+    // cavity closed by the base plane.
+    m.pressure_names = params.pressure_boundaries();
+    for (const auto &part : m.pressure_names)
+      {
+        const auto id = *ids({part}, "Pressure boundary").begin();
+        AssertThrow(
+          std::find(m.pressure_ids.begin(), m.pressure_ids.end(), id) ==
+            m.pressure_ids.end(),
+          dealii::ExcMessage(
+            "Mechanics / Pressure boundary lists the boundary part '" + part +
+            "' twice (or two names of one boundary id): list each "
+            "part once."));
+        m.pressure_ids.push_back(id);
+      }
+    if (!m.pressure_ids.empty() && names.has("base"))
       {
         Geometry::require_boundary(tria, names, "base");
-        m.cavity.emplace(*m.pressure_id,
-                         Geometry::boundary_plane(tria,
-                                                  names.id("base"),
-                                                  "base"));
+        const auto lid =
+          Geometry::boundary_plane(tria, names.id("base"), "base");
+        for (const auto id : m.pressure_ids)
+          m.cavities.emplace_back(id, lid);
       }
 
     // DoFs and constraints (zero displacement on fixed parts, zero normal
@@ -177,7 +190,9 @@ namespace systole::Mechanics
                                                        m.relevant);
     m.tangent.reinit(m.owned, m.owned, dsp, m.comm);
     m.residual.reinit(m.owned, m.comm);
-    m.volume_derivative.reinit(m.owned, m.comm);
+    m.volume_derivatives.resize(m.cavities.size());
+    for (auto &b : m.volume_derivatives)
+      b.reinit(m.owned, m.comm);
     m.u_owned.reinit(m.owned, m.comm);
     m.u_saved.reinit(m.owned, m.comm);
     m.u_previous.reinit(m.owned, m.comm);
@@ -230,10 +245,11 @@ namespace systole::Mechanics
                  ? "direct"
                  : "iterative";
     // The tangent is symmetric when every load derives from a potential: the
-    // hyperelastic energy, the springs, and a pressure on a cavity (whose load
-    // is the exact derivative of the discrete cavity volume, so its tangent is
-    // a Hessian). A follower pressure on an open surface is not.
-    const bool symmetric = (!m.pressure_id.has_value() || m.cavity.has_value());
+    // hyperelastic energy, the springs, and the pressures on cavities (each
+    // load is the exact derivative of the discrete cavity volume while the
+    // rim stays in the base plane, so its tangent is a Hessian). A follower
+    // pressure on an open surface is not.
+    const bool symmetric = m.pressure_ids.empty() || !m.cavities.empty();
     m.linear_solver      = create_linear_solver(solver,
                                            m.mapping,
                                            m.dof_handler,
@@ -275,11 +291,50 @@ namespace systole::Mechanics
     return 0;
   }
 
+  dealii::Vector<double>
+  Problem::Impl::uniform_pressures(const double pressure) const
+  {
+    dealii::Vector<double> pressures(pressure_ids.size());
+    pressures = pressure;
+    return pressures;
+  }
+
   NewtonReport
   Problem::solve(const double pressure, const double active_tension)
   {
-    double p = pressure;
+    dealii::Vector<double> p = impl->uniform_pressures(pressure);
     return impl->newton(p, active_tension, nullptr);
+  }
+
+  NewtonReport
+  Problem::solve(const dealii::Vector<double> &pressures,
+                 const double                  active_tension)
+  {
+    AssertThrow(pressures.size() == impl->pressure_ids.size(),
+                dealii::ExcMessage(
+                  "Mechanics::Problem::solve: " +
+                  std::to_string(pressures.size()) + " pressures given for " +
+                  std::to_string(impl->pressure_ids.size()) +
+                  " pressure parts (Mechanics / Pressure boundary)."));
+    dealii::Vector<double> p = pressures;
+    return impl->newton(p, active_tension, nullptr);
+  }
+
+  NewtonReport
+  Problem::solve_cavities(const VolumeTarget     &target,
+                          const double            active_tension,
+                          dealii::Vector<double> &pressures)
+  {
+    AssertThrow(!impl->cavities.empty(),
+                dealii::ExcMessage(
+                  "A volume constraint needs a cavity (a Mechanics / Pressure "
+                  "boundary on a mesh with a boundary part 'base')."));
+    AssertThrow(pressures.size() == impl->cavities.size(),
+                dealii::ExcMessage(
+                  "Mechanics::Problem::solve_cavities: " +
+                  std::to_string(pressures.size()) + " pressures given for " +
+                  std::to_string(impl->cavities.size()) + " cavities."));
+    return impl->newton(pressures, active_tension, &target);
   }
 
   NewtonReport
@@ -287,11 +342,21 @@ namespace systole::Mechanics
                         const double active_tension,
                         double      &pressure)
   {
-    AssertThrow(impl->cavity.has_value(),
-                dealii::ExcMessage("A volume constraint needs a cavity (the "
-                                   "pressure boundary must be the endocardium "
-                                   "and the mesh must have a base)."));
-    return impl->newton(pressure, active_tension, &target_volume);
+    AssertThrow(impl->cavities.size() == 1,
+                dealii::ExcMessage(
+                  "solve_volume() constrains one cavity; this problem has " +
+                  std::to_string(impl->cavities.size()) +
+                  " (use solve_cavities())."));
+    dealii::Vector<double> p(1);
+    p[0]              = pressure;
+    const auto report = solve_cavities(
+      [target_volume](const dealii::Vector<double> &,
+                      dealii::Vector<double> &W,
+                      dealii::FullMatrix<double> &) { W[0] = target_volume; },
+      active_tension,
+      p);
+    pressure = p[0];
+    return report;
   }
 
   double
@@ -324,30 +389,137 @@ namespace systole::Mechanics
     return {{std::sqrt(squares[0]), std::sqrt(squares[1])}};
   }
 
+  namespace
+  {
+    /// Solve the small dense system A x = b by Gaussian elimination with
+    /// partial pivoting (@p A and @p b are overwritten; x = b / A for one
+    /// unknown). False if A is singular or a result is not finite.
+    bool
+    solve_small_system(dealii::FullMatrix<double> &A,
+                       dealii::Vector<double>     &b,
+                       dealii::Vector<double>     &x)
+    {
+      const unsigned int k = b.size();
+      for (unsigned int c = 0; c < k; ++c)
+        {
+          unsigned int pivot = c;
+          for (unsigned int r = c + 1; r < k; ++r)
+            if (std::abs(A(r, c)) > std::abs(A(pivot, c)))
+              pivot = r;
+          if (!(std::isfinite(A(pivot, c)) && A(pivot, c) != 0.0))
+            return false;
+          if (pivot != c)
+            {
+              for (unsigned int j = 0; j < k; ++j)
+                std::swap(A(c, j), A(pivot, j));
+              std::swap(b[c], b[pivot]);
+            }
+          for (unsigned int r = c + 1; r < k; ++r)
+            {
+              const double factor = A(r, c) / A(c, c);
+              for (unsigned int j = c; j < k; ++j)
+                A(r, j) -= factor * A(c, j);
+              b[r] -= factor * b[c];
+            }
+        }
+      x.reinit(k);
+      for (unsigned int c = k; c-- > 0;)
+        {
+          double sum = b[c];
+          for (unsigned int j = c + 1; j < k; ++j)
+            sum -= A(c, j) * x[j];
+          x[c] = sum / A(c, c);
+          if (!std::isfinite(x[c]))
+            return false;
+        }
+      return true;
+    }
+
+    /// The update of the bordered system [K -B; B^T -W'] [du; dp] = -[R; g]
+    /// from the back substitutions with one factorization of K: @p du = w_R
+    /// (K w_R = -R) on entry, @p w[j] = K^-1 b_j. Solves the k x k system
+    /// (B^T w - W') dp = -(g + B^T w_R) and adds w dp to @p du. The dot
+    /// products b_i . w use the constrained entries of the distributed w: b
+    /// is condensed (zero there), so they are b^T K^-1 b. False (and @p du
+    /// unchanged) if the Schur complement is singular.
+    bool
+    bordered_update(const std::vector<LA::MPI::Vector> &B,
+                    const std::vector<LA::MPI::Vector> &w,
+                    const dealii::Vector<double>       &g,
+                    const dealii::FullMatrix<double>   &dW_dp,
+                    LA::MPI::Vector                    &du,
+                    dealii::Vector<double>             &dp)
+    {
+      const unsigned int         k = B.size();
+      dealii::FullMatrix<double> schur(k, k);
+      dealii::Vector<double>     rhs(k);
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          rhs[i] = -(g[i] + B[i] * du);
+          for (unsigned int j = 0; j < k; ++j)
+            schur(i, j) = B[i] * w[j] - dW_dp(i, j);
+        }
+      if (!solve_small_system(schur, rhs, dp))
+        return false;
+      for (unsigned int j = 0; j < k; ++j)
+        du.add(dp[j], w[j]);
+      return true;
+    }
+  } // namespace
+
   NewtonReport
-  Problem::Impl::newton(double       &pressure,
-                        const double  active_tension,
-                        const double *target_volume)
+  Problem::Impl::newton(dealii::Vector<double> &pressures,
+                        const double            active_tension,
+                        const VolumeTarget     *target)
   {
     Impl                      &m = *this;
     dealii::TimerOutput::Scope scope(m.timer, "Mechanics / Newton");
     NewtonReport               report;
-    LA::MPI::Vector            du(m.owned, m.comm), w_volume(m.owned, m.comm);
+    const bool                 bordered = target != nullptr;
+    const bool                 mixed    = m.layout.mixed();
+    // Cavities of the volume constraints.
+    const unsigned int           k = bordered ? m.cavities.size() : 0;
+    LA::MPI::Vector              du(m.owned, m.comm);
+    std::vector<LA::MPI::Vector> w_volume(k);
+    for (auto &w : w_volume)
+      w.reinit(m.owned, m.comm);
     // Block norms of the residual (u: force [mN]; p: volume [mm^3]).
-    std::array<double, 2> residual     = {{0.0, 0.0}};
-    double                volume_error = 0; // |V(u) - V_target| / V_target
-    const bool            bordered     = target_volume != nullptr;
-    const bool            mixed        = m.layout.mixed();
+    std::array<double, 2> residual = {{0.0, 0.0}};
+    // The volume targets W(p) and dW/dp at the current pressures, and the
+    // relative volume errors (V_i(u) - W_i) / W_i.
+    dealii::Vector<double>     target_volume(k), volume_error(k);
+    dealii::FullMatrix<double> target_derivative(k, k);
+    const auto                 largest_volume_error = [&]() {
+      return k == 0 ? 0.0 : volume_error.linfty_norm();
+    };
+    const auto volume_residual = [&]() {
+      dealii::Vector<double> g(k);
+      for (unsigned int i = 0; i < k; ++i)
+        g[i] = volume_error[i] * target_volume[i];
+      return g;
+    };
 
     auto &out = m.logger.detail();
+    // The pressures on a log line: "p" for one, "p_1, p_2, ..." else.
+    const auto print_pressures = [&]() {
+      for (unsigned int i = 0; i < pressures.size(); ++i)
+        out << (i > 0 ? ", " : "") << pressures[i];
+    };
     // Residual scale: the largest displacement residual seen in this solve,
     // and for a volume-constrained solve at least the cavity pressure load
-    // |p b| (a solve that starts close to equilibrium is not held to a
-    // fraction of its tiny first residual). The pressure rows are volumes:
-    // held to the relative tolerance times the volume of the body.
+    // |sum p_i b_i| (a solve that starts close to equilibrium is not held to
+    // a fraction of its tiny first residual; for the norm, the b_i are taken
+    // as disjoint). The pressure rows are volumes: held to the relative
+    // tolerance times the volume of the body.
     double     reference     = 0;
-    const auto pressure_load = [&](const LA::MPI::Vector &b) {
-      return bordered ? std::abs(pressure) * b.l2_norm() : 0.0;
+    const auto pressure_load = [&](const std::vector<LA::MPI::Vector> &B) {
+      double square = 0;
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          const double load = std::abs(pressures[i]) * B[i].l2_norm();
+          square += load * load;
+        }
+      return std::sqrt(square);
     };
     const auto p_converged = [&]() {
       return !mixed ||
@@ -363,48 +535,83 @@ namespace systole::Mechanics
 
     const double assembly_start = m.seconds_in("Mechanics / assembly");
     const double solver_start   = m.seconds_in("Mechanics / linear solver");
-    // Residual (with_matrix: and tangent and dV/du) at the current u; false
-    // if an element inverted or the residual is not finite (decided on all
-    // ranks alike).
+    // Residual (with_matrix: and tangent and dV/du) at the current u, and
+    // for a bordered solve the volume errors against W(p); false if an
+    // element inverted or the residual is not finite (decided on all ranks
+    // alike).
     const auto try_assemble = [&](std::array<double, 2> &norms,
                                   const bool             with_matrix) {
       try
         {
-          m.assemble(pressure,
+          m.assemble(pressures,
                      active_tension,
                      with_matrix,
                      with_matrix && bordered);
           norms = block_norms(m.layout, m.residual);
           if (bordered)
-            volume_error =
-              (cavity_volume_now() - *target_volume) / *target_volume;
+            {
+              dealii::Vector<double> volumes;
+              {
+                dealii::TimerOutput::Scope scope(m.timer,
+                                                 "Mechanics / cavity volume");
+                volumes = cavity_volumes_now();
+              }
+              target_volume     = 0;
+              target_derivative = 0;
+              (*target)(pressures, target_volume, target_derivative);
+              AssertThrow(target_volume.size() == k &&
+                            target_derivative.m() == k &&
+                            target_derivative.n() == k,
+                          dealii::ExcMessage(
+                            "Mechanics: the volume target must return " +
+                            std::to_string(k) + " volumes and their " +
+                            std::to_string(k) + " x " + std::to_string(k) +
+                            " derivatives."));
+              for (unsigned int i = 0; i < k; ++i)
+                {
+                  AssertThrow(target_volume[i] != 0.0,
+                              dealii::ExcMessage(
+                                "Mechanics: the volume target of the cavity '" +
+                                m.pressure_names[i] +
+                                "' is 0 mm^3 (the volume tolerance is "
+                                "relative to it)."));
+                  volume_error[i] =
+                    (volumes[i] - target_volume[i]) / target_volume[i];
+                }
+            }
         }
       catch (const ExcInvertedElement &)
         {
           return false;
         }
-      return std::isfinite(norms[0]) && std::isfinite(norms[1]) &&
-             std::isfinite(volume_error);
+      bool finite = std::isfinite(norms[0]) && std::isfinite(norms[1]);
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          finite = finite && std::isfinite(volume_error[i]);
+          for (unsigned int j = 0; j < k; ++j)
+            finite = finite && std::isfinite(target_derivative(i, j));
+        }
+      return finite;
     };
 
     // Chord iterations on the factorization of an earlier solve: residual
     // only, one back substitution per iteration, the bordered system of that
-    // tangent; left as soon as they stop converging fast.
+    // tangent (its B0 and W0 = K^-1 B0; W and W' of the current pressures);
+    // left as soon as they stop converging fast.
     if (bordered && m.have_factorization)
       {
-        const LA::MPI::Vector u_start        = m.u_owned;
-        const double          pressure_start = pressure;
-        const double b0_w0 = m.factorized_volume_derivative * m.factorized_w;
-        bool         ok    = try_assemble(residual, false) && b0_w0 != 0.0;
-        const double start_residual                 = residual[0];
-        constexpr unsigned int max_chord_iterations = 12;
+        const LA::MPI::Vector        u_start        = m.u_owned;
+        const dealii::Vector<double> pressure_start = pressures;
+        bool                         ok = try_assemble(residual, false);
+        const double                 start_residual       = residual[0];
+        constexpr unsigned int       max_chord_iterations = 12;
         for (unsigned int it = 0; ok; ++it)
           {
             reference =
               std::max({reference,
                         residual[0],
-                        pressure_load(m.factorized_volume_derivative)});
-            if (std::abs(volume_error) <= volume_tolerance &&
+                        pressure_load(m.factorized_volume_derivatives)});
+            if (largest_volume_error() <= volume_tolerance &&
                 converged(reference))
               {
                 report.final_residual   = residual[0];
@@ -428,13 +635,20 @@ namespace systole::Mechanics
                 ok = false;
                 break;
               }
-            const double g = volume_error * *target_volume;
-            const double dp =
-              -(g + m.factorized_volume_derivative * du) / b0_w0;
-            du.add(dp, m.factorized_w);
+            dealii::Vector<double> dp;
+            if (!bordered_update(m.factorized_volume_derivatives,
+                                 m.factorized_w,
+                                 volume_residual(),
+                                 target_derivative,
+                                 du,
+                                 dp))
+              {
+                ok = false;
+                break;
+              }
             m.u_owned.add(1.0, du);
             m.u = m.u_owned;
-            pressure += dp;
+            pressures += dp;
             ++report.reused_iterations;
             const double previous = residual[0];
             ok                    = try_assemble(residual, false);
@@ -443,8 +657,9 @@ namespace systole::Mechanics
                 << residual[0];
             if (mixed)
               out << "  |R_p| = " << residual[1];
-            out << "  |dV|/V = " << std::abs(volume_error)
-                << "  p = " << pressure << std::defaultfloat << std::endl;
+            out << "  |dV|/V = " << largest_volume_error() << "  p = ";
+            print_pressures();
+            out << std::defaultfloat << std::endl;
             // (The first iteration mostly corrects the volume, which |R|
             // does not measure: judge the rate from the second on.)
             if (ok && it > 0 && !(residual[0] < 0.3 * previous))
@@ -455,7 +670,7 @@ namespace systole::Mechanics
             // Failed or no better: full Newton from the start.
             m.u_owned = u_start;
             m.u       = m.u_owned;
-            pressure  = pressure_start;
+            pressures = pressure_start;
           }
         reference = 0;
         out << "      (" << report.reused_iterations
@@ -478,7 +693,7 @@ namespace systole::Mechanics
       {
         reference = std::max(reference, residual[0]);
         if (it > 0)
-          reference = std::max(reference, pressure_load(m.volume_derivative));
+          reference = std::max(reference, pressure_load(m.volume_derivatives));
         const double relative = residual[0] / std::max(reference, 1e-300);
         const auto   u_norm   = block_norms(m.layout, m.u_owned);
         if (it > 0)
@@ -493,8 +708,11 @@ namespace systole::Mechanics
               out << "  |dp|/|p| = "
                   << du_norm[1] / std::max(u_norm[1], 1e-300);
             if (bordered)
-              out << "  |dV|/V = " << std::abs(volume_error)
-                  << "  p_cavity = " << pressure;
+              {
+                out << "  |dV|/V = " << largest_volume_error()
+                    << "  p_cavity = ";
+                print_pressures();
+              }
             out << std::defaultfloat << std::setprecision(2) << "  (assembly "
                 << m.seconds_in("Mechanics / assembly") - assembly_start
                 << " s, solver "
@@ -507,9 +725,8 @@ namespace systole::Mechanics
           }
         // Converged: the residual fell by the relative tolerance, or is at
         // the absolute floor, or the last update was at round-off level; and
-        // the cavity volume is on its target.
-        const bool volume_ok =
-          !bordered || std::abs(volume_error) <= volume_tolerance;
+        // every cavity volume is on its target.
+        const bool volume_ok = largest_volume_error() <= volume_tolerance;
         if (volume_ok && ((residual[0] <= m.params.newton_absolute_tolerance &&
                            p_converged()) ||
                           (it > 0 && (converged(reference) ||
@@ -526,17 +743,17 @@ namespace systole::Mechanics
                                             it,
                                             relative));
 
-        // K du = -R; bordered by the volume constraint g = V(u) - V_target:
-        // [K -b; b^T 0] [du; dp] = -[R; g] with b = dV/du. Two solves with
-        // one factorization: K w_R = -R, K w_b = b; then
-        // dp = -(g + b.w_R) / (b.w_b), du = w_R + dp w_b.
+        // K du = -R; bordered by the volume constraints g = V(u) - W(p):
+        // [K -B; B^T -W'] [du; dp] = -[R; g] with B = [dV_i/du]. k + 1
+        // solves with one factorization: K w_R = -R, K w_j = b_j; then the
+        // k x k Schur complement (bordered_update).
         // The tangent (and dV/du) at this iterate, unless the last pass made
         // it; the residual again.
         if (!tangent_ready)
           try_assemble(residual, true);
         tangent_ready = false;
         m.residual *= -1.0;
-        double dp = 0;
+        dealii::Vector<double> dp(pressures.size());
         {
           dealii::TimerOutput::Scope scope(m.timer,
                                            "Mechanics / linear solver");
@@ -557,17 +774,26 @@ namespace systole::Mechanics
             m.linear_solve(du, m.residual, it, relative);
           if (bordered)
             {
-              report.linear_iterations +=
-                m.linear_solve(w_volume, m.volume_derivative, it, relative);
-              const double g = volume_error * *target_volume;
-              // b.w with the constrained entries of the distributed w: b is
-              // condensed (zero there), so the plain dot product is b^T w.
-              dp = -(g + m.volume_derivative * du) /
-                   (m.volume_derivative * w_volume);
-              du.add(dp, w_volume);
-              m.factorized_volume_derivative = m.volume_derivative;
-              m.factorized_w                 = w_volume;
-              m.have_factorization           = true;
+              for (unsigned int j = 0; j < k; ++j)
+                report.linear_iterations +=
+                  m.linear_solve(w_volume[j],
+                                 m.volume_derivatives[j],
+                                 it,
+                                 relative);
+              AssertThrow(bordered_update(m.volume_derivatives,
+                                          w_volume,
+                                          volume_residual(),
+                                          target_derivative,
+                                          du,
+                                          dp),
+                          ExcNewtonDidNotConverge(
+                            "the bordered system is singular (B^T K^-1 B - "
+                            "dW/dp)",
+                            it,
+                            relative));
+              m.factorized_volume_derivatives = m.volume_derivatives;
+              m.factorized_w                  = w_volume;
+              m.have_factorization            = true;
             }
         }
 
@@ -575,9 +801,9 @@ namespace systole::Mechanics
         // residual-norm merit test is no use here: the first iterations of a
         // load step that rotates the body raise |R| by orders of magnitude
         // on their way to the solution.)
-        const LA::MPI::Vector u_start        = m.u_owned;
-        const double          pressure_start = pressure;
-        double                alpha          = 1.0;
+        const LA::MPI::Vector        u_start        = m.u_owned;
+        const dealii::Vector<double> pressure_start = pressures;
+        double                       alpha          = 1.0;
         // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
         // point is expected to be converged, so the tangent there is not
         // needed.
@@ -588,8 +814,9 @@ namespace systole::Mechanics
           {
             m.u_owned = u_start;
             m.u_owned.add(alpha, du);
-            m.u      = m.u_owned;
-            pressure = pressure_start + alpha * dp;
+            m.u       = m.u_owned;
+            pressures = pressure_start;
+            pressures.add(alpha, dp);
             std::array<double, 2> trial;
             if (try_assemble(trial, trial_tangent))
               {
@@ -611,11 +838,13 @@ namespace systole::Mechanics
       }
   }
 
-  double
-  Problem::Impl::cavity_volume_now() const
+  dealii::Vector<double>
+  Problem::Impl::cavity_volumes_now() const
   {
-    dealii::TimerOutput::Scope scope(timer, "Mechanics / cavity volume");
-    return cavity->volume(mapping, dof_handler, u, n_q_face_1d);
+    dealii::Vector<double> volumes(cavities.size());
+    for (unsigned int i = 0; i < cavities.size(); ++i)
+      volumes[i] = cavities[i].volume(mapping, dof_handler, u, n_q_face_1d);
+    return volumes;
   }
 
   double
@@ -623,8 +852,9 @@ namespace systole::Mechanics
                          const double active_tension,
                          const double h)
   {
-    Impl &m = *impl;
-    m.assemble(pressure, active_tension, true);
+    Impl                        &m         = *impl;
+    const dealii::Vector<double> pressures = m.uniform_pressures(pressure);
+    m.assemble(pressures, active_tension, true);
     LA::MPI::Vector d(m.owned, m.comm), Kd(m.owned, m.comm);
     for (const auto i : m.owned)
       d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
@@ -637,7 +867,7 @@ namespace systole::Mechanics
       m.u_owned = u0;
       m.u_owned.add(step, d);
       m.u = m.u_owned;
-      m.assemble(pressure, active_tension, false);
+      m.assemble(pressures, active_tension, false);
       return LA::MPI::Vector(m.residual);
     };
     LA::MPI::Vector difference = residual_at(h);
@@ -651,43 +881,79 @@ namespace systole::Mechanics
   }
 
   std::array<double, 2>
-  Problem::bordered_jacobian_error(const double pressure,
-                                   const double active_tension,
-                                   const double h)
+  Problem::bordered_jacobian_error(const dealii::Vector<double> &pressures,
+                                   const double                  active_tension,
+                                   const double                  h)
   {
-    Impl &m = *impl;
-    m.assemble(pressure, active_tension, true, true);
+    Impl              &m = *impl;
+    const unsigned int k = m.cavities.size();
+    AssertThrow(
+      k > 0 && pressures.size() == k,
+      dealii::ExcMessage(
+        "bordered_jacobian_error: one pressure per cavity expected (" +
+        std::to_string(pressures.size()) + " given, " + std::to_string(k) +
+        " cavities)."));
+    m.assemble(pressures, active_tension, true, true);
     LA::MPI::Vector d(m.owned, m.comm), Jd(m.owned, m.comm);
     for (const auto i : m.owned)
       d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
     d.compress(dealii::VectorOperation::insert);
     m.constraints.set_zero(d);
-    const double dp = 0.3 * std::max(std::abs(pressure), 1.0);
-    // First block row: K d - b dp (R depends on p through -p b); second: b.d.
+    // The pressure direction: a different size and sign in each cavity.
+    dealii::Vector<double> dp(k);
+    for (unsigned int i = 0; i < k; ++i)
+      dp[i] =
+        0.3 * std::max(std::abs(pressures[i]), 1.0) * (i % 2 == 0 ? 1.0 : -0.7);
+    // First block row: K d - B dp (R depends on p through -p_i b_i); second:
+    // B^T d.
     m.tangent.vmult(Jd, d);
-    Jd.add(-dp, m.volume_derivative);
-    const double volume_row = m.volume_derivative * d;
+    dealii::Vector<double> volume_row(k);
+    for (unsigned int i = 0; i < k; ++i)
+      {
+        Jd.add(-dp[i], m.volume_derivatives[i]);
+        volume_row[i] = m.volume_derivatives[i] * d;
+      }
 
     const LA::MPI::Vector u0          = m.u_owned;
-    const auto            evaluate_at = [&](const double step, double &volume) {
+    const auto            evaluate_at = [&](const double            step,
+                                 dealii::Vector<double> &volumes) {
       m.u_owned = u0;
       m.u_owned.add(step, d);
-      m.u = m.u_owned;
-      m.assemble(pressure + step * dp, active_tension, false);
-      volume = m.cavity_volume_now();
+      m.u                            = m.u_owned;
+      dealii::Vector<double> stepped = pressures;
+      stepped.add(step, dp);
+      m.assemble(stepped, active_tension, false);
+      volumes = m.cavity_volumes_now();
       return LA::MPI::Vector(m.residual);
     };
-    double          v_plus = 0, v_minus = 0;
-    LA::MPI::Vector difference = evaluate_at(h, v_plus);
+    dealii::Vector<double> v_plus, v_minus;
+    LA::MPI::Vector        difference = evaluate_at(h, v_plus);
     difference -= evaluate_at(-h, v_minus);
     difference /= 2.0 * h;
     m.u_owned = u0;
     m.u       = m.u_owned;
 
     difference -= Jd;
-    const double volume_difference = (v_plus - v_minus) / (2.0 * h);
+    double volume_error = 0, volume_scale = 0;
+    for (unsigned int i = 0; i < k; ++i)
+      {
+        const double volume_difference = (v_plus[i] - v_minus[i]) / (2.0 * h);
+        volume_error += (volume_difference - volume_row[i]) *
+                        (volume_difference - volume_row[i]);
+        volume_scale += volume_row[i] * volume_row[i];
+      }
     return {{difference.l2_norm() / Jd.l2_norm(),
-             std::abs(volume_difference - volume_row) / std::abs(volume_row)}};
+             std::sqrt(volume_error) / std::sqrt(volume_scale)}};
+  }
+
+  std::array<double, 2>
+  Problem::bordered_jacobian_error(const double pressure,
+                                   const double active_tension,
+                                   const double h)
+  {
+    dealii::Vector<double> pressures(n_cavities());
+    pressures = pressure;
+    return bordered_jacobian_error(pressures, active_tension, h);
   }
 
   void
@@ -818,7 +1084,7 @@ namespace systole::Mechanics
     const auto residual = [&]() {
       try
         {
-          m.assemble(pressure, active_tension, false);
+          m.assemble(m.uniform_pressures(pressure), active_tension, false);
         }
       catch (const ExcInvertedElement &)
         {
@@ -849,23 +1115,42 @@ namespace systole::Mechanics
     impl->u       = impl->u_owned;
   }
 
+  unsigned int
+  Problem::n_cavities() const
+  {
+    return impl->cavities.size();
+  }
+
+  std::vector<std::string>
+  Problem::cavity_names() const
+  {
+    return impl->cavities.empty() ? std::vector<std::string>()
+                                  : impl->pressure_names;
+  }
+
+  dealii::Vector<double>
+  Problem::cavity_volumes() const
+  {
+    return impl->cavity_volumes_now();
+  }
+
   bool
   Problem::has_cavity() const
   {
-    return impl->cavity.has_value();
+    return !impl->cavities.empty();
   }
 
   double
   Problem::cavity_volume() const
   {
-    AssertThrow(impl->cavity.has_value(),
-                dealii::ExcMessage("This problem has no cavity (the pressure "
-                                   "boundary is not the endocardium or the "
-                                   "mesh has no base)."));
-    return impl->cavity->volume(impl->mapping,
-                                impl->dof_handler,
-                                impl->u,
-                                impl->n_q_face_1d);
+    AssertThrow(impl->cavities.size() == 1,
+                dealii::ExcMessage(
+                  "cavity_volume() is the volume of the one cavity; this "
+                  "problem has " +
+                  std::to_string(impl->cavities.size()) +
+                  " (a cavity is a Mechanics / Pressure boundary part on a "
+                  "mesh with a boundary part 'base'; use cavity_volumes())."));
+    return impl->cavity_volumes_now()[0];
   }
 
   std::vector<dealii::Point<3>>

@@ -17,6 +17,10 @@
 
 namespace dealii
 {
+  template <typename number>
+  class FullMatrix;
+  template <typename Number>
+  class Vector;
   template <int dim, int spacedim>
   class DataOut;
   template <int dim, int spacedim>
@@ -47,7 +51,7 @@ namespace systole::Mechanics
   {
     unsigned int iterations = 0; ///< with a new tangent each
     /// Iterations with the factorized tangent of an earlier solve (chord
-    /// iterations of solve_volume(); not counted in iterations).
+    /// iterations of solve_cavities(); not counted in iterations).
     unsigned int reused_iterations = 0;
     double       initial_residual  = 0; ///< |R| before the first update
     double       final_residual    = 0; ///< |R| at convergence
@@ -62,11 +66,37 @@ namespace systole::Mechanics
   /// and Robin boundaries, and a prescribed active tension along the fibres.
   ///
   /// Equilibrium: @f$R(u) = \int_{\Omega_0} P(F) : \nabla\delta u\,dV
-  /// - p\,\frac{dV}{du} + R_\mathrm{Robin} = 0@f$, solved by Newton's method
-  /// with the consistent tangent. Cheap to include (pimpl).
+  /// - \sum_i p_i\,\frac{dV_i}{du} + R_\mathrm{Robin} = 0@f$, solved by
+  /// Newton's method with the consistent tangent. Cheap to include (pimpl).
+  ///
+  /// The follower pressures act on the parts of Parameters::pressure_boundary,
+  /// one pressure p_i each. When the mesh has a boundary part "base", every
+  /// pressure part is a cavity closed by the base plane, with the volume V_i
+  /// (CavityVolume) whose derivative dV_i/du is the pressure load per unit
+  /// pressure; the cavities are numbered as the parts are listed. That
+  /// identity (and with it the symmetry of the tangent and the quadratic rate
+  /// of the volume-constrained solves) holds while the rim of each part lies
+  /// in the base plane (a base held in its plane), as for the endocardia of
+  /// a ventricle. Parts that meet off the plane, such as one cavity split in
+  /// two, still add up to the whole volume, but dV_i/du then differs from
+  /// the load by the motion of their common edge.
   class Problem
   {
   public:
+    /// The volumes W(p) [mm^3] the cavities must hold as a function of
+    /// their pressures p [kPa] (size n_cavities()), and dW/dp [mm^3/kPa]
+    /// (k x k). A fixed volume has dW/dp = 0; a cavity coupled to an
+    /// implicit step of a 0D circulation has W(p) = its volume state after
+    /// the step.
+    ///
+    /// Called on every rank with the same p, at every iterate of
+    /// solve_cavities(); W and dW_dp arrive sized (k, k x k) and zeroed, and
+    /// must come out the same on every rank. W_i must not be zero (the
+    /// volume tolerance is relative to it).
+    using VolumeTarget = std::function<void(const dealii::Vector<double> &p,
+                                            dealii::Vector<double>       &W,
+                                            dealii::FullMatrix<double> &dW_dp)>;
+
     /// @param[in] tria the mesh (kept by reference; must outlive this object)
     /// @param[in] names its boundary parts; every part named in @p params must
     ///            exist (clear error otherwise)
@@ -85,28 +115,46 @@ namespace systole::Mechanics
             Logger                                             &logger);
     ~Problem();
 
-    /// Solve for equilibrium under @p pressure [kPa] and @p active_tension
-    /// [kPa], starting from the current displacement. Throws
-    /// ExcNewtonDidNotConverge (on every rank alike) when Newton fails; the
-    /// displacement is then undefined: restore() it.
+    /// Solve for equilibrium under @p pressure [kPa] on every pressure part
+    /// and @p active_tension [kPa], starting from the current displacement.
+    /// Throws ExcNewtonDidNotConverge (on every rank alike) when Newton
+    /// fails; the displacement is then undefined: restore() it.
     NewtonReport
     solve(const double pressure, const double active_tension);
 
-    /// Solve for equilibrium (u, p) under the cavity volume constraint
-    /// V(u) = @p target_volume [mm^3]: the cavity pressure p [kPa] is the
-    /// Lagrange multiplier. Newton on the bordered system
-    /// [K -b; b^T 0][du; dp] = -[R; V - V_target] (b = dV/du), solved with
-    /// two solves of one factorization of K and a scalar Schur complement.
-    /// @p pressure is the initial guess on entry and the solution on exit.
-    /// Converged when the residual meets the Newton tolerances and
-    /// |V - V_target| <= 2e-9 V_target. Throws like solve().
+    /// The same with one pressure [kPa] per pressure part (in the order of
+    /// Parameters::pressure_boundaries(); the cavities when there is a base).
+    NewtonReport
+    solve(const dealii::Vector<double> &pressures, const double active_tension);
+
+    /// Solve for equilibrium (u, p) with the cavity volumes on their target:
+    /// V_i(u) = W_i(p), i = 1..k (k = n_cavities() >= 1). The pressures p
+    /// [kPa] are the Lagrange multipliers. Newton on the bordered system
+    /// @f[ \begin{pmatrix} K & -B \\ B^T & -W' \end{pmatrix}
+    ///     \begin{pmatrix} \delta u \\ \delta p \end{pmatrix}
+    ///   = -\begin{pmatrix} R \\ V(u) - W(p) \end{pmatrix}, @f]
+    /// B = [dV_1/du ... dV_k/du], W' = dW/dp: one factorization of K, k + 1
+    /// back substitutions (K w_R = -R, K w_j = b_j) and the k x k Schur
+    /// complement B^T [w_1 ... w_k] - W'. @p pressures (size k) is the
+    /// initial guess on entry and the solution on exit. Converged when the
+    /// residual meets the Newton tolerances and |V_i - W_i| <= 2e-9 |W_i| for
+    /// every cavity, W evaluated at the current p. Throws like solve().
     ///
     /// While a factorization of an earlier volume-constrained solve exists,
     /// the solve starts with chord iterations on it (the bordered system of
-    /// that tangent, one back substitution each, residual without tangent);
-    /// when they converge slower than a factor 4 per iteration it continues
-    /// with full Newton. Consecutive solves of a time integration differ
-    /// little, so most need no new factorization.
+    /// that tangent and its B, with W and W' of the current p; one back
+    /// substitution each, residual without tangent); when they converge
+    /// slower than a factor 0.3 per iteration it continues with full Newton.
+    /// Consecutive solves of a time integration differ little, so most need
+    /// no new factorization.
+    NewtonReport
+    solve_cavities(const VolumeTarget     &target,
+                   const double            active_tension,
+                   dealii::Vector<double> &pressures);
+
+    /// solve_cavities() for one cavity and the fixed volume
+    /// @p target_volume [mm^3]; @p pressure [kPa] is the initial guess on
+    /// entry and the solution on exit. Throws unless n_cavities() == 1.
     NewtonReport
     solve_volume(const double target_volume,
                  const double active_tension,
@@ -124,9 +172,17 @@ namespace systole::Mechanics
     set_active_tension(std::vector<std::vector<double>> tension);
 
     /// Verification hook: relative errors of the bordered Jacobian against
-    /// central differences in a fixed pseudo-random direction (d, dp):
-    /// {first block row (K d - b dp vs dR), second row (b.d vs dV)}. Both
-    /// fall like h^2 when consistent. Leaves u unchanged.
+    /// central differences in a fixed pseudo-random direction (d, dp) at the
+    /// current u and the cavity pressures @p pressures [kPa] (size
+    /// n_cavities()): {first block row (K d - B dp vs dR), second row (B^T d
+    /// vs dV, Euclidean over the cavities)}. Both fall like h^2 when
+    /// consistent. Leaves u unchanged.
+    std::array<double, 2>
+    bordered_jacobian_error(const dealii::Vector<double> &pressures,
+                            const double                  active_tension,
+                            const double                  h);
+
+    /// The same with @p pressure [kPa] in every cavity.
     std::array<double, 2>
     bordered_jacobian_error(const double pressure,
                             const double active_tension,
@@ -172,13 +228,27 @@ namespace systole::Mechanics
     void
     set_displacement(const dealii::Function<3> &displacement);
 
-    /// Cavity volume [mm^3]: the pressure boundary closed by the plane of
-    /// the base (requires has_cavity(); collective).
+    /// Number of cavities: the pressure parts when the mesh has a base, else
+    /// 0.
+    unsigned int
+    n_cavities() const;
+
+    /// The boundary part names of the cavities, in order.
+    std::vector<std::string>
+    cavity_names() const;
+
+    /// Cavity volumes V_i [mm^3]: each pressure part closed by the plane of
+    /// the base (size n_cavities(); collective).
+    dealii::Vector<double>
+    cavity_volumes() const;
+
+    /// The cavity volume [mm^3] of a problem with exactly one cavity (throws
+    /// otherwise; collective).
     double
     cavity_volume() const;
 
-    /// Whether the pressure acts on a cavity: the pressure boundary is the
-    /// endocardium and the mesh has a base.
+    /// Whether the pressure acts on cavities (n_cavities() > 0): the mesh
+    /// has a base and a pressure boundary.
     bool
     has_cavity() const;
 

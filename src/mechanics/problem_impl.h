@@ -10,8 +10,10 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_q_cache.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
+#include <deal.II/lac/vector.h>
 
 #include "base/linear_algebra.h"
 #include "base/logger.h"
@@ -54,27 +56,33 @@ namespace systole::Mechanics
          Logger                                             &logger);
 
     /// Residual (and, if @p with_matrix, tangent) at the current u for the
-    /// given loads. Returns the l2 norm of the constrained residual. Throws
-    /// ExcInvertedElement collectively when J <= 0 somewhere.
-    /// If @p with_volume_derivative, also assembles dV/du of the cavity into
-    /// volume_derivative (condensed like the residual).
+    /// given loads (@p pressures: one per pressure part). Returns the l2 norm
+    /// of the constrained residual. Throws ExcInvertedElement collectively
+    /// when J <= 0 somewhere. If @p with_volume_derivative, also assembles
+    /// dV_i/du of every cavity into volume_derivatives (condensed like the
+    /// residual).
     double
-    assemble(const double pressure,
-             const double active_tension,
-             const bool   with_matrix,
-             const bool   with_volume_derivative = false);
+    assemble(const dealii::Vector<double> &pressures,
+             const double                  active_tension,
+             const bool                    with_matrix,
+             const bool                    with_volume_derivative = false);
 
-    /// Newton's method for R(u; p) = 0 at fixed @p pressure, or, with a
-    /// @p target_volume, for (u, p) with the cavity volume constraint (p is
-    /// then the Lagrange multiplier, updated in place).
+    /// @p pressure on every pressure part.
+    dealii::Vector<double>
+    uniform_pressures(const double pressure) const;
+
+    /// Newton's method for R(u; p) = 0 at fixed @p pressures (one per
+    /// pressure part), or, with a @p target, for (u, p) with the cavity
+    /// volume constraints V_i(u) = W_i(p) (p are then the Lagrange
+    /// multipliers, updated in place).
     NewtonReport
-    newton(double       &pressure,
-           const double  active_tension,
-           const double *target_volume);
+    newton(dealii::Vector<double> &pressures,
+           const double            active_tension,
+           const VolumeTarget     *target);
 
-    /// Cavity volume at the current u.
-    double
-    cavity_volume_now() const;
+    /// Cavity volumes at the current u (collective; not timed).
+    dealii::Vector<double>
+    cavity_volumes_now() const;
 
     /// Relative tolerance on the cavity volume of a volume-constrained solve.
     static constexpr double volume_tolerance = 2e-9;
@@ -120,9 +128,12 @@ namespace systole::Mechanics
     dealii::IndexSet                  owned, relevant;
     dealii::AffineConstraints<double> constraints; ///< homogeneous
 
-    std::set<dealii::types::boundary_id>      fixed_ids, sliding_ids, robin_ids;
-    std::optional<dealii::types::boundary_id> pressure_id;
-    std::optional<CavityVolume>               cavity;
+    std::set<dealii::types::boundary_id> fixed_ids, sliding_ids, robin_ids;
+    /// The pressure parts (Parameters::pressure_boundaries()), in order.
+    std::vector<std::string>                pressure_names;
+    std::vector<dealii::types::boundary_id> pressure_ids;
+    /// One per pressure part when the mesh has a base, else none.
+    std::vector<CavityVolume> cavities;
 
     /// Fibre frame, position and active tension at the quadrature points of
     /// the locally owned cells.
@@ -134,11 +145,12 @@ namespace systole::Mechanics
     /// The Schur-complement preconditioner of the mixed iterative solver.
     std::unique_ptr<PressureMatrix> pressure_matrix;
     LA::MPI::Vector                 residual; ///< owned
-    LA::MPI::Vector volume_derivative;        ///< owned: dV/du, condensed
-    LA::MPI::Vector u_owned;                  ///< owned
-    LA::MPI::Vector u;                        ///< ghosted copy of u_owned
-    LA::MPI::Vector u_saved;                  ///< owned
-    LA::MPI::Vector u_previous; ///< owned, the save() before u_saved
+    /// Owned: dV_i/du of every cavity, condensed.
+    std::vector<LA::MPI::Vector> volume_derivatives;
+    LA::MPI::Vector              u_owned; ///< owned
+    LA::MPI::Vector              u;       ///< ghosted copy of u_owned
+    LA::MPI::Vector              u_saved; ///< owned
+    LA::MPI::Vector u_previous;           ///< owned, the save() before u_saved
     unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
@@ -157,9 +169,9 @@ namespace systole::Mechanics
     seconds_in(const std::string &section) const;
 
     /// The linear solver holds a factorization of the bordered system of an
-    /// earlier Newton iteration: the tangent, b0 = dV/du and w0 = K^-1 b0
-    /// of that iterate (for the chord iterations of solve_volume()).
-    bool            have_factorization = false;
-    LA::MPI::Vector factorized_volume_derivative, factorized_w;
+    /// earlier Newton iteration: the tangent, B0 = [dV_i/du] and W0 = K^-1 B0
+    /// of that iterate (for the chord iterations of solve_cavities()).
+    bool                         have_factorization = false;
+    std::vector<LA::MPI::Vector> factorized_volume_derivatives, factorized_w;
   };
 } // namespace systole::Mechanics
