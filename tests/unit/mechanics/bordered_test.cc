@@ -2,79 +2,19 @@
 // system against finite differences, and the pressure-volume relation of a
 // pressure-driven solve recovered by a volume-driven one.
 #include <deal.II/base/function.h>
-#include <deal.II/distributed/tria.h>
 
-#include "base/logger.h"
-#include "geometry/mesh.h"
-#include "materials/guccione.h"
-#include "materials/volumetric_law.h"
-#include "mechanics/problem.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <sstream>
 
 using namespace systole;
 
 namespace
 {
-  class Wobble : public dealii::Function<3>
-  {
-  public:
-    Wobble()
-      : dealii::Function<3>(3)
-    {}
-
-    double
-    value(const dealii::Point<3> &p, const unsigned int c) const override
-    {
-      return 0.6 * std::sin(0.3 * p[0] + 0.2 * c) *
-             std::cos(0.25 * p[1] - 0.1 * p[2] + c);
-    }
-  };
-
-  struct Setup
-  {
-    Setup()
-      : logger(MPI_COMM_WORLD, sink)
-      , law([] {
-        Materials::Guccione::Parameters g;
-        g.C    = 2;
-        g.b_f  = 8;
-        g.b_t  = 2;
-        g.b_fs = 4;
-        return g;
-      }())
-      , volumetric(Materials::VolumetricLaw::Form::simo_taylor, 100.0)
-      , tria(MPI_COMM_WORLD)
-    {
-      names = Geometry::create_mesh(Geometry::Parameters(), tria);
-      params.fixed_boundaries          = {"base"};
-      params.pressure_boundary         = "endocardium";
-      params.linear_solver             = "direct";
-      params.newton_absolute_tolerance = 1e-10;
-      fibres = [](const auto &, const auto &points, auto &bases) {
-        bases.resize(points.size());
-        for (unsigned int i = 0; i < points.size(); ++i)
-          {
-            const double a = 0.3 * points[i][2];
-            bases[i].f = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
-            bases[i].s = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
-            bases[i].n = dealii::Tensor<1, 3>({0, 0, 1});
-          }
-      };
-    }
-
-    std::ostringstream                              sink;
-    Logger                                          logger;
-    Materials::Guccione                             law;
-    Materials::VolumetricLaw                        volumetric;
-    dealii::parallel::distributed::Triangulation<3> tria;
-    Geometry::BoundaryNames                         names;
-    Mechanics::Parameters                           params;
-    Fibres::FibreField                              fibres;
-  };
+  using Setup = test_support::VentricleMechanics;
+  using test_support::Wobble;
 } // namespace
 
 TEST_CASE("The bordered Jacobian is the derivative of (R, V)",

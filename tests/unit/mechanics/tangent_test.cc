@@ -7,6 +7,7 @@
 #include "materials/volumetric_law.h"
 #include "mechanics/problem.h"
 #include "support/law_parameters.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -69,17 +70,7 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     Materials::VolumetricLaw::Form::simo_taylor,
     100.0);
   // A rotating frame, so that the anisotropy is not aligned with the mesh.
-  const Fibres::FibreField fibres =
-    [](const auto &, const auto &points, auto &bases) {
-      bases.resize(points.size());
-      for (unsigned int i = 0; i < points.size(); ++i)
-        {
-          const double a = 0.3 * points[i][2];
-          bases[i].f     = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
-          bases[i].s     = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
-          bases[i].n     = dealii::Tensor<1, 3>({0, 0, 1});
-        }
-    };
+  const Fibres::FibreField fibres = test_support::rotating_fibres();
 
   SECTION("Land ventricle, Q2, follower pressure on the endocardium, active "
           "tension, Robin springs on the epicardium")
@@ -179,18 +170,8 @@ TEST_CASE("The mechanics tangent is the derivative of the residual with "
   const Materials::VolumetricLaw volumetric(
     Materials::VolumetricLaw::Form::simo_taylor,
     100.0);
-  const Fibres::FibreField fibres =
-    [](const auto &, const auto &points, auto &bases) {
-      bases.resize(points.size());
-      for (unsigned int i = 0; i < points.size(); ++i)
-        {
-          const double a = 0.3 * points[i][2];
-          bases[i].f     = dealii::Tensor<1, 3>({std::cos(a), std::sin(a), 0});
-          bases[i].s     = dealii::Tensor<1, 3>({-std::sin(a), std::cos(a), 0});
-          bases[i].n     = dealii::Tensor<1, 3>({0, 0, 1});
-        }
-    };
-  Geometry::Parameters geometry;
+  const Fibres::FibreField fibres = test_support::rotating_fibres();
+  Geometry::Parameters     geometry;
   geometry.type      = Geometry::Parameters::Type::box;
   geometry.box_upper = dealii::Point<3>(10, 1, 1);
   geometry.box_cells = {{5, 2, 2}};

@@ -1,0 +1,61 @@
+#include <deal.II/base/mpi.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include "support/mechanics_fixture.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+namespace
+{
+  /// The two-cavity problem on @p comm, solved for
+  /// W_i(p) = V0_i +- 8 % V0_endo + c_i p_i; returns the pressures.
+  dealii::Vector<double>
+  compliant_two_cavity_pressures(const MPI_Comm comm)
+  {
+    test_support::VentricleMechanics s(comm);
+    s.use_two_cavities();
+    const auto                   problem = s.problem();
+    const dealii::Vector<double> V0      = problem->cavity_volumes();
+    const double                 dV      = 0.08 * V0[0];
+    dealii::Vector<double>       p(2);
+    problem->solve_cavities(test_support::linear_compliance(V0,
+                                                            {dV, -dV},
+                                                            {5.0, 3.0}),
+                            0.0,
+                            p);
+    return p;
+  }
+} // namespace
+
+TEST_CASE("Two cavities on 2 ranks: volumes, Jacobian and pressures",
+          "[mpi][mechanics]")
+{
+  REQUIRE(dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 2);
+
+  // The halves of the endocardium add up to the whole (the split is made on
+  // every rank's copy of the mesh, ghost and artificial cells included).
+  test_support::VentricleMechanics whole;
+  const auto                       one = whole.problem();
+  test_support::VentricleMechanics split;
+  split.split_endocardium();
+  const auto two = split.problem();
+  one->set_displacement(test_support::Wobble());
+  two->set_displacement(test_support::Wobble());
+  const auto parts = two->cavity_volumes();
+  CHECK(parts[0] + parts[1] == Approx(one->cavity_volume()).epsilon(1e-12));
+
+  // The k-cavity bordered Jacobian on a partitioned mesh.
+  const auto [e1, e2] =
+    test_support::two_cavity_jacobian_errors(MPI_COMM_WORLD);
+  CHECK(std::log2(e1[0] / e2[0]) == Approx(2.0).margin(0.2));
+  CHECK(e2[1] < 1e-7);
+
+  // The compliant solve: the same pressures as on one rank.
+  const auto parallel = compliant_two_cavity_pressures(MPI_COMM_WORLD);
+  const auto serial   = compliant_two_cavity_pressures(MPI_COMM_SELF);
+  CHECK(parallel[0] == Approx(serial[0]).epsilon(1e-9));
+  CHECK(parallel[1] == Approx(serial[1]).epsilon(1e-9));
+}
