@@ -16,6 +16,9 @@ namespace systole::Circulation
     {
       double                       period;
       ChamberElastance::Parameters left_ventricle, right_ventricle;
+      /// The kinds of the ventricles "lv" and "rv".
+      CavityKind left_kind  = CavityKind::elastance,
+                 right_kind = CavityKind::elastance;
     };
 
     /// One model: how users call it, what it is, how to declare its own
@@ -34,11 +37,12 @@ namespace systole::Circulation
     create_windkessel(const dealii::ParameterHandler &prm,
                       const SharedInputs             &in)
     {
-      return std::make_unique<WindkesselModel>(
-        WindkesselModel::Parameters::parse(prm,
-                                           n_elements,
-                                           in.period,
-                                           in.left_ventricle));
+      auto parameters                = WindkesselModel::Parameters::parse(prm,
+                                                           n_elements,
+                                                           in.period,
+                                                           in.left_ventricle);
+      parameters.left_ventricle_kind = in.left_kind;
+      return std::make_unique<WindkesselModel>(parameters);
     }
 
     void
@@ -78,11 +82,13 @@ namespace systole::Circulation
          &declare_closed_loop,
          [](const dealii::ParameterHandler &prm,
             const SharedInputs             &in) -> std::unique_ptr<Model> {
-           return std::make_unique<ClosedLoop>(
-             ClosedLoop::Parameters::parse(prm,
-                                           in.period,
-                                           in.left_ventricle,
-                                           in.right_ventricle));
+           auto parameters                 = ClosedLoop::Parameters::parse(prm,
+                                                           in.period,
+                                                           in.left_ventricle,
+                                                           in.right_ventricle);
+           parameters.left_ventricle_kind  = in.left_kind;
+           parameters.right_ventricle_kind = in.right_kind;
+           return std::make_unique<ClosedLoop>(parameters);
          }},
       };
       return entries;
@@ -113,10 +119,10 @@ namespace systole::Circulation
   declare_model_parameters(dealii::ParameterHandler &prm)
   {
     std::string help =
-      "The 0D circulation model of Problem = circulation (integrated with "
-      "elastance ventricles). Problem = heartbeat still couples its 3D "
-      "ventricle to the Windkessel model entry above; the models of this "
-      "table are built for the coupled 3D-0D step to come. Choices:";
+      "The 0D circulation model: of Problem = circulation alone (with "
+      "elastance ventricles), and the one Problem = heartbeat couples its 3D "
+      "left ventricle to (the model's lv; the other chambers stay 0D). "
+      "Choices:";
     for (const Entry &e : table())
       help += std::string(" ") + e.name + ": " + e.description;
     help += " Units: none.";
@@ -144,9 +150,18 @@ namespace systole::Circulation
 
 
   std::unique_ptr<Model>
-  create_model(const dealii::ParameterHandler &prm)
+  create_model(const dealii::ParameterHandler &prm,
+               const std::vector<std::string> &external)
   {
     SharedInputs in;
+    for (const std::string &name : external)
+      {
+        AssertThrow(name == "lv" || name == "rv",
+                    dealii::ExcMessage("A 3D ventricle must be 'lv' or 'rv', "
+                                       "not '" +
+                                       name + "'."));
+        (name == "lv" ? in.left_kind : in.right_kind) = CavityKind::external;
+      }
     in.period = prm.get_double({"Circulation"}, "Period");
     in.left_ventricle =
       ChamberElastance::Parameters::parse(prm,
@@ -157,7 +172,22 @@ namespace systole::Circulation
     const std::string name = prm.get({"Circulation"}, "Model");
     for (const Entry &e : table())
       if (name == e.name)
-        return e.create(prm, in);
+        {
+          auto model = e.create(prm, in);
+          for (const std::string &cavity : external)
+            {
+              bool found = false;
+              for (const auto &c : model->cavities())
+                found = found || c.name == cavity;
+              AssertThrow(found,
+                          dealii::ExcMessage(
+                            "Circulation / Model = " + name +
+                            " has no ventricle '" + cavity +
+                            "' for the 3D one: choose a model with both "
+                            "ventricles (closed loop)."));
+            }
+          return model;
+        }
     AssertThrow(false,
                 dealii::ExcMessage("Circulation / Model = \"" + name +
                                    "\" is unknown; choose one of " +

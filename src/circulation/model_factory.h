@@ -32,11 +32,14 @@ namespace systole::Circulation
   declare_model_parameters(dealii::ParameterHandler &prm);
 
   /// The model named in "Circulation / Model", built from its parsed and
-  /// validated parameters, with 0D elastance ventricles and the period of
-  /// "Circulation / Period". Throws ExcMessage naming the entry on a bad
-  /// value.
+  /// validated parameters, with the period of "Circulation / Period". Its
+  /// ventricles are 0D elastances except those named in @p external ("lv",
+  /// "rv"): 3D ventricles, whose pressures are inputs (CavityKind::external).
+  /// Throws ExcMessage naming the entry on a bad value, or naming the model
+  /// when it has no ventricle of a name in @p external.
   std::unique_ptr<Model>
-  create_model(const dealii::ParameterHandler &prm);
+  create_model(const dealii::ParameterHandler &prm,
+               const std::vector<std::string> &external = {});
 
   /// Names of all models as shown to users: "2-element Windkessel",
   /// "3-element Windkessel", "4-element Windkessel", "closed loop".

@@ -36,17 +36,6 @@ namespace systole::Circulation
   {
     using namespace dealii::Patterns;
     prm.enter_subsection("Circulation");
-    prm.declare_entry(
-      "Windkessel model",
-      "3-element",
-      Selection("2-element|3-element"),
-      "Afterload of the 3D left ventricle of Problem = heartbeat (ideal "
-      "valves, four-phase cycle). 3-element: characteristic impedance Z_c in "
-      "series with the parallel peripheral resistance R_p and compliance C "
-      "(the aortic valve is ideal); 2-element: R_p and C behind the aortic "
-      "valve resistance. The 0D models of Problem = circulation are chosen "
-      "by Model below (their Windkessels use the resistances, compliance and "
-      "pressures of this subsection too). Units: -.");
     prm.declare_entry("Peripheral resistance",
                       "1.0",
                       Double(0.0),
@@ -59,15 +48,15 @@ namespace systole::Circulation
     prm.declare_entry("Characteristic impedance",
                       "0.05",
                       Double(0.0),
-                      "Z_c of the proximal aorta (heartbeat: 3-element "
-                      "model only; Model = 3- and 4-element Windkessel). "
+                      "Z_c of the proximal aorta (Model = 3- and 4-element "
+                      "Windkessel). "
                       "Units: mmHg s/mL. Typical 0.03-0.07.");
     prm.declare_entry("Aortic valve resistance",
                       "0.0075",
                       Double(0.0),
-                      "Resistance of the open aortic valve (heartbeat: "
-                      "2-element model only; the R_min of the aortic diode "
-                      "valve of every Model = n-element Windkessel). Units: "
+                      "Resistance of the open aortic valve: the R_min of the "
+                      "aortic diode valve of every Model = n-element "
+                      "Windkessel. Units: "
                       "mmHg s/mL.");
     prm.declare_entry("Mitral valve resistance",
                       "0.0075",
@@ -111,10 +100,11 @@ namespace systole::Circulation
     prm.declare_entry("Relative tolerance",
                       "1e-4",
                       Double(0.0, 1.0),
-                      "Relative tolerance of the adaptive ODE integrator "
-                      "(SUNDIALS ARKode): explicit Runge-Kutta for "
-                      "Problem = heartbeat, implicit (DIRK, order 5) for "
-                      "Problem = circulation. Units: -.");
+                      "Relative tolerance of the adaptive time steps: of "
+                      "the BDF2 local error of the 0D states and the "
+                      "curvature of the 3D cavity pressures for Problem = "
+                      "heartbeat; of SUNDIALS ARKode's implicit DIRK "
+                      "(order 5) for Problem = circulation. Units: -.");
     prm.declare_entry("Absolute volume tolerance",
                       "1e-3",
                       Double(0.0),
@@ -124,12 +114,28 @@ namespace systole::Circulation
                       "circulation: every volume; a pressure gets this "
                       "divided by its compliance, a flow this per ms). "
                       "Units: mL.");
+    prm.declare_entry("Absolute pressure tolerance",
+                      "0.1",
+                      Double(0.0),
+                      "Problem = heartbeat: absolute tolerance of the 3D "
+                      "cavity pressures in the step-size control (beside "
+                      "the relative tolerance times the pressure); the "
+                      "steps are short where the pressure curves, as in "
+                      "the isovolumetric contraction. Units: mmHg "
+                      "(converted to kPa).");
+    prm.declare_entry("Event time tolerance",
+                      "0.1",
+                      Double(0.0),
+                      "Problem = heartbeat: a step that crosses a valve "
+                      "event (a valve's pressure drop changes sign) is "
+                      "redone until it ends at most this long after the "
+                      "event. Units: ms.");
     prm.declare_entry("Maximum time step",
                       "10",
                       Double(0.0),
-                      "Largest step of the integrator; a valve event within "
-                      "one step is found by root finding, but two events "
-                      "within one step would be missed. Units: ms.");
+                      "Largest time step (Problem = heartbeat: of the "
+                      "coupled mechanics and circulation step, in "
+                      "diastasis). Units: ms.");
     prm.declare_entry("Initial time step",
                       "0.5",
                       Double(0.0),
@@ -148,9 +154,6 @@ namespace systole::Circulation
     const auto resistance = [&](const std::string &entry) {
       return resistance_from_mmHg_s_per_mL(prm.get_double(s, entry));
     };
-    p.windkessel.model = prm.get(s, "Windkessel model") == "2-element"
-                           ? Windkessel::Model::two_element
-                           : Windkessel::Model::three_element;
     p.windkessel.peripheral_resistance = resistance("Peripheral resistance");
     p.windkessel.compliance =
       compliance_from_mL_per_mmHg(prm.get_double(s, "Compliance"));
@@ -171,8 +174,11 @@ namespace systole::Circulation
     p.relative_tolerance    = prm.get_double(s, "Relative tolerance");
     p.absolute_volume_tolerance =
       Units::mL_to_mm3(prm.get_double(s, "Absolute volume tolerance"));
-    p.max_time_step     = prm.get_double(s, "Maximum time step");
-    p.initial_time_step = prm.get_double(s, "Initial time step");
+    p.absolute_pressure_tolerance =
+      Units::mmHg_to_kPa(prm.get_double(s, "Absolute pressure tolerance"));
+    p.event_time_tolerance = prm.get_double(s, "Event time tolerance");
+    p.max_time_step        = prm.get_double(s, "Maximum time step");
+    p.initial_time_step    = prm.get_double(s, "Initial time step");
     p.validate();
     return p;
   }
@@ -191,16 +197,10 @@ namespace systole::Circulation
                      w.compliance / compliance_from_mL_per_mmHg(1.0),
                      "Compliance",
                      "mL/mmHg");
-    if (w.model == Windkessel::Model::three_element)
-      require_positive(w.characteristic_impedance,
-                       w.characteristic_impedance / r,
-                       "Characteristic impedance",
-                       "mmHg s/mL (needed by the 3-element model)");
-    else
-      require_positive(w.aortic_valve_resistance,
-                       w.aortic_valve_resistance / r,
-                       "Aortic valve resistance",
-                       "mmHg s/mL (needed by the 2-element model)");
+    require_positive(w.aortic_valve_resistance,
+                     w.aortic_valve_resistance / r,
+                     "Aortic valve resistance",
+                     "mmHg s/mL");
     require_positive(mitral_valve_resistance,
                      mitral_valve_resistance / r,
                      "Mitral valve resistance",
@@ -234,6 +234,14 @@ namespace systole::Circulation
                      Units::mm3_to_mL(absolute_volume_tolerance),
                      "Absolute volume tolerance",
                      "mL");
+    require_positive(absolute_pressure_tolerance,
+                     Units::kPa_to_mmHg(absolute_pressure_tolerance),
+                     "Absolute pressure tolerance",
+                     "mmHg");
+    require_positive(event_time_tolerance,
+                     event_time_tolerance,
+                     "Event time tolerance",
+                     "ms");
     require_positive(max_time_step, max_time_step, "Maximum time step", "ms");
     require_positive(initial_time_step,
                      initial_time_step,

@@ -38,6 +38,11 @@ namespace systole::Circulation
     double relative_tolerance = 1e-4;
     /// Absolute tolerance of volumes [mm^3]; that of p_ar is this / C.
     double absolute_volume_tolerance = Units::mL_to_mm3(1e-3);
+    /// Absolute tolerance of the 3D cavity pressures [kPa] (heartbeat).
+    double absolute_pressure_tolerance = Units::mmHg_to_kPa(0.1);
+    /// How long after a valve event the step that crosses it may end [ms]
+    /// (heartbeat).
+    double event_time_tolerance = 0.1;
     /// Largest step of the integrator [ms].
     double max_time_step = 10.0;
     /// First step, and the step after every valve event [ms].

@@ -10,6 +10,7 @@
 #include "circulation/ode_integrator.h"
 #include "circulation/parameters.h"
 #include "io/results_file.h"
+#include "simulation/circulation_columns.h"
 #include "simulation/parameters.h"
 
 #include <chrono>
@@ -22,17 +23,6 @@ namespace systole
   namespace
   {
     using Vector = dealii::Vector<double>;
-
-    /// The value of column @p name in @p row (NaN if absent).
-    double
-    value(const std::vector<Circulation::SummaryColumn> &row,
-          const std::string                             &name)
-    {
-      for (const auto &c : row)
-        if (c.name == name)
-          return c.value;
-      return std::numeric_limits<double>::quiet_NaN();
-    }
   } // namespace
 
   void
@@ -100,27 +90,10 @@ namespace systole
       sample(t, y);
       std::vector<IO::Column> row = {{"time", "ms", t},
                                      {"beat", "-", static_cast<double>(beat)}};
-      for (unsigned int i = 0; i < model->n_states(); ++i)
-        {
-          const auto &s = model->states()[i];
-          row.push_back({s.name + output_suffix(s.quantity),
-                         output_unit(s.quantity),
-                         to_output_unit(s.quantity, y[i])});
-        }
-      for (unsigned int i = 0; i < model->outputs().size(); ++i)
-        {
-          const auto &o = model->outputs()[i];
-          row.push_back({o.name + output_suffix(o.quantity),
-                         output_unit(o.quantity),
-                         to_output_unit(o.quantity, outputs[i])});
-        }
+      std::vector<Phase>      phase_list;
       for (unsigned int c = 0; c < model->n_cavities(); ++c)
-        row.push_back({model->cavities()[c].name + "_phase",
-                       "-",
-                       static_cast<double>(code(phases.phase(c)))});
-      row.push_back({"total_blood_volume_mL",
-                     "mL",
-                     Units::mm3_to_mL(model->total_blood_volume(y))});
+        phase_list.push_back(phases.phase(c));
+      append_model_columns(*model, t, y, p_ext, phase_list, row);
       results.append_timeseries(row);
       progress.update(row_number++, t, "beat " + std::to_string(beat));
     };
@@ -129,23 +102,13 @@ namespace systole
       phases.update(open);
       sample(e.time, e.state);
       recorder.add_valve_event(e.valve, e.opens, e.time, e.state, p_cavities);
-      std::vector<IO::Column> row = {{"time", "ms", e.time},
-                                     {"beat", "-", static_cast<double>(beat)},
-                                     {"valve",
-                                      "-",
-                                      static_cast<double>(e.valve)},
-                                     {"opens", "-", e.opens ? 1.0 : 0.0}};
-      for (unsigned int c = 0; c < model->n_cavities(); ++c)
-        {
-          const auto &cavity = model->cavities()[c];
-          row.push_back({cavity.name + "_volume_mL",
-                         "mL",
-                         Units::mm3_to_mL(e.state[cavity.volume_state])});
-          row.push_back({cavity.name + "_pressure_mmHg",
-                         "mmHg",
-                         Units::kPa_to_mmHg(p_cavities[c])});
-        }
-      results.append_event(row);
+      results.append_event(valve_event_columns(*model,
+                                               e.time,
+                                               beat,
+                                               e.valve,
+                                               e.opens,
+                                               e.state,
+                                               p_cavities));
     };
 
     const auto   start    = std::chrono::steady_clock::now();
@@ -202,19 +165,8 @@ namespace systole
         results.append_summary(row);
         ++n_beats;
 
-        std::ostringstream o;
-        o << std::fixed << std::setprecision(1) << "Beat " << beat << ":";
-        for (const auto &cavity : model->cavities())
-          {
-            const std::string n = cavity.name + "_";
-            o << " " << cavity.name << " EDV " << value(summary, n + "EDV_mL")
-              << " mL, ESV " << value(summary, n + "ESV_mL") << " mL, EF "
-              << value(summary, n + "EF") << " %, peak "
-              << value(summary, n + "peak_pressure_mmHg") << " mmHg;";
-          }
-        o << " EDV change " << std::defaultfloat << std::setprecision(2)
-          << 100 * recorder.periodicity() << " %";
-        logger.line(o.str());
+        logger.line(
+          beat_log_line(*model, beat, summary, recorder.periodicity()));
 
         if (beat >= 1 && circulation.periodicity_tolerance > 0 &&
             recorder.periodicity() < circulation.periodicity_tolerance)

@@ -8,16 +8,17 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "base/units.h"
-#include "circulation/cardiac_cycle.h"
+#include "circulation/model_factory.h"
 #include "circulation/parameters.h"
-#include "circulation/windkessel.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "materials/bestel.h"
 #include "materials/factory.h"
 #include "mechanics/problem.h"
+#include "simulation/circulation_columns.h"
 #include "simulation/electrical_activation.h"
+#include "simulation/heartbeat_stepper.h"
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
@@ -32,20 +33,22 @@ namespace systole
 {
   namespace
   {
-    /// The 3D ventricle as the circulation sees it: p = P(t, V), one
-    /// volume-constrained mechanics solve per call, warm-started by
-    /// extrapolating the last two accepted states in time. The Bestel
+    using Vector = dealii::Vector<double>;
+
+    /// The 3D ventricle(s) as the heartbeat stepper sees them: the
+    /// mechanics with its cavity volumes constrained (Mechanics::Problem::
+    /// solve_cavities), under the Bestel active tension of the time. The
     /// tension of each quadrature point starts at its activation time:
     /// prescribed, or the latest upstroke at or before t of the
     /// electrophysiology (@p ep not null).
-    class MechanicsVentricle : public Circulation::Ventricle
+    class MechanicsVentricles : public CoupledVentricles
     {
     public:
-      MechanicsVentricle(Mechanics::Problem              &problem,
-                         const Materials::Bestel         &bestel,
-                         std::vector<std::vector<double>> activation_times,
-                         ElectricalActivation            *ep,
-                         Logger                          &logger)
+      MechanicsVentricles(Mechanics::Problem              &problem,
+                          const Materials::Bestel         &bestel,
+                          std::vector<std::vector<double>> activation_times,
+                          ElectricalActivation            *ep,
+                          Logger                          &logger)
         : problem(problem)
         , bestel(bestel)
         , activation_times(std::move(activation_times))
@@ -55,94 +58,10 @@ namespace systole
         problem.save();
       }
 
-      double
-      pressure(const double t, const double volume) override
-      {
-        if (t == last_time && volume == last_volume)
-          return last_pressure;
-        set_tension(t);
-        // Extrapolate the displacement and the pressure from the last two
-        // accepted states (at most one accepted interval ahead).
-        double ratio = 0;
-        if (accepted_time > previous_time)
-          ratio =
-            std::clamp((t - accepted_time) / (accepted_time - previous_time),
-                       -1.0,
-                       1.0);
-        problem.predict(ratio);
-        double p =
-          accepted_pressure + ratio * (accepted_pressure - previous_pressure);
-        logger.detail() << "    mechanics at t = " << t
-                        << " ms, V = " << Units::mm3_to_mL(volume) << " mL"
-                        << std::endl;
-        const auto start = std::chrono::steady_clock::now();
-        try
-          {
-            const auto report = problem.solve_volume(volume, 0.0, p);
-            step_newton_iterations += report.iterations;
-            ++step_solves;
-          }
-        catch (const ExcNewtonDidNotConverge &)
-          {
-            problem.restore();
-            last_time = std::numeric_limits<double>::quiet_NaN();
-            throw;
-          }
-        mechanics_seconds += std::chrono::duration<double>(
-                               std::chrono::steady_clock::now() - start)
-                               .count();
-        last_time     = t;
-        last_volume   = volume;
-        last_pressure = p;
-        return p;
-      }
-
       void
-      accept_step(const double t, const double volume) override
+      set_time(const double t) override
       {
-        pressure(t, volume); // no-op when the last solve was at (t, V)
-        problem.save();
-        previous_time     = accepted_time;
-        previous_pressure = accepted_pressure;
-        accepted_time     = t;
-        accepted_pressure = last_pressure;
-      }
-
-      /// Newton iterations and solves since the last call.
-      std::pair<unsigned int, unsigned int>
-      take_step_counts()
-      {
-        const auto counts = std::make_pair(step_newton_iterations, step_solves);
-        step_newton_iterations = 0;
-        step_solves            = 0;
-        return counts;
-      }
-
-      /// Mean of the active tension over the quadrature points [kPa] (of the
-      /// last solve; collective).
-      double
-      mean_tension(const MPI_Comm comm) const
-      {
-        double       sum = 0;
-        unsigned int n   = 0;
-        for (const auto &cell : tension)
-          for (const double value : cell)
-            {
-              sum += value;
-              ++n;
-            }
-        return dealii::Utilities::MPI::sum(sum, comm) /
-               std::max(1u, dealii::Utilities::MPI::sum(n, comm));
-      }
-
-      double mechanics_seconds = 0;
-      /// Wall time in the electrophysiology (advancing, reading) [s].
-      double ep_seconds = 0;
-
-    private:
-      void
-      set_tension(const double t)
-      {
+        time = t;
         if (ep != nullptr)
           {
             const auto start = std::chrono::steady_clock::now();
@@ -166,19 +85,68 @@ namespace systole
         problem.set_active_tension(tension);
       }
 
+      void
+      predict(const double ratio) override
+      {
+        // Extrapolate the displacement from the last two accepted states
+        // (the step may double at most).
+        problem.predict(std::clamp(ratio, 0.0, 2.0));
+      }
+
+      unsigned int
+      solve(const CavityVolumeTarget &target, Vector &p) override
+      {
+        logger.detail() << "    mechanics at t = " << time << " ms"
+                        << std::endl;
+        const auto start  = std::chrono::steady_clock::now();
+        const auto report = problem.solve_cavities(target, 0.0, p);
+        mechanics_seconds += std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - start)
+                               .count();
+        return report.iterations + report.reused_iterations;
+      }
+
+      void
+      accept() override
+      {
+        problem.save();
+      }
+
+      void
+      reject() override
+      {
+        problem.restore();
+      }
+
+      /// Mean of the active tension over the quadrature points [kPa] (of the
+      /// last set_time(); collective).
+      double
+      mean_tension(const MPI_Comm comm) const
+      {
+        double       sum = 0;
+        unsigned int n   = 0;
+        for (const auto &cell : tension)
+          for (const double value : cell)
+            {
+              sum += value;
+              ++n;
+            }
+        return dealii::Utilities::MPI::sum(sum, comm) /
+               std::max(1u, dealii::Utilities::MPI::sum(n, comm));
+      }
+
+      /// Wall times [s]: the mechanics solves, the electrophysiology
+      /// (advancing, reading).
+      double mechanics_seconds = 0, ep_seconds = 0;
+
+    private:
       Mechanics::Problem              &problem;
       const Materials::Bestel         &bestel;
       std::vector<std::vector<double>> activation_times;
       ElectricalActivation            *ep;
       std::vector<std::vector<double>> tension;
       Logger                          &logger;
-
-      double       last_time     = std::numeric_limits<double>::quiet_NaN();
-      double       last_volume   = 0;
-      double       last_pressure = 0;
-      double       accepted_time = 0, previous_time = 0;
-      double       accepted_pressure = 0, previous_pressure = 0;
-      unsigned int step_newton_iterations = 0, step_solves = 0;
+      double                           time = 0;
     };
 
     /// Activation time of every quadrature point of the mechanics [ms].
@@ -219,74 +187,85 @@ namespace systole
       return times;
     }
 
-    class Writer : public Circulation::CardiacCycle::Observer
+    /// Writes what the stepper computes: one /timeseries row per accepted
+    /// step, one /events row per valve event, one /summary row per beat,
+    /// fields every Output / Field output interval steps, and the log.
+    class Writer : public HeartbeatStepper::Observer
     {
     public:
-      Writer(IO::ResultsFile      &results,
-             MechanicsVentricle   &ventricle,
-             Mechanics::Problem   &problem,
-             ElectricalActivation *ep,
-             const RunParameters  &run,
-             Logger               &logger,
-             Progress             &progress,
-             const double          end_time,
-             const MPI_Comm        comm)
-        : results(results)
-        , ventricle(ventricle)
+      Writer(const Circulation::Model &model,
+             IO::ResultsFile          &results,
+             MechanicsVentricles      &ventricles,
+             Mechanics::Problem       &problem,
+             ElectricalActivation     *ep,
+             const RunParameters      &run,
+             Logger                   &logger,
+             Progress                 &progress,
+             const MPI_Comm            comm)
+        : model(model)
+        , results(results)
+        , ventricles(ventricles)
         , problem(problem)
         , ep(ep)
         , run(run)
         , logger(logger)
         , progress(progress)
-        , end_time(end_time)
         , comm(comm)
-      {}
+      {
+        for (unsigned int c = 0; c < model.n_cavities(); ++c)
+          if (model.cavities()[c].kind == Circulation::CavityKind::external)
+            external.push_back(c);
+      }
 
       void
-      on_step(const Circulation::StepRecord &r) override
+      on_step(const HeartbeatStepper::Step &s) override
       {
-        const auto [iterations, solves] = ventricle.take_step_counts();
-        total_iterations += iterations;
-        total_solves += solves;
+        total_iterations += s.newton_iterations;
+        total_solves += s.mechanics_solves;
+        total_rejected += s.rejected;
+        ++steps_in_beat;
         std::vector<IO::Column> row = {
-          {"step", "-", static_cast<double>(step)},
-          {"time", "ms", r.time},
-          {"beat", "-", static_cast<double>(r.beat)},
-          {"phase", "-", static_cast<double>(Circulation::code(r.phase))},
-          {"pressure", "kPa", r.pressure},
-          {"pressure_mmHg", "mmHg", Units::kPa_to_mmHg(r.pressure)},
-          {"volume", "mm^3", r.volume},
-          {"volume_mL", "mL", Units::mm3_to_mL(r.volume)},
-          {"mechanics_volume_mL",
-           "mL",
-           Units::mm3_to_mL(problem.cavity_volume())},
-          {"flow", "mL/s", Circulation::flow_to_mL_per_s(r.flow)},
-          {"aortic_outflow",
-           "mL/s",
-           Circulation::flow_to_mL_per_s(r.aortic_outflow)},
-          {"mitral_inflow",
-           "mL/s",
-           Circulation::flow_to_mL_per_s(r.mitral_inflow)},
-          {"aortic_pressure_mmHg",
-           "mmHg",
-           Units::kPa_to_mmHg(r.aortic_pressure)},
-          {"arterial_pressure_mmHg",
-           "mmHg",
-           Units::kPa_to_mmHg(r.arterial_pressure)},
-          {"cumulative_outflow_mL",
-           "mL",
-           Units::mm3_to_mL(r.cumulative_aortic_outflow)},
-          {"cumulative_inflow_mL",
-           "mL",
-           Units::mm3_to_mL(r.cumulative_mitral_inflow)},
-          {"mean_active_tension", "kPa", ventricle.mean_tension(comm)},
-          {"newton_iterations", "-", static_cast<double>(iterations)},
-          {"mechanics_solves", "-", static_cast<double>(solves)},
-          {"time_step", "ms", r.step_size}};
+          {"step", "-", static_cast<double>(s.index)},
+          {"time", "ms", s.time},
+          {"beat", "-", static_cast<double>(s.beat)},
+          {"time_step", "ms", s.step_size},
+          {"bdf_order", "-", static_cast<double>(s.order)}};
+        append_model_columns(model,
+                             s.time,
+                             s.state,
+                             s.pressures,
+                             s.phases,
+                             row);
+        // The 3D cavities: the volume of the deformed mesh (equal to the 0D
+        // volume state to the constraint tolerance), and the old names of
+        // the first one (pressure_mmHg, volume_mL, phase).
+        const Vector volumes = problem.cavity_volumes();
+        for (unsigned int a = 0; a < external.size(); ++a)
+          row.push_back(
+            {model.cavities()[external[a]].name + "_mechanics_volume_mL",
+             "mL",
+             Units::mm3_to_mL(volumes[a])});
+        const auto &first = model.cavities()[external[0]];
+        row.push_back({"pressure_mmHg",
+                       "mmHg",
+                       Units::kPa_to_mmHg(s.pressures[external[0]])});
+        row.push_back(
+          {"volume_mL", "mL", Units::mm3_to_mL(s.state[first.volume_state])});
+        row.push_back(
+          {"phase",
+           "-",
+           static_cast<double>(Circulation::code(s.phases[external[0]]))});
+        row.push_back(
+          {"mean_active_tension", "kPa", ventricles.mean_tension(comm)});
+        row.push_back(
+          {"newton_iterations", "-", static_cast<double>(s.newton_iterations)});
+        row.push_back(
+          {"mechanics_solves", "-", static_cast<double>(s.mechanics_solves)});
+        row.push_back({"rejected_steps", "-", static_cast<double>(s.rejected)});
         if (ep != nullptr)
           {
-            // The EP steps taken for this step (EP runs ahead to the last
-            // stage of the step, so rejected stages count too).
+            // The EP steps taken for this step (EP runs ahead to the end of
+            // the longest attempt, so rejected attempts count too).
             const unsigned long ep_steps = ep->statistics().steps;
             row.push_back({"ep_steps",
                            "-",
@@ -296,58 +275,54 @@ namespace systole
             ep_steps_written = ep_steps;
           }
         results.append_timeseries(row);
-        last_time = r.time;
+        last_time = s.time;
         if (run.field_output_interval > 0 &&
-            step % run.field_output_interval == 0)
-          write_fields();
-        progress.update(step, r.time, Circulation::name(r.phase));
-        ++step;
-      }
-
-      /// The fields of the last step, unless written already. Collective.
-      void
-      finish()
-      {
-        if (run.field_output_interval > 0 && step > 0 &&
-            last_field_step + 1 != step)
-          {
-            --step;
-            write_fields();
-            ++step;
-          }
+            s.index % run.field_output_interval == 0)
+          write_fields(s.index);
+        last_step = s.index;
+        progress.update(s.index,
+                        s.time,
+                        Circulation::name(s.phases[external[0]]));
       }
 
       void
-      on_transition(const Circulation::Transition &e) override
+      on_event(const unsigned int            valve,
+               const bool                    opens,
+               const HeartbeatStepper::Step &s) override
       {
-        results.append_event(
-          {{"time", "ms", e.time},
-           {"beat", "-", static_cast<double>(e.beat)},
-           {"from_phase", "-", static_cast<double>(Circulation::code(e.from))},
-           {"to_phase", "-", static_cast<double>(Circulation::code(e.to))},
-           {"pressure_mmHg", "mmHg", Units::kPa_to_mmHg(e.pressure)},
-           {"volume_mL", "mL", Units::mm3_to_mL(e.volume)},
-           {"arterial_pressure_mmHg",
-            "mmHg",
-            Units::kPa_to_mmHg(e.arterial_pressure)}});
+        results.append_event(valve_event_columns(model,
+                                                 s.time,
+                                                 s.beat,
+                                                 valve,
+                                                 opens,
+                                                 s.state,
+                                                 s.pressures));
         std::ostringstream o;
-        o << std::fixed << std::setprecision(1) << "  t = " << e.time
-          << " ms: " << Circulation::event_name(e.from, e.to)
-          << " (p = " << Units::kPa_to_mmHg(e.pressure)
-          << " mmHg, V = " << Units::mm3_to_mL(e.volume) << " mL)";
+        o << std::fixed << std::setprecision(1) << "  t = " << s.time
+          << " ms: " << model.valves()[valve].name << " valve "
+          << (opens ? "opens" : "closes");
+        for (const unsigned int c : external)
+          o << " (" << model.cavities()[c].name << " "
+            << Units::kPa_to_mmHg(s.pressures[c]) << " mmHg, "
+            << Units::mm3_to_mL(s.state[model.cavities()[c].volume_state])
+            << " mL)";
         logger.line(o.str());
       }
 
       void
-      on_beat(const Circulation::BeatSummary &summary) override
+      on_beat(const unsigned int                             beat,
+              const std::vector<Circulation::SummaryColumn> &summary) override
       {
         std::vector<IO::Column> row;
-        for (const auto &c : Circulation::summary_columns(summary))
+        for (const auto &c : summary)
           row.push_back({c.name, c.unit, c.value});
         row.push_back(
           {"newton_iterations", "-", static_cast<double>(total_iterations)});
         row.push_back(
           {"mechanics_solves", "-", static_cast<double>(total_solves)});
+        row.push_back({"steps", "-", static_cast<double>(steps_in_beat)});
+        row.push_back(
+          {"rejected_steps", "-", static_cast<double>(total_rejected)});
         // The cost of this beat (wall times on rank 0, the slowest rank's
         // share is similar): the mechanics solves, their assembly and
         // linear solver and cavity volume sections, the electrophysiology.
@@ -356,11 +331,11 @@ namespace systole
           const auto it = timings.find(section);
           return it == timings.end() ? 0.0 : it->second;
         };
-        const std::array<double, 5> seconds  = {{ventricle.mechanics_seconds,
+        const std::array<double, 5> seconds  = {{ventricles.mechanics_seconds,
                                                  in("Mechanics / assembly"),
                                                  in("Mechanics / linear solver"),
                                                  in("Mechanics / cavity volume"),
-                                                 ventricle.ep_seconds}};
+                                                 ventricles.ep_seconds}};
         const char                 *names[5] = {"mechanics_seconds",
                                                 "assembly_seconds",
                                                 "linear_solver_seconds",
@@ -374,10 +349,10 @@ namespace systole
           {
             // The activation of this beat, from its stimulus onset (the
             // beat start); NaN if the wave did not reach 90 % / all of it.
-            const auto a = ep->beat_summary();
-            row.push_back({"activation_time_90",
-                           "ms",
-                           a.fraction_time - summary.start_time});
+            const double start = summary_value(summary, "start_time");
+            const auto   a     = ep->beat_summary();
+            row.push_back(
+              {"activation_time_90", "ms", a.fraction_time - start});
             row.push_back({"total_activation_time", "ms", a.total});
             const unsigned long ep_steps = ep->statistics().steps;
             row.push_back({"ep_steps",
@@ -385,22 +360,20 @@ namespace systole
                            static_cast<double>(ep_steps - ep_steps_in_beats)});
             ep_steps_in_beats = ep_steps;
             activation << std::fixed << std::setprecision(1)
-                       << ", 90 % active after "
-                       << a.fraction_time - summary.start_time << " ms";
+                       << ", 90 % active after " << a.fraction_time - start
+                       << " ms";
           }
         results.append_summary(row);
-        total_iterations = 0;
-        total_solves     = 0;
         std::ostringstream o;
-        o << std::fixed << std::setprecision(1) << "Beat " << summary.beat
-          << ": EDV " << Units::mm3_to_mL(summary.end_diastolic_volume)
-          << " mL, ESV " << Units::mm3_to_mL(summary.end_systolic_volume)
-          << " mL, EF " << 100 * summary.ejection_fraction << " %, peak "
-          << Units::kPa_to_mmHg(summary.peak_pressure) << " mmHg, EDP "
-          << Units::kPa_to_mmHg(summary.end_diastolic_pressure)
-          << " mmHg, EDV change " << 100 * summary.periodicity << " %"
+        o << beat_log_line(model,
+                           beat,
+                           summary,
+                           summary_value(summary, "periodicity"))
+          << "; " << steps_in_beat << " steps, " << total_solves
+          << " mechanics solves, " << total_iterations << " Newton iterations"
           << activation.str();
         logger.line(o.str());
+        total_iterations = total_solves = total_rejected = steps_in_beat = 0;
       }
 
       bool
@@ -409,9 +382,17 @@ namespace systole
         return interrupted(comm);
       }
 
+      /// The fields of the last step, unless written already. Collective.
+      void
+      finish()
+      {
+        if (run.field_output_interval > 0 && last_step != last_field_step)
+          write_fields(last_step);
+      }
+
     private:
       void
-      write_fields()
+      write_fields(const unsigned int step)
       {
         dealii::DataOut<3> data_out;
         problem.attach_output(data_out);
@@ -422,22 +403,24 @@ namespace systole
         last_field_step = step;
       }
 
-      IO::ResultsFile      &results;
-      MechanicsVentricle   &ventricle;
-      Mechanics::Problem   &problem;
-      ElectricalActivation *ep;
-      const RunParameters  &run;
-      Logger               &logger;
-      Progress             &progress;
-      double                end_time;
-      MPI_Comm              comm;
-      unsigned int          step             = 0;
-      unsigned int          total_iterations = 0, total_solves = 0;
-      unsigned long         ep_steps_written = 0, ep_steps_in_beats = 0;
+      const Circulation::Model &model;
+      IO::ResultsFile          &results;
+      MechanicsVentricles      &ventricles;
+      Mechanics::Problem       &problem;
+      ElectricalActivation     *ep;
+      const RunParameters      &run;
+      Logger                   &logger;
+      Progress                 &progress;
+      MPI_Comm                  comm;
+      std::vector<unsigned int> external;
+      unsigned int  total_iterations = 0, total_solves = 0, total_rejected = 0;
+      unsigned int  steps_in_beat    = 0;
+      unsigned long ep_steps_written = 0, ep_steps_in_beats = 0;
       /// Totals at the last summary row: mechanics, assembly, linear solver,
       /// cavity volume, electrophysiology [s].
       std::array<double, 5> seconds_written = {{0, 0, 0, 0, 0}};
       double                last_time       = 0;
+      unsigned int          last_step       = 0;
       /// Step of the last field output (none: the largest value).
       unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
     };
@@ -453,11 +436,6 @@ namespace systole
     const auto circulation   = Circulation::Parameters::parse(prm);
     const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
     const Materials::Bestel bestel(bestel_params, circulation.period);
-    AssertThrow(Mechanics::Parameters::parse(prm).pressure_boundary ==
-                  "endocardium",
-                dealii::ExcMessage(
-                  "Problem = heartbeat needs Mechanics / Pressure boundary = "
-                  "endocardium (the cavity pressure acts there)."));
 
     MechanicsModel model(prm, run, logger, comm);
     const auto    &tria  = model.tria;
@@ -467,16 +445,34 @@ namespace systole
                   names.source() +
                   " has no boundary part named 'base': the "
                   "cavity volume is closed by the base plane."));
-    Mechanics::Problem &problem         = *model.problem;
-    const double        unloaded_volume = problem.cavity_volume();
+    Mechanics::Problem &problem        = *model.problem;
+    bool                on_endocardium = problem.n_cavities() > 0;
+    for (const std::string &name : problem.cavity_names())
+      on_endocardium =
+        on_endocardium && name.find("endocardium") != std::string::npos;
+    AssertThrow(on_endocardium,
+                dealii::ExcMessage(
+                  "Problem = heartbeat needs Mechanics / Pressure boundary = "
+                  "endocardium (the cavity pressure acts there; a part "
+                  "whose name contains 'endocardium')."));
+    AssertThrow(problem.n_cavities() == 1,
+                dealii::ExcMessage(
+                  "Problem = heartbeat couples one 3D cavity, the left "
+                  "ventricle; Mechanics / Pressure boundary lists " +
+                  std::to_string(problem.n_cavities()) +
+                  " parts. Name its endocardium only."));
+    // The left ventricle is 3D, the other chambers of the model 0D.
+    const auto circulation_model     = Circulation::create_model(prm, {"lv"});
+    const Circulation::Model &zero_d = *circulation_model;
+    const Vector              unloaded_volumes = problem.cavity_volumes();
     logger.line(
       model.banner(run) + ", unloaded cavity " +
-      dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volume)) + " mL");
+      dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volumes[0])) +
+      " mL; circulation '" + zero_d.name() + "'");
 
     // The activation times: from the electrophysiology, or prescribed.
     std::unique_ptr<ElectricalActivation> ep;
     std::vector<std::vector<double>>      times;
-    double earliest = std::numeric_limits<double>::max();
     if (bestel_params.activation_map == "electrophysiology")
       {
         ep = std::make_unique<ElectricalActivation>(prm,
@@ -488,46 +484,56 @@ namespace systole
                                                     logger,
                                                     comm);
         logger.line(ep->description());
-        earliest = ep->earliest_stimulus();
       }
     else
-      {
-        times = activation_times(problem,
-                                 bestel_params,
-                                 Geometry::boundary_plane(tria,
-                                                          names.id("base"),
-                                                          "base"),
-                                 comm);
-        for (const auto &cell : times)
-          for (const double t : cell)
-            earliest = std::min(earliest, t);
-        earliest = dealii::Utilities::MPI::min(earliest, comm);
-      }
+      times = activation_times(problem,
+                               bestel_params,
+                               Geometry::boundary_plane(tria,
+                                                        names.id("base"),
+                                                        "base"),
+                               comm);
 
-    MechanicsVentricle ventricle(problem, bestel, times, ep.get(), logger);
-    IO::ResultsFile    results(run.output_directory, parameter_text, comm);
-    const double       end_time = circulation.period * circulation.n_max_beats;
-    Progress           progress(logger,
+    // The initial state: the 0D model's, with the 3D cavity unloaded (u =
+    // 0, p = 0) and its volume that of the mesh.
+    Vector y0, p0, no_pressures(zero_d.n_cavities());
+    zero_d.initial_state(y0);
+    unsigned int a = 0;
+    for (const auto &cavity : zero_d.cavities())
+      if (cavity.kind == Circulation::CavityKind::external)
+        y0[cavity.volume_state] = unloaded_volumes[a++];
+    zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
+
+    HeartbeatStepper::Settings settings;
+    settings.period                    = circulation.period;
+    settings.n_max_beats               = circulation.n_max_beats;
+    settings.periodicity_tolerance     = circulation.periodicity_tolerance;
+    settings.relative_tolerance        = circulation.relative_tolerance;
+    settings.absolute_volume_tolerance = circulation.absolute_volume_tolerance;
+    settings.absolute_pressure_tolerance =
+      circulation.absolute_pressure_tolerance;
+    settings.max_step             = circulation.max_time_step;
+    settings.initial_step         = circulation.initial_time_step;
+    settings.event_time_tolerance = circulation.event_time_tolerance;
+    settings.max_step_cuts        = circulation.max_step_cuts;
+
+    MechanicsVentricles ventricles(problem, bestel, times, ep.get(), logger);
+    IO::ResultsFile     results(run.output_directory, parameter_text, comm);
+    Progress            progress(logger,
                       Progress::parse_mode(run.progress),
                       0.0,
-                      end_time);
-    Writer             writer(results,
-                  ventricle,
+                      circulation.period * circulation.n_max_beats);
+    Writer              writer(zero_d,
+                  results,
+                  ventricles,
                   problem,
                   ep.get(),
                   run,
                   logger,
                   progress,
-                  end_time,
                   comm);
-
-    // The mitral valve may close once the tension starts to rise anywhere.
-    Circulation::CardiacCycle cycle(circulation,
-                                    ventricle,
-                                    unloaded_volume,
-                                    earliest + bestel.onset());
-    const auto                start = std::chrono::steady_clock::now();
-    const auto                stats = cycle.run(writer);
+    HeartbeatStepper    stepper(zero_d, ventricles, settings, y0, p0);
+    const auto          start = std::chrono::steady_clock::now();
+    const auto          stats = stepper.run(writer);
     writer.finish();
     const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -536,9 +542,12 @@ namespace systole
     std::ostringstream o;
     o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
       << (stats.periodic ? ", periodic" : ", not yet periodic") << "; "
-      << stats.n_steps << " steps, " << stats.n_ventricle_calls
-      << " mechanics solves; " << ventricle.mechanics_seconds
-      << " s in the mechanics";
+      << stats.n_steps << " steps, " << stats.n_solves << " coupled solves ("
+      << stats.n_error_rejections << " redone for the error, "
+      << stats.n_event_rejections << " to locate valve events, "
+      << stats.n_failures << " failed), " << stats.n_newton_iterations
+      << " Newton iterations; " << ventricles.mechanics_seconds
+      << " s in the mechanics of " << wall << " s";
     logger.line(o.str());
     if (ep != nullptr)
       {
@@ -550,8 +559,8 @@ namespace systole
           << " per accepted mechanics step), " << s.seconds
           << " s integrating, " << ep->transfer_seconds()
           << " s reading it at the mechanics points; of the " << wall
-          << " s of the cycle " << 100 * ventricle.ep_seconds / wall
-          << " % in EP, " << 100 * ventricle.mechanics_seconds / wall
+          << " s of the cycle " << 100 * ventricles.ep_seconds / wall
+          << " % in EP, " << 100 * ventricles.mechanics_seconds / wall
           << " % in the mechanics";
         logger.line(e.str());
       }

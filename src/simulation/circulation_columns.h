@@ -1,0 +1,56 @@
+#pragma once
+
+#include <deal.II/lac/vector.h>
+
+#include "circulation/model.h"
+#include "circulation/model_summary.h"
+#include "circulation/phase.h"
+#include "io/results_file.h"
+
+#include <string>
+#include <vector>
+
+/// @file
+/// The result rows of a 0D circulation model, shared by Problem =
+/// circulation and Problem = heartbeat (in the units of the results file).
+
+namespace systole
+{
+  /// Appends to @p row: every state and output of @p model at (@p t, @p y,
+  /// @p p_ext) named after it with its unit suffix ("lv_volume_mL",
+  /// "systemic_arterial_pressure_mmHg", "aortic_valve_flow_mL_per_s", ...),
+  /// the phase code of every cavity ("lv_phase", Circulation::code()) and
+  /// total_blood_volume_mL.
+  void
+  append_model_columns(const Circulation::Model              &model,
+                       const double                           t,
+                       const dealii::Vector<double>          &y,
+                       const dealii::Vector<double>          &p_ext,
+                       const std::vector<Circulation::Phase> &phases,
+                       std::vector<IO::Column>               &row);
+
+  /// The /events row of a valve event: time, beat, valve (index into
+  /// Model::valves()), opens (1 or 0), and the volume and pressure of every
+  /// cavity (@p cavity_pressures: all cavities) there.
+  std::vector<IO::Column>
+  valve_event_columns(const Circulation::Model     &model,
+                      const double                  time,
+                      const unsigned int            beat,
+                      const unsigned int            valve,
+                      const bool                    opens,
+                      const dealii::Vector<double> &y,
+                      const dealii::Vector<double> &cavity_pressures);
+
+  /// "Beat k: lv EDV .. mL, ESV .. mL, EF .. %, peak .. mmHg; ... EDV change
+  /// .. %" from a summary row of Circulation::ModelBeatRecorder.
+  std::string
+  beat_log_line(const Circulation::Model                      &model,
+                const unsigned int                             beat,
+                const std::vector<Circulation::SummaryColumn> &summary,
+                const double                                   periodicity);
+
+  /// The value of column @p name in @p row (NaN if absent).
+  double
+  summary_value(const std::vector<Circulation::SummaryColumn> &row,
+                const std::string                             &name);
+} // namespace systole

@@ -1,0 +1,192 @@
+#pragma once
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include "circulation/model.h"
+#include "circulation/model_summary.h"
+#include "circulation/phase.h"
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace systole
+{
+  /// The volumes W(p) [mm^3] the cavities must hold at their pressures p
+  /// [kPa], and dW/dp (the signature of Mechanics::Problem::VolumeTarget).
+  using CavityVolumeTarget =
+    std::function<void(const dealii::Vector<double> &p,
+                       dealii::Vector<double>       &W,
+                       dealii::FullMatrix<double>   &dW_dp)>;
+
+  /// The 3D ventricles of a heartbeat as the stepper sees them: k cavities
+  /// whose pressures are the Lagrange multipliers of volume constraints. The
+  /// 3D model (MechanicsVentricles in heartbeat.cc) or, in tests, a 0D
+  /// surrogate. Every call is collective over the ranks of a distributed
+  /// model and called in the same order on every rank.
+  class CoupledVentricles
+  {
+  public:
+    virtual ~CoupledVentricles() = default;
+
+    /// Bring the model to time @p t [ms]: advance the electrophysiology
+    /// (it may run ahead and be asked for an earlier time after a rejected
+    /// step) and set the active tension of @p t.
+    virtual void
+    set_time(const double t) = 0;
+
+    /// Start the next solve from the extrapolation of the last two accepted
+    /// states: ratio = (next step) / (last step).
+    virtual void
+    predict(const double ratio) = 0;
+
+    /// Equilibrium at the time of set_time() with the cavity volumes equal
+    /// to @p target (p): the pressures @p p [kPa] are the guess on entry and
+    /// the solution on exit. Returns the Newton iterations. Throws
+    /// ExcNewtonDidNotConverge or ExcInvertedElement when it fails (the
+    /// stepper then reject()s and retries with a shorter step).
+    virtual unsigned int
+    solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) = 0;
+
+    /// The solution of the last solve() becomes the accepted state.
+    virtual void
+    accept() = 0;
+
+    /// Back to the last accepted state.
+    virtual void
+    reject() = 0;
+  };
+
+  /// The heartbeat's clock: steps the 3D ventricles and the 0D circulation
+  /// together, one implicit coupled step per time step. Per step:
+  /// @code
+  ///   ventricles.set_time(t_new);          // electrophysiology, tension
+  ///   solve_coupled(t_new);                // mechanics + BDF step of the 0D
+  ///   if (valve event inside) aim at it;   // located to Settings tolerance
+  ///   else if (error too large) shorten;
+  ///   else accept, record, output;
+  /// @endcode
+  /// The coupled step: the 0D states advance by variable-step BDF2
+  /// (Circulation::BdfStep) with the cavity pressures p as inputs; the 3D
+  /// mechanics is solved with its cavity volumes equal to the 0D volume
+  /// states at the end of the step, V(u) = W(p), the pressures the Lagrange
+  /// multipliers. Newton on the bordered system uses dW/dp, so the coupled
+  /// step converges like one mechanics solve (Mechanics::Problem::
+  /// solve_cavities: a k x k Schur complement beside the mechanics block
+  /// solve).
+  ///
+  /// Steps: adaptive by the BDF local error of the 0D states and the
+  /// curvature of the cavity pressures (small in the upstroke and around
+  /// valve events, up to Settings::max_step in diastasis), ending at every
+  /// beat's end and at every valve event (located: the step that crosses a
+  /// sign change of a valve's indicator is redone to end within
+  /// Settings::event_time_tolerance after the crossing), after which the BDF
+  /// restarts with order 1 and Settings::initial_step.
+  ///
+  /// Phases: per cavity, from its own valves (Circulation::CavityPhases).
+  class HeartbeatStepper
+  {
+  public:
+    struct Settings
+    {
+      double       period                      = 800.0; ///< [ms]
+      unsigned int n_max_beats                 = 4;
+      double       periodicity_tolerance       = 0.01; ///< 0: run all beats
+      double       relative_tolerance          = 1e-3;
+      double       absolute_volume_tolerance   = 1.0;  ///< [mm^3]
+      double       absolute_pressure_tolerance = 0.01; ///< [kPa]
+      double       max_step                    = 20.0; ///< [ms]
+      double       initial_step                = 0.5;  ///< [ms]
+      double       min_step                    = 1e-3; ///< [ms]
+      double       event_time_tolerance        = 0.1;  ///< [ms]
+      /// Failed solves in a row before the run stops.
+      unsigned int max_step_cuts = 10;
+    };
+
+    /// One accepted step.
+    struct Step
+    {
+      unsigned int                           index; ///< 0: the initial state
+      double                                 time;  ///< [ms]
+      double                                 step_size;
+      unsigned int                           beat;
+      const dealii::Vector<double>          &state;     ///< 0D state y
+      const dealii::Vector<double>          &pressures; ///< every cavity [kPa]
+      const std::vector<Circulation::Phase> &phases;
+      unsigned int newton_iterations; ///< mechanics, this step's attempts
+      unsigned int mechanics_solves;  ///< this step's attempts
+      unsigned int rejected;          ///< attempts redone (error, events)
+      unsigned int order;             ///< BDF order of the step
+    };
+
+    /// Receives the results as they are computed.
+    class Observer
+    {
+    public:
+      virtual ~Observer() = default;
+      /// The initial state, then every accepted step (a step ending at a
+      /// valve event comes before its on_event()).
+      virtual void
+      on_step(const Step &step) = 0;
+      /// A valve of the model opened or closed at the end of the last step.
+      virtual void
+      on_event(const unsigned int valve, const bool opens, const Step &step)
+      {
+        (void)valve;
+        (void)opens;
+        (void)step;
+      }
+      /// A beat ended; @p summary from Circulation::ModelBeatRecorder.
+      virtual void
+      on_beat(const unsigned int                             beat,
+              const std::vector<Circulation::SummaryColumn> &summary)
+      {
+        (void)beat;
+        (void)summary;
+      }
+      /// Asked after every accepted step; true ends run(). Collective.
+      virtual bool
+      stop_requested()
+      {
+        return false;
+      }
+    };
+
+    struct Statistics
+    {
+      unsigned int  n_beats             = 0;
+      bool          periodic            = false;
+      bool          interrupted         = false;
+      unsigned long n_steps             = 0; ///< accepted
+      unsigned long n_solves            = 0; ///< coupled solves, all attempts
+      unsigned long n_newton_iterations = 0;
+      unsigned long n_error_rejections  = 0;
+      unsigned long n_event_rejections  = 0;
+      unsigned long n_failures          = 0; ///< failed solves, step cut
+      unsigned long n_events            = 0;
+      double        end_time            = 0;
+    };
+
+    /// @p model: its external cavities are the ventricles' cavities, in
+    /// order; @p y0 its initial state (the external cavities' volumes those
+    /// of the 3D model at @p p0), @p p0 the initial pressures of every
+    /// cavity [kPa]. The references must outlive this object.
+    HeartbeatStepper(const Circulation::Model     &model,
+                     CoupledVentricles            &ventricles,
+                     const Settings               &settings,
+                     const dealii::Vector<double> &y0,
+                     const dealii::Vector<double> &p0);
+    ~HeartbeatStepper();
+
+    /// Beats from t = 0 until periodic (the largest relative change of a
+    /// cavity's EDV from the last beat below the tolerance, from the second
+    /// beat on), n_max_beats, or the observer's stop. Call once.
+    Statistics
+    run(Observer &observer);
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl;
+  };
+} // namespace systole

@@ -1,0 +1,138 @@
+#include "circulation/bdf_step.h"
+#include "circulation/closed_loop.h"
+#include "circulation/ode_integrator.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace systole::Circulation;
+
+namespace
+{
+  using Vector = dealii::Vector<double>;
+
+  /// The closed loop integrated with BdfStep in equal steps of @p h [ms] up
+  /// to @p t_end, the pressures of external cavities fixed at @p p_ext.
+  Vector
+  integrate(const Model  &model,
+            const double  h,
+            const double  t_end,
+            const Vector &p_ext,
+            double       &largest_volume_change)
+  {
+    Vector y0;
+    model.initial_state(y0);
+    Vector            p0(model.n_cavities());
+    BdfStep::Settings settings;
+    BdfStep           step(model, settings, 0.0, y0, p0);
+    const double      volume0 = model.total_blood_volume(y0);
+    largest_volume_change     = 0;
+    Vector                     W, p(step.external_cavities().size());
+    dealii::FullMatrix<double> dW_dp;
+    for (unsigned int a = 0; a < p.size(); ++a)
+      p[a] = p_ext[step.external_cavities()[a]];
+    const unsigned int n = std::lround(t_end / h);
+    for (unsigned int i = 1; i <= n; ++i)
+      {
+        step.begin(i * h);
+        step.solve(p, W, dW_dp);
+        step.accept();
+        largest_volume_change =
+          std::max(largest_volume_change,
+                   std::abs(model.total_blood_volume(step.state()) - volume0) /
+                     volume0);
+      }
+    return step.state();
+  }
+
+  double
+  relative_difference(const Vector &a, const Vector &b)
+  {
+    Vector d = a;
+    d -= b;
+    return d.l2_norm() / b.l2_norm();
+  }
+} // namespace
+
+TEST_CASE("BDF2 steps of the closed loop converge to ARKode's solution at "
+          "second order and conserve the blood volume to round-off",
+          "[circulation][bdf]")
+{
+  const ClosedLoop model{ClosedLoop::Parameters()};
+  Vector           y0;
+  model.initial_state(y0);
+  Integrator::Settings tight;
+  tight.relative_tolerance        = 1e-10;
+  tight.absolute_volume_tolerance = 1e-8;
+  Integrator reference(model, tight, 0.0, y0);
+  // Half a beat: through the isovolumetric contraction and the ejection.
+  const double t_end = 400;
+  reference.advance(t_end);
+
+  const Vector p_ext(model.n_cavities()); // no external cavities
+  double       drift_coarse = 0, drift_fine = 0;
+  const double e_coarse =
+    relative_difference(integrate(model, 1.0, t_end, p_ext, drift_coarse),
+                        reference.state());
+  const double e_fine =
+    relative_difference(integrate(model, 0.5, t_end, p_ext, drift_fine),
+                        reference.state());
+  INFO("error h = 1 ms: " << e_coarse << ", h = 0.5 ms: " << e_fine);
+  // Second order: 4 for the halved step; the kinks of the diode valves
+  // inside steps cost a little.
+  CHECK(e_coarse / e_fine > 3.0);
+  CHECK(e_fine < 1e-4);
+  CHECK(drift_coarse < 1e-13);
+  CHECK(drift_fine < 1e-13);
+}
+
+TEST_CASE("BdfStep's volume target dW/dp of two external cavities equals "
+          "central differences",
+          "[circulation][bdf]")
+{
+  ClosedLoop::Parameters parameters;
+  parameters.left_ventricle_kind = parameters.right_ventricle_kind =
+    CavityKind::external;
+  const ClosedLoop model(parameters);
+  REQUIRE(model.n_cavities() == 2);
+  Vector y0;
+  model.initial_state(y0);
+  Vector p0(2);
+  p0[0] = 1.2; // kPa: the mitral valve open, the aortic one closed
+  p0[1] = 0.4;
+  BdfStep::Settings settings;
+  BdfStep           step(model, settings, 0.0, y0, p0);
+  REQUIRE(step.external_cavities().size() == 2);
+  // Two steps, so the second is BDF2.
+  Vector                     W, W_plus, W_minus;
+  dealii::FullMatrix<double> dW_dp, unused;
+  step.begin(2.0);
+  step.solve(p0, W, dW_dp);
+  step.accept();
+  REQUIRE(step.order() == 2);
+  step.begin(5.0);
+  Vector p = p0;
+  p[0]     = 1.3;
+  step.solve(p, W, dW_dp);
+  const double delta = 1e-5;
+  for (unsigned int b = 0; b < 2; ++b)
+    {
+      Vector pp = p, pm = p;
+      pp[b] += delta;
+      pm[b] -= delta;
+      step.solve(pp, W_plus, unused);
+      step.solve(pm, W_minus, unused);
+      for (unsigned int a = 0; a < 2; ++a)
+        {
+          const double fd = (W_plus[a] - W_minus[a]) / (2 * delta);
+          INFO("dW_" << a << "/dp_" << b << " = " << dW_dp(a, b)
+                     << ", central difference " << fd);
+          CHECK(std::abs(fd - dW_dp(a, b)) <=
+                1e-6 * std::max(1.0, std::abs(dW_dp(a, b))));
+        }
+    }
+  // A higher cavity pressure pushes blood out: the volume falls.
+  CHECK(dW_dp(0, 0) < 0);
+  CHECK(dW_dp(1, 1) < 0);
+}

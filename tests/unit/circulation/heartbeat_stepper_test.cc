@@ -1,0 +1,210 @@
+#include "base/errors.h"
+#include "base/units.h"
+#include "circulation/chamber_elastance.h"
+#include "circulation/closed_loop.h"
+#include "circulation/model_summary.h"
+#include "circulation/ode_integrator.h"
+#include "simulation/heartbeat_stepper.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <map>
+#include <string>
+
+using namespace systole;
+using namespace systole::Circulation;
+
+namespace
+{
+  using Vector = dealii::Vector<double>;
+
+  /// 0D elastance chambers in place of the 3D ventricles: at time t the
+  /// pressures solve p = E(t) (W(p) - V_0) by Newton's method (an
+  /// independent path to the closed loop with elastance ventricles).
+  class ElastanceVentricles : public CoupledVentricles
+  {
+  public:
+    ElastanceVentricles(std::vector<ChamberElastance> chambers)
+      : chambers(std::move(chambers))
+    {}
+
+    void
+    set_time(const double t) override
+    {
+      time = t;
+    }
+    void
+    predict(const double) override
+    {}
+    unsigned int
+    solve(const CavityVolumeTarget &target, Vector &p) override
+    {
+      const unsigned int         k = chambers.size();
+      Vector                     W, r(k), dp(k);
+      dealii::FullMatrix<double> dW_dp, J(k, k);
+      for (unsigned int it = 0; it < 30; ++it)
+        {
+          target(p, W, dW_dp);
+          double size = 0;
+          for (unsigned int a = 0; a < k; ++a)
+            {
+              const double E = chambers[a].elastance(time);
+              r[a]           = p[a] - chambers[a].pressure(time, W[a]);
+              size           = std::max(size, std::abs(r[a]));
+              for (unsigned int b = 0; b < k; ++b)
+                J(a, b) = (a == b ? 1.0 : 0.0) - E * dW_dp(a, b);
+            }
+          if (size <= 1e-12)
+            return it;
+          J.gauss_jordan();
+          J.vmult(dp, r);
+          p -= dp;
+          ++iterations;
+        }
+      throw ExcNewtonDidNotConverge("elastance surrogate", 30, 1.0);
+    }
+    void
+    accept() override
+    {}
+    void
+    reject() override
+    {}
+
+    unsigned int iterations = 0;
+
+  private:
+    std::vector<ChamberElastance> chambers;
+    double                        time = 0;
+  };
+
+  /// Keeps the summary rows.
+  struct Summaries : HeartbeatStepper::Observer
+  {
+    void
+    on_step(const HeartbeatStepper::Step &step) override
+    {
+      max_order = std::max(max_order, step.order);
+      ++steps;
+    }
+    void
+    on_beat(const unsigned int,
+            const std::vector<SummaryColumn> &summary) override
+    {
+      rows.emplace_back();
+      for (const auto &c : summary)
+        rows.back()[c.name] = c.value;
+    }
+    std::vector<std::map<std::string, double>> rows;
+    unsigned int                               max_order = 0, steps = 0;
+  };
+
+  /// The summary rows of the closed loop with elastance ventricles,
+  /// integrated by ARKode (tight tolerances).
+  std::vector<std::map<std::string, double>>
+  reference_rows(const ClosedLoop &model, const unsigned int n_beats)
+  {
+    Vector y;
+    model.initial_state(y);
+    Integrator::Settings tight;
+    tight.relative_tolerance        = 1e-10;
+    tight.absolute_volume_tolerance = 1e-8;
+    tight.max_step                  = 1.0;
+    Integrator        integrator(model, tight, 0.0, y);
+    ModelBeatRecorder recorder(model, integrator.valves_open());
+    Vector            p, outputs, p_ext(model.n_cavities());
+    const auto        sample = [&](const double t, const Vector &y) {
+      model.cavity_pressures(t, y, p_ext, p);
+      model.evaluate_outputs(t, y, p_ext, outputs);
+      recorder.add(t, y, p, outputs);
+    };
+    std::vector<std::map<std::string, double>> rows;
+    const double                               T = model.parameters().period;
+    sample(0.0, y);
+    for (unsigned int beat = 0; beat < n_beats; ++beat)
+      {
+        recorder.start(beat, beat * T);
+        for (unsigned int i = 1; i <= 800; ++i)
+          {
+            for (const auto &e : integrator.advance(beat * T + i * T / 800))
+              {
+                model.cavity_pressures(e.time, e.state, p_ext, p);
+                recorder.add_valve_event(e.valve, e.opens, e.time, e.state, p);
+                sample(e.time, e.state);
+              }
+            sample(integrator.time(), integrator.state());
+          }
+        rows.emplace_back();
+        for (const auto &c : recorder.finish((beat + 1) * T))
+          rows.back()[c.name] = c.value;
+      }
+    return rows;
+  }
+} // namespace
+
+TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
+          "ventricles reproduces the 0D closed loop",
+          "[circulation][stepper]")
+{
+  const ClosedLoop::Parameters elastance;
+  const ClosedLoop             reference_model(elastance);
+  ClosedLoop::Parameters       coupled = elastance;
+  coupled.left_ventricle_kind          = coupled.right_ventricle_kind =
+    CavityKind::external;
+  const ClosedLoop    model(coupled);
+  const double        T = elastance.period;
+  ElastanceVentricles ventricles(
+    {ChamberElastance(elastance.left_ventricle, T),
+     ChamberElastance(elastance.right_ventricle, T)});
+
+  Vector y0;
+  model.initial_state(y0);
+  Vector p0(2);
+  for (unsigned int c = 0; c < 2; ++c)
+    {
+      const ChamberElastance chamber(c == 0 ? elastance.left_ventricle
+                                            : elastance.right_ventricle,
+                                     T);
+      p0[c] = chamber.pressure(0.0, y0[model.cavities()[c].volume_state]);
+    }
+  HeartbeatStepper::Settings settings;
+  settings.period                      = T;
+  settings.n_max_beats                 = 2;
+  settings.periodicity_tolerance       = 0;
+  settings.relative_tolerance          = 1e-4;
+  settings.absolute_volume_tolerance   = 0.1;
+  settings.absolute_pressure_tolerance = 1e-3;
+  settings.event_time_tolerance        = 0.01;
+  HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
+  Summaries        summaries;
+  const auto       stats = stepper.run(summaries);
+  REQUIRE(stats.n_beats == 2);
+  REQUIRE(summaries.rows.size() == 2);
+  CHECK(summaries.max_order == 2);
+  INFO(stats.n_steps << " steps, " << stats.n_solves << " solves, "
+                     << stats.n_error_rejections << " error rejections, "
+                     << stats.n_event_rejections << " event rejections, "
+                     << stats.n_events << " events");
+  // Each of the four valves opens and closes once per beat.
+  CHECK(stats.n_events == 16);
+  CHECK(stats.n_failures == 0);
+
+  const auto reference = reference_rows(reference_model, 2);
+  for (unsigned int beat = 0; beat < 2; ++beat)
+    for (const std::string name : {"lv_EDV_mL",
+                                   "lv_ESV_mL",
+                                   "lv_peak_pressure_mmHg",
+                                   "rv_EDV_mL",
+                                   "rv_ESV_mL",
+                                   "rv_peak_pressure_mmHg",
+                                   "systemic_arterial_pressure_max_mmHg"})
+      {
+        const double ref = reference[beat].at(name);
+        const double got = summaries.rows[beat].at(name);
+        INFO("beat " << beat << " " << name << ": stepper " << got
+                     << ", ARKode " << ref);
+        CHECK(std::abs(got - ref) <= 2e-3 * std::abs(ref));
+      }
+  // The blood volume of the closed loop is conserved by the BDF steps.
+  CHECK(std::abs(summaries.rows[1].at("total_blood_volume_drift")) < 1e-12);
+}
