@@ -44,18 +44,28 @@ namespace systole
     class MechanicsVentricles : public CoupledVentricles
     {
     public:
+      /// @p contraction_onset: the earliest time in a beat at which a
+      /// point's tension starts to rise [ms].
       MechanicsVentricles(Mechanics::Problem              &problem,
                           const Materials::Bestel         &bestel,
                           std::vector<std::vector<double>> activation_times,
                           ElectricalActivation            *ep,
+                          const double                     contraction_onset,
                           Logger                          &logger)
         : problem(problem)
         , bestel(bestel)
         , activation_times(std::move(activation_times))
         , ep(ep)
+        , contraction_onset(contraction_onset)
         , logger(logger)
       {
         problem.save();
+      }
+
+      std::vector<double>
+      breakpoints_in_beat() const override
+      {
+        return {contraction_onset};
       }
 
       void
@@ -96,8 +106,9 @@ namespace systole
       unsigned int
       solve(const CavityVolumeTarget &target, Vector &p) override
       {
-        logger.detail() << "    mechanics at t = " << time << " ms"
-                        << std::endl;
+        logger.detail() << "    mechanics at t = " << std::fixed
+                        << std::setprecision(3) << time << " ms"
+                        << std::defaultfloat << std::endl;
         const auto start  = std::chrono::steady_clock::now();
         const auto report = problem.solve_cavities(target, 0.0, p);
         mechanics_seconds += std::chrono::duration<double>(
@@ -145,6 +156,7 @@ namespace systole
       std::vector<std::vector<double>> activation_times;
       ElectricalActivation            *ep;
       std::vector<std::vector<double>> tension;
+      const double                     contraction_onset;
       Logger                          &logger;
       double                           time = 0;
     };
@@ -473,6 +485,7 @@ namespace systole
     // The activation times: from the electrophysiology, or prescribed.
     std::unique_ptr<ElectricalActivation> ep;
     std::vector<std::vector<double>>      times;
+    double earliest = std::numeric_limits<double>::max();
     if (bestel_params.activation_map == "electrophysiology")
       {
         ep = std::make_unique<ElectricalActivation>(prm,
@@ -484,14 +497,21 @@ namespace systole
                                                     logger,
                                                     comm);
         logger.line(ep->description());
+        earliest = ep->earliest_stimulus();
       }
     else
-      times = activation_times(problem,
-                               bestel_params,
-                               Geometry::boundary_plane(tria,
-                                                        names.id("base"),
-                                                        "base"),
-                               comm);
+      {
+        times = activation_times(problem,
+                                 bestel_params,
+                                 Geometry::boundary_plane(tria,
+                                                          names.id("base"),
+                                                          "base"),
+                                 comm);
+        for (const auto &cell : times)
+          for (const double t : cell)
+            earliest = std::min(earliest, t);
+        earliest = dealii::Utilities::MPI::min(earliest, comm);
+      }
 
     // The initial state: the 0D model's, with the 3D cavity unloaded (u =
     // 0, p = 0) and its volume that of the mesh.
@@ -516,7 +536,16 @@ namespace systole
     settings.event_time_tolerance = circulation.event_time_tolerance;
     settings.max_step_cuts        = circulation.max_step_cuts;
 
-    MechanicsVentricles ventricles(problem, bestel, times, ep.get(), logger);
+    // The tension starts to rise at the earliest activation plus the
+    // Bestel onset, taken within the beat.
+    const double onset =
+      std::fmod(earliest + bestel.onset(), circulation.period);
+    MechanicsVentricles ventricles(problem,
+                                   bestel,
+                                   times,
+                                   ep.get(),
+                                   onset,
+                                   logger);
     IO::ResultsFile     results(run.output_directory, parameter_text, comm);
     Progress            progress(logger,
                       Progress::parse_mode(run.progress),

@@ -34,6 +34,7 @@ namespace systole
       , open(initial_valves(model, y0, p0))
       , recorder(model, open)
       , phases(std::make_unique<Circulation::CavityPhases>(model, open))
+      , breakpoints(ventricles.breakpoints_in_beat())
     {
       model.valve_indicators(0.0, y0, p0, indicators);
     }
@@ -76,6 +77,7 @@ namespace systole
     Circulation::ModelBeatRecorder             recorder;
     std::unique_ptr<Circulation::CavityPhases> phases;
     std::vector<Circulation::Phase>            phase_list;
+    const std::vector<double>                  breakpoints;
     Vector       indicators; ///< at the accepted state
     Statistics   stats;
     unsigned int beat = 0, step_index = 0;
@@ -208,9 +210,14 @@ namespace systole
       {
         const double t        = m.bdf.time();
         const double beat_end = (m.beat + 1) * s.period;
-        double       t_new    = std::min({t + h, beat_end, upper});
-        if (beat_end - t_new < s.min_step)
-          t_new = beat_end; // no sliver before the beat's end
+        // The next breakpoint after t (the steps end there).
+        double breakpoint = beat_end;
+        for (const double b : m.breakpoints)
+          if (m.beat * s.period + b > t + s.min_step)
+            breakpoint = std::min(breakpoint, m.beat * s.period + b);
+        double t_new = std::min({t + h, breakpoint, upper});
+        if (breakpoint - t_new < s.min_step)
+          t_new = breakpoint; // no sliver before a breakpoint
         const double h_try = t_new - t;
         m.step_order       = m.bdf.order();
 
@@ -284,6 +291,8 @@ namespace systole
             h     = s.initial_step;
             upper = std::numeric_limits<double>::infinity();
           }
+        else if (t_new == breakpoint && t_new < beat_end)
+          h = s.initial_step;
         else
           h = std::clamp(ratio * h_try, s.min_step, s.max_step);
         if (upper <= t_new)

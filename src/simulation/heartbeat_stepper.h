@@ -56,6 +56,15 @@ namespace systole
     /// Back to the last accepted state.
     virtual void
     reject() = 0;
+
+    /// Times within a beat [ms from its start] where the loads change
+    /// abruptly (the onset of the active tension): steps end there and
+    /// continue with Settings::initial_step, as after a valve event.
+    virtual std::vector<double>
+    breakpoints_in_beat() const
+    {
+      return {};
+    }
   };
 
   /// The heartbeat's clock: steps the 3D ventricles and the 0D circulation
@@ -79,7 +88,8 @@ namespace systole
   /// Steps: adaptive by the BDF local error of the 0D states and the
   /// curvature of the cavity pressures (small in the upstroke and around
   /// valve events, up to Settings::max_step in diastasis), ending at every
-  /// beat's end and at every valve event (located: the step that crosses a
+  /// beat's end, at the ventricles' breakpoints (the contraction onset) and
+  /// at every valve event (located: the step that crosses a
   /// sign change of a valve's indicator is redone to end within
   /// Settings::event_time_tolerance after the crossing), after which the BDF
   /// restarts with order 1 and Settings::initial_step.
