@@ -185,7 +185,11 @@ namespace systole::Circulation
                   dW_dp(a, b) =
                     dy_dp[model.cavities()[external[a]].volume_state];
               }
-            solved = true;
+            // The pressures of the elastance cavities at the solution.
+            dealii::Vector<double> all;
+            model.cavity_pressures(t_new, y_solution, p_solution, all);
+            p_solution = all;
+            solved     = true;
             return;
           }
         AssertThrow(it + 1 < max_iterations && std::isfinite(size),

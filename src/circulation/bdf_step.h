@@ -113,7 +113,8 @@ namespace systole::Circulation
           dealii::FullMatrix<double>   &dW_dp);
 
     /// The state of the last solve() and the pressures of all cavities
-    /// there.
+    /// there (the given ones of the external cavities, E(t) (V - V_0) of the
+    /// elastance ones).
     const dealii::Vector<double> &
     solution() const
     {

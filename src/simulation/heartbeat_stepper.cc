@@ -203,9 +203,12 @@ namespace systole
     m.recorder.start(0, 0.0);
     m.record(observer, {});
 
-    double       h     = s.initial_step;
-    double       upper = std::numeric_limits<double>::infinity(); // a crossing
-    unsigned int cuts  = 0;
+    double h     = s.initial_step;
+    double upper = std::numeric_limits<double>::infinity(); // a crossing
+    // After a failed solve, the steps grow back slowly: at most 3/4 of the
+    // failed step, then 10 % more per accepted step.
+    double       cap  = std::numeric_limits<double>::infinity();
+    unsigned int cuts = 0;
     for (;;)
       {
         const double t        = m.bdf.time();
@@ -215,7 +218,7 @@ namespace systole
         for (const double b : m.breakpoints)
           if (m.beat * s.period + b > t + s.min_step)
             breakpoint = std::min(breakpoint, m.beat * s.period + b);
-        double t_new = std::min({t + h, breakpoint, upper});
+        double t_new = std::min({t + std::min(h, cap), breakpoint, upper});
         if (breakpoint - t_new < s.min_step)
           t_new = breakpoint; // no sliver before a breakpoint
         const double h_try = t_new - t;
@@ -231,11 +234,11 @@ namespace systole
             o << "The coupled mechanics and circulation step from t = " << t
               << " ms failed " << cuts
               << " times in a row, the last time with a step of " << h_try
-              << " ms. Shorten Circulation / Maximum time step, or see the "
-                 "Newton log (Output / Verbosity = detail).";
+              << " ms. See the Newton log (Output / Solver log = on).";
             AssertThrow(cuts <= s.max_step_cuts && h_try > s.min_step,
                         dealii::ExcMessage(o.str()));
-            h = 0.5 * h_try;
+            h   = 0.5 * h_try;
+            cap = 0.75 * h_try;
             continue;
           }
         cuts = 0;
@@ -297,6 +300,7 @@ namespace systole
           h = std::clamp(ratio * h_try, s.min_step, s.max_step);
         if (upper <= t_new)
           upper = std::numeric_limits<double>::infinity();
+        cap *= 1.1;
         m.record(observer, switched);
         m.stats.end_time = t_new;
 

@@ -92,7 +92,9 @@ namespace systole
   /// at every valve event (located: the step that crosses a
   /// sign change of a valve's indicator is redone to end within
   /// Settings::event_time_tolerance after the crossing), after which the BDF
-  /// restarts with order 1 and Settings::initial_step.
+  /// restarts with order 1 and Settings::initial_step. A failed solve
+  /// (Newton, an inverted element) halves the step, and the steps after it
+  /// stay below 3/4 of the failed one, growing by 10 % per accepted step.
   ///
   /// Phases: per cavity, from its own valves (Circulation::CavityPhases).
   class HeartbeatStepper

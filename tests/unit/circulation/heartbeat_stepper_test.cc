@@ -148,14 +148,21 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
 {
   const ClosedLoop::Parameters elastance;
   const ClosedLoop             reference_model(elastance);
-  ClosedLoop::Parameters       coupled = elastance;
-  coupled.left_ventricle_kind          = coupled.right_ventricle_kind =
-    CavityKind::external;
-  const ClosedLoop    model(coupled);
-  const double        T = elastance.period;
-  ElastanceVentricles ventricles(
-    {ChamberElastance(elastance.left_ventricle, T),
-     ChamberElastance(elastance.right_ventricle, T)});
+  const double                 T = elastance.period;
+  // Both ventricles coupled, or the left one only (the right one stays a 0D
+  // elastance of the model, as with a 3D left ventricle).
+  const bool             both    = GENERATE(true, false);
+  ClosedLoop::Parameters coupled = elastance;
+  coupled.left_ventricle_kind    = CavityKind::external;
+  if (both)
+    coupled.right_ventricle_kind = CavityKind::external;
+  const ClosedLoop              model(coupled);
+  std::vector<ChamberElastance> chambers = {
+    ChamberElastance(elastance.left_ventricle, T)};
+  if (both)
+    chambers.emplace_back(elastance.right_ventricle, T);
+  ElastanceVentricles ventricles(chambers);
+  INFO((both ? "both ventricles coupled" : "the left ventricle coupled"));
 
   Vector y0;
   model.initial_state(y0);
@@ -197,7 +204,9 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
                                    "rv_EDV_mL",
                                    "rv_ESV_mL",
                                    "rv_peak_pressure_mmHg",
-                                   "systemic_arterial_pressure_max_mmHg"})
+                                   "rv_EDP_mmHg",
+                                   "systemic_arterial_pressure_max_mmHg",
+                                   "pulmonary_arterial_pressure_max_mmHg"})
       {
         const double ref = reference[beat].at(name);
         const double got = summaries.rows[beat].at(name);
