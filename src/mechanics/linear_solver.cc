@@ -12,6 +12,7 @@
 #include <deal.II/lac/solver_control.h>
 
 #include "mechanics/field_layout.h"
+#include "mechanics/p_multigrid.h"
 
 #include <petscksp.h>
 
@@ -149,60 +150,6 @@ namespace systole::Mechanics
       PCFailedReason failure = PC_NOERROR;
     };
 
-    /// The six rigid-body modes of the displacement (translations, rotations
-    /// about the axes) on the locally owned DoFs, zero on pressure DoFs,
-    /// orthonormalized (as PETSc requires of a near-null space).
-    std::array<LA::MPI::Vector, 6>
-    rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
-                     const dealii::DoFHandler<3, 3> &dof_handler)
-    {
-      std::array<LA::MPI::Vector, 6> modes;
-      const MPI_Comm                 comm  = dof_handler.get_communicator();
-      const auto                    &owned = dof_handler.locally_owned_dofs();
-      for (auto &mode : modes)
-        mode.reinit(owned, comm);
-
-      // Position of the support point of every displacement DoF: the unit
-      // support points of the displacement's base element (FE_Q).
-      const auto                 &fe = dof_handler.get_fe();
-      const dealii::Quadrature<3> support(
-        fe.base_element(0).get_unit_support_points());
-      dealii::FEValues<3>                          fe_values(mapping,
-                                    fe,
-                                    support,
-                                    dealii::update_quadrature_points);
-      std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            fe_values.reinit(cell);
-            cell->get_dof_indices(dofs);
-            for (unsigned int i = 0; i < dofs.size(); ++i)
-              {
-                const auto [c, base_index] = fe.system_to_component_index(i);
-                if (c >= 3 || !owned.is_element(dofs[i]))
-                  continue;
-                const auto &x     = fe_values.quadrature_point(base_index);
-                modes[c](dofs[i]) = 1.0; // translations
-                // rotations about the axes: (e_k x x)_c = eps_{c k m} x_m,
-                // nonzero for k = c1 (x_c2) and k = c2 (-x_c1).
-                const unsigned int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-                modes[3 + c1](dofs[i]) = x[c2];
-                modes[3 + c2](dofs[i]) = -x[c1];
-              }
-          }
-      for (auto &mode : modes)
-        mode.compress(dealii::VectorOperation::insert);
-      // Modified Gram-Schmidt.
-      for (unsigned int i = 0; i < modes.size(); ++i)
-        {
-          for (unsigned int j = 0; j < i; ++j)
-            modes[i].add(-(modes[i] * modes[j]), modes[j]);
-          modes[i] /= modes[i].l2_norm();
-        }
-      return modes;
-    }
-
     /// Throws with the Krylov method's PETSc reason when it did not
     /// converge; returns the iterations.
     unsigned int
@@ -222,22 +169,32 @@ namespace systole::Mechanics
     }
 
     /// GMRES + GAMG with the rigid-body modes as near-null space (the
-    /// penalty formulation: displacement only).
+    /// penalty formulation: displacement only), or FGMRES + p-multigrid (its
+    /// smoothers make the preconditioner vary from one application to the
+    /// next).
     class IterativeSolver : public LinearSolver
     {
     public:
       IterativeSolver(const dealii::Mapping<3, 3>    &mapping,
                       const dealii::DoFHandler<3, 3> &dof_handler,
-                      const double                    tolerance)
+                      const double                    tolerance,
+                      std::unique_ptr<PMultigrid>     p_multigrid,
+                      const std::string              &fallback)
         : modes(rigid_body_modes(mapping, dof_handler))
+        , p_multigrid(std::move(p_multigrid))
+        , fallback(fallback)
       {
         check_petsc(KSPCreate(dof_handler.get_communicator(), &ksp),
                     "KSPCreate");
-        check_petsc(KSPSetType(ksp, KSPGMRES), "KSPSetType");
+        check_petsc(KSPSetType(ksp, this->p_multigrid ? KSPFGMRES : KSPGMRES),
+                    "KSPSetType");
         check_petsc(KSPGMRESSetRestart(ksp, 200), "KSPGMRESSetRestart");
         PC pc;
         check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-        check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+        if (this->p_multigrid)
+          this->p_multigrid->attach(pc);
+        else
+          check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
         check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 2000),
                     "KSPSetTolerances");
       }
@@ -272,30 +229,27 @@ namespace systole::Mechanics
       {
         x = 0;
         check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
-        return checked_iterations(ksp, "GMRES + GAMG");
+        return checked_iterations(ksp,
+                                  p_multigrid ? "FGMRES + p-multigrid"
+                                              : "GMRES + GAMG");
       }
 
       std::string
       name() const override
       {
-        return "iterative (GMRES + GAMG)";
+        return p_multigrid ? "iterative (FGMRES + " + p_multigrid->name() + ")"
+                           : "iterative (GMRES + GAMG" + fallback + ")";
       }
 
     private:
       std::array<LA::MPI::Vector, 6> modes;
-      KSP                            ksp = nullptr;
+      /// Null for GAMG. The PC of ksp points into it (ksp is destroyed
+      /// first, in the destructor's body).
+      std::unique_ptr<PMultigrid> p_multigrid;
+      /// Why GAMG although p-multigrid was asked for ("" otherwise).
+      std::string fallback;
+      KSP         ksp = nullptr;
     };
-
-    /// Sets a PETSc option unless the user set it already.
-    void
-    default_option(const std::string &name, const std::string &value)
-    {
-      PetscBool set = PETSC_FALSE;
-      PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set);
-      if (!set)
-        check_petsc(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()),
-                    "PetscOptionsSetValue");
-    }
 
     /// FGMRES with the block (Schur) preconditioner of the mixed systems.
     class BlockSolver : public LinearSolver
@@ -304,7 +258,11 @@ namespace systole::Mechanics
       BlockSolver(const dealii::Mapping<3, 3>    &mapping,
                   const dealii::DoFHandler<3, 3> &dof_handler,
                   const FieldLayout              &layout,
-                  const double                    tolerance)
+                  const double                    tolerance,
+                  std::unique_ptr<PMultigrid>     p_multigrid,
+                  const std::string              &fallback)
+        : p_multigrid(std::move(p_multigrid))
+        , fallback(fallback)
       {
         const MPI_Comm comm = dof_handler.get_communicator();
         const auto    &u    = layout.owned(0);
@@ -355,20 +313,25 @@ namespace systole::Mechanics
 
         // Defaults, unless given in PETSc's options database.
         const std::string prefix = "-mechanics_";
-        default_option(prefix + "pc_fieldsplit_type", "schur");
-        default_option(prefix + "pc_fieldsplit_schur_fact_type", "upper");
-        default_option(prefix + "fieldsplit_u_ksp_type", "preonly");
-        default_option(prefix + "fieldsplit_u_pc_type", "gamg");
-        // Smoothing by two GMRES iterations with Jacobi: the tangent of a
-        // follower pressure on an open surface is not symmetric, and with
-        // PETSc's default (Chebyshev-Jacobi) FGMRES stalls on the bending
-        // beam of Land problem 1 refined twice; SOR smoothing breaks down in
-        // GAMG's eigenvalue estimate there.
-        default_option(prefix + "fieldsplit_u_mg_levels_ksp_type", "gmres");
-        default_option(prefix + "fieldsplit_u_mg_levels_ksp_max_it", "2");
-        default_option(prefix + "fieldsplit_u_mg_levels_pc_type", "jacobi");
-        default_option(prefix + "fieldsplit_p_ksp_type", "preonly");
-        default_option(prefix + "fieldsplit_p_pc_type", "bjacobi");
+        set_default_petsc_option(prefix + "pc_fieldsplit_type", "schur");
+        set_default_petsc_option(prefix + "pc_fieldsplit_schur_fact_type",
+                                 "upper");
+        set_default_petsc_option(prefix + "fieldsplit_u_ksp_type", "preonly");
+        // The displacement block's PC (GAMG or p-multigrid) is set on the
+        // split's KSP below, not here: a default in the options database
+        // would also be the next solver's. GAMG's smoothing: two GMRES
+        // iterations with Jacobi: the tangent of a follower pressure on an open
+        // surface is not symmetric, and with PETSc's default (Chebyshev-Jacobi)
+        // FGMRES stalls on the bending beam of Land problem 1 refined twice;
+        // SOR smoothing breaks down in GAMG's eigenvalue estimate there.
+        set_default_petsc_option(prefix + "fieldsplit_u_mg_levels_ksp_type",
+                                 "gmres");
+        set_default_petsc_option(prefix + "fieldsplit_u_mg_levels_ksp_max_it",
+                                 "2");
+        set_default_petsc_option(prefix + "fieldsplit_u_mg_levels_pc_type",
+                                 "jacobi");
+        set_default_petsc_option(prefix + "fieldsplit_p_ksp_type", "preonly");
+        set_default_petsc_option(prefix + "fieldsplit_p_pc_type", "bjacobi");
 
         check_petsc(KSPCreate(comm, &ksp), "KSPCreate");
         check_petsc(KSPSetOptionsPrefix(ksp, "mechanics_"),
@@ -382,6 +345,21 @@ namespace systole::Mechanics
         check_petsc(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
         check_petsc(PCFieldSplitSetIS(pc, "u", is_u), "PCFieldSplitSetIS");
         check_petsc(PCFieldSplitSetIS(pc, "p", is_p), "PCFieldSplitSetIS");
+        // The split's solvers exist from PCFieldSplitSetIS on; before the
+        // options make the split a Schur one, PETSc hands them out without a
+        // set-up. -mechanics_fieldsplit_u_pc_type still overrides the choice
+        // (the split reads its options at the first set-up).
+        KSP     *splits   = nullptr;
+        PetscInt n_splits = 0;
+        check_petsc(PCFieldSplitGetSubKSP(pc, &n_splits, &splits),
+                    "PCFieldSplitGetSubKSP");
+        PC pc_u;
+        check_petsc(KSPGetPC(splits[0], &pc_u), "KSPGetPC");
+        PetscFree(splits);
+        if (this->p_multigrid)
+          this->p_multigrid->attach(pc_u);
+        else
+          check_petsc(PCSetType(pc_u, PCGAMG), "PCSetType");
       }
 
       ~BlockSolver() override
@@ -432,35 +410,128 @@ namespace systole::Mechanics
       std::string
       name() const override
       {
-        return "iterative (FGMRES, Schur block preconditioner: GAMG on u, "
-               "scaled pressure mass matrix)";
+        return "iterative (FGMRES, Schur block preconditioner: " +
+               (p_multigrid ? p_multigrid->name() : std::string("GAMG")) +
+               " on u, scaled pressure mass matrix" + fallback + ")";
       }
 
     private:
-      bool configured = false;
-      KSP  ksp        = nullptr;
-      IS   is_u = nullptr, is_p = nullptr;
+      /// Null for GAMG. The displacement split's PC points into it (ksp is
+      /// destroyed first, in the destructor's body).
+      std::unique_ptr<PMultigrid> p_multigrid;
+      /// Why GAMG although p-multigrid was asked for ("" otherwise).
+      std::string fallback;
+      bool        configured = false;
+      KSP         ksp        = nullptr;
+      IS          is_u = nullptr, is_p = nullptr;
     };
   } // namespace
 
+  std::array<LA::MPI::Vector, 6>
+  rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
+                   const dealii::DoFHandler<3, 3> &dof_handler)
+  {
+    std::array<LA::MPI::Vector, 6> modes;
+    const MPI_Comm                 comm  = dof_handler.get_communicator();
+    const auto                    &owned = dof_handler.locally_owned_dofs();
+    for (auto &mode : modes)
+      mode.reinit(owned, comm);
+
+    // Position of the support point of every displacement DoF: the unit
+    // support points of the displacement's base element (FE_Q).
+    const auto                 &fe = dof_handler.get_fe();
+    const dealii::Quadrature<3> support(
+      fe.base_element(0).get_unit_support_points());
+    dealii::FEValues<3>                          fe_values(mapping,
+                                  fe,
+                                  support,
+                                  dealii::update_quadrature_points);
+    std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            {
+              const auto [c, base_index] = fe.system_to_component_index(i);
+              if (c >= 3 || !owned.is_element(dofs[i]))
+                continue;
+              const auto &x     = fe_values.quadrature_point(base_index);
+              modes[c](dofs[i]) = 1.0; // translations
+              // rotations about the axes: (e_k x x)_c = eps_{c k m} x_m,
+              // nonzero for k = c1 (x_c2) and k = c2 (-x_c1).
+              const unsigned int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+              modes[3 + c1](dofs[i]) = x[c2];
+              modes[3 + c2](dofs[i]) = -x[c1];
+            }
+        }
+    for (auto &mode : modes)
+      mode.compress(dealii::VectorOperation::insert);
+    // Modified Gram-Schmidt.
+    for (unsigned int i = 0; i < modes.size(); ++i)
+      {
+        for (unsigned int j = 0; j < i; ++j)
+          modes[i].add(-(modes[i] * modes[j]), modes[j]);
+        modes[i] /= modes[i].l2_norm();
+      }
+    return modes;
+  }
+
+  void
+  set_default_petsc_option(const std::string &name, const std::string &value)
+  {
+    PetscBool set = PETSC_FALSE;
+    PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set);
+    if (!set)
+      check_petsc(PetscOptionsSetValue(nullptr, name.c_str(), value.c_str()),
+                  "PetscOptionsSetValue");
+  }
+
   std::unique_ptr<LinearSolver>
-  create_linear_solver(const std::string              &type,
-                       const dealii::Mapping<3, 3>    &mapping,
-                       const dealii::DoFHandler<3, 3> &dof_handler,
-                       const FieldLayout              &layout,
-                       const double                    tolerance,
-                       const bool                      symmetric)
+  create_linear_solver(const std::string                       &type,
+                       const dealii::Mapping<3, 3>             &mapping,
+                       const dealii::DoFHandler<3, 3>          &dof_handler,
+                       const FieldLayout                       &layout,
+                       const dealii::AffineConstraints<double> &constraints,
+                       const double                             tolerance,
+                       const bool                               symmetric,
+                       const DisplacementPreconditioner         preconditioner)
   {
     if (type == "direct")
       return std::make_unique<DirectSolver>(symmetric);
     AssertThrow(type == "iterative",
                 dealii::ExcMessage("Unknown linear solver '" + type + "'."));
+    // p-multigrid needs a coarser degree: Q1 displacements get GAMG, and the
+    // solver's name (in the run banner) says why.
+    std::unique_ptr<PMultigrid> p_multigrid;
+    std::string                 fallback;
+    if (preconditioner == DisplacementPreconditioner::p_multigrid)
+      {
+        if (PMultigrid::applicable(dof_handler))
+          p_multigrid =
+            std::make_unique<PMultigrid>(mapping,
+                                         dof_handler,
+                                         layout,
+                                         constraints,
+                                         layout.mixed()
+                                           ? "mechanics_fieldsplit_u_pmg_"
+                                           : "mechanics_pmg_");
+        else
+          fallback = "; p-multigrid needs Polynomial degree 2";
+      }
     if (layout.mixed())
       return std::make_unique<BlockSolver>(mapping,
                                            dof_handler,
                                            layout,
-                                           tolerance);
-    return std::make_unique<IterativeSolver>(mapping, dof_handler, tolerance);
+                                           tolerance,
+                                           std::move(p_multigrid),
+                                           fallback);
+    return std::make_unique<IterativeSolver>(mapping,
+                                             dof_handler,
+                                             tolerance,
+                                             std::move(p_multigrid),
+                                             fallback);
   }
 
   PressureMatrix::PressureMatrix(const FieldLayout &layout,

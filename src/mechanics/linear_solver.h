@@ -1,12 +1,15 @@
 #pragma once
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 
 #include "base/linear_algebra.h"
+#include "mechanics/parameters.h"
 
 #include <petscmat.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -84,6 +87,10 @@ namespace systole::Mechanics
   ///   the PressureMatrix (block Jacobi + ILU: exact for a discontinuous
   ///   pressure) for the Schur complement. PETSc options with the prefix
   ///   -mechanics_ (e.g. in PETSC_OPTIONS) override the choices.
+  /// With DisplacementPreconditioner::p_multigrid and Q2 displacements, the
+  /// GAMG V-cycle (on the displacement block, or on K for the penalty, then
+  /// with FGMRES) is replaced by a PMultigrid V-cycle (options prefix
+  /// -mechanics_fieldsplit_u_pmg_, penalty -mechanics_pmg_).
   class LinearSolver
   {
   public:
@@ -129,14 +136,33 @@ namespace systole::Mechanics
   /// The solver named @p type ("direct" or "iterative").
   /// @param[in] dof_handler the mechanics DoFs, renumbered by @p layout
   ///            (for the rigid-body modes and the blocks)
+  /// @param[in] constraints the constraints of the tangent (p-multigrid)
   /// @param[in] tolerance relative residual reduction of the iterative solver
   /// @param[in] symmetric whether the matrices are symmetric (the direct
   ///            solver then factorizes LDL^T, about half the work of LU)
+  /// @param[in] preconditioner of the displacement (block) of the iterative
+  ///            solvers; p-multigrid falls back to GAMG for Q1 (the name()
+  ///            says so)
   std::unique_ptr<LinearSolver>
-  create_linear_solver(const std::string              &type,
-                       const dealii::Mapping<3, 3>    &mapping,
-                       const dealii::DoFHandler<3, 3> &dof_handler,
-                       const FieldLayout              &layout,
-                       const double                    tolerance,
-                       const bool                      symmetric);
+  create_linear_solver(const std::string                       &type,
+                       const dealii::Mapping<3, 3>             &mapping,
+                       const dealii::DoFHandler<3, 3>          &dof_handler,
+                       const FieldLayout                       &layout,
+                       const dealii::AffineConstraints<double> &constraints,
+                       const double                             tolerance,
+                       const bool                               symmetric,
+                       const DisplacementPreconditioner         preconditioner);
+
+  /// The six rigid-body modes of the displacement (translations, rotations
+  /// about the axes) at the support points of the displacement components
+  /// (0-2) of @p dof_handler, on its locally owned DoFs, zero on other
+  /// components, orthonormalized (as PETSc requires of a near-null space).
+  std::array<LA::MPI::Vector, 6>
+  rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
+                   const dealii::DoFHandler<3, 3> &dof_handler);
+
+  /// Sets the PETSc option @p name (with its leading '-') to @p value unless
+  /// it is set already (by the user, or by an earlier call).
+  void
+  set_default_petsc_option(const std::string &name, const std::string &value);
 } // namespace systole::Mechanics

@@ -48,6 +48,17 @@ namespace systole::Mechanics
     continuous
   };
 
+  /// The preconditioner of the displacement (block) in the iterative linear
+  /// solvers ("Mechanics / Displacement preconditioner").
+  enum class DisplacementPreconditioner
+  {
+    /// One PETSc GAMG V-cycle on the Q_k displacement.
+    amg,
+    /// Two-level p-multigrid: smoothing on Q_k, one GAMG V-cycle on the
+    /// Galerkin Q1 operator (Q2 only; Q1 falls back to amg).
+    p_multigrid
+  };
+
   /// Settings of the quasi-static mechanics (subsection "Mechanics", plus
   /// "Material / Incompressibility" and "Discretization / Pressure element").
   struct Parameters
@@ -111,14 +122,17 @@ namespace systole::Mechanics
     unsigned int max_newton_iterations     = 12;
 
     /// "auto", "direct" (MUMPS) or "iterative" (GMRES + GAMG with rigid-body
-    /// modes; for the mixed formulations FGMRES with a block preconditioner:
-    /// GAMG on the displacement block, the scaled pressure mass matrix for
-    /// the Schur complement).
+    /// modes, or FGMRES + p-multigrid; for the mixed formulations FGMRES with
+    /// a block preconditioner: that V-cycle on the displacement block, the
+    /// scaled pressure mass matrix for the Schur complement).
     std::string linear_solver = "auto";
     /// Above this many DOFs "auto" picks the iterative solver.
     unsigned int direct_solver_limit = 200000;
     /// Relative tolerance of the iterative linear solver.
     double linear_tolerance = 1e-8;
+    /// Preconditioner of the displacement (block) of the iterative solver.
+    DisplacementPreconditioner displacement_preconditioner =
+      DisplacementPreconditioner::amg;
 
     std::vector<TrackedPoint> tracked_points;
 

@@ -254,8 +254,10 @@ namespace systole::Mechanics
                                            m.mapping,
                                            m.dof_handler,
                                            m.layout,
+                                           m.constraints,
                                            params.linear_tolerance,
-                                           symmetric);
+                                           symmetric,
+                                           params.displacement_preconditioner);
     if (m.linear_solver->needs_pressure_matrix())
       m.pressure_matrix = std::make_unique<PressureMatrix>(
         m.layout,

@@ -1,0 +1,341 @@
+#include "mechanics/p_multigrid.h"
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/full_matrix.h>
+
+#include "mechanics/field_layout.h"
+#include "mechanics/linear_solver.h"
+
+#include <petscksp.h>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace systole::Mechanics
+{
+  namespace
+  {
+    void
+    check(const PetscErrorCode code, const char *what)
+    {
+      AssertThrow(code == 0,
+                  dealii::ExcMessage(std::string("PETSc failed in ") + what +
+                                     " (p-multigrid, error code " +
+                                     std::to_string(code) + ")."));
+    }
+
+    /// Whether the locally owned DoFs of a Q1^3 DoFHandler come as (x, y, z)
+    /// triples of one vertex, aligned at multiples of 3 (collective).
+    bool
+    interleaved(const dealii::DoFHandler<3, 3> &dof_handler)
+    {
+      const auto &owned = dof_handler.locally_owned_dofs();
+      const auto  n     = owned.n_elements();
+      bool        ok    = n % 3 == 0 && (n == 0 || owned.is_contiguous());
+      const dealii::types::global_dof_index first = n == 0 ? 0 : *owned.begin();
+      std::vector<dealii::types::global_dof_index> dofs(
+        dof_handler.get_fe().n_dofs_per_cell());
+      const auto &fe = dof_handler.get_fe();
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (ok && cell->is_locally_owned())
+          {
+            cell->get_dof_indices(dofs);
+            for (unsigned int v = 0; v < cell->n_vertices(); ++v)
+              {
+                const auto d0 = dofs[fe.component_to_system_index(0, v)];
+                if (!owned.is_element(d0))
+                  continue;
+                ok = ok && (d0 - first) % 3 == 0 &&
+                     dofs[fe.component_to_system_index(1, v)] == d0 + 1 &&
+                     dofs[fe.component_to_system_index(2, v)] == d0 + 2;
+              }
+          }
+      return dealii::Utilities::MPI::min(ok ? 1 : 0,
+                                         dof_handler.get_communicator()) == 1;
+    }
+  } // namespace
+
+  struct PMultigrid::Impl
+  {
+    MPI_Comm     comm;
+    std::string  prefix;
+    unsigned int degree = 2;
+    /// Interpolation: fine displacement block <- Q1 displacement.
+    Mat P = nullptr;
+    /// The six rigid-body modes of the Q1 space.
+    MatNullSpace coarse_modes = nullptr;
+    /// The Galerkin product P^T A P of the last set-up, and that A.
+    Mat A1 = nullptr, A = nullptr;
+    PC  mg = nullptr;
+
+    ~Impl()
+    {
+      PCDestroy(&mg);
+      MatDestroy(&A1);
+      MatDestroy(&P);
+      MatNullSpaceDestroy(&coarse_modes);
+    }
+
+    /// The two-level cycle for the operator @p fine.
+    void
+    setup(Mat fine)
+    {
+      // A new operator object (not the values of the old one): start afresh
+      // (the cycle's residual and the product hold the old one).
+      if (fine != A)
+        {
+          PCDestroy(&mg);
+          MatDestroy(&A1);
+          A = fine;
+        }
+      check(MatPtAP(fine,
+                    P,
+                    A1 == nullptr ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX,
+                    PETSC_DEFAULT,
+                    &A1),
+            "MatPtAP");
+      // (The product has the column block size of P: 3 for interleaved
+      // nodes, as GAMG needs with the six modes.)
+      check(MatSetNearNullSpace(A1, coarse_modes), "MatSetNearNullSpace");
+      if (mg == nullptr)
+        {
+          check(PCCreate(comm, &mg), "PCCreate");
+          check(PCSetOptionsPrefix(mg, prefix.c_str()), "PCSetOptionsPrefix");
+          check(PCSetType(mg, PCMG), "PCSetType");
+          check(PCMGSetLevels(mg, 2, nullptr), "PCMGSetLevels");
+          check(PCMGSetType(mg, PC_MG_MULTIPLICATIVE), "PCMGSetType");
+          check(PCMGSetCycleType(mg, PC_MG_CYCLE_V), "PCMGSetCycleType");
+          check(PCMGSetGalerkin(mg, PC_MG_GALERKIN_NONE), "PCMGSetGalerkin");
+          check(PCSetFromOptions(mg), "PCSetFromOptions");
+          check(PCMGSetInterpolation(mg, 1, P), "PCMGSetInterpolation");
+        }
+      KSP level;
+      check(PCMGGetCoarseSolve(mg, &level), "PCMGGetCoarseSolve");
+      check(KSPSetOperators(level, A1, A1), "KSPSetOperators");
+      check(PCMGGetSmoother(mg, 1, &level), "PCMGGetSmoother");
+      check(KSPSetOperators(level, fine, fine), "KSPSetOperators");
+      check(PCSetOperators(mg, fine, fine), "PCSetOperators");
+      check(PCSetUp(mg), "PCSetUp");
+    }
+
+    static PetscErrorCode
+    shell_setup(PC pc)
+    {
+      Impl *self = nullptr;
+      PetscCall(PCShellGetContext(pc, &self));
+      Mat amat, pmat;
+      PetscCall(PCGetOperators(pc, &amat, &pmat));
+      try
+        {
+          self->setup(pmat);
+        }
+      catch (...)
+        {
+          return PETSC_ERR_LIB;
+        }
+      return 0;
+    }
+
+    static PetscErrorCode
+    shell_apply(PC pc, Vec x, Vec y)
+    {
+      Impl *self = nullptr;
+      PetscCall(PCShellGetContext(pc, &self));
+      PetscCall(PCApply(self->mg, x, y));
+      return 0;
+    }
+
+    static PetscErrorCode
+    shell_view(PC pc, PetscViewer viewer)
+    {
+      Impl *self = nullptr;
+      PetscCall(PCShellGetContext(pc, &self));
+      if (self->mg != nullptr)
+        PetscCall(PCView(self->mg, viewer));
+      return 0;
+    }
+  };
+
+  bool
+  PMultigrid::applicable(const dealii::DoFHandler<3, 3> &dof_handler)
+  {
+    return dof_handler.get_fe().base_element(0).degree > 1;
+  }
+
+  PMultigrid::PMultigrid(const dealii::Mapping<3, 3>             &mapping,
+                         const dealii::DoFHandler<3, 3>          &dof_handler,
+                         const FieldLayout                       &layout,
+                         const dealii::AffineConstraints<double> &constraints,
+                         const std::string                       &prefix)
+    : impl(std::make_unique<Impl>())
+  {
+    Impl &m               = *impl;
+    m.comm                = dof_handler.get_communicator();
+    m.prefix              = prefix;
+    const auto &fe        = dof_handler.get_fe();
+    const auto &fine_base = fe.base_element(0);
+    m.degree              = fine_base.degree;
+    AssertThrow(applicable(dof_handler),
+                dealii::ExcMessage("p-multigrid needs a displacement of "
+                                   "degree 2 or more."));
+
+    // The coarse space: Q1^3 on the same mesh (deal.II numbers the DoFs of a
+    // vertex consecutively, so its owned DoFs are node triples).
+    const dealii::FE_Q<3>     q1(1);
+    const dealii::FESystem<3> fe_q1(q1, 3);
+    dealii::DoFHandler<3>     dof_q1(dof_handler.get_triangulation());
+    dof_q1.distribute_dofs(fe_q1);
+    const bool coarse_interleaved = interleaved(dof_q1);
+
+    // The interpolation of one scalar component, Q1 -> Q_k, on the unit
+    // cell (the same on every cell: the map is the reference-cell one).
+    dealii::FullMatrix<double> interpolation(fine_base.n_dofs_per_cell(),
+                                             q1.n_dofs_per_cell());
+    fine_base.get_interpolation_matrix(q1, interpolation);
+    const unsigned int n_vertex_dofs = fine_base.get_first_line_index();
+
+    // Rows: the owned displacement DoFs [u0, u0 + n_u) of this rank are rows
+    // [offset, offset + n_u) of the displacement block.
+    const auto                           &owned_u = layout.owned(0);
+    const PetscInt                        n_u     = owned_u.n_elements();
+    const dealii::types::global_dof_index u0 = n_u > 0 ? *owned_u.begin() : 0;
+    PetscInt                              offset = 0;
+    MPI_Exscan(&n_u, &offset, 1, MPIU_INT, MPI_SUM, m.comm);
+    if (dealii::Utilities::MPI::this_mpi_process(m.comm) == 0)
+      offset = 0;
+    const PetscInt n_coarse = dof_q1.locally_owned_dofs().n_elements();
+
+    check(MatCreate(m.comm, &m.P), "MatCreate");
+    check(MatSetSizes(m.P, n_u, n_coarse, PETSC_DETERMINE, PETSC_DETERMINE),
+          "MatSetSizes");
+    check(MatSetBlockSizes(m.P,
+                           layout.displacement_interleaved() ? 3 : 1,
+                           coarse_interleaved ? 3 : 1),
+          "MatSetBlockSizes");
+    // MPIAIJ also on one rank: the tangent is one (PETSc multiplies like
+    // types only).
+    check(MatSetType(m.P, MATMPIAIJ), "MatSetType");
+    // A row of one component interpolates the (up to 8) vertices of a cell.
+    const PetscInt per_row = q1.n_dofs_per_cell();
+    check(MatMPIAIJSetPreallocation(m.P, per_row, nullptr, per_row, nullptr),
+          "MatMPIAIJSetPreallocation");
+
+    std::vector<bool>                            done(n_u, false);
+    std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
+      dofs_q1(fe_q1.n_dofs_per_cell());
+    std::vector<PetscInt>    columns;
+    std::vector<PetscScalar> values;
+    auto                     cell_q1 = dof_q1.begin_active();
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        if (cell->is_locally_owned())
+          {
+            cell->get_dof_indices(dofs);
+            cell_q1->get_dof_indices(dofs_q1);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              {
+                const auto [c, k] = fe.system_to_component_index(i);
+                if (c >= 3 || !owned_u.is_element(dofs[i]) ||
+                    done[dofs[i] - u0])
+                  continue;
+                done[dofs[i] - u0] = true;
+                // A constrained DoF is decoupled in the tangent: only a
+                // vertex keeps its coarse vertex (the row of the identity).
+                if (constraints.is_constrained(dofs[i]) && k >= n_vertex_dofs)
+                  continue;
+                columns.clear();
+                values.clear();
+                for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
+                  if (std::abs(interpolation(k, l)) > 1e-12)
+                    {
+                      columns.push_back(
+                        dofs_q1[fe_q1.component_to_system_index(c, l)]);
+                      values.push_back(interpolation(k, l));
+                    }
+                const PetscInt row = offset + (dofs[i] - u0);
+                check(MatSetValues(m.P,
+                                   1,
+                                   &row,
+                                   columns.size(),
+                                   columns.data(),
+                                   values.data(),
+                                   INSERT_VALUES),
+                      "MatSetValues");
+              }
+          }
+        ++cell_q1;
+      }
+    check(MatAssemblyBegin(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check(MatAssemblyEnd(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+
+    // The rigid-body modes of the coarse space (PETSc keeps its own copies).
+    const auto         modes = rigid_body_modes(mapping, dof_q1);
+    std::array<Vec, 6> vectors;
+    for (unsigned int i = 0; i < modes.size(); ++i)
+      {
+        check(MatCreateVecs(m.P, &vectors[i], nullptr), "MatCreateVecs");
+        check(VecCopy(modes[i], vectors[i]), "VecCopy");
+      }
+    check(MatNullSpaceCreate(m.comm,
+                             PETSC_FALSE,
+                             vectors.size(),
+                             vectors.data(),
+                             &m.coarse_modes),
+          "MatNullSpaceCreate");
+    for (auto &v : vectors)
+      VecDestroy(&v);
+
+    // Defaults, unless given in PETSc's options database. Fine level: three
+    // Chebyshev iterations with point-block Jacobi (see docs/architecture.md
+    // for the measurements behind the choice); coarse level: one GAMG
+    // V-cycle smoothed as the GAMG of the "amg" choice.
+    const std::string p = "-" + prefix;
+    set_default_petsc_option(p + "mg_levels_ksp_type", "chebyshev");
+    set_default_petsc_option(p + "mg_levels_ksp_max_it", "3");
+    set_default_petsc_option(p + "mg_levels_pc_type", "pbjacobi");
+    set_default_petsc_option(p + "mg_coarse_ksp_type", "preonly");
+    set_default_petsc_option(p + "mg_coarse_pc_type", "gamg");
+    set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_type", "gmres");
+    set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_max_it", "2");
+    set_default_petsc_option(p + "mg_coarse_mg_levels_pc_type", "jacobi");
+  }
+
+  PMultigrid::~PMultigrid() = default;
+
+  void
+  PMultigrid::attach(PC pc)
+  {
+    check(PCSetType(pc, PCSHELL), "PCSetType");
+    check(PCShellSetContext(pc, impl.get()), "PCShellSetContext");
+    check(PCShellSetSetUp(pc, &Impl::shell_setup), "PCShellSetSetUp");
+    check(PCShellSetApply(pc, &Impl::shell_apply), "PCShellSetApply");
+    check(PCShellSetView(pc, &Impl::shell_view), "PCShellSetView");
+    check(PCShellSetName(pc, "p-multigrid"), "PCShellSetName");
+  }
+
+  std::string
+  PMultigrid::name() const
+  {
+    // What the options database holds now (the defaults or the user's).
+    const auto option = [&](const std::string &name) {
+      char      value[64] = "";
+      PetscBool set       = PETSC_FALSE;
+      PetscOptionsGetString(nullptr,
+                            impl->prefix.c_str(),
+                            ("-" + name).c_str(),
+                            value,
+                            sizeof(value),
+                            &set);
+      return set ? std::string(value) : std::string("default");
+    };
+    return "p-multigrid Q" + std::to_string(impl->degree) + " -> Q1 (" +
+           option("mg_levels_ksp_max_it") + " x " +
+           option("mg_levels_ksp_type") + " + " + option("mg_levels_pc_type") +
+           "; " + option("mg_coarse_pc_type") + " on Q1)";
+  }
+} // namespace systole::Mechanics
