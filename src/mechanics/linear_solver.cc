@@ -21,17 +21,17 @@
 
 namespace systole::Mechanics
 {
+  void
+  check_petsc(const PetscErrorCode code, const char *what)
+  {
+    AssertThrow(code == 0,
+                dealii::ExcMessage(std::string("PETSc failed in ") + what +
+                                   " (error code " + std::to_string(code) +
+                                   ")."));
+  }
+
   namespace
   {
-    void
-    check_petsc(const PetscErrorCode code, const char *what)
-    {
-      AssertThrow(code == 0,
-                  dealii::ExcMessage(std::string("PETSc failed in ") + what +
-                                     " (error code " + std::to_string(code) +
-                                     ")."));
-    }
-
     /// MUMPS through PETSc (KSPPREONLY): Cholesky (LDL^T) for symmetric
     /// matrices, LU otherwise. A new factorization per setup(); the solves
     /// after it reuse it.
@@ -518,7 +518,8 @@ namespace systole::Mechanics
                                            ? "mechanics_fieldsplit_u_pmg_"
                                            : "mechanics_pmg_");
         else
-          fallback = "; p-multigrid needs Polynomial degree 2";
+          fallback = "; not the p-multigrid asked for: Q1 displacements "
+                     "have no coarser degree";
       }
     if (layout.mixed())
       return std::make_unique<BlockSolver>(mapping,

@@ -161,6 +161,10 @@ namespace systole::Mechanics
   rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
                    const dealii::DoFHandler<3, 3> &dof_handler);
 
+  /// Throws naming @p what (the PETSc call) unless @p code is 0.
+  void
+  check_petsc(const PetscErrorCode code, const char *what);
+
   /// Sets the PETSc option @p name (with its leading '-') to @p value unless
   /// it is set already (by the user, or by an earlier call).
   void

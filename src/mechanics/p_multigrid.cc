@@ -20,15 +20,6 @@ namespace systole::Mechanics
 {
   namespace
   {
-    void
-    check(const PetscErrorCode code, const char *what)
-    {
-      AssertThrow(code == 0,
-                  dealii::ExcMessage(std::string("PETSc failed in ") + what +
-                                     " (p-multigrid, error code " +
-                                     std::to_string(code) + ")."));
-    }
-
     /// Whether the locally owned DoFs of a Q1^3 DoFHandler come as (x, y, z)
     /// triples of one vertex, aligned at multiples of 3 (collective).
     bool
@@ -93,34 +84,36 @@ namespace systole::Mechanics
           MatDestroy(&A1);
           A = fine;
         }
-      check(MatPtAP(fine,
-                    P,
-                    A1 == nullptr ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX,
-                    PETSC_DEFAULT,
-                    &A1),
-            "MatPtAP");
+      check_petsc(MatPtAP(fine,
+                          P,
+                          A1 == nullptr ? MAT_INITIAL_MATRIX : MAT_REUSE_MATRIX,
+                          PETSC_DEFAULT,
+                          &A1),
+                  "MatPtAP");
       // (The product has the column block size of P: 3 for interleaved
       // nodes, as GAMG needs with the six modes.)
-      check(MatSetNearNullSpace(A1, coarse_modes), "MatSetNearNullSpace");
+      check_petsc(MatSetNearNullSpace(A1, coarse_modes), "MatSetNearNullSpace");
       if (mg == nullptr)
         {
-          check(PCCreate(comm, &mg), "PCCreate");
-          check(PCSetOptionsPrefix(mg, prefix.c_str()), "PCSetOptionsPrefix");
-          check(PCSetType(mg, PCMG), "PCSetType");
-          check(PCMGSetLevels(mg, 2, nullptr), "PCMGSetLevels");
-          check(PCMGSetType(mg, PC_MG_MULTIPLICATIVE), "PCMGSetType");
-          check(PCMGSetCycleType(mg, PC_MG_CYCLE_V), "PCMGSetCycleType");
-          check(PCMGSetGalerkin(mg, PC_MG_GALERKIN_NONE), "PCMGSetGalerkin");
-          check(PCSetFromOptions(mg), "PCSetFromOptions");
-          check(PCMGSetInterpolation(mg, 1, P), "PCMGSetInterpolation");
+          check_petsc(PCCreate(comm, &mg), "PCCreate");
+          check_petsc(PCSetOptionsPrefix(mg, prefix.c_str()),
+                      "PCSetOptionsPrefix");
+          check_petsc(PCSetType(mg, PCMG), "PCSetType");
+          check_petsc(PCMGSetLevels(mg, 2, nullptr), "PCMGSetLevels");
+          check_petsc(PCMGSetType(mg, PC_MG_MULTIPLICATIVE), "PCMGSetType");
+          check_petsc(PCMGSetCycleType(mg, PC_MG_CYCLE_V), "PCMGSetCycleType");
+          check_petsc(PCMGSetGalerkin(mg, PC_MG_GALERKIN_NONE),
+                      "PCMGSetGalerkin");
+          check_petsc(PCSetFromOptions(mg), "PCSetFromOptions");
+          check_petsc(PCMGSetInterpolation(mg, 1, P), "PCMGSetInterpolation");
         }
       KSP level;
-      check(PCMGGetCoarseSolve(mg, &level), "PCMGGetCoarseSolve");
-      check(KSPSetOperators(level, A1, A1), "KSPSetOperators");
-      check(PCMGGetSmoother(mg, 1, &level), "PCMGGetSmoother");
-      check(KSPSetOperators(level, fine, fine), "KSPSetOperators");
-      check(PCSetOperators(mg, fine, fine), "PCSetOperators");
-      check(PCSetUp(mg), "PCSetUp");
+      check_petsc(PCMGGetCoarseSolve(mg, &level), "PCMGGetCoarseSolve");
+      check_petsc(KSPSetOperators(level, A1, A1), "KSPSetOperators");
+      check_petsc(PCMGGetSmoother(mg, 1, &level), "PCMGGetSmoother");
+      check_petsc(KSPSetOperators(level, fine, fine), "KSPSetOperators");
+      check_petsc(PCSetOperators(mg, fine, fine), "PCSetOperators");
+      check_petsc(PCSetUp(mg), "PCSetUp");
     }
 
     static PetscErrorCode
@@ -210,20 +203,22 @@ namespace systole::Mechanics
       offset = 0;
     const PetscInt n_coarse = dof_q1.locally_owned_dofs().n_elements();
 
-    check(MatCreate(m.comm, &m.P), "MatCreate");
-    check(MatSetSizes(m.P, n_u, n_coarse, PETSC_DETERMINE, PETSC_DETERMINE),
-          "MatSetSizes");
-    check(MatSetBlockSizes(m.P,
-                           layout.displacement_interleaved() ? 3 : 1,
-                           coarse_interleaved ? 3 : 1),
-          "MatSetBlockSizes");
+    check_petsc(MatCreate(m.comm, &m.P), "MatCreate");
+    check_petsc(
+      MatSetSizes(m.P, n_u, n_coarse, PETSC_DETERMINE, PETSC_DETERMINE),
+      "MatSetSizes");
+    check_petsc(MatSetBlockSizes(m.P,
+                                 layout.displacement_interleaved() ? 3 : 1,
+                                 coarse_interleaved ? 3 : 1),
+                "MatSetBlockSizes");
     // MPIAIJ also on one rank: the tangent is one (PETSc multiplies like
     // types only).
-    check(MatSetType(m.P, MATMPIAIJ), "MatSetType");
+    check_petsc(MatSetType(m.P, MATMPIAIJ), "MatSetType");
     // A row of one component interpolates the (up to 8) vertices of a cell.
     const PetscInt per_row = q1.n_dofs_per_cell();
-    check(MatMPIAIJSetPreallocation(m.P, per_row, nullptr, per_row, nullptr),
-          "MatMPIAIJSetPreallocation");
+    check_petsc(
+      MatMPIAIJSetPreallocation(m.P, per_row, nullptr, per_row, nullptr),
+      "MatMPIAIJSetPreallocation");
 
     std::vector<bool>                            done(n_u, false);
     std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
@@ -258,42 +253,46 @@ namespace systole::Mechanics
                       values.push_back(interpolation(k, l));
                     }
                 const PetscInt row = offset + (dofs[i] - u0);
-                check(MatSetValues(m.P,
-                                   1,
-                                   &row,
-                                   columns.size(),
-                                   columns.data(),
-                                   values.data(),
-                                   INSERT_VALUES),
-                      "MatSetValues");
+                check_petsc(MatSetValues(m.P,
+                                         1,
+                                         &row,
+                                         columns.size(),
+                                         columns.data(),
+                                         values.data(),
+                                         INSERT_VALUES),
+                            "MatSetValues");
               }
           }
         ++cell_q1;
       }
-    check(MatAssemblyBegin(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-    check(MatAssemblyEnd(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    check_petsc(MatAssemblyBegin(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+    check_petsc(MatAssemblyEnd(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
 
     // The rigid-body modes of the coarse space (PETSc keeps its own copies).
     const auto         modes = rigid_body_modes(mapping, dof_q1);
     std::array<Vec, 6> vectors;
     for (unsigned int i = 0; i < modes.size(); ++i)
       {
-        check(MatCreateVecs(m.P, &vectors[i], nullptr), "MatCreateVecs");
-        check(VecCopy(modes[i], vectors[i]), "VecCopy");
+        check_petsc(MatCreateVecs(m.P, &vectors[i], nullptr), "MatCreateVecs");
+        check_petsc(VecCopy(modes[i], vectors[i]), "VecCopy");
       }
-    check(MatNullSpaceCreate(m.comm,
-                             PETSC_FALSE,
-                             vectors.size(),
-                             vectors.data(),
-                             &m.coarse_modes),
-          "MatNullSpaceCreate");
+    check_petsc(MatNullSpaceCreate(m.comm,
+                                   PETSC_FALSE,
+                                   vectors.size(),
+                                   vectors.data(),
+                                   &m.coarse_modes),
+                "MatNullSpaceCreate");
     for (auto &v : vectors)
       VecDestroy(&v);
 
-    // Defaults, unless given in PETSc's options database. Fine level: three
-    // Chebyshev iterations with point-block Jacobi (see docs/architecture.md
-    // for the measurements behind the choice); coarse level: one GAMG
-    // V-cycle smoothed as the GAMG of the "amg" choice.
+    // Defaults, unless given in PETSc's options database (the measurements
+    // behind them: docs/architecture.md). Fine level: three Chebyshev
+    // iterations with point-block Jacobi (as good as GMRES or SOR smoothing,
+    // and cheaper). Coarse level: one GAMG V-cycle smoothed as the GAMG of
+    // the "amg" choice, two GMRES-Jacobi iterations (Chebyshev-SOR breaks
+    // down in GAMG's eigenvalue estimate on the ventricle refined twice; four
+    // iterations save 5 % of the Krylov iterations on the coarse ventricle
+    // but cost more than they save, and add some on the beam).
     const std::string p = "-" + prefix;
     set_default_petsc_option(p + "mg_levels_ksp_type", "chebyshev");
     set_default_petsc_option(p + "mg_levels_ksp_max_it", "3");
@@ -310,12 +309,12 @@ namespace systole::Mechanics
   void
   PMultigrid::attach(PC pc)
   {
-    check(PCSetType(pc, PCSHELL), "PCSetType");
-    check(PCShellSetContext(pc, impl.get()), "PCShellSetContext");
-    check(PCShellSetSetUp(pc, &Impl::shell_setup), "PCShellSetSetUp");
-    check(PCShellSetApply(pc, &Impl::shell_apply), "PCShellSetApply");
-    check(PCShellSetView(pc, &Impl::shell_view), "PCShellSetView");
-    check(PCShellSetName(pc, "p-multigrid"), "PCShellSetName");
+    check_petsc(PCSetType(pc, PCSHELL), "PCSetType");
+    check_petsc(PCShellSetContext(pc, impl.get()), "PCShellSetContext");
+    check_petsc(PCShellSetSetUp(pc, &Impl::shell_setup), "PCShellSetSetUp");
+    check_petsc(PCShellSetApply(pc, &Impl::shell_apply), "PCShellSetApply");
+    check_petsc(PCShellSetView(pc, &Impl::shell_view), "PCShellSetView");
+    check_petsc(PCShellSetName(pc, "p-multigrid"), "PCShellSetName");
   }
 
   std::string

@@ -1,19 +1,13 @@
 #pragma once
 
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
 
 #include <petscpc.h>
 
 #include <memory>
 #include <string>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 namespace systole::Mechanics
 {

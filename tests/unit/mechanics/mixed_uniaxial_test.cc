@@ -36,6 +36,10 @@
 // The displacement (linear) and the pressure (constant) lie in the Q2-P1disc
 // space on the undistorted box, so the FE solution is exact up to the Newton
 // and round-off errors.
+//
+// The same cube checks the iterative solvers against the direct one, with
+// either displacement preconditioner, and the p-multigrid's fall-back to GAMG
+// for Q1 displacements.
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/distributed/tria.h>
@@ -50,6 +54,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -147,67 +152,107 @@ namespace
 
   const std::vector<double> loads = {0.5, 1.0, 2.0}; // P [kPa]
 
-  /// Deformed position of the corner (1, 1, 1) after each load of loads,
-  /// each solve starting from the previous one.
-  std::vector<dealii::Point<3>>
-  pulled_corner(const Mechanics::Incompressibility incompressibility,
-                const std::string                 &linear_solver,
-                const double                       kappa)
+  /// The unit cube of isotropic Guccione material (2 x 2 x 2 cells) on the
+  /// three symmetry planes, pulled by a follower pressure on x = 1.
+  struct PulledCube
   {
-    std::ostringstream sink;
-    Logger             logger(MPI_COMM_WORLD, sink);
+    PulledCube(const Mechanics::Incompressibility          incompressibility,
+               const std::string                          &linear_solver,
+               const double                                kappa,
+               const Mechanics::DisplacementPreconditioner preconditioner =
+                 Mechanics::DisplacementPreconditioner::amg,
+               const unsigned int degree = 2)
+      : logger(MPI_COMM_WORLD, sink)
+      , law(guccione())
+      , volumetric(Materials::VolumetricLaw::Form::quadratic, kappa)
+      , tria(MPI_COMM_WORLD)
+    {
+      Geometry::Parameters geometry;
+      geometry.type               = Geometry::Parameters::Type::box;
+      geometry.box_upper          = dealii::Point<3>(1, 1, 1);
+      geometry.box_cells          = {{2, 2, 2}};
+      const auto            names = Geometry::create_mesh(geometry, tria);
+      Mechanics::Parameters params;
+      params.incompressibility           = incompressibility;
+      params.sliding_boundaries          = {"x_min", "y_min", "z_min"};
+      params.fixed_boundaries            = {};
+      params.pressure_boundary           = "x_max";
+      params.linear_solver               = linear_solver;
+      params.displacement_preconditioner = preconditioner;
+      // A constant frame not aligned with the box (the law is isotropic).
+      const Fibres::FibreField fibres =
+        [](const auto &, const auto &points, auto &bases) {
+          bases.resize(points.size());
+          for (auto &b : bases)
+            {
+              b.f = dealii::Tensor<1, 3>({1, 1, 1}) / std::sqrt(3.0);
+              b.s = dealii::Tensor<1, 3>({1, -1, 0}) / std::sqrt(2.0);
+              b.n = dealii::Tensor<1, 3>({1, 1, -2}) / std::sqrt(6.0);
+            }
+        };
+      problem = std::make_unique<Mechanics::Problem>(params,
+                                                     tria,
+                                                     names,
+                                                     degree,
+                                                     1,
+                                                     law,
+                                                     volumetric,
+                                                     fibres,
+                                                     logger);
+      CHECK_FALSE(problem->has_cavity());
+    }
 
-    Materials::Guccione::Parameters guccione;
-    guccione.C    = stiffness;
-    guccione.b_f  = 1;
-    guccione.b_t  = 1;
-    guccione.b_fs = 1;
-    const Materials::Guccione      law(guccione);
-    const Materials::VolumetricLaw volumetric(
-      Materials::VolumetricLaw::Form::quadratic,
-      kappa);
-    // A constant frame not aligned with the box (the law is isotropic).
-    const Fibres::FibreField fibres =
-      [](const auto &, const auto &points, auto &bases) {
-        bases.resize(points.size());
-        for (auto &b : bases)
-          {
-            b.f = dealii::Tensor<1, 3>({1, 1, 1}) / std::sqrt(3.0);
-            b.s = dealii::Tensor<1, 3>({1, -1, 0}) / std::sqrt(2.0);
-            b.n = dealii::Tensor<1, 3>({1, 1, -2}) / std::sqrt(6.0);
-          }
-      };
+    static Materials::Guccione::Parameters
+    guccione()
+    {
+      Materials::Guccione::Parameters p;
+      p.C    = stiffness;
+      p.b_f  = 1;
+      p.b_t  = 1;
+      p.b_fs = 1;
+      return p;
+    }
 
-    Geometry::Parameters geometry;
-    geometry.type      = Geometry::Parameters::Type::box;
-    geometry.box_upper = dealii::Point<3>(1, 1, 1);
-    geometry.box_cells = {{2, 2, 2}};
-    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-    const auto            names = Geometry::create_mesh(geometry, tria);
-    Mechanics::Parameters params;
-    params.incompressibility  = incompressibility;
-    params.sliding_boundaries = {"x_min", "y_min", "z_min"};
-    params.fixed_boundaries   = {};
-    params.pressure_boundary  = "x_max";
-    params.linear_solver      = linear_solver;
-    Mechanics::Problem
-      problem(params, tria, names, 2, 1, law, volumetric, fibres, logger);
-    CHECK_FALSE(problem.has_cavity());
-    INFO(problem.discretization_name() << ", " << problem.linear_solver_name());
+    /// Deformed position of the corner (1, 1, 1) after each load of loads,
+    /// each solve starting from the previous one.
+    std::vector<dealii::Point<3>>
+    corners()
+    {
+      INFO(problem->discretization_name()
+           << ", " << problem->linear_solver_name());
+      std::vector<dealii::Point<3>> result;
+      for (const double P : loads)
+        {
+          // A negative follower pressure pulls the face outwards.
+          const auto report = problem->solve(-P, 0.0);
+          problem->save();
+          INFO("P = " << P << " kPa: " << report.iterations
+                      << " Newton iterations, |R| = " << report.final_residual);
+          CHECK(report.iterations > 0);
+          result.push_back(
+            problem->deformed_positions({dealii::Point<3>(1, 1, 1)})[0]);
+        }
+      return result;
+    }
 
-    std::vector<dealii::Point<3>> corners;
-    for (const double P : loads)
-      {
-        // A negative follower pressure pulls the face outwards.
-        const auto report = problem.solve(-P, 0.0);
-        problem.save();
-        INFO("P = " << P << " kPa: " << report.iterations
-                    << " Newton iterations, |R| = " << report.final_residual);
-        CHECK(report.iterations > 0);
-        corners.push_back(
-          problem.deformed_positions({dealii::Point<3>(1, 1, 1)})[0]);
-      }
-    return corners;
+    std::ostringstream                              sink;
+    Logger                                          logger;
+    const Materials::Guccione                       law;
+    const Materials::VolumetricLaw                  volumetric;
+    dealii::parallel::distributed::Triangulation<3> tria;
+    std::unique_ptr<Mechanics::Problem>             problem;
+  };
+
+  /// PulledCube(...).corners().
+  std::vector<dealii::Point<3>>
+  pulled_corner(const Mechanics::Incompressibility          incompressibility,
+                const std::string                          &linear_solver,
+                const double                                kappa,
+                const Mechanics::DisplacementPreconditioner preconditioner =
+                  Mechanics::DisplacementPreconditioner::amg)
+  {
+    return PulledCube(incompressibility, linear_solver, kappa, preconditioner)
+      .corners();
   }
 
   double
@@ -269,29 +314,85 @@ TEST_CASE("A mixed u-p cube pulled by a follower pressure stretches like the "
   }
 
   SECTION("Incompressible Q2-P1disc, the iterative solver reproduces the "
-          "direct one")
+          "direct one, with either displacement preconditioner (the "
+          "p-multigrid on sliding boundaries: constrained components)")
   {
     const auto direct =
       pulled_corner(Mechanics::Incompressibility::incompressible,
                     "direct",
                     50.0);
-    const auto iterative =
-      pulled_corner(Mechanics::Incompressibility::incompressible,
-                    "iterative",
-                    50.0);
-    for (unsigned int i = 0; i < loads.size(); ++i)
+    for (const auto preconditioner :
+         {Mechanics::DisplacementPreconditioner::amg,
+          Mechanics::DisplacementPreconditioner::p_multigrid})
       {
-        const double l = incompressible_stretch(loads[i]);
-        INFO("P = " << loads[i] << " kPa: direct " << direct[i]
-                    << ", iterative " << iterative[i]);
-        for (unsigned int d = 0; d < 3; ++d)
+        PulledCube        cube(Mechanics::Incompressibility::incompressible,
+                        "iterative",
+                        50.0,
+                        preconditioner);
+        const std::string name = cube.problem->linear_solver_name();
+        INFO(name);
+        CHECK((name.find("p-multigrid Q2 -> Q1") != std::string::npos) ==
+              (preconditioner ==
+               Mechanics::DisplacementPreconditioner::p_multigrid));
+        const auto iterative = cube.corners();
+        for (unsigned int i = 0; i < loads.size(); ++i)
           {
-            const double e = relative_error(iterative[i][d], direct[i][d]);
-            INFO("component " << d << ": relative difference " << e
-                              << ", x against analytic "
-                              << relative_error(iterative[i][0], l));
-            CHECK(e < 1e-7);
+            const double l = incompressible_stretch(loads[i]);
+            INFO("P = " << loads[i] << " kPa: direct " << direct[i]
+                        << ", iterative " << iterative[i]);
+            for (unsigned int d = 0; d < 3; ++d)
+              {
+                const double e = relative_error(iterative[i][d], direct[i][d]);
+                INFO("component " << d << ": relative difference " << e
+                                  << ", x against analytic "
+                                  << relative_error(iterative[i][0], l));
+                CHECK(e < 1e-7);
+              }
           }
       }
   }
+}
+
+TEST_CASE("With the penalty formulation, FGMRES with the p-multigrid "
+          "reproduces the direct solver",
+          "[mechanics][linear_solver]")
+{
+  const auto direct =
+    pulled_corner(Mechanics::Incompressibility::penalty, "direct", 50.0);
+  PulledCube cube(Mechanics::Incompressibility::penalty,
+                  "iterative",
+                  50.0,
+                  Mechanics::DisplacementPreconditioner::p_multigrid);
+  INFO(cube.problem->linear_solver_name());
+  CHECK(cube.problem->linear_solver_name().find(
+          "FGMRES + p-multigrid Q2 -> Q1") != std::string::npos);
+  const auto iterative = cube.corners();
+  for (unsigned int i = 0; i < loads.size(); ++i)
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        INFO("P = " << loads[i] << " kPa, component " << d << ": direct "
+                    << direct[i][d] << ", iterative " << iterative[i][d]);
+        CHECK(relative_error(iterative[i][d], direct[i][d]) < 1e-7);
+      }
+}
+
+TEST_CASE("The p-multigrid falls back to GAMG for Q1 displacements, and the "
+          "solver name says so",
+          "[mechanics][linear_solver]")
+{
+  for (const auto incompressibility :
+       {Mechanics::Incompressibility::penalty,
+        Mechanics::Incompressibility::incompressible})
+    {
+      const PulledCube  cube(incompressibility,
+                            "iterative",
+                            50.0,
+                            Mechanics::DisplacementPreconditioner::p_multigrid,
+                            1);
+      const std::string name = cube.problem->linear_solver_name();
+      INFO(name);
+      CHECK(name.find("GAMG") != std::string::npos);
+      CHECK(name.find("p-multigrid Q") == std::string::npos);
+      CHECK(name.find("no coarser degree") != std::string::npos);
+    }
 }
