@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Check the last row of a results file against independent values.
 
-    check_values.py RESULTS.h5 COLUMN=VALUE:TOL [COLUMN>BOUND ...] [--serial SERIAL.h5]
+    check_values.py RESULTS.h5 COLUMN=VALUE:TOL [COLUMN>BOUND ...] [COLUMN<BOUND ...]
+                    [--serial SERIAL.h5]
 
 Every time-series value must be finite; each COLUMN's last value must lie within TOL of
-VALUE (an independent reference, e.g. a published benchmark); COLUMN>BOUND checks a sign
-or a bound. With --serial, every column
+VALUE (an independent reference, e.g. a published benchmark); COLUMN>BOUND and
+COLUMN<BOUND check a sign or a bound. A COLUMN named summary/NAME is the last row of the
+/summary column NAME (e.g. summary/linear_iterations_per_solve<40). With --serial, every column
 must equal the serial run's to 1e-8 relative (to the column's scale) plus 1e-10,
 row by row, except the round-off columns in NOT_COMPARED.
 """
@@ -38,12 +40,16 @@ def main(argv) -> int:
         if not np.all(np.isfinite(values)):
             failures.append(f"column {name} has non-finite values")
     for spec in args[1:]:
-        if ">" in spec:  # a sign or bound check: COLUMN>VALUE
-            name, bound = spec.split(">")
-            got = ts[name][-1]
-            print(f"{name}: {got:.6f} (expected > {bound})")
-            if not got > float(bound):
-                failures.append(f"{name} = {got} is not > {bound}")
+        if ">" in spec or "<" in spec:  # a sign or bound check: COLUMN>VALUE, COLUMN<VALUE
+            sign = ">" if ">" in spec else "<"
+            name, bound = spec.split(sign)
+            if name.startswith("summary/"):
+                got = results.summary[name[len("summary/"):]][-1]
+            else:
+                got = ts[name][-1]
+            print(f"{name}: {got:.6f} (expected {sign} {bound})")
+            if not (got > float(bound) if sign == ">" else got < float(bound)):
+                failures.append(f"{name} = {got} is not {sign} {bound}")
             continue
         name, rest = spec.split("=")
         value, tolerance = (float(x) for x in rest.split(":"))
