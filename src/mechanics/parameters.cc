@@ -155,9 +155,9 @@ namespace systole::Mechanics
       "auto",
       Selection("auto|direct|iterative"),
       "direct: MUMPS (LDL^T when the tangent is symmetric, else LU); "
-      "iterative: for the penalty formulation GMRES with PETSc "
-      "GAMG (algebraic multigrid given the rigid-body modes) "
-      "or FGMRES with the p-multigrid (see Displacement "
+      "iterative: for the penalty formulation FGMRES with the "
+      "p-multigrid or GMRES with PETSc GAMG (algebraic multigrid "
+      "given the rigid-body modes; see Displacement "
       "preconditioner), for the mixed ones FGMRES with a block "
       "preconditioner (that V-cycle on the displacement block, "
       "the pressure mass matrix scaled by 1/mu + 1/kappa for "
@@ -176,19 +176,21 @@ namespace systole::Mechanics
                       "Units: -.");
     prm.declare_entry(
       "Displacement preconditioner",
-      "amg",
+      "p-multigrid",
       Selection("amg|p-multigrid"),
       "Preconditioner of the displacement (the displacement block of the "
-      "mixed formulations) in the iterative linear solver. amg: one PETSc "
-      "GAMG V-cycle on the Q_k displacement (rigid-body modes as near-null "
-      "space); p-multigrid: a two-level V-cycle, three Chebyshev iterations "
-      "with point-block Jacobi on Q2, then one GAMG V-cycle on the Galerkin "
-      "operator P^T A P of the Q1 displacement of the same mesh (P the "
-      "interpolation Q1 -> Q2, built once per mesh); fewer Krylov "
-      "iterations, growing less with refinement. Q1 displacements have no "
-      "coarser degree and use amg. PETSc options with the prefix "
-      "-mechanics_fieldsplit_u_pmg_ (penalty: -mechanics_pmg_) override the "
-      "smoother and the coarse solver. Units: -.");
+      "mixed formulations) in the iterative linear solver. p-multigrid: a "
+      "two-level V-cycle, three Chebyshev iterations with point-block Jacobi "
+      "on Q2, then one GAMG V-cycle on the Galerkin operator P^T A P of the "
+      "Q1 displacement of the same mesh (P the interpolation Q1 -> Q2, built "
+      "once per mesh); amg: one PETSc GAMG V-cycle on the Q_k displacement "
+      "(rigid-body modes as near-null space). On the measured cases "
+      "p-multigrid takes less solver time (a third of the Krylov iterations "
+      "on the incompressible ventricle; docs/architecture.md). Q1 "
+      "displacements have no coarser degree and use amg (the run banner says "
+      "so). PETSc options with the prefix -mechanics_fieldsplit_u_pmg_ "
+      "(penalty: -mechanics_pmg_) override the smoother and the coarse "
+      "solver. Units: -.");
     prm.declare_entry("Tracked points",
                       "",
                       Anything(),

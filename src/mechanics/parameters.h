@@ -121,9 +121,9 @@ namespace systole::Mechanics
     double       newton_absolute_tolerance = 1e-12;
     unsigned int max_newton_iterations     = 12;
 
-    /// "auto", "direct" (MUMPS) or "iterative" (GMRES + GAMG with rigid-body
-    /// modes, or FGMRES + p-multigrid; for the mixed formulations FGMRES with
-    /// a block preconditioner: that V-cycle on the displacement block, the
+    /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
+    /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES
+    /// with a block preconditioner: that V-cycle on the displacement block, the
     /// scaled pressure mass matrix for the Schur complement).
     std::string linear_solver = "auto";
     /// Above this many DOFs "auto" picks the iterative solver.
@@ -132,7 +132,7 @@ namespace systole::Mechanics
     double linear_tolerance = 1e-8;
     /// Preconditioner of the displacement (block) of the iterative solver.
     DisplacementPreconditioner displacement_preconditioner =
-      DisplacementPreconditioner::amg;
+      DisplacementPreconditioner::p_multigrid;
 
     std::vector<TrackedPoint> tracked_points;
 
