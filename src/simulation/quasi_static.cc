@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria.h>
+#include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
 
 #include "base/errors.h"
@@ -56,11 +57,20 @@ namespace systole
          "-",
          static_cast<double>(report.linear_iterations)},
         {"residual", "mN", report.final_residual}};
-      if (problem.has_cavity())
+      if (problem.n_cavities() == 1)
         {
           const double volume = problem.cavity_volume();
           row.push_back({"volume", "mm^3", volume});
           row.push_back({"volume_mL", "mL", Units::mm3_to_mL(volume)});
+        }
+      else if (problem.n_cavities() > 1)
+        {
+          // One column per cavity, named after its boundary part.
+          const auto volumes = problem.cavity_volumes();
+          const auto names   = problem.cavity_names();
+          for (unsigned int c = 0; c < volumes.size(); ++c)
+            row.push_back(
+              {names[c] + "_volume_mL", "mL", Units::mm3_to_mL(volumes[c])});
         }
       const auto deformed = problem.deformed_positions(reference_points);
       for (unsigned int i = 0; i < deformed.size(); ++i)
