@@ -53,11 +53,44 @@ namespace systole
       return open;
     }
 
-    /// One coupled solve to @p t_new from the last accepted state: false if
+    /// The end of the next attempt: the step size (below the cap after a
+    /// failure), clipped to the next breakpoint, beat end and known event
+    /// bracket. Sets t_new and h_try.
+    void
+    next_end_time();
+
+    /// One coupled solve to t_new from the last accepted state: false if
     /// the mechanics or the 0D step failed (the ventricles are back at the
     /// accepted state then).
     bool
-    solve_coupled(const double t_new, const double ratio);
+    solve_coupled();
+
+    /// After a failed solve: halve the step, cap the next ones; throws after
+    /// Settings::max_step_cuts failures in a row.
+    void
+    cut_after_failure();
+
+    /// Whether a valve indicator changed sign more than the event tolerance
+    /// before t_new: then the attempt is rejected and the next one aims just
+    /// after the crossing.
+    bool
+    redo_for_valve_event();
+
+    /// Whether the BDF error estimate exceeds the tolerance: then the attempt
+    /// is rejected and the next one is shorter.
+    bool
+    redo_for_error();
+
+    /// Accept the attempt: commit the 0D state and the mechanics, switch the
+    /// valves that changed (restart the BDF then) and choose the next step.
+    /// Returns the valves that switched.
+    std::vector<unsigned int>
+    accept();
+
+    /// At a beat's end: its summary to @p observer; true when the run is
+    /// done (periodic or the last beat).
+    bool
+    end_beat(Observer &observer);
 
     /// The earliest sign change of a valve indicator between the accepted
     /// state and the last solve, as the fraction of the step (linear in the
@@ -85,15 +118,43 @@ namespace systole
     // Counters of the step being attempted.
     unsigned int step_iterations = 0, step_solves = 0, step_rejected = 0;
     unsigned int step_order = 1;
+    // The attempt: its end, size, the valve indicators and error ratio there,
+    // the next step size, the known bracket of a crossing, the cap after a
+    // failure, and the failures in a row.
+    double       t_new = 0, h_try = 0, breakpoint = 0, ratio = 1;
+    Vector       g;
+    double       h     = 0;
+    double       upper = std::numeric_limits<double>::infinity();
+    double       cap   = std::numeric_limits<double>::infinity();
+    unsigned int cuts  = 0;
   };
 
 
+  void
+  HeartbeatStepper::Impl::next_end_time()
+  {
+    const double t        = bdf.time();
+    const double period   = settings.period;
+    const double beat_end = (beat + 1) * period;
+    // The next breakpoint after t (the steps end there).
+    breakpoint = beat_end;
+    for (const double b : breakpoints)
+      if (beat * period + b > t + settings.min_step)
+        breakpoint = std::min(breakpoint, beat * period + b);
+    t_new = std::min({t + std::min(h, cap), breakpoint, upper});
+    if (breakpoint - t_new < settings.min_step)
+      t_new = breakpoint; // no sliver before a breakpoint
+    h_try      = t_new - t;
+    step_order = bdf.order();
+  }
+
+
   bool
-  HeartbeatStepper::Impl::solve_coupled(const double t_new, const double ratio)
+  HeartbeatStepper::Impl::solve_coupled()
   {
     bdf.begin(t_new);
     ventricles.set_time(t_new);
-    ventricles.predict(ratio);
+    ventricles.predict(last_step > 0 ? h_try / last_step : 0);
     Vector                   p = bdf.predicted_pressures();
     const CavityVolumeTarget target =
       [this](const Vector &p, Vector &W, dealii::FullMatrix<double> &dW_dp) {
@@ -122,7 +183,117 @@ namespace systole
         ventricles.reject();
         return false;
       }
+    model.valve_indicators(t_new, bdf.solution(), bdf.solution_pressures(), g);
     return true;
+  }
+
+
+  void
+  HeartbeatStepper::Impl::cut_after_failure()
+  {
+    ++stats.n_failures;
+    ++step_rejected;
+    ++cuts;
+    std::ostringstream o;
+    o << "The coupled mechanics and circulation step from t = " << bdf.time()
+      << " ms failed " << cuts
+      << " times in a row, the last time with a step of " << h_try
+      << " ms. See the Newton log (Output / Solver log = on).";
+    AssertThrow(cuts <= settings.max_step_cuts && h_try > settings.min_step,
+                dealii::ExcMessage(o.str()));
+    h   = 0.5 * h_try;
+    cap = 0.75 * h_try;
+  }
+
+
+  bool
+  HeartbeatStepper::Impl::redo_for_valve_event()
+  {
+    const double theta = crossing(g);
+    if (theta <= 1 && (1 - theta) * h_try > settings.event_time_tolerance)
+      {
+        ventricles.reject();
+        ++stats.n_event_rejections;
+        ++step_rejected;
+        upper = t_new;
+        h     = std::max(theta * h_try + 0.5 * settings.event_time_tolerance,
+                     settings.min_step);
+        return true;
+      }
+    return false;
+  }
+
+
+  bool
+  HeartbeatStepper::Impl::redo_for_error()
+  {
+    const auto e = bdf.error_norms();
+    ratio        = bdf.step_ratio();
+    if (std::max(e[0], e[1]) > 1 && h_try > settings.min_step)
+      {
+        ventricles.reject();
+        ++stats.n_error_rejections;
+        ++step_rejected;
+        h = std::max(ratio * h_try, settings.min_step);
+        return true;
+      }
+    return false;
+  }
+
+
+  std::vector<unsigned int>
+  HeartbeatStepper::Impl::accept()
+  {
+    bdf.accept();
+    ventricles.accept();
+    last_step = h_try;
+    cuts      = 0;
+    ++stats.n_steps;
+    std::vector<unsigned int> switched;
+    for (unsigned int v = 0; v < g.size(); ++v)
+      if ((g[v] > 0) != open[v])
+        {
+          open[v] = g[v] > 0;
+          switched.push_back(v);
+        }
+    indicators = g;
+    if (!switched.empty())
+      {
+        phases->update(open);
+        bdf.restart();
+        stats.n_events += switched.size();
+        h     = settings.initial_step;
+        upper = std::numeric_limits<double>::infinity();
+      }
+    else if (t_new == breakpoint && t_new < (beat + 1) * settings.period)
+      h = settings.initial_step;
+    else
+      h = std::clamp(ratio * h_try, settings.min_step, settings.max_step);
+    if (upper <= t_new)
+      upper = std::numeric_limits<double>::infinity();
+    cap *= 1.1;
+    stats.end_time = t_new;
+    return switched;
+  }
+
+
+  bool
+  HeartbeatStepper::Impl::end_beat(Observer &observer)
+  {
+    const double beat_end = (beat + 1) * settings.period;
+    observer.on_beat(beat, recorder.finish(beat_end));
+    ++beat;
+    ++stats.n_beats;
+    if (beat >= 2 && settings.periodicity_tolerance > 0 &&
+        recorder.periodicity() < settings.periodicity_tolerance)
+      {
+        stats.periodic = true;
+        return true;
+      }
+    if (beat == settings.n_max_beats)
+      return true;
+    recorder.start(beat, beat_end);
+    return false;
   }
 
 
@@ -202,124 +373,21 @@ namespace systole
     const Settings &s = m.settings;
     m.recorder.start(0, 0.0);
     m.record(observer, {});
-
-    double h     = s.initial_step;
-    double upper = std::numeric_limits<double>::infinity(); // a crossing
-    // After a failed solve, the steps grow back slowly: at most 3/4 of the
-    // failed step, then 10 % more per accepted step.
-    double       cap  = std::numeric_limits<double>::infinity();
-    unsigned int cuts = 0;
+    m.h = s.initial_step;
     for (;;)
       {
-        const double t        = m.bdf.time();
-        const double beat_end = (m.beat + 1) * s.period;
-        // The next breakpoint after t (the steps end there).
-        double breakpoint = beat_end;
-        for (const double b : m.breakpoints)
-          if (m.beat * s.period + b > t + s.min_step)
-            breakpoint = std::min(breakpoint, m.beat * s.period + b);
-        double t_new = std::min({t + std::min(h, cap), breakpoint, upper});
-        if (breakpoint - t_new < s.min_step)
-          t_new = breakpoint; // no sliver before a breakpoint
-        const double h_try = t_new - t;
-        m.step_order       = m.bdf.order();
-
-        // Solve the coupled step; on failure, cut it.
-        if (!m.solve_coupled(t_new, m.last_step > 0 ? h_try / m.last_step : 0))
+        m.next_end_time(); // step size, breakpoints, beat end, event bracket
+        if (!m.solve_coupled()) // electrophysiology, tension, mechanics + 0D
           {
-            ++m.stats.n_failures;
-            ++m.step_rejected;
-            ++cuts;
-            std::ostringstream o;
-            o << "The coupled mechanics and circulation step from t = " << t
-              << " ms failed " << cuts
-              << " times in a row, the last time with a step of " << h_try
-              << " ms. See the Newton log (Output / Solver log = on).";
-            AssertThrow(cuts <= s.max_step_cuts && h_try > s.min_step,
-                        dealii::ExcMessage(o.str()));
-            h   = 0.5 * h_try;
-            cap = 0.75 * h_try;
+            m.cut_after_failure();
             continue;
           }
-        cuts = 0;
-
-        // A valve event inside the step: redo it to end just after it.
-        Vector g;
-        m.model.valve_indicators(t_new,
-                                 m.bdf.solution(),
-                                 m.bdf.solution_pressures(),
-                                 g);
-        const double theta = m.crossing(g);
-        if (theta <= 1 && (1 - theta) * h_try > s.event_time_tolerance)
-          {
-            m.ventricles.reject();
-            ++m.stats.n_event_rejections;
-            ++m.step_rejected;
-            upper = t_new;
-            h     = std::max(theta * h_try + 0.5 * s.event_time_tolerance,
-                         s.min_step);
-            continue;
-          }
-
-        // The local error.
-        const auto   e     = m.bdf.error_norms();
-        const double ratio = m.bdf.step_ratio();
-        if (std::max(e[0], e[1]) > 1 && h_try > s.min_step)
-          {
-            m.ventricles.reject();
-            ++m.stats.n_error_rejections;
-            ++m.step_rejected;
-            h = std::max(ratio * h_try, s.min_step);
-            continue;
-          }
-
-        // Accept.
-        m.bdf.accept();
-        m.ventricles.accept();
-        m.last_step = h_try;
-        ++m.stats.n_steps;
-        std::vector<unsigned int> switched;
-        for (unsigned int v = 0; v < g.size(); ++v)
-          if ((g[v] > 0) != m.open[v])
-            {
-              m.open[v] = g[v] > 0;
-              switched.push_back(v);
-            }
-        m.indicators = g;
-        if (!switched.empty())
-          {
-            m.phases->update(m.open);
-            m.bdf.restart();
-            m.stats.n_events += switched.size();
-            h     = s.initial_step;
-            upper = std::numeric_limits<double>::infinity();
-          }
-        else if (t_new == breakpoint && t_new < beat_end)
-          h = s.initial_step;
-        else
-          h = std::clamp(ratio * h_try, s.min_step, s.max_step);
-        if (upper <= t_new)
-          upper = std::numeric_limits<double>::infinity();
-        cap *= 1.1;
-        m.record(observer, switched);
-        m.stats.end_time = t_new;
-
-        if (t_new == beat_end)
-          {
-            observer.on_beat(m.beat, m.recorder.finish(beat_end));
-            ++m.beat;
-            ++m.stats.n_beats;
-            const double periodicity = m.recorder.periodicity();
-            if (m.beat >= 2 && s.periodicity_tolerance > 0 &&
-                periodicity < s.periodicity_tolerance)
-              {
-                m.stats.periodic = true;
-                break;
-              }
-            if (m.beat == s.n_max_beats)
-              break;
-            m.recorder.start(m.beat, beat_end);
-          }
+        if (m.redo_for_valve_event() || m.redo_for_error())
+          continue;
+        const auto switched = m.accept(); // valves, phases, next step size
+        m.record(observer, switched);     // time series, events
+        if (m.t_new == (m.beat + 1) * s.period && m.end_beat(observer))
+          break;
         if (observer.stop_requested())
           {
             m.stats.interrupted = true;
