@@ -1,6 +1,7 @@
 // The version string; the only file that includes the git version (a header
-// the build writes from `git describe` when it changes: cmake/GitVersion.cmake),
-// so that a new commit does not invalidate the compiler cache of the library.
+// the build writes from `git describe` when it changes:
+// cmake/GitVersion.cmake), so that a new commit does not invalidate the
+// compiler cache of the library.
 #include "io/results_file.h"
 
 #include "systole_git_version.h"
