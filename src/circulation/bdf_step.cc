@@ -132,28 +132,29 @@ namespace systole::Circulation
     // reach round-off; the last one also makes G's linear invariants
     // (the blood volume) exact.
     dealii::Vector<double>     f, G(n), dy(n);
-    dealii::FullMatrix<double> df_dy, df_dp, J(n, n);
-    constexpr unsigned int     max_iterations = 30;
+    dealii::FullMatrix<double> df_dy, df_dp, J_inverse(n, n);
+    // (a0 I - h df/dy)^-1 and df/dp at the current y (n is small: invert).
+    const auto invert_jacobian = [&]() {
+      model.jacobian(t_new, y_solution, p_solution, df_dy, df_dp);
+      for (unsigned int i = 0; i < n; ++i)
+        for (unsigned int j = 0; j < n; ++j)
+          J_inverse(i, j) = (i == j ? a0 : 0.0) - h * df_dy(i, j);
+      J_inverse.gauss_jordan();
+    };
+    constexpr unsigned int max_iterations = 30;
     for (unsigned int it = 0;; ++it)
       {
         model.rhs(t_new, y_solution, p_solution, f);
-        model.jacobian(t_new, y_solution, p_solution, df_dy, df_dp);
-        double size = 0; // weighted size of the update
+        invert_jacobian();
         for (unsigned int i = 0; i < n; ++i)
           G[i] = a0 * y_solution[i] - known[i] - h * f[i];
-        for (unsigned int i = 0; i < n; ++i)
-          for (unsigned int j = 0; j < n; ++j)
-            J(i, j) = (i == j ? a0 : 0.0) - h * df_dy(i, j);
-        J.gauss_jordan(); // J is now the inverse (n is small)
-        J.vmult(dy, G);
+        J_inverse.vmult(dy, G);
+        double size = 0; // weighted size of the update
         for (unsigned int i = 0; i < n; ++i)
           {
             y_solution[i] -= dy[i];
-            const double scale =
-              settings.absolute_volume_tolerance /
-                model.states()[i].volume_scale +
-              settings.relative_tolerance * std::abs(y_solution[i]);
-            size = std::max(size, std::abs(dy[i]) / scale);
+            size =
+              std::max(size, std::abs(dy[i]) / tolerance(i, y_solution[i]));
           }
         ++step_iterations;
         // At 1e-8 of the error tolerance: far below the local error, and
@@ -162,7 +163,7 @@ namespace systole::Circulation
           {
             // dy/dp = (a0 I - h df/dy)^-1 h df/dp, at the solution's side
             // of every valve.
-            model.jacobian(t_new, y_solution, p_solution, df_dy, df_dp);
+            invert_jacobian();
             W.reinit(k);
             dW_dp.reinit(k, k);
             for (unsigned int a = 0; a < k; ++a)
@@ -171,16 +172,12 @@ namespace systole::Circulation
                   model.cavities()[external[a]].volume_state;
                 W[a] = y_solution[row];
               }
-            for (unsigned int i = 0; i < n; ++i)
-              for (unsigned int j = 0; j < n; ++j)
-                J(i, j) = (i == j ? a0 : 0.0) - h * df_dy(i, j);
-            J.gauss_jordan();
             for (unsigned int b = 0; b < k; ++b)
               {
                 dealii::Vector<double> column(n), dy_dp(n);
                 for (unsigned int i = 0; i < n; ++i)
                   column[i] = h * df_dp(i, external[b]);
-                J.vmult(dy_dp, column);
+                J_inverse.vmult(dy_dp, column);
                 for (unsigned int a = 0; a < k; ++a)
                   dW_dp(a, b) =
                     dy_dp[model.cavities()[external[a]].volume_state];
@@ -201,6 +198,14 @@ namespace systole::Circulation
   }
 
 
+  double
+  BdfStep::tolerance(const unsigned int i, const double value) const
+  {
+    return settings.absolute_volume_tolerance / model.states()[i].volume_scale +
+           settings.relative_tolerance * std::abs(value);
+  }
+
+
   std::array<double, 2>
   BdfStep::error_norms() const
   {
@@ -209,12 +214,10 @@ namespace systole::Circulation
     std::array<double, 2> e = {{0.0, 0.0}};
     for (unsigned int i = 0; i < model.n_states(); ++i)
       {
-        const double scale =
-          settings.absolute_volume_tolerance / model.states()[i].volume_scale +
-          settings.relative_tolerance * std::abs(y_solution[i]);
-        e[0] = std::max(e[0],
-                        error_constant *
-                          std::abs(y_solution[i] - y_predicted[i]) / scale);
+        e[0] =
+          std::max(e[0],
+                   error_constant * std::abs(y_solution[i] - y_predicted[i]) /
+                     tolerance(i, y_solution[i]));
       }
     if (history.size() == 2)
       {

@@ -160,6 +160,11 @@ namespace systole::Circulation
     restart();
 
   private:
+    /// atol_i + rtol |value| of state i: the scale of its error and of the
+    /// Newton updates.
+    double
+    tolerance(const unsigned int i, const double value) const;
+
     struct Point
     {
       double                 t;
