@@ -1,7 +1,5 @@
 #include "materials/volumetric_law.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
 #include <cmath>
 
 namespace systole::Materials
@@ -211,17 +209,26 @@ namespace systole::Materials
                         const double                   dU,
                         const double                   d2U,
                         dealii::SymmetricTensor<2, 3> &S,
-                        dealii::SymmetricTensor<4, 3> &dS_dE)
+                        dealii::SymmetricTensor<4, 3> &dS_dE,
+                        const bool                     with_tangent)
   {
     const double                        J = dealii::determinant(F);
     const dealii::SymmetricTensor<2, 3> C_inv =
       dealii::invert(dealii::symmetrize(dealii::transpose(F) * F));
-    // S = 2 dU/dC = J U' C^{-1} (dJ/dC = J/2 C^{-1}); dS/dE = 2 dS/dC, and
-    // dC^{-1}/dC = -C^{-1} (.) C^{-1} is what deal.II's dC_inv_dC returns.
+    // S = 2 dU/dC = J U' C^{-1} (dJ/dC = J/2 C^{-1}); dS/dE = 2 dS/dC with
+    // dC^{-1}/dC = -C^{-1} (.) C^{-1}, (A (.) B)_IJKL = (A_IK B_JL + A_IL
+    // B_JK) / 2 (what deal.II's dC_inv_dC returns).
     S += (J * dU) * C_inv;
-    dS_dE += (J * (dU + J * d2U)) * dealii::outer_product(C_inv, C_inv) +
-             (2.0 * J * dU) *
-               dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(F);
+    if (!with_tangent)
+      return;
+    const double a = J * (dU + J * d2U), b = -J * dU;
+    for (unsigned int I = 0; I < 3; ++I)
+      for (unsigned int J_ = I; J_ < 3; ++J_)
+        for (unsigned int K = 0; K < 3; ++K)
+          for (unsigned int L = K; L < 3; ++L)
+            dS_dE[I][J_][K][L] +=
+              a * C_inv[I][J_] * C_inv[K][L] +
+              b * (C_inv[I][K] * C_inv[J_][L] + C_inv[I][L] * C_inv[J_][K]);
   }
 
 

@@ -142,10 +142,12 @@ namespace systole::Materials
   /// pressure p [kPa] as Lagrange multiplier of J - 1, positive in
   /// compression).
   /// @param[in] F deformation gradient [-], det F > 0 (not checked here).
+  /// @param[in] with_tangent false: S only (@p dS_dE untouched).
   void
   add_volumetric_stress(const dealii::Tensor<2, 3>    &F,
                         const double                   dU,
                         const double                   d2U,
                         dealii::SymmetricTensor<2, 3> &S,
-                        dealii::SymmetricTensor<4, 3> &dS_dE);
+                        dealii::SymmetricTensor<4, 3> &dS_dE,
+                        bool                           with_tangent = true);
 } // namespace systole::Materials

@@ -406,7 +406,8 @@ namespace systole::Mechanics
                                                -p_values[q],
                                                0.0,
                                                out.S,
-                                               out.dS_dE);
+                                               out.dS_dE,
+                                               with_matrix);
             else if (!reduced_volumetric)
               volumetric_law.add_to(in.F, out.S, out.dS_dE);
             // The active stress comes after the volumetric part: it is not

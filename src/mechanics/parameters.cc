@@ -149,7 +149,22 @@ namespace systole::Mechanics
                       "12",
                       Integer(1),
                       "Iterations before a load step counts as failed and is "
-                      "cut. A converging Newton needs 3 to 6. Units: -.");
+                      "cut. A converging Newton needs 3 to 6 (chord "
+                      "iterations, see Reuse factorization, do not count). "
+                      "Units: -.");
+    prm.declare_entry(
+      "Reuse factorization",
+      "true",
+      Bool(),
+      "true: Newton reuses the factorized (or preconditioned) tangent where "
+      "that is cheaper than a new one: a solve after a converged one starts "
+      "with a chord iteration on the last tangent (the Euler predictor of the "
+      "new load; for volume-constrained solves, chord iterations while they "
+      "converge fast), and once the residual is below 1e-3 of its largest "
+      "value and fell tenfold in the last iteration, up to three chord "
+      "iterations replace new tangents. false: a new tangent and "
+      "factorization at every iteration (pure Newton, e.g. to see its "
+      "quadratic convergence). Units: -.");
     prm.declare_entry(
       "Linear solver",
       "auto",
@@ -236,6 +251,7 @@ namespace systole::Mechanics
     p.newton_absolute_tolerance =
       prm.get_double(m, "Newton absolute tolerance");
     p.max_newton_iterations = prm.get_integer(m, "Maximum Newton iterations");
+    p.reuse_factorization   = prm.get_bool(m, "Reuse factorization");
     p.linear_solver         = prm.get(m, "Linear solver");
     p.direct_solver_limit   = prm.get_integer(m, "Direct solver limit");
     p.linear_tolerance      = prm.get_double(m, "Linear solver tolerance");

@@ -120,6 +120,9 @@ namespace systole::Mechanics
     double       newton_relative_tolerance = 1e-9;
     double       newton_absolute_tolerance = 1e-12;
     unsigned int max_newton_iterations     = 12;
+    /// Chord iterations on the last factorized tangent where they are
+    /// cheaper than a new one (the entry "Reuse factorization").
+    bool reuse_factorization = true;
 
     /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
     /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES

@@ -600,7 +600,16 @@ namespace systole::Mechanics
     // only, one back substitution per iteration, the bordered system of that
     // tangent (its B0 and W0 = K^-1 B0; W and W' of the current pressures);
     // left as soon as they stop converging fast.
-    if (bordered && m.have_factorization)
+    // The factorization of the last solve is worth reusing only if that
+    // solve converged (its tangent is that of an iterate near its solution).
+    const bool reuse = m.params.reuse_factorization && m.have_factorization &&
+                       m.last_solve_converged;
+    m.last_solve_converged   = false;
+    const auto converged_now = [&m](NewtonReport &r) -> NewtonReport & {
+      m.last_solve_converged = true;
+      return r;
+    };
+    if (bordered && reuse && m.factorized_volume_derivatives.size() == k)
       {
         const LA::MPI::Vector        u_start        = m.u_owned;
         const dealii::Vector<double> pressure_start = pressures;
@@ -618,7 +627,7 @@ namespace systole::Mechanics
               {
                 report.final_residual   = residual[0];
                 report.initial_residual = start_residual;
-                return report;
+                return converged_now(report);
               }
             if (it == max_chord_iterations)
               break;
@@ -685,12 +694,78 @@ namespace systole::Mechanics
     // start and at every trial point, unless the quadratic rate says the
     // trial point will be converged.
     bool tangent_ready = !bordered;
-    AssertThrow(try_assemble(residual, tangent_ready),
-                ExcNewtonDidNotConverge("an element is inverted at the start "
-                                        "of the load step",
-                                        0,
-                                        1.0));
-    report.initial_residual = residual[0];
+
+    // Without volume constraints, a solve starts with one chord iteration on
+    // the factorization of the last solve: the Euler predictor of the new
+    // load (the tangent is that of an iterate near the last solution), for a
+    // residual and a back substitution instead of a tangent and a
+    // factorization. Newton continues from it unless it inverts an element
+    // or the residual is not finite.
+    bool start_assembled = false;
+    if (!bordered && reuse)
+      {
+        const LA::MPI::Vector u_start = m.u_owned;
+        bool                  ok      = try_assemble(residual, false);
+        report.initial_residual       = residual[0];
+        if (ok)
+          try
+            {
+              dealii::TimerOutput::Scope scope(m.timer,
+                                               "Mechanics / linear solver");
+              m.residual *= -1.0;
+              du = 0;
+              report.linear_iterations +=
+                m.linear_solver->solve(du, m.residual);
+              m.constraints.distribute(du);
+            }
+          catch (const dealii::ExceptionBase &)
+            {
+              ok = false;
+            }
+        if (ok)
+          {
+            m.u_owned.add(1.0, du);
+            m.u                         = m.u_owned;
+            const double start_residual = residual[0];
+            ok                          = try_assemble(residual, true);
+            if (ok)
+              {
+                reference = start_residual;
+                du_norm   = block_norms(m.layout, du);
+                ++report.reused_iterations;
+                start_assembled = true;
+                out << "      chord 1: |R_u| = " << std::scientific
+                    << std::setprecision(3) << residual[0];
+                if (mixed)
+                  out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+                out << std::defaultfloat
+                    << "  (Euler predictor on the last factorization)"
+                    << std::endl;
+              }
+          }
+        if (!ok)
+          {
+            m.u_owned = u_start;
+            m.u       = m.u_owned;
+          }
+      }
+    if (!start_assembled)
+      {
+        AssertThrow(try_assemble(residual, tangent_ready),
+                    ExcNewtonDidNotConverge("an element is inverted at the "
+                                            "start of the load step",
+                                            0,
+                                            1.0));
+        report.initial_residual = residual[0];
+      }
+    // Modified Newton near the solution: once the residual is small and the
+    // last update cut it tenfold, the next update reuses the factorization
+    // (a chord iteration: a residual and a back substitution instead of a
+    // tangent and a factorization); at most three per solve, and not counted
+    // against the Newton iteration limit.
+    unsigned int n_chord           = 0;
+    bool         last_was_chord    = false;
+    double       previous_residual = 0;
     for (unsigned int it = 0;; ++it)
       {
         reference = std::max(reference, residual[0]);
@@ -700,8 +775,11 @@ namespace systole::Mechanics
         const auto   u_norm   = block_norms(m.layout, m.u_owned);
         if (it > 0)
           {
-            out << "      Newton " << std::setw(2) << it
-                << ": |R_u| = " << std::scientific << std::setprecision(3)
+            if (last_was_chord)
+              out << "      chord  " << std::setw(2) << n_chord;
+            else
+              out << "      Newton " << std::setw(2) << it - n_chord;
+            out << ": |R_u| = " << std::scientific << std::setprecision(3)
                 << residual[0] << "  |R_u|/|R_u|max = " << relative;
             if (mixed)
               out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
@@ -734,11 +812,12 @@ namespace systole::Mechanics
                           (it > 0 && (converged(reference) ||
                                       du_norm[0] <= 1e-12 * u_norm[0]))))
           {
-            report.iterations     = it;
+            report.iterations = it - n_chord;
+            report.reused_iterations += n_chord;
             report.final_residual = residual[0];
-            return report;
+            return converged_now(report);
           }
-        AssertThrow(it < m.params.max_newton_iterations,
+        AssertThrow(it - n_chord < m.params.max_newton_iterations,
                     ExcNewtonDidNotConverge(bordered ? "volume-constrained "
                                                        "step"
                                                      : "load step",
@@ -751,53 +830,82 @@ namespace systole::Mechanics
         // k x k Schur complement (bordered_update).
         // The tangent (and dV/du) at this iterate, unless the last pass made
         // it; the residual again.
-        if (!tangent_ready)
+        const bool chord = m.params.reuse_factorization &&
+                           m.have_factorization && it > 0 && n_chord < 3 &&
+                           relative <= 1e-3 &&
+                           residual[0] <= 0.1 * previous_residual;
+        previous_residual = residual[0];
+        if (!tangent_ready && !chord)
           try_assemble(residual, true);
         tangent_ready = false;
         m.residual *= -1.0;
         dealii::Vector<double> dp(pressures.size());
-        {
-          dealii::TimerOutput::Scope scope(m.timer,
-                                           "Mechanics / linear solver");
-          try
-            {
-              m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
-            }
-          catch (const dealii::ExceptionBase &e)
-            {
-              AssertThrow(false,
-                          ExcNewtonDidNotConverge(std::string(
-                                                    "linear solver: ") +
-                                                    one_line_message(e),
-                                                  it,
-                                                  relative));
-            }
-          report.linear_iterations +=
-            m.linear_solve(du, m.residual, it, relative);
-          if (bordered)
-            {
-              for (unsigned int j = 0; j < k; ++j)
-                report.linear_iterations +=
-                  m.linear_solve(w_volume[j],
-                                 m.volume_derivatives[j],
-                                 it,
-                                 relative);
-              AssertThrow(bordered_update(m.volume_derivatives,
-                                          w_volume,
+        if (chord)
+          {
+            dealii::TimerOutput::Scope scope(m.timer,
+                                             "Mechanics / linear solver");
+            report.linear_iterations +=
+              m.linear_solve(du, m.residual, it, relative);
+            AssertThrow(!bordered ||
+                          bordered_update(m.factorized_volume_derivatives,
+                                          m.factorized_w,
                                           volume_residual(),
                                           target_derivative,
                                           du,
                                           dp),
-                          ExcNewtonDidNotConverge(
-                            "the bordered system is singular (B^T K^-1 B - "
-                            "dW/dp)",
-                            it,
-                            relative));
-              m.factorized_volume_derivatives = m.volume_derivatives;
-              m.factorized_w                  = w_volume;
-              m.have_factorization            = true;
-            }
-        }
+                        ExcNewtonDidNotConverge(
+                          "the bordered system is singular (B^T K^-1 B - "
+                          "dW/dp)",
+                          it,
+                          relative));
+          }
+        else
+          {
+            dealii::TimerOutput::Scope scope(m.timer,
+                                             "Mechanics / linear solver");
+            try
+              {
+                m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+                // (Of K alone until the bordered update below stores B0, W0.)
+                m.have_factorization = true;
+                m.factorized_volume_derivatives.clear();
+                m.factorized_w.clear();
+              }
+            catch (const dealii::ExceptionBase &e)
+              {
+                AssertThrow(false,
+                            ExcNewtonDidNotConverge(std::string(
+                                                      "linear solver: ") +
+                                                      one_line_message(e),
+                                                    it,
+                                                    relative));
+              }
+            report.linear_iterations +=
+              m.linear_solve(du, m.residual, it, relative);
+            if (bordered)
+              {
+                for (unsigned int j = 0; j < k; ++j)
+                  report.linear_iterations +=
+                    m.linear_solve(w_volume[j],
+                                   m.volume_derivatives[j],
+                                   it,
+                                   relative);
+                AssertThrow(bordered_update(m.volume_derivatives,
+                                            w_volume,
+                                            volume_residual(),
+                                            target_derivative,
+                                            du,
+                                            dp),
+                            ExcNewtonDidNotConverge(
+                              "the bordered system is singular (B^T K^-1 B - "
+                              "dW/dp)",
+                              it,
+                              relative));
+                m.factorized_volume_derivatives = m.volume_derivatives;
+                m.factorized_w                  = w_volume;
+                m.have_factorization            = true;
+              }
+          }
 
         // Safeguarded update: halve the step while it inverts an element. (A
         // residual-norm merit test is no use here: the first iterations of a
@@ -807,11 +915,13 @@ namespace systole::Mechanics
         const dealii::Vector<double> pressure_start = pressures;
         double                       alpha          = 1.0;
         // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
-        // point is expected to be converged, so the tangent there is not
-        // needed.
+        // point is expected to be converged, or close enough for a chord
+        // iteration, so the tangent there is not needed (nor after a chord
+        // iteration, whose factorization the next one reuses).
         const bool trial_tangent =
-          !bordered &&
-          !(relative * relative <= m.params.newton_relative_tolerance);
+          !bordered && !chord &&
+          !(relative * relative <=
+            std::max(m.params.newton_relative_tolerance, 1e-3));
         for (unsigned int cut = 0;; ++cut)
           {
             m.u_owned = u_start;
@@ -837,6 +947,9 @@ namespace systole::Mechanics
         du_norm = block_norms(m.layout, du);
         du_norm[0] *= alpha;
         du_norm[1] *= alpha;
+        if (chord)
+          ++n_chord;
+        last_was_chord = chord;
       }
   }
 

@@ -168,10 +168,14 @@ namespace systole::Mechanics
     double
     seconds_in(const std::string &section) const;
 
-    /// The linear solver holds a factorization of the bordered system of an
-    /// earlier Newton iteration: the tangent, B0 = [dV_i/du] and W0 = K^-1 B0
-    /// of that iterate (for the chord iterations of solve_cavities()).
+    /// The linear solver holds a factorization (or preconditioner) of the
+    /// tangent of an earlier Newton iteration, and for a bordered solve
+    /// B0 = [dV_i/du] and W0 = K^-1 B0 of that iterate (for the chord
+    /// iterations that start a solve).
     bool                         have_factorization = false;
     std::vector<LA::MPI::Vector> factorized_volume_derivatives, factorized_w;
+    /// The last solve converged: the factorization is that of an iterate
+    /// near its solution (not of a diverged one).
+    bool last_solve_converged = false;
   };
 } // namespace systole::Mechanics

@@ -53,6 +53,9 @@ namespace systole
          Units::kPa_to_mmHg(fraction * params.pressure)},
         {"active_tension", "kPa", fraction * params.active_tension},
         {"newton_iterations", "-", static_cast<double>(report.iterations)},
+        {"chord_iterations",
+         "-",
+         static_cast<double>(report.reused_iterations)},
         {"linear_iterations",
          "-",
          static_cast<double>(report.linear_iterations)},
@@ -97,7 +100,8 @@ namespace systole
     double       increment      = nominal;
     double       last_increment = nominal;
     unsigned int cuts           = 0;
-    unsigned int total_newton = 0, total_linear = 0, total_solves = 0;
+    unsigned int total_newton = 0, total_chord = 0, total_linear = 0,
+                 total_solves = 0;
     problem.save();
     while (fraction < 1.0 - 1e-12)
       {
@@ -118,8 +122,9 @@ namespace systole
                                               target * params.active_tension);
             problem.save();
             total_newton += report.iterations;
+            total_chord += report.reused_iterations;
             total_linear += report.linear_iterations;
-            total_solves += report.iterations;
+            total_solves += report.iterations + report.reused_iterations;
             fraction       = target;
             last_increment = increment;
             ++step;
@@ -167,6 +172,7 @@ namespace systole
        {"load_steps", "-", static_cast<double>(step)},
        {"step_cuts", "-", static_cast<double>(cuts)},
        {"newton_iterations", "-", static_cast<double>(total_newton)},
+       {"chord_iterations", "-", static_cast<double>(total_chord)},
        {"linear_iterations", "-", static_cast<double>(total_linear)},
        {"linear_iterations_per_solve",
         "-",
