@@ -676,7 +676,8 @@ namespace systole::Mechanics
             if (ok && it > 0 && !(residual[0] < 0.3 * previous))
               break; // slow: continue with full Newton from here
           }
-        if (!ok || !(residual[0] < start_residual))
+        const bool wasted = !ok || !(residual[0] < start_residual);
+        if (wasted)
           {
             // Failed or no better: full Newton from the start.
             m.u_owned = u_start;
@@ -685,7 +686,8 @@ namespace systole::Mechanics
           }
         reference = 0;
         out << "      (" << report.reused_iterations
-            << " chord iterations on the old factorization)" << std::endl;
+            << " chord iterations on the old factorization; Newton from "
+            << (wasted ? "the start" : "there") << ")" << std::endl;
       }
 
     // One assembly pass per iteration: outside the bordered solves (whose
