@@ -1,6 +1,7 @@
 #include "electrophysiology/arkode_adapter.h"
 
 #include <deal.II/sundials/arkode.h>
+#include <deal.II/sundials/n_vector.h>
 
 #include <arkode/arkode_arkstep.h>
 #include <sundials/sundials_linearsolver.h>
@@ -19,6 +20,11 @@
 // builds only) and, in a release build, calls ARKStepEvolve again and again
 // after a failure. Its output_step hook runs in plain C++ after every
 // ARKStepEvolve: there we throw when ARKode stopped short of the end time.
+
+// The after_step callback is ARKStep's post-processing hook, which ARKode
+// calls with the user data of the ARKStep memory: the wrapper sets it to the
+// wrapper object itself (checked in custom_setup), which is a Wrapper here,
+// a derived class that knows its Impl.
 
 namespace systole::Electrophysiology
 {
@@ -40,6 +46,16 @@ namespace systole::Electrophysiology
 
   struct ImexIntegrator::Impl
   {
+    /// The wrapper, so that the post-processing hook can find its Impl.
+    struct Wrapper : public ARKode
+    {
+      Wrapper(const AdditionalData &data, const MPI_Comm comm, Impl &owner)
+        : ARKode(data, comm)
+        , owner(owner)
+      {}
+      Impl &owner;
+    };
+
     Impl(const Settings  &settings,
          const Callbacks &callbacks,
          const double     t0,
@@ -96,14 +112,19 @@ namespace systole::Electrophysiology
                   char       *message,
                   void       *data);
 
+    /// ARKStep's post-processing hook: calls callbacks.after_step.
+    static int
+    postprocess_step(realtype time, N_Vector y, void *user_data);
+
     Settings                settings;
     Callbacks               callbacks;
     MPI_Comm                comm;
     double                  t;         ///< current time
     double                  t_end = 0; ///< end of the evolve() in progress
     std::unique_ptr<ARKode> ode;
-    bool                    started = false; ///< ARKStep memory exists
-    bool initial_output = false; ///< next output_step is the initial one
+    double t_accepted     = 0;     ///< end of the last accepted ARKode step
+    bool   started        = false; ///< ARKStep memory exists
+    bool   initial_output = false; ///< next output_step is the initial one
 
     std::exception_ptr fatal, recoverable;
     std::string        arkode_message; ///< last ARKode error message
@@ -132,8 +153,9 @@ namespace systole::Electrophysiology
       3,
       settings.absolute_tolerance,
       settings.relative_tolerance);
-    ode     = std::make_unique<ARKode>(data, comm);
-    started = false;
+    ode        = std::make_unique<Wrapper>(data, comm, *this);
+    started    = false;
+    t_accepted = t;
 
     ode->explicit_function =
       [this](const double time, const Vector &y, Vector &f) -> int {
@@ -180,6 +202,19 @@ namespace systole::Electrophysiology
     ode->custom_setup = [this](void *arkode_memory) {
       check(ARKStepSetErrHandlerFn(arkode_memory, &error_handler, this),
             "ARKStepSetErrHandlerFn");
+      if (callbacks.after_step)
+        {
+          void *user_data = nullptr;
+          check(ARKStepGetUserData(arkode_memory, &user_data),
+                "ARKStepGetUserData");
+          AssertThrow(user_data == static_cast<ARKode *>(ode.get()),
+                      dealii::ExcMessage(
+                        "ImexIntegrator: deal.II's ARKode wrapper does not "
+                        "pass itself as ARKode's user data; the after-step "
+                        "callback cannot find its integrator."));
+          check(ARKStepSetPostprocessStepFn(arkode_memory, &postprocess_step),
+                "ARKStepSetPostprocessStepFn");
+        }
       configure(arkode_memory);
       started = true;
       // The wrapper calls output_step once right after this set-up, at the
@@ -218,6 +253,21 @@ namespace systole::Electrophysiology
   {
     static_cast<Impl *>(data)->arkode_message =
       std::string(module) + " " + function + ": " + message;
+  }
+
+
+  int
+  ImexIntegrator::Impl::postprocess_step(const realtype time,
+                                         N_Vector       y,
+                                         void          *user_data)
+  {
+    Impl &self =
+      static_cast<Wrapper *>(static_cast<ARKode *>(user_data))->owner;
+    return self.guarded([&]() {
+      Vector &state = *dealii::SUNDIALS::internal::unwrap_nvector<Vector>(y);
+      self.callbacks.after_step(time, time - self.t_accepted, state);
+      self.t_accepted = time;
+    });
   }
 
 

@@ -58,6 +58,13 @@ namespace systole::Electrophysiology
       std::function<
         void(const double gamma, const LA::MPI::Vector &b, LA::MPI::Vector &x)>
         solve;
+      /// Optional: called after every accepted step, from t - h to @p t, with
+      /// the new state @p y, which it may change (a split step: the
+      /// Rush-Larsen update of the gates). ARKode then evaluates the right
+      /// hand sides afresh at the changed state (ARKStep's post-processing
+      /// hook, ARKStepSetPostprocessStepFn). Must not fail.
+      std::function<void(const double t, const double h, LA::MPI::Vector &y)>
+        after_step;
     };
 
     /// @param[in] t0 initial time [ms]

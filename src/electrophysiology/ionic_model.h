@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <string>
 
 namespace systole::Electrophysiology
@@ -20,12 +21,22 @@ namespace systole::Electrophysiology
   /// current density I_stim [µA/mm³] acts as in the dimensional equation
   /// χ (C_m ∂V/∂t + I_ion) = ∇·(σ∇V) + I_stim.
   ///
+  /// **Gates.** A model may declare its first n_gates() states as gating
+  /// variables, ds_i/dt = (s_inf,i(v, s) - s_i)/tau_i(v, s), and give s_inf
+  /// and tau in gate_rates(). The solvers then advance those states by the
+  /// Rush-Larsen update (rush_larsen.h: exact for v and the other states
+  /// frozen over the step, so unconditionally stable however fast the gate)
+  /// between the ARKode steps of v and the other states, and state_rhs()
+  /// leaves the gates' entries at 0. Without gates (n_gates() = 0, the
+  /// default) ARKode integrates every state.
+  ///
   /// Implementations are immutable after construction and thread safe.
   ///
   /// How to add a model:
   /// 1. write electrophysiology/<model>.{h,cc} deriving from this class, with
   ///    a nested Parameters struct (declare/parse, units in every help text,
-  ///    bounds checked in parse) and a static `model_name`;
+  ///    bounds checked in parse) and a static `model_name`; put the gates
+  ///    first and give their rates if the model has fast gates;
   /// 2. add one line to the table in electrophysiology/ionic_factory.cc;
   /// 3. add tests/unit/electrophysiology/<model>_test.cc: the resting state
   ///    is a fixed point, a supra-threshold stimulus gives an upstroke, a
@@ -56,9 +67,54 @@ namespace systole::Electrophysiology
     virtual double
     ionic_current(const double v, const double *state) const = 0;
 
-    /// ds/dt = g(v, s) of the n_states() state variables [1/ms].
+    /// ds/dt = g(v, s) of the n_states() state variables [1/ms]; the
+    /// entries of the n_gates() gates are set to 0 (they advance by
+    /// Rush-Larsen from gate_rates()).
     virtual void
     state_rhs(const double v, const double *state, double *rhs) const = 0;
+
+    /// I_ion(v, s) (the return value) and state_rhs() in one call, for
+    /// models whose currents enter both (the default calls the two).
+    virtual double
+    ionic_current_and_state_rhs(const double  v,
+                                const double *state,
+                                double       *rhs) const
+    {
+      state_rhs(v, state, rhs);
+      return ionic_current(v, state);
+    }
+
+    /// Number of gating variables: the states 0 ... n_gates() - 1.
+    virtual unsigned int
+    n_gates() const
+    {
+      return 0;
+    }
+
+    /// Steady state @p steady [-] and time constant @p tau [ms] of each of
+    /// the n_gates() gates at (v, s): ds_i/dt = (steady_i - s_i)/tau_i.
+    virtual void
+    gate_rates(const double /*v*/,
+               const double * /*state*/,
+               double * /*steady*/,
+               double * /*tau*/) const
+    {}
+
+    /// Whether the model has an intracellular calcium concentration
+    /// (calcium_uM()), the input of a calcium-driven tension model.
+    virtual bool
+    has_calcium() const
+    {
+      return false;
+    }
+
+    /// Free cytosolic calcium concentration [µM] of @p state; NaN for a
+    /// model without calcium.
+    virtual double
+    calcium_uM(const double * /*state*/) const
+    {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
 
     /// Millivolts per model unit of potential (A above).
     virtual double

@@ -310,22 +310,24 @@ namespace systole::Electrophysiology
   void
   Monodomain::save()
   {
-    Impl &m          = *impl;
-    m.saved.state    = m.state;
-    m.saved.t        = m.t;
-    m.saved.first    = m.tracker.first();
-    m.saved.latest   = m.tracker.latest();
-    m.saved.v_sample = m.v_sample;
+    Impl &m                        = *impl;
+    m.saved.state                  = m.state;
+    m.saved.t                      = m.t;
+    m.saved.first                  = m.tracker.first();
+    m.saved.latest                 = m.tracker.latest();
+    m.saved.v_sample               = m.v_sample;
+    m.saved.gate_half_step_pending = m.gate_half_step_pending;
   }
 
 
   void
   Monodomain::restore()
   {
-    Impl &m    = *impl;
-    m.state    = m.saved.state;
-    m.t        = m.saved.t;
-    m.v_sample = m.saved.v_sample;
+    Impl &m                  = *impl;
+    m.state                  = m.saved.state;
+    m.t                      = m.saved.t;
+    m.v_sample               = m.saved.v_sample;
+    m.gate_half_step_pending = m.saved.gate_half_step_pending;
     m.tracker.set(m.saved.first, m.saved.latest);
     m.integrator->reset(m.t);
     m.update_output_vectors();

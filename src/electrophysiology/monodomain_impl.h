@@ -165,11 +165,16 @@ namespace systole::Electrophysiology
     /// Ghosted, node layout: potential [mV], first and latest activation.
     LA::MPI::Vector potential_mV, activation_first, activation_latest;
 
+    /// The first step starts with a Rush-Larsen half step of the gates
+    /// (the opening half of Strang's splitting, see create_integrator()).
+    bool gate_half_step_pending = true;
+
     struct Saved
     {
       LA::MPI::Vector     state;
       double              t = 0;
       std::vector<double> first, latest, v_sample;
+      bool                gate_half_step_pending = true;
     } saved;
 
     Statistics stats;

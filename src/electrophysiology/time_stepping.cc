@@ -5,6 +5,7 @@
 #include <deal.II/lac/solver_control.h>
 
 #include "electrophysiology/monodomain_impl.h"
+#include "electrophysiology/rush_larsen.h"
 
 #include <petscmat.h>
 
@@ -72,8 +73,7 @@ namespace systole::Electrophysiology
       {
         const double *yi = y.data() + i * n_components;
         double       *fi = f.data() + i * n_components;
-        fi[0]            = -model.ionic_current(yi[0], yi + 1);
-        model.state_rhs(yi[0], yi + 1, fi + 1);
+        fi[0] = -model.ionic_current_and_state_rhs(yi[0], yi + 1, fi + 1);
       }
     // On or off for the whole step (advance() ends steps at the switching
     // times), not by the stage time.
@@ -229,6 +229,21 @@ namespace systole::Electrophysiology
     callbacks.solve        = [this](const double           gamma,
                              const LA::MPI::Vector &b,
                              LA::MPI::Vector &x) { solve_stage(gamma, b, x); };
+    // The gates: a Rush-Larsen step after every ARKode step (ARKode sees
+    // them frozen, state_rhs() gives them no rate). The step sequence
+    // G(h/2) A(h) G(h) A(h) G(h) ... (step() does the first half step) is
+    // Strang's splitting G(h/2) A(h) G(h/2) with the two half steps of
+    // consecutive steps merged (exact for equal steps when the gates' rates
+    // do not depend on the gates, as in ten Tusscher-Panfilov: G at a fixed
+    // state then composes additively), so the potential at the step ends is
+    // second-order accurate; the stored gates are half a step ahead
+    // (docs/architecture.md, Electrophysiology).
+    if (model.n_gates() > 0)
+      callbacks.after_step =
+        [this](const double, const double h, LA::MPI::Vector &y) {
+          const LocalWrite values(y);
+          advance_gates(model, h, n_owned, n_components, values.data());
+        };
     return std::make_unique<ImexIntegrator>(settings, callbacks, t0, comm);
   }
 
@@ -270,6 +285,17 @@ namespace systole::Electrophysiology
     const double middle = 0.5 * (t + t_next);
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
       stimulus_on[s] = params.stimuli[s].active(middle, params.stimulus_period);
+    if (gate_half_step_pending && model.n_gates() > 0)
+      {
+        // Before ARKode's first step (it reads the state then).
+        const LocalWrite y(state);
+        advance_gates(model,
+                      0.5 * (t_next - t),
+                      n_owned,
+                      n_components,
+                      y.data());
+      }
+    gate_half_step_pending = false;
     integrator->evolve(state, t_next);
     extract_potential(v_new);
     tracker.update(t, v_sample.data(), t_next, v_new.data());
