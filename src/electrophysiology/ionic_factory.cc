@@ -2,6 +2,7 @@
 
 #include "electrophysiology/aliev_panfilov.h"
 #include "electrophysiology/mitchell_schaeffer.h"
+#include "electrophysiology/ten_tusscher_panfilov.h"
 
 namespace systole::Electrophysiology
 {
@@ -47,6 +48,13 @@ namespace systole::Electrophysiology
           "Two-current phenomenological model with one gate, normalised "
           "potential in [0, 1] (Mitchell and Schaeffer 2003, Bull. Math. "
           "Biol. 65:767)."),
+        entry<TenTusscherPanfilov>(
+          "Human ventricular myocyte with 18 states (12 gates, advanced by "
+          "Rush-Larsen, and the calcium, sodium and potassium dynamics), "
+          "potential in mV, endocardial, mid-myocardial or epicardial "
+          "(Cell type); the cell of the Niederer et al. 2011 benchmark "
+          "(ten Tusscher and Panfilov 2006, Am. J. Physiol. Heart Circ. "
+          "Physiol. 291:H1088)."),
       };
       return entries;
     }

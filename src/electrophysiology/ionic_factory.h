@@ -31,7 +31,7 @@ namespace systole::Electrophysiology
   create_ionic_model(const std::string &name);
 
   /// Names of all models, alphabetical: "Aliev-Panfilov",
-  /// "Mitchell-Schaeffer".
+  /// "Mitchell-Schaeffer", "ten Tusscher-Panfilov".
   std::vector<std::string>
   ionic_model_names();
 } // namespace systole::Electrophysiology
