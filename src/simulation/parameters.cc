@@ -5,6 +5,7 @@
 #include "circulation/model_factory.h"
 #include "circulation/parameters.h"
 #include "electrophysiology/parameters.h"
+#include "electrophysiology/single_cell.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "materials/bestel.h"
@@ -83,7 +84,8 @@ namespace systole
       "Problem",
       "cavity volume",
       Selection(
-        "cavity volume|mechanics|heartbeat|electrophysiology|circulation"),
+        "cavity volume|mechanics|heartbeat|electrophysiology|circulation|"
+        "cell"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
@@ -97,7 +99,11 @@ namespace systole
       "Fibres). 'circulation': the 0D circulation model of Circulation / "
       "Model alone, with elastance ventricles, for Circulation / Number of "
       "beats beats; a time-series row every Time / Time step (subsection "
-      "Circulation).");
+      "Circulation). 'cell': one cell of Electrophysiology / Ionic model, "
+      "paced as subsection Cell says and integrated with the time step and "
+      "method of subsection Electrophysiology; the potential and calcium "
+      "every Time / Time step and the resting and peak potential, APD90 and "
+      "peak calcium of every beat.");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -176,6 +182,7 @@ namespace systole
     Circulation::Parameters::declare(prm);
     Circulation::declare_model_parameters(prm);
     Electrophysiology::Parameters::declare(prm);
+    Electrophysiology::SingleCell::Pacing::declare(prm);
   }
 
   void
@@ -225,6 +232,7 @@ namespace systole
     Circulation::Parameters::parse(prm);
     Circulation::create_model(prm);
     Electrophysiology::Parameters::parse(prm);
+    Electrophysiology::SingleCell::Pacing::parse(prm);
   }
 
   RunParameters

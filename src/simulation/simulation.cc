@@ -6,6 +6,7 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "io/results_file.h"
+#include "simulation/cell_run.h"
 #include "simulation/circulation_run.h"
 #include "simulation/electrophysiology_run.h"
 #include "simulation/heartbeat.h"
@@ -92,6 +93,12 @@ namespace systole
                                     impl->text,
                                     impl->logger,
                                     impl->comm);
+    else if (impl->run.problem == "cell")
+      run_cell_problem(impl->prm,
+                       impl->run,
+                       impl->text,
+                       impl->logger,
+                       impl->comm);
     else
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +

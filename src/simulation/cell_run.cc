@@ -1,0 +1,142 @@
+#include "simulation/cell_run.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include "base/interrupt.h"
+#include "base/logger.h"
+#include "electrophysiology/action_potential.h"
+#include "electrophysiology/parameters.h"
+#include "electrophysiology/single_cell.h"
+#include "io/results_file.h"
+#include "simulation/parameters.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace systole
+{
+  void
+  run_cell_problem(const dealii::ParameterHandler &prm,
+                   const RunParameters            &run,
+                   const std::string              &parameter_text,
+                   Logger                         &logger,
+                   const MPI_Comm                  comm)
+  {
+    using namespace Electrophysiology;
+    const auto        ep     = Parameters::parse(prm);
+    const auto        pacing = SingleCell::Pacing::parse(prm);
+    const IonicModel &model  = *ep.ionic_model;
+
+    SingleCell::Settings settings;
+    settings.time_step          = ep.time_step;
+    settings.order              = ep.order;
+    settings.adaptive           = ep.adaptive;
+    settings.relative_tolerance = ep.relative_tolerance;
+    settings.absolute_tolerance = ep.absolute_tolerance;
+    SingleCell cell(model, settings, pacing, run.start_time);
+
+    {
+      std::ostringstream o;
+      o << IO::code_version() << ": problem '" << run.problem << "', "
+        << model.name() << " (" << model.n_states() << " states, "
+        << model.n_gates() << " gates by Rush-Larsen), step " << ep.time_step
+        << " ms, paced every " << pacing.period << " ms";
+      logger.line(o.str());
+    }
+
+    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    Progress        progress(logger,
+                      Progress::parse_mode(run.progress),
+                      run.start_time,
+                      run.end_time);
+
+    // Beat k is [k P, (k + 1) P), measured from its stimulus onset on.
+    const double period =
+      pacing.period > 0 ? pacing.period : std::max(run.end_time, 1.0);
+    const auto beat_of = [&](const double t) {
+      return static_cast<long>(std::floor(t / period + 1e-9));
+    };
+    const auto              mV = [&](const double v) { return model.to_mV(v); };
+    long                    beat      = beat_of(run.start_time);
+    double                  onset     = beat * period + pacing.start;
+    bool                    measuring = false;
+    ActionPotentialRecorder recorder;
+    unsigned long           steps_at_beat_start = 0;
+
+    const auto write_summary = [&]() {
+      const BeatSummary s = recorder.summary();
+      results.append_summary(
+        {{"beat", "-", static_cast<double>(beat)},
+         {"start_time", "ms", beat * period},
+         {"resting_potential_mV", "mV", s.resting_potential_mV},
+         {"peak_potential_mV", "mV", s.peak_potential_mV},
+         {"APD90_ms", "ms", s.APD90_ms},
+         {"peak_calcium_uM", "µM", s.peak_calcium_uM},
+         {"arkode_steps",
+          "-",
+          static_cast<double>(cell.n_steps() - steps_at_beat_start)}});
+      std::ostringstream o;
+      o << std::setprecision(5) << "Beat " << beat << ": rest "
+        << s.resting_potential_mV << " mV, peak " << s.peak_potential_mV
+        << " mV, APD90 " << s.APD90_ms << " ms, peak calcium "
+        << s.peak_calcium_uM << " µM";
+      logger.line(o.str());
+    };
+
+    // Every ARKode step: the beat's samples from its stimulus onset (a step
+    // boundary) on, and a summary row when a beat ends.
+    const auto observe = [&](const double t, const double v, const double *s) {
+      if (beat_of(t) > beat)
+        {
+          if (measuring)
+            write_summary();
+          beat                = beat_of(t);
+          onset               = beat * period + pacing.start;
+          measuring           = false;
+          steps_at_beat_start = cell.n_steps();
+        }
+      if (!measuring && std::abs(t - onset) < 1e-9 * period)
+        {
+          recorder.start(t, mV(v), model.calcium_uM(s));
+          measuring = true;
+        }
+      else if (measuring)
+        recorder.add(t, mV(v), model.calcium_uM(s));
+    };
+    if (std::abs(run.start_time - onset) < 1e-9 * period)
+      observe(run.start_time, cell.potential(), cell.state().data());
+
+    const auto write_row = [&](const double time) {
+      results.append_timeseries(
+        {{"time", "ms", time},
+         {"beat", "-", static_cast<double>(beat_of(time))},
+         {"potential_mV", "mV", mV(cell.potential())},
+         {"calcium_uM", "µM", model.calcium_uM(cell.state().data())}});
+    };
+
+    const unsigned int n_steps = static_cast<unsigned int>(
+      std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
+    write_row(run.start_time);
+    for (unsigned int step = 1; step <= n_steps; ++step)
+      {
+        const double time =
+          std::min(run.start_time + step * run.time_step, run.end_time);
+        progress.update(step, time, "cell");
+        cell.advance(time, observe);
+        write_row(time);
+        if (interrupted(comm))
+          {
+            logger.line("Interrupted: " + results.path() + " holds steps 0.." +
+                        std::to_string(step) + ".");
+            break;
+          }
+      }
+    // (A beat that ends exactly at the end time was written by observe; a
+    // beat cut short by the end time is not summarised.)
+    std::ostringstream o;
+    o << cell.n_steps() << " ARKode steps";
+    logger.line(o.str());
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole
