@@ -94,6 +94,7 @@ namespace systole::Electrophysiology
     m.potential_mV.reinit(m.owned, m.relevant, m.comm);
     m.activation_first.reinit(m.owned, m.relevant, m.comm);
     m.activation_latest.reinit(m.owned, m.relevant, m.comm);
+    m.calcium_uM.reinit(m.owned, m.relevant, m.comm);
 
     m.assemble_lumped_mass();
     m.evaluate_fibres(fibres);
@@ -147,8 +148,9 @@ namespace systole::Electrophysiology
                                                                cell->index(),
                                                                &m.dof_handler);
     const unsigned int     n = m.fe.n_dofs_per_cell();
-    dealii::Vector<double> V(n), first(n), latest(n);
+    dealii::Vector<double> V(n), first(n), latest(n), calcium(n);
     dof_cell->get_dof_values(m.potential_mV, V);
+    dof_cell->get_dof_values(m.calcium_uM, calcium);
     dof_cell->get_dof_values(m.activation_first, first);
     dof_cell->get_dof_values(m.activation_latest, latest);
 
@@ -168,6 +170,7 @@ namespace systole::Electrophysiology
     values.potential.assign(n_q, 0.0);
     values.activation_time.assign(n_q, 0.0);
     values.latest_activation_time.assign(n_q, 0.0);
+    values.calcium_uM.assign(n_q, 0.0);
     for (unsigned int q = 0; q < n_q; ++q)
       for (unsigned int i = 0; i < n; ++i)
         {
@@ -176,6 +179,7 @@ namespace systole::Electrophysiology
           values.potential[q] += phi * V[i];
           values.activation_time[q] += phi * first[i];
           values.latest_activation_time[q] += phi * latest[i];
+          values.calcium_uM[q] += phi * calcium[i];
         }
     if (mixed_beats)
       values.latest_activation_time
@@ -231,21 +235,23 @@ namespace systole::Electrophysiology
     const auto &owner = cache.owner;
     const auto &found = cache.cells;
 
-    std::vector<double> local(3 * n, 0.0);
-    PointValues         at_point;
+    constexpr unsigned int n_values = 4;
+    std::vector<double>    local(n_values * n, 0.0);
+    PointValues            at_point;
     for (unsigned int p = 0; p < n; ++p)
       if (owner[p] == rank)
         {
           const dealii::Quadrature<3> one(found[p].second);
           evaluate(found[p].first, one, at_point);
-          local[3 * p]     = at_point.potential[0];
-          local[3 * p + 1] = at_point.activation_time[0];
-          local[3 * p + 2] = at_point.latest_activation_time[0];
+          local[n_values * p]     = at_point.potential[0];
+          local[n_values * p + 1] = at_point.activation_time[0];
+          local[n_values * p + 2] = at_point.latest_activation_time[0];
+          local[n_values * p + 3] = at_point.calcium_uM[0];
         }
       else if (owner[p] == ranks && rank == 0)
-        for (unsigned int c = 0; c < 3; ++c)
-          local[3 * p + c] = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> global(3 * n);
+        for (unsigned int c = 0; c < n_values; ++c)
+          local[n_values * p + c] = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> global(n_values * n);
     dealii::Utilities::MPI::sum(dealii::ArrayView<const double>(local),
                                 m.comm,
                                 dealii::ArrayView<double>(global));
@@ -253,9 +259,10 @@ namespace systole::Electrophysiology
     PointValues values;
     for (unsigned int p = 0; p < n; ++p)
       {
-        values.potential.push_back(global[3 * p]);
-        values.activation_time.push_back(global[3 * p + 1]);
-        values.latest_activation_time.push_back(global[3 * p + 2]);
+        values.potential.push_back(global[n_values * p]);
+        values.activation_time.push_back(global[n_values * p + 1]);
+        values.latest_activation_time.push_back(global[n_values * p + 2]);
+        values.calcium_uM.push_back(global[n_values * p + 3]);
       }
     return values;
   }
@@ -343,6 +350,8 @@ namespace systole::Electrophysiology
     data_out.add_data_vector(impl->dof_handler,
                              impl->activation_first,
                              "activation_time");
+    if (impl->model.has_calcium())
+      data_out.add_data_vector(impl->dof_handler, impl->calcium_uM, "calcium");
   }
 
 

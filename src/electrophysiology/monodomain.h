@@ -53,6 +53,9 @@ namespace systole::Electrophysiology
     std::vector<double> activation_time;
     /// Most recent upstroke [ms] (the current beat); NaN if none.
     std::vector<double> latest_activation_time;
+    /// Free cytosolic calcium [µM] (IonicModel::calcium_uM(), the input of
+    /// a calcium-driven tension model); NaN for a model without calcium.
+    std::vector<double> calcium_uM;
   };
 
   /// The monodomain model of cardiac electrophysiology on a distributed mesh,
@@ -107,7 +110,7 @@ namespace systole::Electrophysiology
     double
     time() const;
 
-    /// Potential and activation times at the points @p quadrature (in
+    /// Potential, activation times and calcium at the points @p quadrature (in
     /// reference-cell coordinates, e.g. the mechanics' quadrature rule) of
     /// @p cell, a locally owned (or ghost) cell of the triangulation given
     /// to the constructor. The activation times are the Q1/Q2 interpolants
@@ -164,8 +167,9 @@ namespace systole::Electrophysiology
     void
     restore();
 
-    /// Add the potential [mV] ("transmembrane_potential") and the first
-    /// activation time [ms] ("activation_time", NaN where none yet) to
+    /// Add the potential [mV] ("transmembrane_potential"), the first
+    /// activation time [ms] ("activation_time", NaN where none yet) and, for
+    /// a model with calcium, the calcium [µM] ("calcium") to
     /// @p data_out, through this object's DoFHandler (so the DataOut may
     /// carry other DoFHandlers on the same mesh too). Call before
     /// build_patches.

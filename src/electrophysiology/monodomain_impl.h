@@ -162,8 +162,10 @@ namespace systole::Electrophysiology
     ActivationTracker               tracker;
     std::vector<double>             v_sample; ///< v at time t, owned nodes
 
-    /// Ghosted, node layout: potential [mV], first and latest activation.
-    LA::MPI::Vector potential_mV, activation_first, activation_latest;
+    /// Ghosted, node layout: potential [mV], first and latest activation,
+    /// calcium [µM] (NaN without calcium).
+    LA::MPI::Vector potential_mV, activation_first, activation_latest,
+      calcium_uM;
 
     /// The first step starts with a Rush-Larsen half step of the gates
     /// (the opening half of Strang's splitting, see create_integrator()).

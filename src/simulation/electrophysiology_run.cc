@@ -86,6 +86,11 @@ namespace systole
       for (unsigned int i = 0; i < probe_points.size(); ++i)
         row.push_back(
           {params.probes[i].name + "_potential", "mV", values.potential[i]});
+      if (params.ionic_model->has_calcium())
+        for (unsigned int i = 0; i < probe_points.size(); ++i)
+          row.push_back({params.probes[i].name + "_calcium_uM",
+                         "µM",
+                         values.calcium_uM[i]});
       results.append_timeseries(row);
 
       if (run.field_output_interval > 0 &&

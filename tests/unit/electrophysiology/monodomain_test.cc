@@ -264,3 +264,56 @@ TEST_CASE("With a stimulus period, the latest activation time of a cell waits "
   CHECK(crossing > 0);
   CHECK(crossing <= 8); // one cell across x: 2 x 2 cells of the cable
 }
+
+TEST_CASE("The monodomain exposes the ionic model's calcium at any point",
+          "[ep][monodomain][ttp]")
+{
+  CableMesh cable_mesh;
+  auto &[tria, names, mapping, fibres, sink, logger] = cable_mesh;
+  Parameters params = Parameters::defaults("ten Tusscher-Panfilov");
+  params.stimuli = parse_stimuli("left: box 0 0 0 0.5 1 1 from 0 for 2 at 50");
+  params.time_step = 0.05;
+  Monodomain ep(params, tria, mapping, fibres, names, logger);
+  const std::vector<dealii::Point<3>> near_and_far =
+    {dealii::Point<3>(0.25, 0.25, 0.25), dealii::Point<3>(7.75, 0.25, 0.25)};
+
+  // At rest: the model's initial Ca_i, 0.126 µM.
+  auto values = ep.values_at_points(near_and_far);
+  CHECK(values.calcium_uM[0] == Approx(0.126));
+  CHECK(values.calcium_uM[1] == Approx(0.126));
+
+  // The stimulated end fires first; its calcium transient (peak about
+  // 1 µM some 30 ms after the upstroke in the single cell) is well under
+  // way at 40 ms, while the far end rests until the front arrives.
+  ep.advance(3);
+  values = ep.values_at_points(near_and_far);
+  CHECK(values.potential[0] > 0);
+  CHECK(values.calcium_uM[1] == Approx(0.126).epsilon(0.01));
+  ep.advance(40);
+  values = ep.values_at_points(near_and_far);
+  CHECK(values.calcium_uM[0] > 0.5);
+  CHECK(values.calcium_uM[0] < 1.2);
+
+  // evaluate() in a cell agrees with values_at_points() at its vertices.
+  const auto                  cell = tria.begin_active();
+  PointValues                 at_vertices;
+  const dealii::QTrapezoid<3> vertices;
+  ep.evaluate(cell, vertices, at_vertices);
+  std::vector<dealii::Point<3>> points;
+  for (unsigned int v = 0; v < 8; ++v)
+    points.push_back(cell->vertex(v));
+  const auto global = ep.values_at_points(points);
+  for (unsigned int q = 0; q < vertices.size(); ++q)
+    CHECK(at_vertices.calcium_uM[q] ==
+          Approx(global.calcium_uM[q]).epsilon(1e-12));
+
+  // A model without calcium gives NaN.
+  Monodomain phenomenological(cable_parameters(0.1),
+                              tria,
+                              mapping,
+                              fibres,
+                              names,
+                              logger);
+  CHECK(
+    std::isnan(phenomenological.values_at_points(near_and_far).calcium_uM[0]));
+}
