@@ -5,6 +5,8 @@
 
 #include "circulation/model.h"
 
+#include <boost/serialization/vector.hpp>
+
 #include <array>
 #include <vector>
 
@@ -159,6 +161,17 @@ namespace systole::Circulation
     void
     restart();
 
+    /// Write or read the accepted history (the last two points) and the
+    /// order of the next step: everything the next begin() uses (boost
+    /// serialization, for checkpoints). A step in progress is not kept.
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &history &first_order;
+      solved = false;
+    }
+
   private:
     /// atol_i + rtol |value| of state i: the scale of its error and of the
     /// Newton updates.
@@ -167,8 +180,15 @@ namespace systole::Circulation
 
     struct Point
     {
-      double                 t;
+      double                 t = 0;
       dealii::Vector<double> y, p;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &t &y &p;
+      }
     };
 
     const Model              &model;

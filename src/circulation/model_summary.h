@@ -5,6 +5,9 @@
 #include "circulation/model.h"
 #include "circulation/phase.h"
 
+#include <boost/serialization/array.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <array>
 #include <string>
 #include <vector>
@@ -38,6 +41,14 @@ namespace systole::Circulation
     phase(const unsigned int c) const
     {
       return phases[c];
+    }
+
+    /// Write or read the phases (boost serialization, for checkpoints).
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &phases;
     }
 
   private:
@@ -120,6 +131,17 @@ namespace systole::Circulation
       return previous_edv;
     }
 
+    /// Write or read everything collected so far (boost serialization, for
+    /// checkpoints).
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int /*version*/)
+    {
+      archive &beat &start_time &samples &closures   &previous_edv;
+      archive &last_periodicity &valves_open &phases &phase_durations;
+      archive                                        &phase_time;
+    }
+
   private:
     /// Adds the time from the last phase change (or the beat's start) to
     /// @p time to the durations of the current phases.
@@ -130,12 +152,26 @@ namespace systole::Circulation
     {
       double                 time;
       dealii::Vector<double> y, cavity_pressures, outputs;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &time &y &cavity_pressures &outputs;
+      }
     };
 
     struct Closure
     {
       unsigned int valve;
       Sample       sample;
+
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &valve &sample;
+      }
     };
 
     const Model         &model;

@@ -28,6 +28,12 @@ namespace dealii
   }
 } // namespace dealii
 
+namespace boost::archive
+{
+  class binary_oarchive;
+  class binary_iarchive;
+} // namespace boost::archive
+
 namespace systole
 {
   class Logger;
@@ -162,6 +168,25 @@ namespace systole::Electrophysiology
     /// restore() returns to it.
     void
     save();
+
+    /// Checkpoint, part 1 (before the triangulation's save()): attach the
+    /// potential, the ionic states and the first and latest activation of
+    /// every node to the cells (SolutionTransfer, so that a restart may use
+    /// another number of ranks), and write the time, the counters and the
+    /// stage-solver set-up (the gamma of the stage matrix and of its AMG) to
+    /// @p archive.
+    void
+    prepare_checkpoint(boost::archive::binary_oarchive &archive);
+
+    /// Checkpoint, part 2 (on a mesh loaded from the checkpoint): read the
+    /// state back, set the stage matrix and its preconditioner up as they
+    /// were, and restart ARKode at the checkpoint's time. Collective.
+    void
+    load_checkpoint(boost::archive::binary_iarchive &archive);
+
+    /// After the triangulation's save(): release the attached vectors.
+    void
+    finish_checkpoint();
 
     /// Return to the state of the last save() (or the initial state).
     void

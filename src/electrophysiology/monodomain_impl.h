@@ -5,6 +5,7 @@
 // included elsewhere.
 
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_q.h>
@@ -180,6 +181,19 @@ namespace systole::Electrophysiology
     } saved;
 
     Statistics stats;
+    /// ARKode steps before the integrator was last created (a restart).
+    unsigned long steps_before = 0;
+
+    /// The stage matrix M_L + gamma K and its preconditioner for @p gamma
+    /// (kept when gamma changes little; see solve_stage()).
+    void
+    prepare_stage(const double gamma);
+
+    /// A checkpoint being written: node vectors and their transfer.
+    std::vector<LA::MPI::Vector> checkpoint_vectors;
+    std::unique_ptr<
+      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
+      checkpoint_transfer;
 
     /// values_at_points(): the cells around the last points asked for.
     struct PointCache

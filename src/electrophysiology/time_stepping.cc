@@ -111,12 +111,8 @@ namespace systole::Electrophysiology
 
 
   void
-  Monodomain::Impl::solve_stage(const double           gamma,
-                                const LA::MPI::Vector &b_vector,
-                                LA::MPI::Vector       &x_vector)
+  Monodomain::Impl::prepare_stage(const double gamma)
   {
-    // (I - gamma J) x = b with J = diag(-M_L^-1 K, 0):
-    // (M_L + gamma K) x_v = M_L b_v, and x_s = b_s for the ionic states.
     const auto update = [&](LA::MPI::SparseMatrix &matrix, double &gamma_of) {
       PetscErrorCode ierr = MatCopy(static_cast<Mat>(stiffness),
                                     static_cast<Mat>(matrix),
@@ -159,6 +155,17 @@ namespace systole::Electrophysiology
         preconditioner = std::move(amg);
         ++stats.amg_setups;
       }
+  }
+
+
+  void
+  Monodomain::Impl::solve_stage(const double           gamma,
+                                const LA::MPI::Vector &b_vector,
+                                LA::MPI::Vector       &x_vector)
+  {
+    // (I - gamma J) x = b with J = diag(-M_L^-1 K, 0):
+    // (M_L + gamma K) x_v = M_L b_v, and x_s = b_s for the ionic states.
+    prepare_stage(gamma);
 
     {
       const LocalRead  b(b_vector);
@@ -337,7 +344,7 @@ namespace systole::Electrophysiology
         segment_start = segment_end;
       }
     m.update_output_vectors();
-    m.stats.steps = m.integrator->n_steps();
+    m.stats.steps = m.steps_before + m.integrator->n_steps();
     m.stats.seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
@@ -235,7 +236,9 @@ namespace systole::Geometry
   }
 
   BoundaryNames
-  create_mesh(const Parameters &params, dealii::Triangulation<3, 3> &tria)
+  create_mesh(const Parameters            &params,
+              dealii::Triangulation<3, 3> &tria,
+              const std::string           &saved_mesh)
   {
     BoundaryNames names("the generated mesh");
     switch (params.type)
@@ -264,6 +267,17 @@ namespace systole::Geometry
         case Parameters::Type::gmsh:
           names = read_gmsh(params.mesh_file, params.mesh_scale, tria);
           break;
+      }
+    if (!saved_mesh.empty())
+      {
+        auto *distributed =
+          dynamic_cast<dealii::parallel::distributed::Triangulation<3, 3> *>(
+            &tria);
+        AssertThrow(distributed != nullptr,
+                    dealii::ExcMessage("create_mesh: a saved mesh can only be "
+                                       "loaded into a distributed mesh."));
+        distributed->load(saved_mesh);
+        return names;
       }
     tria.refine_global(params.global_refinements);
     for (unsigned int i = 0; i < params.local_refinements; ++i)

@@ -60,9 +60,16 @@ namespace systole::Geometry
   /// Build the coarse mesh described by @p params into @p tria (empty; serial
   /// or distributed: every rank builds the same coarse mesh), attach its
   /// manifolds and refine globally.
+  /// @param[in] saved_mesh if not empty (@p tria must be a
+  ///   parallel::distributed::Triangulation): instead of refining, load the
+  ///   refinement, and the cell data attached there, from this file written
+  ///   by its save() (a checkpoint of a mesh built from the same @p params;
+  ///   the partition fits the current number of ranks)
   /// @return the names of its boundary parts.
   BoundaryNames
-  create_mesh(const Parameters &params, dealii::Triangulation<3, 3> &tria);
+  create_mesh(const Parameters            &params,
+              dealii::Triangulation<3, 3> &tria,
+              const std::string           &saved_mesh = "");
 
   /// Read a gmsh .msh file (format 2 or 4, ASCII). Physical surface tags become
   /// boundary ids and physical surface names become boundary names. Lengths are

@@ -196,6 +196,7 @@ namespace systole::Mechanics
     m.u_owned.reinit(m.owned, m.comm);
     m.u_saved.reinit(m.owned, m.comm);
     m.u_previous.reinit(m.owned, m.comm);
+    m.factorized_u.reinit(m.owned, m.comm);
     m.u.reinit(m.owned, m.relevant, m.comm);
 
     // Fibre frames at the quadrature points of the locally owned cells.
@@ -872,6 +873,10 @@ namespace systole::Mechanics
                 m.have_factorization = true;
                 m.factorized_volume_derivatives.clear();
                 m.factorized_w.clear();
+                m.factorized_u              = m.u_owned;
+                m.factorized_pressures      = pressures;
+                m.factorized_active_tension = active_tension;
+                m.remember_factorized_tension();
               }
             catch (const dealii::ExceptionBase &e)
               {

@@ -33,6 +33,12 @@ namespace dealii
   }
 } // namespace dealii
 
+namespace boost::archive
+{
+  class binary_oarchive;
+  class binary_iarchive;
+} // namespace boost::archive
+
 namespace systole
 {
   class Logger;
@@ -212,6 +218,31 @@ namespace systole::Mechanics
     /// Go back to the displacement of the last save().
     void
     restore();
+
+    /// Checkpoint, part 1 (after save(), before the triangulation's save()):
+    /// attach to the cells of the mesh, for the next
+    /// parallel::distributed::Triangulation::save(), the last two saved
+    /// displacements and the iterate whose tangent the linear solver holds
+    /// factorized (SolutionTransfer), and the active tension of that
+    /// iterate per quadrature point; write the small state (saves, the
+    /// factorization's pressures) to @p archive. With the factorization
+    /// rebuilt from them, the solves after a restart repeat the chord
+    /// iterations of the uninterrupted run.
+    void
+    prepare_checkpoint(boost::archive::binary_oarchive &archive);
+
+    /// Checkpoint, part 2 (for a problem built on a mesh loaded by
+    /// Triangulation::load() from a checkpoint, the attached data read in
+    /// the order written): read what prepare_checkpoint() wrote, make the
+    /// last saved state current and refactorize the tangent the solver held.
+    /// Collective.
+    void
+    load_checkpoint(boost::archive::binary_iarchive &archive);
+
+    /// After the triangulation's save(): release what prepare_checkpoint()
+    /// attached.
+    void
+    finish_checkpoint();
 
     /// Verification hook: the relative difference between the assembled
     /// tangent applied to a fixed pseudo-random direction d (zero on

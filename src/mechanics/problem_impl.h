@@ -5,6 +5,7 @@
 
 #include <deal.II/base/quadrature_point_data.h>
 #include <deal.II/base/timer.h>
+#include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
@@ -177,5 +178,23 @@ namespace systole::Mechanics
     /// The last solve converged: the factorization is that of an iterate
     /// near its solution (not of a diverged one).
     bool last_solve_converged = false;
+    /// Where that tangent was assembled: the iterate (owned), its pressures,
+    /// the uniform and the per-point active tension (by active cell index),
+    /// so that a checkpoint can rebuild the factorization.
+    LA::MPI::Vector                  factorized_u;
+    dealii::Vector<double>           factorized_pressures;
+    double                           factorized_active_tension = 0;
+    std::vector<std::vector<double>> factorized_tension;
+
+    /// Copy the per-point active tension into factorized_tension.
+    void
+    remember_factorized_tension();
+
+    /// A checkpoint being written: the ghosted vectors and their transfer
+    /// (alive until the triangulation's save()).
+    std::vector<LA::MPI::Vector> checkpoint_vectors;
+    std::unique_ptr<
+      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
+      checkpoint_transfer;
   };
 } // namespace systole::Mechanics

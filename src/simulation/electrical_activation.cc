@@ -18,6 +18,9 @@
 #include "mechanics/problem.h"
 #include "simulation/parameters.h"
 
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -95,7 +98,8 @@ namespace systole
          const Mechanics::Problem                                 &problem,
          const double                                              period,
          Logger                                                   &logger,
-         const MPI_Comm                                            comm);
+         const MPI_Comm                                            comm,
+         const std::string                                        &checkpoint);
 
     /// Values (potential, first, latest activation) at the points of @p rpe,
     /// NaN where a point was not found. Collective.
@@ -149,7 +153,8 @@ namespace systole
     const Mechanics::Problem                                 &problem,
     const double                                              period,
     Logger                                                   &logger,
-    const MPI_Comm                                            comm)
+    const MPI_Comm                                            comm,
+    const std::string                                        &checkpoint)
     : params(coupled_parameters(prm, period))
     , tria(comm)
     , mapping(run.mapping_degree)
@@ -162,7 +167,10 @@ namespace systole
   {
     Geometry::Parameters refined = geometry;
     refined.global_refinements += params.mesh_refinement;
-    names = Geometry::create_mesh(refined, tria);
+    names =
+      Geometry::create_mesh(refined,
+                            tria,
+                            checkpoint.empty() ? "" : checkpoint + "/ep.mesh");
     // The fibre generator runs again on the EP mesh (the rule-based one
     // solves its Laplace problems there); the monodomain model evaluates it
     // once, at its own quadrature points.
@@ -286,7 +294,8 @@ namespace systole
     const Mechanics::Problem                                 &problem,
     const double                                              period,
     Logger                                                   &logger,
-    const MPI_Comm                                            comm)
+    const MPI_Comm                                            comm,
+    const std::string                                        &checkpoint)
     : impl(std::make_unique<Impl>(prm,
                                   run,
                                   geometry,
@@ -294,8 +303,97 @@ namespace systole
                                   problem,
                                   period,
                                   logger,
-                                  comm))
+                                  comm,
+                                  checkpoint))
   {}
+
+
+  namespace
+  {
+    using MechanicsCell = dealii::Triangulation<3, 3>::cell_iterator;
+    using CellStatus    = dealii::Triangulation<3, 3>::CellStatus;
+    using Range = boost::iterator_range<std::vector<char>::const_iterator>;
+  } // namespace
+
+
+  void
+  ElectricalActivation::save_checkpoint(
+    boost::archive::binary_oarchive &archive,
+    const std::string               &folder)
+  {
+    Impl &m = *impl;
+    m.monodomain->prepare_checkpoint(archive);
+    m.tria.save(folder + "/ep.mesh");
+    m.monodomain->finish_checkpoint();
+    archive &m.sampled_time;
+    // Per mechanics point: first and latest upstroke of the tracker, the
+    // last sample, the upstrokes. (The registration only lasts until the
+    // mechanics mesh is saved; it does not change the mesh, hence the cast.)
+    auto &mechanics_tria =
+      const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
+        m.mech_tria);
+    mechanics_tria.register_data_attach(
+      [&m](const MechanicsCell &cell, const CellStatus) {
+        std::vector<double> data;
+        const unsigned int  c = cell->active_cell_index();
+        for (unsigned int i = m.cell_start[c]; i < m.cell_start[c + 1]; ++i)
+          {
+            data.push_back(m.tracker.first()[i]);
+            data.push_back(m.tracker.latest()[i]);
+            data.push_back(m.sampled_potential[i]);
+            data.push_back(m.upstrokes[i].size());
+            data.insert(data.end(),
+                        m.upstrokes[i].begin(),
+                        m.upstrokes[i].end());
+          }
+        return dealii::Utilities::pack(data, false);
+      },
+      /*returns_variable_size_data=*/true);
+  }
+
+
+  void
+  ElectricalActivation::load_checkpoint(
+    boost::archive::binary_iarchive &archive)
+  {
+    Impl &m = *impl;
+    m.monodomain->load_checkpoint(archive);
+    archive &m.sampled_time;
+    auto    &mechanics_tria =
+      const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
+        m.mech_tria);
+    const unsigned int handle = mechanics_tria.register_data_attach(
+      [](const MechanicsCell &, const CellStatus) {
+        return std::vector<char>();
+      },
+      true);
+    std::vector<double> first(m.n_points), latest(m.n_points);
+    mechanics_tria.notify_ready_to_unpack(
+      handle,
+      [&](const MechanicsCell &cell, const CellStatus, const Range &range) {
+        const auto data =
+          dealii::Utilities::unpack<std::vector<double>>(range.begin(),
+                                                         range.end(),
+                                                         false);
+        const unsigned int c   = cell->active_cell_index();
+        std::size_t        pos = 0;
+        for (unsigned int i = m.cell_start[c]; i < m.cell_start[c + 1]; ++i)
+          {
+            AssertThrow(pos + 4 <= data.size(),
+                        dealii::ExcMessage(
+                          "The checkpoint's activation data do not fit the "
+                          "quadrature of the mechanics."));
+            first[i]                = data[pos++];
+            latest[i]               = data[pos++];
+            m.sampled_potential[i]  = data[pos++];
+            const std::size_t count = static_cast<std::size_t>(data[pos++]);
+            m.upstrokes[i].assign(data.begin() + pos,
+                                  data.begin() + pos + count);
+            pos += count;
+          }
+      });
+    m.tracker.set(first, latest);
+  }
 
 
   ElectricalActivation::~ElectricalActivation() = default;

@@ -17,6 +17,12 @@ namespace dealii
   class DataOut;
 } // namespace dealii
 
+namespace boost::archive
+{
+  class binary_oarchive;
+  class binary_iarchive;
+} // namespace boost::archive
+
 namespace systole
 {
   class Logger;
@@ -59,6 +65,8 @@ namespace systole
     /// @param[in] mechanics_tria, problem the mechanics (kept by reference)
     /// @param[in] period beat period [ms]: the Stimulus period (0 there is
     ///            taken as this period; another value is an error)
+    /// @param[in] checkpoint a checkpoint folder to resume from: the EP mesh
+    ///            is then loaded from it (load_checkpoint() reads the rest)
     ElectricalActivation(
       const dealii::ParameterHandler                           &prm,
       const RunParameters                                      &run,
@@ -67,8 +75,22 @@ namespace systole
       const Mechanics::Problem                                 &problem,
       const double                                              period,
       Logger                                                   &logger,
-      const MPI_Comm                                            comm);
+      const MPI_Comm                                            comm,
+      const std::string &checkpoint = "");
     ~ElectricalActivation();
+
+    /// Checkpoint: save the EP mesh with the monodomain state to
+    /// @p folder/ep.mesh*, attach the upstrokes and samples of every
+    /// mechanics quadrature point to the mechanics cells (written by the
+    /// mechanics triangulation's next save()), and the rest to @p archive.
+    void
+    save_checkpoint(boost::archive::binary_oarchive &archive,
+                    const std::string               &folder);
+
+    /// Read what save_checkpoint() wrote (after the mechanics mesh was
+    /// loaded and Mechanics::Problem::load_checkpoint() read its cell data).
+    void
+    load_checkpoint(boost::archive::binary_iarchive &archive);
 
     /// Advance EP (if needed), one EP time step at a time, to the first
     /// multiple of the EP time step at or after @p t [ms], recording the new

@@ -5,6 +5,10 @@
 #include "base/errors.h"
 #include "circulation/bdf_step.h"
 
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/vector.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -101,6 +105,21 @@ namespace systole
     /// Record the accepted step; report it (and its events, its beat end).
     void
     record(Observer &observer, const std::vector<unsigned int> &switched);
+
+    /// The state between two steps (save() and load()).
+    template <class Archive>
+    void
+    serialize(Archive &archive)
+    {
+      archive &bdf &open &recorder &*phases &indicators;
+      archive &stats.n_beats &stats.periodic &stats.interrupted &stats.n_steps;
+      archive &stats.n_solves &stats.n_newton_iterations;
+      archive &stats.n_error_rejections &stats.n_event_rejections;
+      archive &stats.n_failures &stats.n_events           &stats.end_time;
+      archive &beat &step_index &last_step &h &upper &cap &cuts;
+    }
+
+    bool resumed = false;
 
     const Circulation::Model                  &model;
     CoupledVentricles                         &ventricles;
@@ -371,9 +390,13 @@ namespace systole
   {
     Impl           &m = *impl;
     const Settings &s = m.settings;
-    m.recorder.start(0, 0.0);
-    m.record(observer, {});
-    m.h = s.initial_step;
+    if (!m.resumed)
+      {
+        m.recorder.start(0, 0.0);
+        m.record(observer, {});
+        m.h = s.initial_step;
+      }
+    m.stats.interrupted = false;
     for (;;)
       {
         m.next_end_time(); // step size, breakpoints, beat end, event bracket
@@ -388,6 +411,7 @@ namespace systole
         m.record(observer, switched);     // time series, events
         if (m.t_new == (m.beat + 1) * s.period && m.end_beat(observer))
           break;
+        observer.on_step_complete(m.step_index - 1);
         if (observer.stop_requested())
           {
             m.stats.interrupted = true;
@@ -395,5 +419,20 @@ namespace systole
           }
       }
     return m.stats;
+  }
+
+
+  void
+  HeartbeatStepper::save(boost::archive::binary_oarchive &archive) const
+  {
+    impl->serialize(archive);
+  }
+
+
+  void
+  HeartbeatStepper::load(boost::archive::binary_iarchive &archive)
+  {
+    impl->serialize(archive);
+    impl->resumed = true;
   }
 } // namespace systole

@@ -11,6 +11,12 @@
 #include <memory>
 #include <vector>
 
+namespace boost::archive
+{
+  class binary_oarchive;
+  class binary_iarchive;
+} // namespace boost::archive
+
 namespace systole
 {
   /// The volumes W(p) [mm^3] the cavities must hold at their pressures p
@@ -157,6 +163,15 @@ namespace systole
         (void)beat;
         (void)summary;
       }
+      /// After every accepted step with its events and, at a beat's end, its
+      /// on_beat(), unless the run ends there: the state of the stepper and
+      /// of the ventricles is complete here (checkpoints are written here).
+      /// Collective.
+      virtual void
+      on_step_complete(const unsigned int step_index)
+      {
+        (void)step_index;
+      }
       /// Asked after every accepted step; true ends run(). Collective.
       virtual bool
       stop_requested()
@@ -193,9 +208,23 @@ namespace systole
 
     /// Beats from t = 0 until periodic (the largest relative change of a
     /// cavity's EDV from the last beat below the tolerance, from the second
-    /// beat on), n_max_beats, or the observer's stop. Call once.
+    /// beat on), n_max_beats, or the observer's stop. Call once; after
+    /// load(), run() continues from the loaded state (without reporting it
+    /// again).
     Statistics
     run(Observer &observer);
+
+    /// Write everything the next steps depend on, between two steps (in
+    /// Observer::on_step_complete()): the BDF history, the valve states and
+    /// phases, the beat recorder, the step size and its cap, the event
+    /// bracket, the counters and statistics.
+    void
+    save(boost::archive::binary_oarchive &archive) const;
+
+    /// Read what save() wrote (of a stepper built with the same model and
+    /// settings); run() then continues from there.
+    void
+    load(boost::archive::binary_iarchive &archive);
 
   private:
     struct Impl;

@@ -15,14 +15,15 @@ namespace systole
   MechanicsModel::MechanicsModel(const dealii::ParameterHandler &prm,
                                  const RunParameters            &run,
                                  Logger                         &logger,
-                                 const MPI_Comm                  comm)
+                                 const MPI_Comm                  comm,
+                                 const std::string              &saved_mesh)
     : geometry(Geometry::Parameters::parse(prm, run.parameter_directory))
     , params(Mechanics::Parameters::parse(prm))
     , passive(Materials::create_passive_law(prm))
     , volumetric(Materials::create_volumetric_law(prm))
     , tria(comm)
   {
-    names   = Geometry::create_mesh(geometry, tria);
+    names   = Geometry::create_mesh(geometry, tria, saved_mesh);
     problem = std::make_unique<Mechanics::Problem>(
       params,
       tria,

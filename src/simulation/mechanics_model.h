@@ -30,10 +30,13 @@ namespace systole
   /// heartbeat).
   struct MechanicsModel
   {
+    /// @p saved_mesh: load the mesh refinement from this file (a
+    /// checkpoint's, see Geometry::create_mesh()) instead of refining.
     MechanicsModel(const dealii::ParameterHandler &prm,
                    const RunParameters            &run,
                    Logger                         &logger,
-                   const MPI_Comm                  comm);
+                   const MPI_Comm                  comm,
+                   const std::string              &saved_mesh = "");
 
     /// One line for the log: code version, problem, cells, degree, DOFs,
     /// ranks, passive law, linear solver.

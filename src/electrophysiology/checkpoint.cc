@@ -1,0 +1,125 @@
+// Checkpoints of Monodomain: the interleaved ARKode state is split into one
+// node vector per component (potential, each ionic state) plus the first
+// and latest activation times, which travel with the cells of the mesh
+// (SolutionTransfer), so a run can resume on another number of ranks.
+
+#include "electrophysiology/monodomain_impl.h"
+
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+
+namespace systole::Electrophysiology
+{
+  namespace
+  {
+    using Transfer =
+      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>;
+
+    template <class Archive>
+    void
+    serialize_statistics(Archive &archive, Statistics &stats)
+    {
+      archive &stats.steps &stats.linear_solves &stats.linear_iterations;
+      archive &stats.amg_setups &stats.seconds;
+    }
+  } // namespace
+
+
+  void
+  Monodomain::prepare_checkpoint(boost::archive::binary_oarchive &archive)
+  {
+    Impl                        &m = *impl;
+    const unsigned int           n = m.n_components + 2;
+    std::vector<LA::MPI::Vector> owned(n);
+    {
+      const LocalRead y(m.state);
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          owned[c].reinit(m.owned, m.comm);
+          const LocalWrite v(owned[c]);
+          for (unsigned int i = 0; i < m.n_owned; ++i)
+            v.data()[i] = c < m.n_components ? y.data()[i * m.n_components + c]
+                          : c == m.n_components ? m.tracker.first()[i]
+                                                : m.tracker.latest()[i];
+        }
+    }
+    m.checkpoint_vectors.resize(n);
+    std::vector<const LA::MPI::Vector *> in;
+    for (unsigned int c = 0; c < n; ++c)
+      {
+        // Assigning an owned vector fills the ghosts (deal.II 9.4, PETSc).
+        m.checkpoint_vectors[c].reinit(m.owned, m.relevant, m.comm);
+        m.checkpoint_vectors[c] = owned[c];
+        in.push_back(&m.checkpoint_vectors[c]);
+      }
+    m.checkpoint_transfer = std::make_unique<Transfer>(m.dof_handler);
+    m.checkpoint_transfer->prepare_for_serialization(in);
+    archive &m.t &m.gamma_stage &m.gamma_amg;
+    serialize_statistics(archive, m.stats);
+  }
+
+
+  void
+  Monodomain::load_checkpoint(boost::archive::binary_iarchive &archive)
+  {
+    Impl    &m           = *impl;
+    double   gamma_stage = -1, gamma_amg = -1;
+    archive &m.t &gamma_stage &gamma_amg;
+    serialize_statistics(archive, m.stats);
+
+    const unsigned int             n = m.n_components + 2;
+    std::vector<LA::MPI::Vector>   out(n);
+    std::vector<LA::MPI::Vector *> pointers;
+    for (auto &v : out)
+      {
+        v.reinit(m.owned, m.comm);
+        pointers.push_back(&v);
+      }
+    Transfer transfer(m.dof_handler);
+    transfer.deserialize(pointers);
+    std::vector<double> first(m.n_owned), latest(m.n_owned);
+    {
+      const LocalWrite y(m.state);
+      for (unsigned int c = 0; c < n; ++c)
+        {
+          const LocalRead v(out[c]);
+          for (unsigned int i = 0; i < m.n_owned; ++i)
+            if (c < m.n_components)
+              y.data()[i * m.n_components + c] = v.data()[i];
+            else if (c == m.n_components)
+              first[i] = v.data()[i];
+            else
+              latest[i] = v.data()[i];
+        }
+    }
+    m.tracker.set(first, latest);
+    m.extract_potential(m.v_sample);
+
+    // The stage matrix and its preconditioner as they were: the AMG
+    // hierarchy of gamma_amg (it is kept while gamma stays within 20 %), the
+    // stage matrix of gamma_stage.
+    const Statistics counters = m.stats;
+    m.preconditioner.reset();
+    m.gamma_stage = m.gamma_amg = -1;
+    if (gamma_amg > 0)
+      m.prepare_stage(gamma_amg);
+    if (gamma_stage > 0)
+      m.prepare_stage(gamma_stage);
+    m.stats = counters;
+
+    // ARKode restarts at the checkpoint's time (its steps are one-step
+    // methods: the state is all it needs).
+    m.steps_before = m.stats.steps;
+    m.integrator   = m.create_integrator(m.t);
+    m.update_output_vectors();
+    save();
+  }
+
+
+  void
+  Monodomain::finish_checkpoint()
+  {
+    impl->checkpoint_transfer.reset();
+    impl->checkpoint_vectors.clear();
+  }
+} // namespace systole::Electrophysiology

@@ -1,0 +1,161 @@
+// Checkpoints of Mechanics::Problem: the saved states and the held
+// factorization travel with the cells of the mesh (SolutionTransfer and
+// attached cell data of parallel::distributed::Triangulation::save/load), so
+// a run can resume on another number of ranks.
+
+#include <deal.II/base/utilities.h>
+
+#include "mechanics/problem_impl.h"
+
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+
+namespace systole::Mechanics
+{
+  namespace
+  {
+    using Transfer =
+      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>;
+    using CellIterator = dealii::Triangulation<3, 3>::cell_iterator;
+    using CellStatus   = dealii::Triangulation<3, 3>::CellStatus;
+    using Range = boost::iterator_range<std::vector<char>::const_iterator>;
+  } // namespace
+
+
+  void
+  Problem::Impl::remember_factorized_tension()
+  {
+    factorized_tension.assign(tria.n_active_cells(), {});
+    for (const auto &cell : tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &data : point_data.get_data(cell))
+          factorized_tension[cell->active_cell_index()].push_back(
+            data->tension);
+  }
+
+
+  void
+  Problem::prepare_checkpoint(boost::archive::binary_oarchive &archive)
+  {
+    Impl &m = *impl;
+    // SolutionTransfer reads every DoF of the owned cells: ghosted copies.
+    const LA::MPI::Vector *sources[3] = {&m.u_saved,
+                                         &m.u_previous,
+                                         &m.factorized_u};
+    m.checkpoint_vectors.resize(3);
+    std::vector<const LA::MPI::Vector *> in;
+    for (unsigned int i = 0; i < 3; ++i)
+      {
+        m.checkpoint_vectors[i].reinit(m.owned, m.relevant, m.comm);
+        m.checkpoint_vectors[i] = *sources[i];
+        in.push_back(&m.checkpoint_vectors[i]);
+      }
+    m.checkpoint_transfer = std::make_unique<Transfer>(m.dof_handler);
+    m.checkpoint_transfer->prepare_for_serialization(in);
+    m.tria.register_data_attach(
+      [&m](const CellIterator &cell, const CellStatus) {
+        const auto c = cell->active_cell_index();
+        return dealii::Utilities::pack(c < m.factorized_tension.size()
+                                         ? m.factorized_tension[c]
+                                         : std::vector<double>(),
+                                       false);
+      },
+      /*returns_variable_size_data=*/true);
+    archive &m.n_saves &m.have_factorization &m.factorized_pressures;
+    archive                                  &m.factorized_active_tension;
+    // Whether the next solve may reuse the factorization (the last one
+    // converged), and whether it is of a bordered system (B0, W0 stored).
+    bool bordered = !m.factorized_volume_derivatives.empty();
+    archive &m.last_solve_converged &bordered;
+  }
+
+
+  void
+  Problem::load_checkpoint(boost::archive::binary_iarchive &archive)
+  {
+    Impl    &m = *impl;
+    archive &m.n_saves &m.have_factorization &m.factorized_pressures;
+    archive                                  &m.factorized_active_tension;
+    bool                                      bordered = false;
+    archive &m.last_solve_converged &bordered;
+
+    std::vector<LA::MPI::Vector>   out(3);
+    std::vector<LA::MPI::Vector *> pointers;
+    for (auto &v : out)
+      {
+        v.reinit(m.owned, m.comm);
+        pointers.push_back(&v);
+      }
+    Transfer transfer(m.dof_handler);
+    transfer.deserialize(pointers);
+    m.u_saved      = out[0];
+    m.u_previous   = out[1];
+    m.factorized_u = out[2];
+
+    const unsigned int handle = m.tria.register_data_attach(
+      [](const CellIterator &, const CellStatus) {
+        return std::vector<char>();
+      },
+      true);
+    m.factorized_tension.assign(m.tria.n_active_cells(), {});
+    m.tria.notify_ready_to_unpack(
+      handle,
+      [&m](const CellIterator &cell, const CellStatus, const Range &data) {
+        m.factorized_tension[cell->active_cell_index()] =
+          dealii::Utilities::unpack<std::vector<double>>(data.begin(),
+                                                         data.end(),
+                                                         false);
+      });
+
+    if (m.have_factorization)
+      {
+        // The tangent of the factorized iterate, assembled and factorized
+        // as the Newton iteration did (the same values on the same ranks),
+        // and W0 = K^-1 B0.
+        m.u_owned = m.factorized_u;
+        m.u       = m.u_owned;
+        for (const auto &cell : m.tria.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              const auto  data = m.point_data.get_data(cell);
+              const auto &t = m.factorized_tension[cell->active_cell_index()];
+              AssertThrow(t.size() == data.size(),
+                          dealii::ExcMessage(
+                            "The checkpoint's active tension does not fit "
+                            "the quadrature of the mechanics."));
+              for (unsigned int q = 0; q < data.size(); ++q)
+                data[q]->tension = t[q];
+            }
+        m.assemble(m.factorized_pressures,
+                   m.factorized_active_tension,
+                   true,
+                   true);
+        m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+        m.factorized_volume_derivatives.clear();
+        m.factorized_w.clear();
+        if (bordered)
+          {
+            std::vector<LA::MPI::Vector> w(m.cavities.size());
+            for (unsigned int j = 0; j < w.size(); ++j)
+              {
+                w[j].reinit(m.owned, m.comm);
+                m.linear_solve(w[j], m.volume_derivatives[j], 0, 0.0);
+              }
+            m.factorized_volume_derivatives = m.volume_derivatives;
+            m.factorized_w                  = w;
+          }
+        // (assemble() marks the factorization stale.)
+        m.have_factorization = true;
+      }
+    m.u_owned = m.u_saved;
+    m.u       = m.u_owned;
+  }
+
+
+  void
+  Problem::finish_checkpoint()
+  {
+    impl->checkpoint_transfer.reset();
+    impl->checkpoint_vectors.clear();
+  }
+} // namespace systole::Mechanics
