@@ -6,6 +6,7 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -243,6 +244,11 @@ namespace systole::IO
       double       time;
       std::vector<std::pair<std::string, unsigned int>>
         sets; // name, components
+      /// The mesh group of the step (another one after a resume on another
+      /// number of ranks: the nodes of the output patches differ) and its
+      /// size.
+      std::string mesh           = "mesh";
+      hsize_t     n_global_nodes = 0, n_global_cells = 0;
     };
   } // namespace
 
@@ -257,6 +263,7 @@ namespace systole::IO
     Table                  summary{"summary", -1, {}, {}, 0};
     Table                  events{"events", -1, {}, {}, 0};
     hsize_t                n_global_nodes = 0, n_global_cells = 0;
+    std::string            mesh_group = "mesh"; ///< of the next field output
     std::vector<FieldStep> field_steps;
 
     void
@@ -283,19 +290,19 @@ namespace systole::IO
             << "        <Time Value=\"" << std::setprecision(16) << s.time
             << "\"/>\n"
             << "        <Geometry GeometryType=\"XYZ\">\n"
-            << "          <DataItem Dimensions=\"" << n_global_nodes
+            << "          <DataItem Dimensions=\"" << s.n_global_nodes
             << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
-            << ":/mesh/nodes</DataItem>\n        </Geometry>\n"
+            << ":/" << s.mesh << "/nodes</DataItem>\n        </Geometry>\n"
             << "        <Topology TopologyType=\"Hexahedron\" NumberOfElements=\""
-            << n_global_cells << "\">\n          <DataItem Dimensions=\""
-            << n_global_cells
+            << s.n_global_cells << "\">\n          <DataItem Dimensions=\""
+            << s.n_global_cells
             << " 8\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
-            << ":/mesh/cells</DataItem>\n        </Topology>\n";
+            << ":/" << s.mesh << "/cells</DataItem>\n        </Topology>\n";
           for (const auto &[name, components] : s.sets)
             x << "        <Attribute Name=\"" << name << "\" AttributeType=\""
               << (components == 1 ? "Scalar" : "Vector")
               << "\" Center=\"Node\">\n"
-              << "          <DataItem Dimensions=\"" << n_global_nodes << " "
+              << "          <DataItem Dimensions=\"" << s.n_global_nodes << " "
               << components
               << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
               << ":/fields/" << group << "/" << name << "</DataItem>\n"
@@ -408,6 +415,194 @@ namespace systole::IO
       }
   }
 
+  namespace
+  {
+    /// The names of the links of @p group in creation order.
+    std::vector<std::string>
+    link_names(const hid_t group)
+    {
+      std::vector<std::string> names;
+      const auto               collect =
+        [](hid_t, const char *name, const H5L_info_t *, void *data) -> herr_t {
+        static_cast<std::vector<std::string> *>(data)->push_back(name);
+        return 0;
+      };
+      hsize_t index = 0;
+      if (H5Literate(group,
+                     H5_INDEX_CRT_ORDER,
+                     H5_ITER_INC,
+                     &index,
+                     collect,
+                     &names) < 0)
+        {
+          // Groups without creation order (the fields): by name.
+          names.clear();
+          index = 0;
+          check(H5Literate(group,
+                           H5_INDEX_NAME,
+                           H5_ITER_INC,
+                           &index,
+                           collect,
+                           &names),
+                "list a group");
+        }
+      return names;
+    }
+
+    /// Reopen @p table in @p file and cut it to @p n_rows rows.
+    void
+    reopen(Table &table, const hid_t file, const hsize_t n_rows)
+    {
+      if (H5Lexists(file, table.group_name.c_str(), H5P_DEFAULT) <= 0)
+        {
+          AssertThrow(n_rows == 0,
+                      dealii::ExcMessage("The results file has no /" +
+                                         table.group_name +
+                                         ", which the checkpoint expects."));
+          return;
+        }
+      table.group =
+        checked(H5Gopen2(file, table.group_name.c_str(), H5P_DEFAULT),
+                "open /" + table.group_name);
+      for (const auto &name : link_names(table.group))
+        {
+          const hid_t dataset =
+            checked(H5Dopen2(table.group, name.c_str(), H5P_DEFAULT),
+                    "open /" + table.group_name + "/" + name);
+          const hid_t space = checked(H5Dget_space(dataset), "space");
+          hsize_t     size  = 0;
+          H5Sget_simple_extent_dims(space, &size, nullptr);
+          H5Sclose(space);
+          AssertThrow(size >= n_rows,
+                      dealii::ExcMessage(
+                        "The results file has " + std::to_string(size) +
+                        " rows in /" + table.group_name + "/" + name +
+                        ", fewer than the " + std::to_string(n_rows) +
+                        " of the checkpoint: it is not the file the "
+                        "checkpoint belongs to."));
+          check(H5Dset_extent(dataset, &n_rows), "cut " + name);
+          table.names.push_back(name);
+          table.datasets.push_back(dataset);
+        }
+      table.n_rows = n_rows;
+    }
+  } // namespace
+
+
+  ResultsFile::ResultsFile(const std::string &directory,
+                           const Rows        &rows,
+                           const unsigned int last_step,
+                           const MPI_Comm     comm)
+    : impl(std::make_unique<Impl>())
+  {
+    impl->comm      = comm;
+    impl->root      = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
+    impl->directory = directory;
+    impl->file_path = directory + "/results.h5";
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    const hid_t access =
+      checked(H5Pcreate(H5P_FILE_ACCESS), "file access plist");
+    check(H5Pset_fapl_mpio(access, comm, MPI_INFO_NULL), "MPI-IO driver");
+    impl->file = H5Fopen(impl->file_path.c_str(), H5F_ACC_RDWR, access);
+    H5Pclose(access);
+    AssertThrow(impl->file >= 0,
+                dealii::ExcMessage("Cannot open the results file '" +
+                                   impl->file_path + "' to continue the run."));
+    reopen(impl->timeseries, impl->file, rows.timeseries);
+    reopen(impl->summary, impl->file, rows.summary);
+    reopen(impl->events, impl->file, rows.events);
+
+    // The field outputs up to the checkpoint; later ones go.
+    // The rows of a 2-D dataset.
+    const auto n_rows_of = [&](const std::string &path) {
+      const hid_t dataset =
+        checked(H5Dopen2(impl->file, path.c_str(), H5P_DEFAULT), path);
+      hsize_t     dims[2] = {0, 0};
+      const hid_t space   = H5Dget_space(dataset);
+      H5Sget_simple_extent_dims(space, dims, nullptr);
+      H5Sclose(space);
+      H5Dclose(dataset);
+      return dims[0];
+    };
+    if (H5Lexists(impl->file, "fields", H5P_DEFAULT) > 0)
+      {
+        hsize_t dims[2] = {0, 0};
+
+        const hid_t fields =
+          checked(H5Gopen2(impl->file, "fields", H5P_DEFAULT), "/fields");
+        for (const auto &name : link_names(fields))
+          {
+            const hid_t group =
+              checked(H5Gopen2(fields, name.c_str(), H5P_DEFAULT), name);
+            FieldStep   record{0, 0.0, {}};
+            const hid_t step = H5Aopen(group, "step", H5P_DEFAULT);
+            H5Aread(step, H5T_NATIVE_UINT, &record.step);
+            H5Aclose(step);
+            const hid_t time = H5Aopen(group, "time", H5P_DEFAULT);
+            H5Aread(time, H5T_NATIVE_DOUBLE, &record.time);
+            H5Aclose(time);
+            if (H5Aexists(group, "mesh") > 0)
+              {
+                const hid_t mesh = H5Aopen(group, "mesh", H5P_DEFAULT);
+                const hid_t type = H5Aget_type(mesh);
+                std::string value(H5Tget_size(type), '\0');
+                H5Aread(mesh, type, value.data());
+                H5Tclose(type);
+                H5Aclose(mesh);
+                record.mesh = value.c_str();
+              }
+            record.n_global_nodes = n_rows_of(record.mesh + "/nodes");
+            record.n_global_cells = n_rows_of(record.mesh + "/cells");
+            if (record.step <= last_step)
+              for (const auto &set : link_names(group))
+                {
+                  const hid_t dataset =
+                    checked(H5Dopen2(group, set.c_str(), H5P_DEFAULT), set);
+                  const hid_t set_space = H5Dget_space(dataset);
+                  H5Sget_simple_extent_dims(set_space, dims, nullptr);
+                  H5Sclose(set_space);
+                  H5Dclose(dataset);
+                  record.sets.emplace_back(set,
+                                           static_cast<unsigned int>(dims[1]));
+                }
+            H5Gclose(group);
+            if (record.step <= last_step)
+              impl->field_steps.push_back(record);
+            else
+              check(H5Ldelete(fields, name.c_str(), H5P_DEFAULT),
+                    "remove /fields/" + name);
+          }
+        H5Gclose(fields);
+        // Meshes of removed steps.
+        for (const auto &name : link_names(impl->file))
+          if (name.rfind("mesh_step_", 0) == 0 &&
+              std::stoul(name.substr(10)) > last_step)
+            check(H5Ldelete(impl->file, name.c_str(), H5P_DEFAULT),
+                  "remove /" + name);
+        std::sort(impl->field_steps.begin(),
+                  impl->field_steps.end(),
+                  [](const FieldStep &a, const FieldStep &b) {
+                    return a.step < b.step;
+                  });
+        if (!impl->field_steps.empty())
+          {
+            impl->mesh_group     = impl->field_steps.back().mesh;
+            impl->n_global_nodes = impl->field_steps.back().n_global_nodes;
+            impl->n_global_cells = impl->field_steps.back().n_global_cells;
+          }
+        impl->write_xdmf();
+      }
+    impl->flush();
+  }
+
+
+  ResultsFile::Rows
+  ResultsFile::rows() const
+  {
+    return {impl->timeseries.n_rows, impl->summary.n_rows, impl->events.n_rows};
+  }
+
+
   ResultsFile::~ResultsFile()
   {
     impl->timeseries.close();
@@ -477,15 +672,25 @@ namespace systole::IO
     const hsize_t n_global_cells =
       dealii::Utilities::MPI::sum(n_local_cells, impl->comm);
 
-    if (impl->field_steps.empty())
+    const bool first_mesh = H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0;
+    if (first_mesh || n_global_nodes != impl->n_global_nodes ||
+        n_global_cells != impl->n_global_cells)
       {
+        // The first output, or the first after a resume on another number
+        // of ranks (other patches): a mesh group of its own.
+        char mesh_name[32];
+        std::snprintf(mesh_name, sizeof(mesh_name), "mesh_step_%06u", step);
+        impl->mesh_group = first_mesh ? "mesh" : mesh_name;
         std::vector<double> nodes;
         filter.fill_node_data(nodes);
         std::vector<unsigned int> cells;
         filter.fill_cell_data(node_offset, cells);
-        const hid_t group = checked(
-          H5Gcreate2(impl->file, "mesh", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-          "/mesh");
+        const hid_t group = checked(H5Gcreate2(impl->file,
+                                               impl->mesh_group.c_str(),
+                                               H5P_DEFAULT,
+                                               H5P_DEFAULT,
+                                               H5P_DEFAULT),
+                                    "/" + impl->mesh_group);
         write_distributed(group,
                           "nodes",
                           H5T_NATIVE_DOUBLE,
@@ -508,12 +713,9 @@ namespace systole::IO
         impl->n_global_nodes = n_global_nodes;
         impl->n_global_cells = n_global_cells;
       }
-    AssertThrow(n_global_nodes == impl->n_global_nodes,
-                dealii::ExcMessage(
-                  "Internal error: the field output mesh changed."));
 
     hid_t fields = -1;
-    if (impl->field_steps.empty())
+    if (H5Lexists(impl->file, "fields", H5P_DEFAULT) <= 0)
       fields = checked(
         H5Gcreate2(impl->file, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
         "/fields");
@@ -527,8 +729,14 @@ namespace systole::IO
                 " (a field step written twice?)");
     write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
     write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
+    write_string_attribute(group, "mesh", impl->mesh_group);
 
-    FieldStep record{step, time, {}};
+    FieldStep record{step,
+                     time,
+                     {},
+                     impl->mesh_group,
+                     impl->n_global_nodes,
+                     impl->n_global_cells};
     for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
       {
         const std::string  set_name   = filter.get_data_set_name(i);

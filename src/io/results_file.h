@@ -46,7 +46,27 @@ namespace systole::IO
     ResultsFile(const std::string &directory,
                 const std::string &parameter_text,
                 const MPI_Comm     comm);
+    /// The number of rows of each table (a checkpoint records them).
+    struct Rows
+    {
+      unsigned long timeseries = 0, summary = 0, events = 0;
+    };
+
+    /// Open the existing file in @p directory to continue a run from a
+    /// checkpoint: every table is cut back to @p rows and the field outputs
+    /// of steps after @p last_step are removed (they were written after the
+    /// checkpoint), the XDMF file rewritten. Throws if the file has fewer
+    /// rows than @p rows.
+    ResultsFile(const std::string &directory,
+                const Rows        &rows,
+                const unsigned int last_step,
+                const MPI_Comm     comm);
+
     ~ResultsFile();
+
+    /// The rows written so far.
+    Rows
+    rows() const;
 
     ResultsFile(const ResultsFile &) = delete;
     ResultsFile &
