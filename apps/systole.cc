@@ -14,6 +14,7 @@ namespace
     "       systole --print-parameters [FILE] print every parameter with its documentation\n"
     "                                         (defaults, or the values FILE sets)\n"
     "       systole --check FILE             read and validate FILE, run nothing\n"
+    "       systole --resume results/RUN     continue a heartbeat from its newest valid checkpoint\n"
     "       systole --help | --version\n"
     "Run in parallel with: mpirun -np N systole FILE.prm\n"
     "Results: <Output/Directory>/<run name>/results.h5 (+ fields.xdmf for ParaView).\n"
@@ -53,6 +54,14 @@ main(int argc, char *argv[])
           systole::Simulation simulation(argv[2], comm, std::cout);
           if (root)
             std::cout << argv[2] << ": ok" << std::endl;
+          return 0;
+        }
+      if (first == "--resume" && argc == 3)
+        {
+          const std::string file =
+            systole::Simulation::parameter_file_of(argv[2]);
+          systole::Simulation simulation(file, comm, std::cout, argv[2]);
+          simulation.run();
           return 0;
         }
       if (first.rfind("-", 0) == 0 || argc > 2)

@@ -12,6 +12,7 @@
 #include "circulation/parameters.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
+#include "io/checkpoint.h"
 #include "io/results_file.h"
 #include "materials/bestel.h"
 #include "materials/factory.h"
@@ -22,9 +23,18 @@
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/array.hpp>
+
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -338,16 +348,7 @@ namespace systole
         // The cost of this beat (wall times on rank 0, the slowest rank's
         // share is similar): the mechanics solves, their assembly and
         // linear solver and cavity volume sections, the electrophysiology.
-        const auto timings = problem.timings();
-        const auto in      = [&](const std::string &section) {
-          const auto it = timings.find(section);
-          return it == timings.end() ? 0.0 : it->second;
-        };
-        const std::array<double, 5> seconds  = {{ventricles.mechanics_seconds,
-                                                 in("Mechanics / assembly"),
-                                                 in("Mechanics / linear solver"),
-                                                 in("Mechanics / cavity volume"),
-                                                 ventricles.ep_seconds}};
+        const std::array<double, 5> seconds  = this->seconds();
         const char                 *names[5] = {"mechanics_seconds",
                                                 "assembly_seconds",
                                                 "linear_solver_seconds",
@@ -388,10 +389,71 @@ namespace systole
         total_iterations = total_solves = total_rejected = steps_in_beat = 0;
       }
 
+      /// Checkpoints: every Output / Checkpoint interval steps, after
+      /// Output / Checkpoint wall time interval minutes, and on SIGTERM or
+      /// SIGINT (then the run stops).
+      void
+      on_step_complete(const unsigned int step_index) override
+      {
+        stop = interrupted(comm);
+        const double minutes =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                        last_checkpoint)
+            .count() /
+          60.0;
+        const bool due = stop ||
+                         (run.checkpoint_interval > 0 &&
+                          step_index % run.checkpoint_interval == 0) ||
+                         (run.checkpoint_minutes > 0 &&
+                          dealii::Utilities::MPI::max(minutes, comm) >=
+                            run.checkpoint_minutes);
+        if (due && checkpoint)
+          {
+            checkpoint(step_index);
+            last_checkpoint = std::chrono::steady_clock::now();
+          }
+        // Test hook (the checkpoint tests): SIGKILL after this step.
+        if (test_kill_at_step == static_cast<long>(step_index))
+          std::raise(SIGKILL);
+      }
+
       bool
       stop_requested() override
       {
-        return interrupted(comm);
+        return stop;
+      }
+
+      /// Writes a checkpoint of the step with the given index.
+      std::function<void(unsigned int)> checkpoint;
+
+      /// The counters of the rows written (save() and load() of a
+      /// checkpoint).
+      template <class Archive>
+      void
+      serialize(Archive &archive)
+      {
+        archive &total_iterations &total_solves  &total_rejected;
+        archive &steps_in_beat &ep_steps_written &ep_steps_in_beats;
+        archive &last_time &last_step            &last_field_step;
+      }
+
+      /// The wall times of the current beat so far [s] (they are columns of
+      /// its summary row; a resumed run adds its own).
+      std::array<double, 5>
+      beat_seconds() const
+      {
+        auto s = seconds();
+        for (unsigned int i = 0; i < 5; ++i)
+          s[i] -= seconds_written[i];
+        return s;
+      }
+
+      void
+      set_beat_seconds(const std::array<double, 5> &so_far)
+      {
+        seconds_written = seconds();
+        for (unsigned int i = 0; i < 5; ++i)
+          seconds_written[i] -= so_far[i];
       }
 
       /// The fields of the last step, unless written already. Collective.
@@ -403,6 +465,23 @@ namespace systole
       }
 
     private:
+      /// Total wall times [s]: mechanics, assembly, linear solver, cavity
+      /// volume, electrophysiology.
+      std::array<double, 5>
+      seconds() const
+      {
+        const auto timings = problem.timings();
+        const auto in      = [&](const std::string &section) {
+          const auto it = timings.find(section);
+          return it == timings.end() ? 0.0 : it->second;
+        };
+        return {{ventricles.mechanics_seconds,
+                 in("Mechanics / assembly"),
+                 in("Mechanics / linear solver"),
+                 in("Mechanics / cavity volume"),
+                 ventricles.ep_seconds}};
+      }
+
       void
       write_fields(const unsigned int step)
       {
@@ -435,6 +514,21 @@ namespace systole
       unsigned int          last_step       = 0;
       /// Step of the last field output (none: the largest value).
       unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
+      bool         stop            = false;
+      std::chrono::steady_clock::time_point last_checkpoint =
+        std::chrono::steady_clock::now();
+      /// Test hook: SYSTOLE_TEST_KILL_AT_STEP=N kills the run with SIGKILL
+      /// after step N (and its checkpoint, if one is due).
+      const long test_kill_at_step =
+        environment_integer("SYSTOLE_TEST_KILL_AT_STEP");
+
+    public:
+      static long
+      environment_integer(const char *name)
+      {
+        const char *value = std::getenv(name);
+        return value == nullptr ? -1 : std::atol(value);
+      }
     };
   } // namespace
 
@@ -449,7 +543,55 @@ namespace systole
     const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
     const Materials::Bestel bestel(bestel_params, circulation.period);
 
-    MechanicsModel model(prm, run, logger, comm);
+    // Resume: the newest valid checkpoint of the run, written for the same
+    // problem (every entry outside subsection Output equal).
+    std::ostringstream all_entries;
+    prm.print_parameters(all_entries, dealii::ParameterHandler::ShortPRM);
+    IO::CheckpointStore store(run.output_directory, comm);
+    std::string         checkpoint;
+    double              checkpoint_seconds = 0;
+    unsigned int        n_checkpoints      = 0;
+    if (run.resume)
+      {
+        std::ostringstream faults;
+        checkpoint = store.newest_valid(faults);
+        std::istringstream fault_lines(faults.str());
+        for (std::string line; std::getline(fault_lines, line);)
+          logger.line(line);
+        AssertThrow(!checkpoint.empty(),
+                    dealii::ExcMessage(
+                      "Output / Resume: there is no valid checkpoint in '" +
+                      run.output_directory +
+                      "' (set Output / Checkpoint interval when starting "
+                      "the run)."));
+        std::ifstream      in(checkpoint + "/parameters.prm");
+        std::ostringstream saved;
+        saved << in.rdbuf();
+        const auto differences =
+          IO::parameter_differences(saved.str(), all_entries.str(), {"Output"});
+        if (!differences.empty())
+          {
+            std::string message =
+              "The checkpoint " + checkpoint +
+              " was written for another problem: " + differences[0];
+            if (differences.size() > 1)
+              message += " (and " + std::to_string(differences.size() - 1) +
+                         " more difference(s))";
+            AssertThrow(false,
+                        dealii::ExcMessage(
+                          message +
+                          ". Only subsection Output may change when a run "
+                          "resumes."));
+          }
+        logger.line("Resuming from " + checkpoint);
+      }
+
+    MechanicsModel model(prm,
+                         run,
+                         logger,
+                         comm,
+                         checkpoint.empty() ? ""
+                                            : checkpoint + "/mechanics.mesh");
     const auto    &tria  = model.tria;
     const auto    &names = model.names;
     AssertThrow(names.has("base"),
@@ -495,7 +637,8 @@ namespace systole
                                                     problem,
                                                     circulation.period,
                                                     logger,
-                                                    comm);
+                                                    comm,
+                                                    checkpoint);
         logger.line(ep->description());
         earliest = ep->earliest_stimulus();
       }
@@ -546,12 +689,42 @@ namespace systole
                                    ep.get(),
                                    onset,
                                    logger);
-    IO::ResultsFile     results(run.output_directory, parameter_text, comm);
-    Progress            progress(logger,
+    // The small state of a checkpoint (state.bin): the rows of the results
+    // file and the last step first, then the components in a fixed order.
+    std::istringstream                               saved_state;
+    std::unique_ptr<boost::archive::binary_iarchive> state_in;
+    std::unique_ptr<IO::ResultsFile>                 results_file;
+    unsigned int                                     resumed_step = 0;
+    if (!checkpoint.empty())
+      {
+        std::string bytes;
+        if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+          {
+            std::ifstream      in(checkpoint + "/state.bin", std::ios::binary);
+            std::ostringstream o;
+            o << in.rdbuf();
+            bytes = o.str();
+          }
+        saved_state.str(dealii::Utilities::MPI::broadcast(comm, bytes, 0));
+        state_in =
+          std::make_unique<boost::archive::binary_iarchive>(saved_state);
+        IO::ResultsFile::Rows rows;
+        *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
+        results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
+                                                         rows,
+                                                         resumed_step,
+                                                         comm);
+      }
+    else
+      results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
+                                                       parameter_text,
+                                                       comm);
+    IO::ResultsFile &results = *results_file;
+    Progress         progress(logger,
                       Progress::parse_mode(run.progress),
                       0.0,
                       circulation.period * circulation.n_max_beats);
-    Writer              writer(zero_d,
+    Writer           writer(zero_d,
                   results,
                   ventricles,
                   problem,
@@ -560,9 +733,76 @@ namespace systole
                   logger,
                   progress,
                   comm);
-    HeartbeatStepper    stepper(zero_d, ventricles, settings, y0, p0);
-    const auto          start = std::chrono::steady_clock::now();
-    const auto          stats = stepper.run(writer);
+    HeartbeatStepper stepper(zero_d, ventricles, settings, y0, p0);
+
+    if (state_in)
+      {
+        boost::archive::binary_iarchive &archive = *state_in;
+        problem.load_checkpoint(archive);
+        if (ep != nullptr)
+          ep->load_checkpoint(archive);
+        stepper.load(archive);
+        writer.serialize(archive);
+        std::array<double, 5> beat_seconds;
+        archive              &beat_seconds;
+        writer.set_beat_seconds(beat_seconds);
+        state_in.reset();
+      }
+
+    // A checkpoint: the meshes with their cell data (the mechanics' states,
+    // the EP state, the activation at the mechanics points) through
+    // p::d::Triangulation::save, the small state through boost
+    // serialization, the parameters; written to a temporary folder that is
+    // renamed when complete.
+    const long test_kill_in_checkpoint =
+      Writer::environment_integer("SYSTOLE_TEST_KILL_IN_CHECKPOINT");
+    writer.checkpoint = [&](const unsigned int step) {
+      const auto         begin  = std::chrono::steady_clock::now();
+      const std::string  folder = store.begin(step);
+      std::ostringstream bytes;
+      {
+        boost::archive::binary_oarchive archive(bytes);
+        const auto                      rows = results.rows();
+        archive &rows.timeseries &rows.summary &rows.events &step;
+        problem.prepare_checkpoint(archive);
+        if (ep != nullptr)
+          ep->save_checkpoint(archive, folder);
+        stepper.save(archive);
+        writer.serialize(archive);
+        std::array<double, 5> beat_seconds = writer.beat_seconds();
+        archive              &beat_seconds;
+      }
+      model.tria.save(folder + "mechanics.mesh");
+      problem.finish_checkpoint();
+      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+        {
+          std::ofstream     state(folder + "state.bin", std::ios::binary);
+          const std::string data = bytes.str();
+          // Test hook (SYSTOLE_TEST_KILL_IN_CHECKPOINT=N): die by SIGKILL
+          // halfway through the state of the checkpoint of step N.
+          if (test_kill_in_checkpoint == static_cast<long>(step))
+            {
+              state.write(data.data(), data.size() / 2);
+              state.flush();
+              std::raise(SIGKILL);
+            }
+          state.write(data.data(), data.size());
+          std::ofstream(folder + "parameters.prm") << all_entries.str();
+          std::ofstream(folder + "parameter_file") << run.parameter_file;
+          AssertThrow(state.good(),
+                      dealii::ExcMessage("Cannot write " + folder +
+                                         "state.bin."));
+        }
+      const std::string path = store.commit();
+      checkpoint_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin)
+          .count();
+      ++n_checkpoints;
+      logger.detail() << "  checkpoint " << path << std::endl;
+    };
+
+    const auto start = std::chrono::steady_clock::now();
+    const auto stats = stepper.run(writer);
     writer.finish();
     const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -578,6 +818,18 @@ namespace systole
       << " Newton iterations; " << ventricles.mechanics_seconds
       << " s in the mechanics of " << wall << " s";
     logger.line(o.str());
+    if (n_checkpoints > 0)
+      {
+        std::ostringstream c;
+        c << std::fixed << std::setprecision(3) << n_checkpoints
+          << " checkpoint(s), " << checkpoint_seconds / n_checkpoints
+          << " s per checkpoint, " << problem.n_dofs()
+          << " mechanics DOFs; the last in " << store.list().front();
+        logger.line(c.str());
+      }
+    if (stats.interrupted)
+      logger.line("Interrupted: continue with systole --resume " +
+                  run.output_directory);
     if (ep != nullptr)
       {
         const auto         s = ep->statistics();

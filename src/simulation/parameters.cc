@@ -148,6 +148,32 @@ namespace systole
       "heartbeat (thousands of solves; its time series has the iteration "
       "counts).");
     prm.declare_entry(
+      "Checkpoint interval",
+      "0",
+      Integer(0),
+      "Problem = heartbeat: write a checkpoint (the whole state of the run, "
+      "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
+      "every this many accepted steps; 0: none by step count. A checkpoint is "
+      "also written when the run receives SIGTERM or SIGINT. Units: steps.");
+    prm.declare_entry(
+      "Checkpoint wall time interval",
+      "0",
+      Double(0.0),
+      "Problem = heartbeat: write a checkpoint at the end of the first step "
+      "after this much wall-clock time since the start or the last "
+      "checkpoint; 0: none by wall time. Units: minutes.");
+    prm.declare_entry(
+      "Resume",
+      "false",
+      Bool(),
+      "Problem = heartbeat: continue the run in <Directory>/<Run name> from "
+      "its newest valid checkpoint, appending to its results.h5 (rows written "
+      "after that checkpoint are discarded first). The parameter file must "
+      "describe the same problem as the one the checkpoint was written with "
+      "(only subsection Output may differ). `systole --resume "
+      "<Directory>/<Run name>` does the same with the parameter file the run "
+      "was started with. Units: -.");
+    prm.declare_entry(
       "Progress",
       "auto",
       Selection("auto|on|off"),
@@ -265,8 +291,13 @@ namespace systole
         .string();
     p.field_output_interval =
       prm.get_integer({"Output"}, "Field output interval");
-    p.progress   = prm.get({"Output"}, "Progress");
-    p.solver_log = prm.get({"Output"}, "Solver log");
+    p.checkpoint_interval = prm.get_integer({"Output"}, "Checkpoint interval");
+    p.checkpoint_minutes =
+      prm.get_double({"Output"}, "Checkpoint wall time interval");
+    p.resume         = prm.get_bool({"Output"}, "Resume");
+    p.parameter_file = std::filesystem::absolute(prm_file).string();
+    p.progress       = prm.get({"Output"}, "Progress");
+    p.solver_log     = prm.get({"Output"}, "Solver log");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

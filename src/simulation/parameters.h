@@ -26,8 +26,16 @@ namespace systole
     std::string  run_name;
     std::string  output_directory; ///< results/<run name>
     unsigned int field_output_interval = 1;
-    std::string  progress              = "auto";
-    std::string  solver_log            = "auto"; ///< auto, on or off
+    /// Checkpoints every this many accepted steps (0: none by steps), and
+    /// after this much wall time [min] (0: none by time).
+    unsigned int checkpoint_interval = 0;
+    double       checkpoint_minutes  = 0;
+    /// Continue from the newest valid checkpoint in output_directory.
+    bool resume = false;
+    /// The parameter file (absolute path).
+    std::string parameter_file;
+    std::string progress   = "auto";
+    std::string solver_log = "auto"; ///< auto, on or off
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;

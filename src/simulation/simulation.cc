@@ -5,6 +5,7 @@
 
 #include "base/interrupt.h"
 #include "base/logger.h"
+#include "io/checkpoint.h"
 #include "io/results_file.h"
 #include "simulation/cell_run.h"
 #include "simulation/circulation_run.h"
@@ -15,6 +16,7 @@
 #include "simulation/quasi_static.h"
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -37,11 +39,24 @@ namespace systole
 
   Simulation::Simulation(const std::string &parameter_file,
                          const MPI_Comm     comm,
-                         std::ostream      &out)
+                         std::ostream      &out,
+                         const std::string &resume_directory)
     : impl(std::make_unique<Impl>(comm, out))
   {
     read_parameter_file(impl->prm, parameter_file);
     impl->run = RunParameters::parse(impl->prm, parameter_file);
+    if (!resume_directory.empty())
+      {
+        impl->run.resume = true;
+        impl->run.output_directory =
+          std::filesystem::path(resume_directory).lexically_normal().string();
+        while (impl->run.output_directory.size() > 1 &&
+               impl->run.output_directory.back() == '/')
+          impl->run.output_directory.pop_back();
+      }
+    AssertThrow(!impl->run.resume || impl->run.problem == "heartbeat",
+                dealii::ExcMessage("Output / Resume: only Problem = heartbeat "
+                                   "writes checkpoints."));
     validate_component_parameters(impl->prm, parameter_file);
 
     // What ran: the file as given, then every entry with the value used.
@@ -54,6 +69,24 @@ namespace systole
   }
 
   Simulation::~Simulation() = default;
+
+  std::string
+  Simulation::parameter_file_of(const std::string &run_directory)
+  {
+    for (const auto &folder :
+         IO::CheckpointStore(run_directory, MPI_COMM_SELF).list())
+      {
+        std::ifstream in(folder + "/parameter_file");
+        std::string   file;
+        if (std::getline(in, file) && !file.empty())
+          return file;
+      }
+    AssertThrow(false,
+                dealii::ExcMessage("--resume " + run_directory +
+                                   ": no checkpoint there (none written, or "
+                                   "not a run folder)."));
+    return "";
+  }
 
   void
   Simulation::run()

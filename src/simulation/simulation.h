@@ -15,10 +15,18 @@ namespace systole
   public:
     /// Read and validate @p parameter_file (collective; throws one clear
     /// message on error).
+    /// @p resume_directory: continue the run in that folder (results/<run>)
+    /// from its newest valid checkpoint, as Output / Resume = true does.
     Simulation(const std::string &parameter_file,
                const MPI_Comm     comm,
-               std::ostream      &out);
+               std::ostream      &out,
+               const std::string &resume_directory = "");
     ~Simulation();
+
+    /// The parameter file a run in @p run_directory was started with (as
+    /// its newest checkpoint records it). Throws if there is none.
+    static std::string
+    parameter_file_of(const std::string &run_directory);
 
     /// Run the problem the file asks for, writing results/<run
     /// name>/results.h5.
