@@ -1,0 +1,166 @@
+#!/usr/bin/env python3
+"""Checkpoint and restart of the heartbeat: killed runs resume and lose nothing.
+
+    checkpoint_resume.py MODE SYSTOLE MPIEXEC PRM
+
+PRM writes a checkpoint every 20 steps. Every mode works in the current folder, on run names of
+its own (an Output subsection appended to a copy of PRM; only Output may differ on resume):
+
+- reference: the uninterrupted run (1 rank), results/reference.
+- chain: killed with SIGKILL after step 30, resumed (systole --resume) and killed halfway
+  through writing the checkpoint of step 60, resumed (from step 40: the unfinished
+  checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
+  /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
+  the wall-time columns *_seconds excepted).
+- ranks-2-1 / ranks-1-2: killed on 2 ranks after step 25 and resumed on 1, or killed on 1
+  rank after step 105 and resumed on 2; equal to the reference to 1e-8.
+- corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
+  resuming (Output / Resume = true) prints one line naming that file and falls back to the
+  previous checkpoint; the results equal the reference to 1e-12.
+- wrong-parameters: resuming a copy of the reference run with a parameter file of another
+  mesh (Geometry / Global refinements = 1) fails with a message naming that entry.
+
+The kills use the test hooks SYSTOLE_TEST_KILL_AT_STEP (SIGKILL after a step) and
+SYSTOLE_TEST_KILL_IN_CHECKPOINT (SIGKILL while writing that step's checkpoint).
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+GROUPS = ("timeseries", "events", "summary")
+
+
+def prm_for(prm: Path, run: str, extra: str = "") -> Path:
+    out = Path(f"{run}.prm")
+    out.write_text(prm.read_text() + f"\nsubsection Output\n  set Run name = {run}\n{extra}end\n")
+    return out
+
+
+def run(cmd, env_extra=None, expect_kill=False, expect_fail=False):
+    env = dict(os.environ)
+    env.pop("SYSTOLE_TEST_KILL_AT_STEP", None)
+    env.pop("SYSTOLE_TEST_KILL_IN_CHECKPOINT", None)
+    env.update(env_extra or {})
+    p = subprocess.run([str(c) for c in cmd], env=env, capture_output=True, text=True)
+    log = p.stdout + p.stderr
+    if expect_kill:
+        # SIGKILL: -9 directly, 137 through mpirun.
+        if p.returncode not in (-9, 137):
+            sys.exit(f"expected a kill, got exit code {p.returncode}:\n{log[-3000:]}")
+    elif expect_fail:
+        if p.returncode == 0:
+            sys.exit(f"expected a failure:\n{log[-3000:]}")
+    elif p.returncode != 0:
+        sys.exit(f"{' '.join(map(str, cmd))} failed ({p.returncode}):\n{log[-3000:]}")
+    return log
+
+
+def compare(reference: Path, result: Path, tolerance: float) -> None:
+    with h5py.File(reference, "r") as a, h5py.File(result, "r") as b:
+        worst = (0.0, "")
+        for group in GROUPS:
+            names_a, names_b = list(a[group]), list(b[group])
+            if names_a != names_b:
+                sys.exit(f"/{group}: columns differ: {names_a} vs {names_b}")
+            for name in names_a:
+                if name.endswith("_seconds"):
+                    continue  # wall times
+                x, y = a[group][name][()], b[group][name][()]
+                if x.shape != y.shape:
+                    sys.exit(f"/{group}/{name}: {x.shape[0]} rows, resumed {y.shape[0]}")
+                both_nan = np.isnan(x) & np.isnan(y)
+                if np.any(np.isnan(x) != np.isnan(y)):
+                    sys.exit(f"/{group}/{name}: NaN in one run only")
+                scale = max(np.max(np.abs(np.where(both_nan, 0, x))), 1e-300)
+                d = np.max(np.abs(np.where(both_nan, 0, x - y))) / scale if x.size else 0.0
+                if d > worst[0]:
+                    worst = (d, f"/{group}/{name}")
+                if not d <= tolerance:
+                    sys.exit(f"/{group}/{name}: resumed differs by {d:.3e} (relative to the "
+                             f"column's largest value) > {tolerance:g}")
+        rows = {g: a[g][list(a[g])[0]].shape[0] for g in GROUPS}
+    print(f"{result}: equal to {reference} within {tolerance:g} ({rows}); largest "
+          f"difference {worst[0]:.3e} {worst[1]}")
+
+
+def main() -> None:
+    mode, systole, mpiexec, prm = sys.argv[1], Path(sys.argv[2]), sys.argv[3], Path(sys.argv[4])
+    mpi2 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", systole]
+    reference = Path("results/reference/results.h5")
+
+    if mode == "reference":
+        shutil.rmtree("results/reference", ignore_errors=True)
+        run([systole, prm_for(prm, "reference")])
+        checkpoints = sorted(Path("results/reference").glob("checkpoint_*"))
+        assert len(checkpoints) == 2, f"the last two checkpoints kept, found {checkpoints}"
+        return
+
+    if mode == "chain":
+        shutil.rmtree("results/chain", ignore_errors=True)
+        run([systole, prm_for(prm, "chain")], {"SYSTOLE_TEST_KILL_AT_STEP": "30"}, expect_kill=True)
+        log = run([systole, "--resume", "results/chain"], {"SYSTOLE_TEST_KILL_IN_CHECKPOINT": "60"},
+                  expect_kill=True)
+        assert "Resuming from results/chain/checkpoint_000020" in log, log[-2000:]
+        assert Path("results/chain/checkpoint.tmp").is_dir(), "no unfinished checkpoint left"
+        log = run([systole, "--resume", "results/chain"], {"SYSTOLE_TEST_KILL_AT_STEP": "90"},
+                  expect_kill=True)
+        assert "Resuming from results/chain/checkpoint_000040" in log, log[-2000:]
+        log = run([systole, "--resume", "results/chain"])
+        assert "Resuming from results/chain/checkpoint_000080" in log, log[-2000:]
+        compare(reference, Path("results/chain/results.h5"), 1e-12)
+        return
+
+    if mode in ("ranks-2-1", "ranks-1-2"):
+        name = mode.replace("-", "_")
+        shutil.rmtree(f"results/{name}", ignore_errors=True)
+        first, then, step = (mpi2, [systole], "25") if mode == "ranks-2-1" else \
+            ([systole], mpi2, "105")
+        run(first + [prm_for(prm, name)], {"SYSTOLE_TEST_KILL_AT_STEP": step}, expect_kill=True)
+        log = run(then + ["--resume", f"results/{name}"])
+        assert "Resuming from" in log, log[-2000:]
+        compare(reference, Path(f"results/{name}/results.h5"), 1e-8)
+        return
+
+    if mode == "corrupt":
+        shutil.rmtree("results/corrupt", ignore_errors=True)
+        shutil.copytree("results/reference", "results/corrupt")
+        checkpoints = sorted(Path("results/corrupt").glob("checkpoint_*"))
+        state = checkpoints[-1] / "state.bin"
+        data = state.read_bytes()
+        state.write_bytes(data[: len(data) // 2])
+        log = run([systole, prm_for(prm, "corrupt", "  set Resume = true\n")])
+        lines = [line for line in log.splitlines() if "Checkpoint fault" in line]
+        expected = f"{state} is truncated or corrupt"
+        assert len(lines) == 1 and expected in lines[0] and \
+            f"falling back to {checkpoints[-2]}" in lines[0], \
+            f"expected one line '{expected} ... falling back to {checkpoints[-2]}':\n{log[-2000:]}"
+        assert f"Resuming from {checkpoints[-2]}" in log, log[-2000:]
+        print(lines[0])
+        compare(reference, Path("results/corrupt/results.h5"), 1e-12)
+        return
+
+    if mode == "wrong-parameters":
+        shutil.rmtree("results/wrong", ignore_errors=True)
+        shutil.copytree("results/reference", "results/wrong")
+        text = prm.read_text().replace("subsection Geometry\n",
+                                       "subsection Geometry\n  set Global refinements = 1\n", 1)
+        other = Path("other_mesh.prm")
+        other.write_text(text)
+        log = run([systole, prm_for(other, "wrong", "  set Resume = true\n")], expect_fail=True)
+        expected = "Geometry / Global refinements: '0' in the checkpoint, '1' now"
+        assert expected in log and "was written for another problem" in log, \
+            f"expected '{expected}':\n{log[-2000:]}"
+        print(log.strip().splitlines()[-1])
+        return
+
+    sys.exit(f"unknown mode {mode}")
+
+
+if __name__ == "__main__":
+    main()
