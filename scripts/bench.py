@@ -1169,6 +1169,69 @@ def ep_sections(build: Path, workdir: Path, quick: bool) -> dict[str, str]:
     return sections
 
 
+#: The heartbeat's closing line on its checkpoints.
+CHECKPOINT_LINE = re.compile(r"(\d+) checkpoint\(s\), ([\d.]+) s per checkpoint, (\d+) mechanics "
+                             r"DOFs; the last in (\S+)")
+
+
+def run_checkpoint(ranks: int, build: Path, workdir: Path, interval: int = 10) -> dict:
+    """One beat of the default heartbeat with a checkpoint every `interval` steps: the write
+    time per checkpoint (from the run's log line) and the size of the last checkpoint by part."""
+    name = f"checkpoint_{ranks}"
+    prm = workdir / f"{name}.prm"
+    prm.write_text((ROOT / "parameters" / "lv_heartbeat.prm").read_text() +
+                   f"\nsubsection Circulation\n  set Number of beats = 1\nend\n"
+                   f"subsection Output\n  set Run name = {name}\n"
+                   f"  set Field output interval = 0\n  set Checkpoint interval = {interval}\nend\n")
+    command = [str(build / "systole"), str(prm)]
+    if ranks > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + command
+    out, busy = run_watched(command, workdir, ranks)
+    row = {"ranks": ranks, "ok": out.returncode == 0, "busy": busy}
+    if out.returncode != 0:
+        return failed_row(row, out, workdir / "results" / name / "results.h5")
+    log = out.stdout
+    match = CHECKPOINT_LINE.search(log)
+    row["n"], row["seconds"], row["dofs"] = int(match.group(1)), float(match.group(2)), \
+        int(match.group(3))
+    row["wall"] = float(re.search(r"Wall time ([\d.]+) s", log).group(1))
+    row["ep_nodes"] = int(re.search(r"Electrophysiology mesh: .*?, (\d+) nodes", log).group(1))
+    folder = workdir / match.group(4)
+    sizes = {"mechanics": 0, "ep": 0, "state": 0}
+    for f in folder.iterdir():
+        part = "mechanics" if f.name.startswith("mechanics") else \
+            "ep" if f.name.startswith("ep.") else "state"
+        sizes[part] += f.stat().st_size
+    row["sizes"] = sizes
+    return row
+
+
+def checkpoint_section(rows: list[dict]) -> str:
+    """Checkpoint size per DOF and write time of the default heartbeat."""
+    lines = ["## Checkpoints of the default heartbeat (parameters/lv_heartbeat.prm)",
+             "One beat with `Output / Checkpoint interval = 10`. A checkpoint holds the mechanics "
+             "mesh with its attached data (three displacement vectors: the last two accepted "
+             "states and the iterate of the held factorization; the tension of that iterate and "
+             "the activation records per quadrature point), the EP mesh with the potential, the "
+             "ionic states and the activation times per node, and the small state (`state.bin`: "
+             "BDF history, beat recorder, counters), plus the parameters and the manifest. The "
+             "write time includes the CRC-32 manifest and fsync, not the refactorization a "
+             "resume needs.", "",
+             "| ranks | mechanics DOFs | EP nodes | checkpoints | write time [s] | mechanics part "
+             "[bytes per DOF] | EP part [bytes per node] | state.bin etc. [kB] | total [kB] | run "
+             "wall time [s] |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if not r["ok"]:
+            lines.append(f"| {r['ranks']} | failed: {r.get('error', '')} |||||||||")
+            continue
+        s = r["sizes"]
+        lines.append(f"| {r['ranks']} | {r['dofs']} | {r['ep_nodes']} | {r['n']} | "
+                     f"{r['seconds']:.3f} | {s['mechanics'] / r['dofs']:.0f} | "
+                     f"{s['ep'] / r['ep_nodes']:.0f} | {s['state'] / 1024:.1f} | "
+                     f"{sum(s.values()) / 1024:.0f} | {r['wall']:.1f} |")
+    return "\n".join(lines) + "\n"
+
+
 def write_docs(output: Path, sections: dict[str, str], replace_only: bool) -> None:
     """Write the file, or (replace_only) replace the given sections of the existing file
     and keep the others (new sections are appended)."""
@@ -1191,7 +1254,7 @@ def main() -> int:
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
-                                           "laws", "cell"],
+                                           "laws", "cell", "checkpoint"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -1295,6 +1358,12 @@ def main() -> int:
             rows.sort(key=lambda r: r["ranks"])
             sections["Default heartbeat (parameters/lv_heartbeat.prm)"] = heartbeat_section(rows)
             print(sections["Default heartbeat (parameters/lv_heartbeat.prm)"], flush=True)
+
+        if args.only in (None, "checkpoint"):
+            title = "Checkpoints of the default heartbeat (parameters/lv_heartbeat.prm)"
+            print("running one beat of the default heartbeat with checkpoints ...", flush=True)
+            sections[title] = checkpoint_section([run_checkpoint(2, args.build, workdir)])
+            print(sections[title], flush=True)
 
         if args.only in (None, "ep"):
             sections.update(ep_sections(args.build, workdir, args.quick))
