@@ -2,7 +2,7 @@
 """Check the layering of src/: a folder may include only itself and lower layers.
 
 Order (STYLE.md 2.3): base <- geometry <- fibres <- materials <- {electrophysiology,
-mechanics} <- circulation <- simulation; io sits beside simulation and may use any
+mechanics} <- circulation <- postprocess <- simulation; io sits beside simulation and may use any
 layer below simulation. Exit status 1 lists every offending include.
 """
 
@@ -19,7 +19,8 @@ ORDER = {
     "mechanics": 4,
     "circulation": 5,
     "io": 5,
-    "simulation": 6,
+    "postprocess": 6,
+    "simulation": 7,
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/')
 

@@ -311,8 +311,9 @@ namespace systole::Mechanics
                           const bool                    with_volume_derivative)
   {
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
-    const bool                 mixed = layout.mixed();
-    const bool                 with_pressure_matrix =
+    last_active_tension = active_tension;
+    const bool mixed    = layout.mixed();
+    const bool with_pressure_matrix =
       with_matrix && mixed && pressure_matrix != nullptr;
 
     // The passive (and active) stress is integrated with the full Gauss rule;

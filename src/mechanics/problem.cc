@@ -105,7 +105,8 @@ namespace systole::Mechanics
                                   volumetric_law,
                                   logger))
   {
-    Impl &m = *impl;
+    Impl &m          = *impl;
+    m.boundary_names = names;
 
     // Boundary parts: each named part must exist and carry faces.
     const auto ids = [&](const std::vector<std::string> &parts,

@@ -3,6 +3,8 @@
 #include <deal.II/base/function.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/base/tensor.h>
 
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
@@ -65,6 +67,29 @@ namespace systole::Mechanics
   };
 
   using FibreFunction = Fibres::FibreField;
+
+  /// The state of the mechanics at one quadrature point of a locally owned
+  /// cell, for the postprocessors (Problem::point_states()).
+  struct PointState
+  {
+    dealii::Point<3>     position; ///< reference position X [mm]
+    double               JxW = 0;  ///< reference volume weight [mm^3]
+    dealii::Tensor<2, 3> F;        ///< deformation gradient
+    Fibres::FibreBasis   basis;    ///< reference fibre frame (f0, s0, n0)
+    /// Active tension T_a [kPa]: the uniform one of the last solve plus the
+    /// point's (set_active_tension()).
+    double active_tension = 0;
+    /// Cauchy stress sigma = J^-1 F S F^T of everything at the point
+    /// (passive, volumetric or pressure, active) [kPa].
+    dealii::SymmetricTensor<2, 3> cauchy_stress;
+  };
+
+  /// A vertex of the mesh: its reference and deformed positions [mm].
+  struct VertexState
+  {
+    dealii::Point<3> reference;
+    dealii::Point<3> deformed;
+  };
 
   /// Quasi-static finite-strain mechanics of the myocardium on a distributed
   /// mesh: displacement-based, Q1 or Q2, with a volumetric penalty for the
@@ -318,6 +343,33 @@ namespace systole::Mechanics
     /// rank.
     std::map<std::string, double>
     timings() const;
+
+    /// The state at every quadrature point of the locally owned cells, indexed
+    /// by active cell index (empty for other cells), in the order of
+    /// quadrature_points(), at the current displacement. Not collective.
+    void
+    point_states(std::vector<std::vector<PointState>> &states) const;
+
+    /// The vertices of the mesh whose displacement DoFs this rank owns (every
+    /// vertex on exactly one rank). The displacement at a vertex is its nodal
+    /// value, exact for an interpolated displacement.
+    std::vector<VertexState>
+    vertex_states() const;
+
+    /// Area of boundary part @p part [mm^2] in the current (deformed)
+    /// configuration, int |cof(F) N| dA over the reference faces
+    /// (collective). Throws if the mesh has no such part.
+    double
+    deformed_area(const std::string &part) const;
+
+    /// Gauss points per direction of the cells (quadrature_points() uses
+    /// QGauss<3> of this order).
+    unsigned int
+    n_quadrature_points_1d() const;
+
+    /// The mesh.
+    const dealii::Triangulation<3, 3> &
+    triangulation() const;
 
     /// Verification hook (mixed formulations): set every pressure DoF i to
     /// amplitude sin(1 + 0.7 i) [kPa], a non-trivial pressure field.

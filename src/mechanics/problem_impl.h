@@ -156,6 +156,12 @@ namespace systole::Mechanics
 
     std::unique_ptr<LinearSolver> linear_solver;
 
+    /// The uniform active tension of the last assembly [kPa] (for
+    /// point_states()).
+    double last_active_tension = 0.0;
+    /// The boundary parts of the mesh (deformed_area()).
+    Geometry::BoundaryNames boundary_names;
+
     /// Wall times of assembly and linear solves (sections "Mechanics /
     /// ..."), summed over the run.
     /// Sections: "Mechanics / Newton" (whole solves), "Mechanics /

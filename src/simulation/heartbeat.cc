@@ -26,6 +26,7 @@
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array.hpp>
+#include "postprocess/manager.h"
 
 #include <array>
 #include <chrono>
@@ -156,6 +157,22 @@ namespace systole
                std::max(1u, dealii::Utilities::MPI::sum(n, comm));
       }
 
+      /// The activation time of every quadrature point in the beat that
+      /// started at @p beat_start [ms] (NaN: not activated in it), as of the
+      /// last set_time().
+      std::vector<std::vector<double>>
+      activation_in_beat(const double beat_start) const
+      {
+        auto times = activation_times;
+        if (ep != nullptr)
+          for (auto &cell : times)
+            for (double &t : cell)
+              t = t >= beat_start - 1e-9
+                    ? t - beat_start
+                    : std::numeric_limits<double>::quiet_NaN();
+        return times;
+      }
+
       /// Wall times [s]: the mechanics solves, the electrophysiology
       /// (advancing, reading).
       double mechanics_seconds = 0, ep_seconds = 0;
@@ -223,6 +240,8 @@ namespace systole
              const RunParameters      &run,
              Logger                   &logger,
              Progress                 &progress,
+             Postprocess::Manager     &postprocess,
+             const double              period,
              const MPI_Comm            comm)
         : model(model)
         , results(results)
@@ -232,6 +251,8 @@ namespace systole
         , run(run)
         , logger(logger)
         , progress(progress)
+        , postprocess(postprocess)
+        , period(period)
         , comm(comm)
       {
         for (unsigned int c = 0; c < model.n_cavities(); ++c)
@@ -296,6 +317,9 @@ namespace systole
               {"activated_fraction", "-", ep->activated_fraction()});
             ep_steps_written = ep_steps;
           }
+        // The chosen postprocessors' columns (Postprocess / List of
+        // postprocessors).
+        postprocess.step(s.time, s.beat, s.beat * period, volumes[0], row);
         results.append_timeseries(row);
         last_time = s.time;
         if (run.field_output_interval > 0 &&
@@ -376,6 +400,9 @@ namespace systole
                        << ", 90 % active after " << a.fraction_time - start
                        << " ms";
           }
+        const auto times_in_beat =
+          ventricles.activation_in_beat(summary_value(summary, "start_time"));
+        postprocess.end_beat(&times_in_beat, row);
         results.append_summary(row);
         std::ostringstream o;
         o << beat_log_line(model,
@@ -489,6 +516,7 @@ namespace systole
         problem.attach_output(data_out);
         if (ep != nullptr)
           ep->attach_output(data_out);
+        postprocess.attach_output(data_out);
         data_out.build_patches(problem.mapping(), 2);
         results.write_fields(data_out, step, last_time);
         last_field_step = step;
@@ -502,6 +530,8 @@ namespace systole
       const RunParameters      &run;
       Logger                   &logger;
       Progress                 &progress;
+      Postprocess::Manager     &postprocess;
+      const double              period;
       MPI_Comm                  comm;
       std::vector<unsigned int> external;
       unsigned int  total_iterations = 0, total_solves = 0, total_rejected = 0;
@@ -683,7 +713,7 @@ namespace systole
     // Bestel onset, taken within the beat.
     const double onset =
       std::fmod(earliest + bestel.onset(), circulation.period);
-    MechanicsVentricles ventricles(problem,
+    MechanicsVentricles  ventricles(problem,
                                    bestel,
                                    times,
                                    ep.get(),
@@ -719,7 +749,11 @@ namespace systole
       results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
                                                        parameter_text,
                                                        comm);
-    IO::ResultsFile &results = *results_file;
+    IO::ResultsFile     &results = *results_file;
+    Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
+                                     problem,
+                                     names,
+                                     &logger);
     Progress         progress(logger,
                       Progress::parse_mode(run.progress),
                       0.0,
@@ -732,6 +766,8 @@ namespace systole
                   run,
                   logger,
                   progress,
+                  postprocess,
+                  circulation.period,
                   comm);
     HeartbeatStepper stepper(zero_d, ventricles, settings, y0, p0);
 

@@ -13,6 +13,8 @@
 #include "mechanics/parameters.h"
 #include "simulation/kinematics.h"
 
+#include "postprocess/manager.h"
+
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -209,6 +211,7 @@ namespace systole
     Circulation::declare_model_parameters(prm);
     Electrophysiology::Parameters::declare(prm);
     Electrophysiology::SingleCell::Pacing::declare(prm);
+    Postprocess::Parameters::declare(prm);
   }
 
   void
@@ -259,6 +262,7 @@ namespace systole
     Circulation::create_model(prm);
     Electrophysiology::Parameters::parse(prm);
     Electrophysiology::SingleCell::Pacing::parse(prm);
+    Postprocess::Parameters::parse(prm);
   }
 
   RunParameters

@@ -16,8 +16,11 @@
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
+#include "postprocess/manager.h"
+
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace systole
@@ -38,7 +41,11 @@ namespace systole
     for (const auto &p : params.tracked_points)
       reference_points.push_back(p.position);
 
-    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    IO::ResultsFile      results(run.output_directory, parameter_text, comm);
+    Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
+                                     problem,
+                                     model.names,
+                                     &logger);
     Progress progress(logger, Progress::parse_mode(run.progress), 0.0, 1.0);
 
     unsigned int step      = 0;
@@ -81,6 +88,14 @@ namespace systole
           row.push_back({params.tracked_points[i].name + "_" + "xyz"[d],
                          "mm",
                          deformed[i][d]});
+      // The chosen postprocessors' columns; time is the load fraction.
+      postprocess.step(fraction,
+                       0,
+                       0.0,
+                       problem.n_cavities() == 1
+                           ? problem.cavity_volume()
+                           : std::numeric_limits<double>::quiet_NaN(),
+                       row);
       results.append_timeseries(row);
 
       const bool last = fraction >= 1.0;
@@ -89,6 +104,7 @@ namespace systole
         {
           dealii::DataOut<3> data_out;
           problem.attach_output(data_out);
+          postprocess.attach_output(data_out);
           data_out.build_patches(problem.mapping(), run.polynomial_degree);
           results.write_fields(data_out, step, fraction);
         }
@@ -165,21 +181,23 @@ namespace systole
       const auto it = timings.find(section);
       return it == timings.end() ? 0.0 : it->second;
     };
-    results.append_summary(
-      {{"n_dofs", "-", static_cast<double>(problem.n_dofs())},
-       {"n_displacement_dofs", "-", static_cast<double>(blocks[0])},
-       {"n_pressure_dofs", "-", static_cast<double>(blocks[1])},
-       {"load_steps", "-", static_cast<double>(step)},
-       {"step_cuts", "-", static_cast<double>(cuts)},
-       {"newton_iterations", "-", static_cast<double>(total_newton)},
-       {"chord_iterations", "-", static_cast<double>(total_chord)},
-       {"linear_iterations", "-", static_cast<double>(total_linear)},
-       {"linear_iterations_per_solve",
-        "-",
-        total_solves > 0 ? static_cast<double>(total_linear) / total_solves
-                         : 0.0},
-       {"assembly_seconds", "s", seconds("Mechanics / assembly")},
-       {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}});
+    std::vector<IO::Column> summary = {
+      {"n_dofs", "-", static_cast<double>(problem.n_dofs())},
+      {"n_displacement_dofs", "-", static_cast<double>(blocks[0])},
+      {"n_pressure_dofs", "-", static_cast<double>(blocks[1])},
+      {"load_steps", "-", static_cast<double>(step)},
+      {"step_cuts", "-", static_cast<double>(cuts)},
+      {"newton_iterations", "-", static_cast<double>(total_newton)},
+      {"chord_iterations", "-", static_cast<double>(total_chord)},
+      {"linear_iterations", "-", static_cast<double>(total_linear)},
+      {"linear_iterations_per_solve",
+       "-",
+       total_solves > 0 ? static_cast<double>(total_linear) / total_solves
+                        : 0.0},
+      {"assembly_seconds", "s", seconds("Mechanics / assembly")},
+      {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}};
+    postprocess.end_beat(nullptr, summary);
+    results.append_summary(summary);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -1,0 +1,160 @@
+// What the postprocessors read from the mechanics: the state at the
+// quadrature points, the vertices and deformed boundary areas.
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+
+#include "materials/active_stress.h"
+#include "materials/passive_law.h"
+#include "materials/volumetric_law.h"
+#include "mechanics/problem_impl.h"
+
+#include <limits>
+#include <set>
+
+namespace systole::Mechanics
+{
+  void
+  Problem::point_states(std::vector<std::vector<PointState>> &states) const
+  {
+    const Impl                       &m     = *impl;
+    const bool                        mixed = m.layout.mixed();
+    const dealii::QGauss<3>           quadrature(m.n_q_1d);
+    dealii::FEValues<3>               fe_values(m.mapping,
+                                  *m.fe,
+                                  quadrature,
+                                  dealii::update_gradients |
+                                    dealii::update_values |
+                                    dealii::update_JxW_values);
+    std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
+    std::vector<double>               p_values(quadrature.size());
+    states.assign(m.tria.n_active_cells(), {});
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);
+          if (mixed)
+            fe_values[m.layout.pressure].get_function_values(m.u, p_values);
+          const auto data = m.point_data.get_data(cell);
+          auto      &out  = states[cell->active_cell_index()];
+          out.resize(quadrature.size());
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              PointState &s    = out[q];
+              s.position       = data[q]->position;
+              s.JxW            = fe_values.JxW(q);
+              s.F              = dealii::unit_symmetric_tensor<3>() + grad_u[q];
+              s.basis          = data[q]->basis;
+              s.active_tension = m.last_active_tension + data[q]->tension;
+              const double J   = dealii::determinant(s.F);
+              if (!(J > 0.0))
+                {
+                  // An inverted point has no stress: NaN marks it.
+                  s.cauchy_stress = dealii::SymmetricTensor<2, 3>();
+                  for (unsigned int i = 0; i < 3; ++i)
+                    for (unsigned int j = i; j < 3; ++j)
+                      s.cauchy_stress[i][j] =
+                        std::numeric_limits<double>::quiet_NaN();
+                  continue;
+                }
+              // The stress of the assembly (assembly.cc), without tangent.
+              Materials::PassiveInput in;
+              in.F            = s.F;
+              in.basis        = s.basis;
+              in.with_tangent = false;
+              Materials::PassiveOutput law;
+              m.passive_law.evaluate(in, law);
+              if (mixed)
+                Materials::add_volumetric_stress(s.F,
+                                                 -p_values[q],
+                                                 0.0,
+                                                 law.S,
+                                                 law.dS_dE);
+              else
+                m.volumetric_law.add_to(s.F, law.S, law.dS_dE);
+              if (s.active_tension != 0.0)
+                Materials::add_active_stress(
+                  s.active_tension,
+                  m.params.active_transverse_fraction,
+                  s.basis,
+                  law.S);
+              const dealii::Tensor<2, 3> sigma =
+                s.F * dealii::Tensor<2, 3>(law.S) * dealii::transpose(s.F) / J;
+              s.cauchy_stress = dealii::symmetrize(sigma);
+            }
+        }
+  }
+
+  std::vector<VertexState>
+  Problem::vertex_states() const
+  {
+    const Impl              &m = *impl;
+    std::vector<VertexState> result;
+    std::set<unsigned int>   seen;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const auto first = cell->vertex_dof_index(v, 0);
+            if (!m.owned.is_element(first) ||
+                !seen.insert(cell->vertex_index(v)).second)
+              continue;
+            VertexState s;
+            s.reference = cell->vertex(v);
+            s.deformed  = s.reference;
+            for (unsigned int c = 0; c < 3; ++c)
+              s.deformed[c] += m.u(cell->vertex_dof_index(v, c));
+            result.push_back(s);
+          }
+    return result;
+  }
+
+  double
+  Problem::deformed_area(const std::string &part) const
+  {
+    const Impl                       &m  = *impl;
+    const dealii::types::boundary_id  id = m.boundary_names.id(part);
+    const dealii::QGauss<2>           quadrature(m.n_q_face_1d);
+    dealii::FEFaceValues<3>           fe_face(m.mapping,
+                                    *m.fe,
+                                    quadrature,
+                                    dealii::update_gradients |
+                                      dealii::update_normal_vectors |
+                                      dealii::update_JxW_values);
+    std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
+    double                            area = 0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() &&
+              cell->face(f)->boundary_id() == id)
+            {
+              fe_face.reinit(cell, f);
+              fe_face[m.layout.displacement].get_function_gradients(m.u,
+                                                                    grad_u);
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
+                {
+                  const dealii::Tensor<2, 3> F =
+                    dealii::unit_symmetric_tensor<3>() + grad_u[q];
+                  const dealii::Tensor<2, 3> cof =
+                    dealii::determinant(F) *
+                    dealii::transpose(dealii::invert(F));
+                  area +=
+                    (cof * fe_face.normal_vector(q)).norm() * fe_face.JxW(q);
+                }
+            }
+    return dealii::Utilities::MPI::sum(area, m.comm);
+  }
+
+  unsigned int
+  Problem::n_quadrature_points_1d() const
+  {
+    return impl->n_q_1d;
+  }
+
+  const dealii::Triangulation<3, 3> &
+  Problem::triangulation() const
+  {
+    return impl->tria;
+  }
+} // namespace systole::Mechanics

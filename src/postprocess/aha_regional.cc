@@ -1,0 +1,117 @@
+#include "postprocess/aha_regional.h"
+
+#include <deal.II/base/mpi.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace systole::Postprocess
+{
+  Needs
+  AhaRegional::needs() const
+  {
+    Needs n;
+    n.cardiac_frame = n.segments = true;
+    return n;
+  }
+
+  std::array<std::array<double, 3>, 17>
+  AhaRegional::segment_means(const StepData &data)
+  {
+    // Per segment: the three weighted sums and the volume.
+    std::vector<double> sums(17 * 4, 0.0);
+    for (unsigned int c = 0; c < data.points->size(); ++c)
+      {
+        const auto &points = (*data.points)[c];
+        if (points.empty())
+          continue;
+        for (unsigned int q = 0; q < points.size(); ++q)
+          {
+            const unsigned int s  = (*data.point_segments)[c][q] - 1;
+            const auto        &pq = (*data.quantities)[c][q];
+            const double       w  = points[q].JxW;
+            sums[4 * s + 0] += pq.strain_circumferential * w;
+            sums[4 * s + 1] += pq.strain_longitudinal * w;
+            sums[4 * s + 2] += pq.strain_radial * w;
+            sums[4 * s + 3] += w;
+          }
+      }
+    dealii::Utilities::MPI::sum(sums, data.comm, sums);
+    std::array<std::array<double, 3>, 17> means;
+    for (unsigned int s = 0; s < 17; ++s)
+      for (unsigned int k = 0; k < 3; ++k)
+        means[s][k] = sums[4 * s + 3] > 0
+                        ? sums[4 * s + k] / sums[4 * s + 3]
+                        : std::numeric_limits<double>::quiet_NaN();
+    return means;
+  }
+
+  void
+  AhaRegional::step(const StepData &data, std::vector<IO::Column> &row)
+  {
+    (void)row;
+    const auto means = segment_means(data);
+    for (unsigned int s = 0; s < 17; ++s)
+      for (unsigned int k = 0; k < 3; ++k)
+        if (!std::isfinite(peaks[s][k]) ||
+            std::abs(means[s][k]) > std::abs(peaks[s][k]))
+          peaks[s][k] = means[s][k];
+  }
+
+  void
+  AhaRegional::end_beat(
+    const StepData                         &data,
+    const std::vector<std::vector<double>> *activation_times,
+    std::vector<IO::Column>                &row)
+  {
+    std::vector<double> sums(17 * 2, 0.0);
+    if (activation_times != nullptr)
+      for (unsigned int c = 0; c < data.points->size(); ++c)
+        {
+          const auto &points = (*data.points)[c];
+          if (points.empty())
+            continue;
+          for (unsigned int q = 0; q < points.size(); ++q)
+            {
+              const unsigned int s = (*data.point_segments)[c][q] - 1;
+              const double       t = (*activation_times)[c][q];
+              if (!std::isfinite(t))
+                continue;
+              sums[2 * s] += t * points[q].JxW;
+              sums[2 * s + 1] += points[q].JxW;
+            }
+        }
+    dealii::Utilities::MPI::sum(sums, data.comm, sums);
+    static const char *components[3] = {"circumferential",
+                                        "longitudinal",
+                                        "radial"};
+    for (unsigned int s = 0; s < 17; ++s)
+      {
+        char prefix[16];
+        std::snprintf(prefix, sizeof(prefix), "aha_%02u_", s + 1);
+        for (unsigned int k = 0; k < 3; ++k)
+          row.push_back({std::string(prefix) + "peak_strain_" + components[k],
+                         "-",
+                         peaks[s][k]});
+        row.push_back({std::string(prefix) + "activation_time",
+                       "ms",
+                       sums[2 * s + 1] > 0
+                         ? sums[2 * s] / sums[2 * s + 1]
+                         : std::numeric_limits<double>::quiet_NaN()});
+      }
+    reset();
+  }
+
+  void
+  AhaRegional::reset()
+  {
+    for (auto &p : peaks)
+      p.fill(std::numeric_limits<double>::quiet_NaN());
+  }
+
+  AhaRegional::AhaRegional()
+  {
+    reset();
+  }
+} // namespace systole::Postprocess

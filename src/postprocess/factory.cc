@@ -1,0 +1,131 @@
+#include "postprocess/factory.h"
+
+#include <deal.II/base/exceptions.h>
+
+#include "postprocess/aha_regional.h"
+#include "postprocess/fields.h"
+#include "postprocess/ventricle_function.h"
+
+#include <functional>
+
+namespace systole::Postprocess
+{
+  namespace
+  {
+    struct Entry
+    {
+      const char                                     *name;
+      const char                                     *description;
+      std::function<std::unique_ptr<Postprocessor>()> create;
+    };
+
+    std::unique_ptr<Postprocessor>
+    fields(std::vector<std::pair<std::string, Fields::Getter>> f,
+           const bool                                          frame = false)
+    {
+      return std::make_unique<Fields>(std::move(f), frame);
+    }
+
+    /// The one table of postprocessors (alphabetical).
+    const std::vector<Entry> &
+    table()
+    {
+      static const std::vector<Entry> entries = {
+        {"AHA segments",
+         "/summary per beat: aha_NN_peak_strain_circumferential, "
+         "_longitudinal, _radial and aha_NN_activation_time [ms] of the 17 "
+         "AHA segments (NN = 01 ... 17)",
+         [] { return std::make_unique<AhaRegional>(); }},
+        {"active tension",
+         "field active_tension [kPa]",
+         [] {
+           return fields({{"active_tension", [](const PointQuantities &q) {
+                             return q.active_tension;
+                           }}});
+         }},
+        {"fibre stretch",
+         "field fibre_stretch = |F f0| [-]",
+         [] {
+           return fields({{"fibre_stretch", [](const PointQuantities &q) {
+                             return q.fibre_stretch;
+                           }}});
+         }},
+        {"strain",
+         "fields strain_circumferential, strain_longitudinal, strain_radial: "
+         "the Green-Lagrange strain in the cardiac frame of the wall "
+         "coordinates [-]",
+         [] {
+           return fields(
+             {{"strain_circumferential",
+               [](const PointQuantities &q) {
+                 return q.strain_circumferential;
+               }},
+              {"strain_longitudinal",
+               [](const PointQuantities &q) { return q.strain_longitudinal; }},
+              {"strain_radial",
+               [](const PointQuantities &q) { return q.strain_radial; }}},
+             true);
+         }},
+        {"stress",
+         "fields first_principal_stress and fibre_stress (Cauchy) [kPa]",
+         [] {
+           return fields({{"first_principal_stress",
+                           [](const PointQuantities &q) {
+                             return q.first_principal_stress;
+                           }},
+                          {"fibre_stress", [](const PointQuantities &q) {
+                             return q.fibre_stress;
+                           }}});
+         }},
+        {"ventricle function",
+         "/timeseries every step: long_axis_shortening, wall_thickening, "
+         "torsion [deg] (apex to base), ejection_fraction (so far in the "
+         "beat)",
+         [] { return std::make_unique<VentricleFunction>(); }},
+        {"volume ratio",
+         "field J = det F [-]",
+         [] {
+           return fields({{"J", [](const PointQuantities &q) { return q.J; }}});
+         }},
+      };
+      return entries;
+    }
+  } // namespace
+
+  std::vector<std::string>
+  postprocessor_names()
+  {
+    std::vector<std::string> names;
+    for (const auto &e : table())
+      names.emplace_back(e.name);
+    return names;
+  }
+
+  std::string
+  postprocessor_descriptions()
+  {
+    std::string text;
+    for (const auto &e : table())
+      text += std::string(text.empty() ? "" : " ") + "'" + e.name +
+              "': " + e.description + ".";
+    return text;
+  }
+
+  std::unique_ptr<Postprocessor>
+  create_postprocessor(const std::string &name)
+  {
+    std::string known;
+    for (const auto &e : table())
+      {
+        if (name == e.name)
+          return e.create();
+        known += (known.empty() ? "" : ", ") + std::string(e.name);
+      }
+    AssertThrow(false,
+                dealii::ExcMessage(
+                  "Postprocess / List of postprocessors: "
+                  "unknown postprocessor '" +
+                  name + "'; the postprocessors are: " + known + "."));
+    return nullptr;
+  }
+} // namespace systole::Postprocess

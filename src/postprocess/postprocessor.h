@@ -1,0 +1,104 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include "io/results_file.h"
+#include "mechanics/problem.h"
+
+#include "postprocess/aha_segments.h"
+#include "postprocess/point_quantities.h"
+
+#include <string>
+#include <vector>
+
+namespace systole::Postprocess
+{
+  /// What a postprocessor may need beyond the point states; the manager
+  /// computes only what the chosen postprocessors ask for.
+  struct Needs
+  {
+    bool cardiac_frame = false; ///< the wall coordinates' frame per point
+    bool segments      = false; ///< the AHA geometry and the cell segments
+    bool vertices      = false; ///< reference and deformed vertices
+    bool areas         = false; ///< deformed endocardial, epicardial areas
+  };
+
+  /// The state of the run at one accepted step, as the postprocessors see
+  /// it. Per-point data are indexed [active cell index][quadrature point]
+  /// (empty for cells of other ranks). Pointers are null where no
+  /// postprocessor needs the data.
+  struct StepData
+  {
+    double       time = 0; ///< [ms] (the load fraction of a load-stepped run)
+    unsigned int beat = 0; ///< 0, 1, ... (0 without beats)
+    double       beat_start = 0; ///< [ms]
+    /// The cavity volume [mm^3]: NaN without a cavity.
+    double                                                 cavity_volume = 0;
+    const std::vector<std::vector<Mechanics::PointState>> *points     = nullptr;
+    const std::vector<std::vector<PointQuantities>>       *quantities = nullptr;
+    const AhaSegments                                     *segments   = nullptr;
+    /// The segment (1 ... 17) of every point (of its reference position).
+    const std::vector<std::vector<unsigned int>> *point_segments = nullptr;
+    const std::vector<Mechanics::VertexState>    *vertices       = nullptr;
+    double   endocardial_area = 0; ///< deformed [mm^2]
+    double   epicardial_area  = 0; ///< deformed [mm^2]
+    MPI_Comm comm             = MPI_COMM_WORLD;
+  };
+
+  /// One postprocessor: fields (a scalar per point of PointQuantities),
+  /// /timeseries columns every step, /summary columns every beat.
+  ///
+  /// How to add one: write postprocess/<name>.{h,cc} deriving from this
+  /// class, add one line to the table of postprocess/factory.cc, and a test
+  /// in tests/unit/postprocess/ against an analytic deformation.
+  class Postprocessor
+  {
+  public:
+    virtual ~Postprocessor() = default;
+
+    virtual Needs
+    needs() const
+    {
+      return {};
+    }
+
+    /// Names of the scalar fields it writes.
+    virtual std::vector<std::string>
+    field_names() const
+    {
+      return {};
+    }
+
+    /// Value of field @p i (of field_names()) at a point.
+    virtual double
+    field_value(const unsigned int i, const PointQuantities &q) const
+    {
+      (void)i;
+      (void)q;
+      return 0;
+    }
+
+    /// Every accepted step, the first being the reference state: append
+    /// /timeseries columns (the same every step). Collective.
+    virtual void
+    step(const StepData &data, std::vector<IO::Column> &row)
+    {
+      (void)data;
+      (void)row;
+    }
+
+    /// At the end of a beat (or of the run), after its last step(): append
+    /// /summary columns. @p activation_times: per point, the activation
+    /// time in the beat [ms] (NaN where not activated; null without
+    /// activation). Collective.
+    virtual void
+    end_beat(const StepData                         &data,
+             const std::vector<std::vector<double>> *activation_times,
+             std::vector<IO::Column>                &row)
+    {
+      (void)data;
+      (void)activation_times;
+      (void)row;
+    }
+  };
+} // namespace systole::Postprocess
