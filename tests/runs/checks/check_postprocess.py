@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""Check the postprocessors' output of a heartbeat (Postprocess / List of postprocessors).
+
+    check_postprocess.py RESULTS.h5 [--serial SERIAL.h5] [--activation]
+
+- /timeseries has long_axis_shortening, wall_thickening, torsion and ejection_fraction,
+  zero at the first step (the reference state), finite everywhere;
+- the largest ejection_fraction of each beat (from the deformed mesh's volume) equals the
+  beat's lv_EF of /summary (from the 0D volume state) to 0.01 percentage points;
+- /summary has aha_NN_peak_strain_{circumferential,longitudinal,radial} and
+  aha_NN_activation_time for NN = 01 ... 17, the strains finite and below 1 in magnitude;
+  with --activation every segment's activation time is finite and inside the beat;
+- with --serial, every postprocessor column agrees with the serial run to 1e-6 (relative
+  to the column's scale): 2 ranks reproduce 1 rank.
+"""
+
+import sys
+
+import h5py
+import numpy as np
+
+TIMESERIES = ["long_axis_shortening", "wall_thickening", "torsion", "ejection_fraction"]
+COMPONENTS = ["circumferential", "longitudinal", "radial"]
+
+
+def aha_columns():
+    names = []
+    for n in range(1, 18):
+        names += [f"aha_{n:02d}_peak_strain_{c}" for c in COMPONENTS]
+        names.append(f"aha_{n:02d}_activation_time")
+    return names
+
+
+def main(argv):
+    args = list(argv)
+    serial = None
+    if "--serial" in args:
+        i = args.index("--serial")
+        serial = args[i + 1]
+        del args[i : i + 2]
+    activation = "--activation" in args
+    if activation:
+        args.remove("--activation")
+    errors = []
+    with h5py.File(args[0], "r") as f:
+        ts = {k: f["timeseries"][k][()] for k in f["timeseries"]}
+        summary = {k: f["summary"][k][()] for k in f["summary"]}
+    for name in TIMESERIES:
+        if name not in ts:
+            errors.append(f"/timeseries/{name} missing")
+            continue
+        if not np.all(np.isfinite(ts[name])):
+            errors.append(f"/timeseries/{name} is not finite")
+        if abs(ts[name][0]) > 1e-12:
+            errors.append(f"/timeseries/{name} is {ts[name][0]} at the first step")
+    if not errors:
+        for b, ef in enumerate(summary["lv_EF"]):
+            in_beat = ts["beat"] == b
+            largest = 100 * ts["ejection_fraction"][in_beat].max()  # lv_EF is in %
+            if abs(largest - ef) > 0.01:
+                errors.append(f"beat {b}: largest ejection_fraction {largest} != lv_EF {ef}")
+    for name in aha_columns():
+        if name not in summary:
+            errors.append(f"/summary/{name} missing")
+            continue
+        v = summary[name]
+        if "strain" in name and not np.all(np.isfinite(v) & (np.abs(v) < 1)):
+            errors.append(f"/summary/{name} = {v}: not a finite strain")
+        if activation and "activation" in name:
+            start, end = summary["start_time"], summary["end_time"]
+            if not np.all(np.isfinite(v) & (v >= 0) & (v <= end - start)):
+                errors.append(f"/summary/{name} = {v}: not inside the beat")
+    if serial is not None:
+        with h5py.File(serial, "r") as g:
+            for group, names in (("timeseries", TIMESERIES), ("summary", aha_columns())):
+                for name in names:
+                    a, b = f_read(args[0], group, name), g[group][name][()]
+                    scale = max(np.nanmax(np.abs(b)), 1e-12) if b.size else 1
+                    if a.shape != b.shape or not np.allclose(
+                        a, b, rtol=0, atol=1e-6 * scale, equal_nan=True
+                    ):
+                        errors.append(f"/{group}/{name} differs from the serial run")
+    for e in errors:
+        print("FAIL:", e)
+    if not errors:
+        print(f"postprocessors ok: {len(ts['time'])} steps, {len(summary['lv_EF'])} beat(s)")
+    return 1 if errors else 0
+
+
+def f_read(path, group, name):
+    with h5py.File(path, "r") as f:
+        return f[group][name][()]
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
