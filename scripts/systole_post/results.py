@@ -9,6 +9,9 @@ Layout written by the C++ code::
     /summary/<column>           optional, 1-D, one row per beat; attribute unit
     /mesh/nodes, /mesh/cells    n x 3 float64 [mm], m x 8 int (hexahedra)
     /fields/step_NNNNNN/<name>  optional per-node arrays; attributes time, step
+    /statistics/<name>          optional float64 scalars, the cost of the run (wall time,
+                                peak memory, timer sections "timer: ...", solver counts);
+                                attribute unit; string attributes (discretization, ...)
 
 A run killed midway may leave one column an entry longer than another; the reader
 truncates every column of a group to the shortest one and warns.
@@ -44,6 +47,8 @@ class Results:
         summary: column name -> 1-D array, one row per beat; empty if no /summary.
         summary_units: column name -> unit string of ``summary``.
         field_steps: step numbers of the /fields/step_NNNNNN groups, ascending.
+        statistics: name -> value of /statistics (empty if absent).
+        statistics_text: string attributes of /statistics (discretization, linear_solver).
     """
 
     path: Path
@@ -55,6 +60,8 @@ class Results:
     summary: dict[str, np.ndarray] = field(default_factory=dict)
     summary_units: dict[str, str] = field(default_factory=dict)
     field_steps: list[int] = field(default_factory=list)
+    statistics: dict[str, float] = field(default_factory=dict)
+    statistics_text: dict[str, str] = field(default_factory=dict)
 
     @property
     def n_rows(self) -> int:
@@ -134,6 +141,11 @@ def read_results(path: str | Path) -> Results:
         summary, summary_units = {}, {}
         if isinstance(h5file.get("summary"), h5py.Group):
             summary, summary_units = _read_columns(path, h5file["summary"])
+        statistics, statistics_text = {}, {}
+        if isinstance(h5file.get("statistics"), h5py.Group):
+            group = h5file["statistics"]
+            statistics = {k: float(group[k][()]) for k in group}
+            statistics_text = {k: _as_str(v) for k, v in group.attrs.items()}
         parameters = h5file.get("parameters")
         attrs = parameters.attrs if parameters is not None else {}
         return Results(
@@ -146,4 +158,6 @@ def read_results(path: str | Path) -> Results:
             summary=summary,
             summary_units=summary_units,
             field_steps=_field_steps(h5file.get("fields")),
+            statistics=statistics,
+            statistics_text=statistics_text,
         )

@@ -99,3 +99,37 @@ def test_two_dimensional_column_is_rejected(tmp_path):
         h5file.create_dataset("timeseries/time", data=np.zeros((2, 2)))
     with pytest.raises(ResultsError, match="not a 1-D dataset"):
         read_results(path)
+
+
+def test_reads_statistics_values_and_texts(tmp_path):
+    path = tmp_path / "results.h5"
+    with h5py.File(path, "w") as f:
+        f.create_dataset("timeseries/time", data=[0.0, 1.0])
+        group = f.create_group("statistics")
+        group.create_dataset("wall_time", data=12.5)
+        group.create_dataset("timer: Mechanics: assembly", data=3.25)
+        group.attrs["discretization"] = np.bytes_("Q2 (displacement, volumetric penalty)")
+    results = read_results(path)
+    assert results.statistics == {"timer: Mechanics: assembly": 3.25, "wall_time": 12.5}
+    assert results.statistics_text == {"discretization": "Q2 (displacement, volumetric penalty)"}
+    assert read_results(path).statistics["wall_time"] == 12.5
+
+
+def test_statistics_of_a_run(tmp_path):
+    """The app writes its cost as numbers (a 0D circulation beat: no mesh, a second)."""
+    import os
+    import subprocess
+
+    app = os.environ.get("SYSTOLE_APP")
+    if not app:
+        if os.environ.get("SYSTOLE_REQUIRE_APP"):
+            pytest.fail("SYSTOLE_APP not set")
+        pytest.skip("SYSTOLE_APP (the built systole) not set")
+    app = os.path.abspath(app)
+    prm = tmp_path / "c.prm"
+    prm.write_text("set Problem = circulation\nsubsection Circulation\n"
+                   "  set Number of beats = 1\nend\n")
+    subprocess.run([app, str(prm)], cwd=tmp_path, check=True, capture_output=True)
+    stats = read_results(tmp_path / "results" / "c" / "results.h5").statistics
+    assert stats["beats"] == 1 and stats["arkode_steps"] > 0
+    assert stats["wall_time"] > 0 and stats["peak_memory_per_rank"] > 0

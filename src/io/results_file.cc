@@ -238,6 +238,53 @@ namespace systole::IO
       H5Dclose(dataset);
     }
 
+    /// /statistics/<name> of every value and the texts as attributes of
+    /// /statistics (created if missing). Every rank of a parallel file calls
+    /// it with the same arguments.
+    void
+    write_statistics_to(
+      const hid_t                                             file,
+      const std::vector<Column>                              &values,
+      const std::vector<std::pair<std::string, std::string>> &texts)
+    {
+      const hid_t group =
+        H5Lexists(file, "statistics", H5P_DEFAULT) > 0
+          ? checked(H5Gopen2(file, "statistics", H5P_DEFAULT), "/statistics")
+          : checked(H5Gcreate2(file,
+                               "statistics",
+                               H5P_DEFAULT,
+                               H5P_DEFAULT,
+                               H5P_DEFAULT),
+                    "/statistics");
+      for (const auto &v : values)
+        {
+          std::string name = v.name;
+          std::replace(name.begin(), name.end(), '/', ':');
+          const hid_t space   = checked(H5Screate(H5S_SCALAR), "scalar space");
+          const hid_t dataset = checked(H5Dcreate2(group,
+                                                   name.c_str(),
+                                                   H5T_NATIVE_DOUBLE,
+                                                   space,
+                                                   H5P_DEFAULT,
+                                                   H5P_DEFAULT,
+                                                   H5P_DEFAULT),
+                                        "/statistics/" + name);
+          check(H5Dwrite(dataset,
+                         H5T_NATIVE_DOUBLE,
+                         H5S_ALL,
+                         H5S_ALL,
+                         H5P_DEFAULT,
+                         &v.value),
+                "/statistics/" + name);
+          write_string_attribute(dataset, "unit", v.unit);
+          H5Dclose(dataset);
+          H5Sclose(space);
+        }
+      for (const auto &[name, text] : texts)
+        write_string_attribute(group, name.c_str(), text);
+      H5Gclose(group);
+    }
+
     struct FieldStep
     {
       unsigned int step;
@@ -637,6 +684,39 @@ namespace systole::IO
   {
     impl->summary.append(impl->file, row, impl->root);
     impl->flush();
+  }
+
+  void
+  ResultsFile::write_statistics(
+    const std::vector<Column>                              &values,
+    const std::vector<std::pair<std::string, std::string>> &texts)
+  {
+    write_statistics_to(impl->file, values, texts);
+    impl->flush();
+  }
+
+  void
+  add_statistics(const std::string         &path,
+                 const std::vector<Column> &values,
+                 const MPI_Comm             comm)
+  {
+    int ok = 1;
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0 &&
+        std::filesystem::is_regular_file(path))
+      {
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+        const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+        ok               = file >= 0;
+        if (ok)
+          {
+            write_statistics_to(file, values, {});
+            H5Fclose(file);
+          }
+      }
+    ok = dealii::Utilities::MPI::min(ok, comm);
+    AssertThrow(ok == 1,
+                dealii::ExcMessage("Cannot reopen the results file '" + path +
+                                   "' to add the run's statistics."));
   }
 
   void

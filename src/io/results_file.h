@@ -95,6 +95,15 @@ namespace systole::IO
                  const unsigned int           step,
                  const double                 time);
 
+    /// Write /statistics/<name> for every value (a float64 scalar with
+    /// attribute unit) and one string attribute of /statistics per text: the
+    /// cost of the run (timer sections, solver counts, sizes), which
+    /// scripts/bench reads. A '/' in a name becomes ':'. Each name once.
+    void
+    write_statistics(
+      const std::vector<Column>                              &values,
+      const std::vector<std::pair<std::string, std::string>> &texts = {});
+
     /// Path of the HDF5 file.
     const std::string &
     path() const;
@@ -103,6 +112,14 @@ namespace systole::IO
     struct Impl;
     std::unique_ptr<Impl> impl;
   };
+
+  /// ResultsFile::write_statistics() on the closed results file @p path
+  /// (rank 0 reopens it; nothing happens if it does not exist): what the app
+  /// measures after the problem ran (wall time, peak memory). Collective.
+  void
+  add_statistics(const std::string         &path,
+                 const std::vector<Column> &values,
+                 const MPI_Comm             comm);
 
   /// The version string recorded in results files: "<semver> (<git describe>)".
   std::string

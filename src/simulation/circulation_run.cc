@@ -190,6 +190,19 @@ namespace systole
       << Units::mm3_to_mL(total_volume_0) << " mL, largest relative change "
       << std::setprecision(2) << std::scientific << largest_drift;
     logger.line(o.str());
+    results.write_statistics(
+      {{"beats", "-", static_cast<double>(n_beats)},
+       {"periodic", "-", periodic ? 1.0 : 0.0},
+       {"arkode_steps", "-", static_cast<double>(stats.steps)},
+       {"rhs_evaluations", "-", static_cast<double>(stats.rhs_evaluations)},
+       {"jacobian_evaluations",
+        "-",
+        static_cast<double>(stats.jacobian_evaluations)},
+       {"error_test_failures",
+        "-",
+        static_cast<double>(stats.error_test_failures)},
+       {"valve_events", "-", static_cast<double>(n_events)},
+       {"integration_seconds", "s", wall}});
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -558,4 +558,9 @@ namespace systole
       << " mechanics quadrature points";
     return o.str();
   }
+  unsigned long long
+  ElectricalActivation::n_nodes() const
+  {
+    return impl->monodomain->n_dofs();
+  }
 } // namespace systole

@@ -136,6 +136,10 @@ namespace systole
     Electrophysiology::Statistics
     statistics() const;
 
+    /// Nodes (DoFs) of the EP mesh.
+    unsigned long long
+    n_nodes() const;
+
     /// Wall time spent reading EP at the mechanics points [s].
     double
     transfer_seconds() const;

@@ -160,6 +160,17 @@ namespace systole
             : 0.0)
       << " CG iterations per solve, " << stats.amg_setups << " AMG set-up(s)";
     logger.line(o.str());
+    results.write_statistics(
+      {{"n_dofs", "-", static_cast<double>(ep.n_dofs())},
+       {"n_cells", "-", static_cast<double>(tria.n_global_active_cells())},
+       {"n_ranks",
+        "-",
+        static_cast<double>(dealii::Utilities::MPI::n_mpi_processes(comm))},
+       {"ep_seconds", "s", seconds},
+       {"ep_steps", "-", static_cast<double>(stats.steps)},
+       {"linear_solves", "-", static_cast<double>(stats.linear_solves)},
+       {"linear_iterations", "-", static_cast<double>(stats.linear_iterations)},
+       {"amg_setups", "-", static_cast<double>(stats.amg_setups)}});
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

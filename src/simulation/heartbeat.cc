@@ -122,6 +122,7 @@ namespace systole
                         << std::defaultfloat << std::endl;
         const auto start  = std::chrono::steady_clock::now();
         const auto report = problem.solve_cavities(target, 0.0, p);
+        linear_iterations += report.linear_iterations;
         mechanics_seconds += std::chrono::duration<double>(
                                std::chrono::steady_clock::now() - start)
                                .count();
@@ -176,6 +177,9 @@ namespace systole
       /// Wall times [s]: the mechanics solves, the electrophysiology
       /// (advancing, reading).
       double mechanics_seconds = 0, ep_seconds = 0;
+      /// Krylov iterations of the mechanics solves (0 with the direct
+      /// solver).
+      unsigned long linear_iterations = 0;
 
     private:
       Mechanics::Problem              &problem;
@@ -881,6 +885,38 @@ namespace systole
           << " % in the mechanics";
         logger.line(e.str());
       }
+    // The cost of the run as numbers (scripts/bench reads them).
+    std::vector<std::pair<std::string, std::string>> texts;
+    auto statistics = model.statistics(texts);
+    statistics.insert(
+      statistics.end(),
+      {{"beats", "-", static_cast<double>(stats.n_beats)},
+       {"periodic", "-", stats.periodic ? 1.0 : 0.0},
+       {"steps", "-", static_cast<double>(stats.n_steps)},
+       {"coupled_solves", "-", static_cast<double>(stats.n_solves)},
+       {"newton_iterations",
+        "-",
+        static_cast<double>(stats.n_newton_iterations)},
+       {"linear_iterations",
+        "-",
+        static_cast<double>(ventricles.linear_iterations)},
+       {"error_rejections", "-", static_cast<double>(stats.n_error_rejections)},
+       {"event_rejections", "-", static_cast<double>(stats.n_event_rejections)},
+       {"failed_solves", "-", static_cast<double>(stats.n_failures)},
+       {"cycle_seconds", "s", wall},
+       {"mechanics_seconds", "s", ventricles.mechanics_seconds},
+       {"ep_seconds", "s", ventricles.ep_seconds}});
+    if (ep != nullptr)
+      {
+        const auto s = ep->statistics();
+        statistics.insert(
+          statistics.end(),
+          {{"ep_steps", "-", static_cast<double>(s.steps)},
+           {"ep_integration_seconds", "s", s.seconds},
+           {"ep_transfer_seconds", "s", ep->transfer_seconds()},
+           {"ep_nodes", "-", static_cast<double>(ep->n_nodes())}});
+      }
+    results.write_statistics(statistics, texts);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

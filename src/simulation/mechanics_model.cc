@@ -41,6 +41,27 @@ namespace systole
       logger);
   }
 
+  std::vector<IO::Column>
+  MechanicsModel::statistics(
+    std::vector<std::pair<std::string, std::string>> &texts) const
+  {
+    std::vector<IO::Column> values = {
+      {"n_dofs", "-", static_cast<double>(problem->n_dofs())},
+      {"n_cells", "-", static_cast<double>(tria.n_global_active_cells())},
+      {"n_ranks",
+       "-",
+       static_cast<double>(
+         dealii::Utilities::MPI::n_mpi_processes(tria.get_communicator()))}};
+    for (const auto &[section, seconds] : problem->timings())
+      values.push_back(
+        {"timer: " + dealii::Utilities::replace_in_string(section, " / ", ": "),
+         "s",
+         seconds});
+    texts.emplace_back("discretization", problem->discretization_name());
+    texts.emplace_back("linear_solver", problem->linear_solver_name());
+    return values;
+  }
+
   std::string
   MechanicsModel::banner(const RunParameters &run) const
   {

@@ -5,6 +5,7 @@
 
 #include "geometry/boundary_names.h"
 #include "geometry/mesh.h"
+#include "io/results_file.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/parameters.h"
@@ -42,6 +43,12 @@ namespace systole
     /// ranks, passive law, linear solver.
     std::string
     banner(const RunParameters &run) const;
+
+    /// The sizes and the mechanics' timer sections for /statistics:
+    /// n_dofs, n_cells, n_ranks, "timer: <section>" [s] (this rank's wall
+    /// times); @p texts gets discretization and linear_solver.
+    std::vector<IO::Column>
+    statistics(std::vector<std::pair<std::string, std::string>> &texts) const;
 
     Geometry::Parameters                            geometry;
     Mechanics::Parameters                           params;

@@ -198,6 +198,15 @@ namespace systole
       {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}};
     postprocess.end_beat(nullptr, summary);
     results.append_summary(summary);
+    std::vector<std::pair<std::string, std::string>> texts;
+    auto statistics = model.statistics(texts);
+    statistics.insert(
+      statistics.end(),
+      {{"load_steps", "-", static_cast<double>(step)},
+       {"step_cuts", "-", static_cast<double>(cuts)},
+       {"newton_iterations", "-", static_cast<double>(total_newton)},
+       {"linear_iterations", "-", static_cast<double>(total_linear)}});
+    results.write_statistics(statistics, texts);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -151,6 +151,16 @@ namespace systole
       << " MiB per rank (max), "
       << dealii::Utilities::MPI::sum(peak_mib, impl->comm) << " MiB in total";
     impl->logger.line(o.str());
+    IO::add_statistics(
+      impl->run.output_directory + "/results.h5",
+      {{"wall_time", "s", dealii::Utilities::MPI::max(wall, impl->comm)},
+       {"peak_memory_per_rank",
+        "MiB",
+        dealii::Utilities::MPI::max(peak_mib, impl->comm)},
+       {"peak_memory_total",
+        "MiB",
+        dealii::Utilities::MPI::sum(peak_mib, impl->comm)}},
+      impl->comm);
   }
 
   std::string
