@@ -8,6 +8,8 @@ Modules:
   under per-column tolerances (used by the ``run`` tests) and writes reference CSVs.
 - :mod:`systole_post.plot`: plots time-series columns against time into a PNG.
 - :mod:`systole_post.fibres`: plots the helix-angle profile written by ``systole-fibres``.
+- :mod:`systole_post.bullseye`: AHA 17-segment bull's-eye plots of the "AHA segments"
+  postprocessor's /summary columns.
 """
 
 from systole_post.results import Results, ResultsError, read_results

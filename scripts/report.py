@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""One self-contained HTML report of a run: results/<run>/report.html.
+
+    report.py RESULTS.h5 [-o REPORT.html]
+
+The page holds every picture as an embedded base64 PNG and needs no network: provenance
+(code version, ranks, wall time, peak memory), the pressure-volume loop(s) and traces of a
+heartbeat or circulation run, the global indices of the "ventricle function" postprocessor,
+the activation map, the AHA bull's-eye plots of peak strain and activation time, the beat
+table, the cost statistics and the parameters used. Sections whose data the run lacks are
+left out. Prints the report's path.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import html
+import io
+import sys
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from pv_loop import format_summary, make_loop_figure, make_traces_figure  # noqa: E402
+from systole_post.bullseye import has_aha, make_bullseye_figure  # noqa: E402
+from systole_post.results import Results, read_results  # noqa: E402
+
+INDICES = [("long_axis_shortening", "long-axis shortening [-]"),
+           ("wall_thickening", "wall thickening [-]"),
+           ("torsion", "torsion (apex to base) [deg]"),
+           ("ejection_fraction", "ejection fraction so far [-]")]
+
+STYLE = """
+body { font-family: sans-serif; margin: 2em; max-width: 1400px; color: #222; }
+h1 { font-size: 1.5em; } h2 { font-size: 1.2em; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; font-size: 0.85em; }
+td, th { border: 1px solid #ccc; padding: 2px 8px; text-align: right; }
+th { background: #f0f0f0; } td:first-child, th:first-child { text-align: left; }
+img { max-width: 100%; display: block; margin: 0.5em 0; }
+pre { background: #f7f7f7; padding: 0.8em; font-size: 0.8em; overflow-x: auto; }
+"""
+
+#: Marks every picture that decoded (a headless browser's --dump-dom shows it).
+SCRIPT = """
+window.addEventListener('load', function () {
+  var images = document.getElementsByTagName('img'), ok = 0;
+  for (var i = 0; i < images.length; ++i)
+    if (images[i].complete && images[i].naturalWidth > 0) {
+      images[i].setAttribute('data-decoded', images[i].naturalWidth + 'x' +
+                             images[i].naturalHeight);
+      ++ok;
+    }
+  document.body.setAttribute('data-pictures', ok + '/' + images.length);
+});
+"""
+
+
+def png(figure: Figure) -> str:
+    """The figure as an <img> with an embedded base64 PNG."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=90)
+    data = base64.b64encode(buffer.getvalue()).decode("ascii")
+    return f'<img alt="figure" src="data:image/png;base64,{data}">'
+
+
+def indices_figure(results: Results) -> Figure | None:
+    ts = results.timeseries
+    present = [(k, label) for k, label in INDICES if k in ts]
+    if not present:
+        return None
+    figure = Figure(figsize=(12.0, 2.8), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(1, len(present))
+    for ax, (key, label) in zip(np.atleast_1d(axes), present):
+        ax.plot(ts["time"], ts[key], color="tab:blue")
+        ax.set_xlabel("time [ms]")
+        ax.set_title(label, fontsize=9)
+        ax.grid(True, alpha=0.3)
+    return figure
+
+
+def has_activation_field(results: Results) -> bool:
+    if not results.field_steps:
+        return False
+    import h5py
+
+    with h5py.File(results.path, "r") as f:
+        last = f"fields/step_{results.field_steps[-1]:06d}"
+        return "activation_time" in f[last]
+
+
+def provenance_table(results: Results) -> str:
+    stats = results.statistics
+    rows = [("results file", str(results.path)),
+            ("code version", results.code_version or "?"),
+            ("MPI ranks", str(results.n_ranks))]
+    if "wall_time" in stats:
+        rows.append(("wall time", f"{stats['wall_time']:.1f} s"))
+    if "peak_memory_per_rank" in stats:
+        rows.append(("peak memory", f"{stats['peak_memory_per_rank']:.0f} MiB per rank"))
+    for key in ("discretization", "linear_solver"):
+        if key in results.statistics_text:
+            rows.append((key.replace("_", " "), results.statistics_text[key]))
+    for key in ("n_cells", "n_dofs"):
+        if key in stats:
+            rows.append((key.replace("n_", "").replace("dofs", "DOFs"), f"{stats[key]:.0f}"))
+    return "<table>" + "".join(f"<tr><td>{html.escape(a)}</td><td>{html.escape(b)}</td></tr>"
+                               for a, b in rows) + "</table>"
+
+
+def statistics_table(results: Results) -> str:
+    stats = results.statistics
+    if not stats:
+        return ""
+    body = "".join(f"<tr><td>{html.escape(k)}</td><td>{v:.6g}</td></tr>"
+                   for k, v in stats.items())
+    return "<table><tr><th>statistic</th><th>value</th></tr>" + body + "</table>"
+
+
+def beat_table(results: Results) -> str:
+    summary = results.summary
+    if not summary:
+        return ""
+    names = [k for k in summary if not k.startswith("aha_")]
+    beats = len(next(iter(summary.values())))
+    head = "<tr><th>column</th>" + "".join(f"<th>beat {b}</th>" for b in range(beats))
+    rows = "".join(
+        f"<tr><td>{html.escape(k)}</td>" +
+        "".join(f"<td>{summary[k][b]:.4g}</td>" for b in range(beats)) + "</tr>"
+        for k in names)
+    return "<table>" + head + "</tr>" + rows + "</table>"
+
+
+def build_report(path: str | Path) -> str:
+    """The HTML text of the report of one results file."""
+    results = read_results(path)
+    run = Path(path).resolve().parent.name
+    parts = [f"<h1>Systole run {html.escape(run)}</h1>", "<h2>Provenance</h2>",
+             provenance_table(results)]
+    ts = results.timeseries
+    if any(k.endswith("volume_mL") for k in ts) and any("pressure" in k for k in ts):
+        try:
+            parts += ["<h2>Pressure-volume loop</h2>", png(make_loop_figure(results)),
+                      "<h2>Traces</h2>", png(make_traces_figure(results))]
+        except (KeyError, ValueError):
+            pass
+    figure = indices_figure(results)
+    if figure is not None:
+        parts += ["<h2>Global indices</h2>", png(figure)]
+    if has_activation_field(results):
+        from systole_post.activation import make_activation_figure
+
+        parts += ["<h2>Activation map</h2>", png(make_activation_figure(path, "x", 0.0))]
+    if has_aha(results):
+        parts += ["<h2>AHA segments</h2>", png(make_bullseye_figure(results))]
+    if results.summary:
+        parts += ["<h2>Beats</h2>", beat_table(results)]
+        try:
+            parts.append("<pre>" + html.escape(format_summary(results)) + "</pre>")
+        except (KeyError, ValueError):
+            pass
+    if results.statistics:
+        parts += ["<h2>Cost</h2>", statistics_table(results)]
+    parts += ["<h2>Parameters</h2>", "<pre>" + html.escape(results.parameters) + "</pre>"]
+    return ("<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">"
+            f"<title>Systole: {html.escape(run)}</title><style>{STYLE}</style>"
+            f"<script>{SCRIPT}</script></head><body>\n" + "\n".join(parts) +
+            "\n</body></html>\n")
+
+
+def write_report(path: str | Path, output: str | Path | None = None) -> Path:
+    output = Path(output) if output else Path(path).resolve().parent / "report.html"
+    output.write_text(build_report(path), encoding="utf-8")
+    return output
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", help="results.h5 of a run")
+    parser.add_argument("-o", "--output", help="report path (default: report.html beside it)")
+    args = parser.parse_args(argv)
+    print(write_report(args.results, args.output))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,106 @@
+"""scripts/report.py: a self-contained HTML page; it renders in headless Chromium without
+network, with every picture decoded.
+
+The run-backed tests use SYSTOLE_REPORT_RESULTS (a heartbeat's results.h5, set by the ctest
+entry run.pytest_runs) and skip without it unless SYSTOLE_REQUIRE_APP is set.
+"""
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import matplotlib.image
+import numpy as np
+import pytest
+from test_bullseye import aha_summary
+
+from conftest import write_results_file
+from report import build_report, write_report
+
+
+def synthetic(tmp_path):
+    path = tmp_path / "run" / "results.h5"
+    path.parent.mkdir()
+    t = np.linspace(0, 800, 41)
+    write_results_file(path, {"time": t, "step": np.arange(41.0),
+                              "torsion": 10 * np.sin(t / 800 * np.pi),
+                              "long_axis_shortening": 0.1 * np.sin(t / 800 * np.pi)},
+                       summary=aha_summary(np.linspace(-0.2, 0.1, 17)))
+    return path
+
+
+def test_report_embeds_its_pictures_and_names_no_url(tmp_path):
+    path = synthetic(tmp_path)
+    text = build_report(path)
+    assert text.count('src="data:image/png;base64,') == 2  # global indices, AHA
+    assert not re.search(r'(src|href)="(https?:|//)', text)
+    assert "AHA segments" in text and "Parameters" in text
+    assert write_report(path) == path.parent / "report.html"
+
+
+def chromium():
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        if shutil.which(name):
+            return shutil.which(name)
+    if os.environ.get("SYSTOLE_REQUIRE_APP"):
+        pytest.fail("no headless Chromium (Debian package chromium; scripts/lib/setup.sh)")
+    pytest.skip("no Chromium")
+
+
+def render(html: Path, tmp_path: Path):
+    """(DOM after load, screenshot) of the page in headless Chromium with the network
+    blocked (every host unresolvable, a dead proxy)."""
+    flags = [chromium(), "--headless=new", "--no-sandbox", "--disable-gpu",
+             "--proxy-server=http://127.0.0.1:9", "--host-resolver-rules=MAP * ~NOTFOUND",
+             f"--user-data-dir={tmp_path / 'profile'}"]
+    url = html.resolve().as_uri()
+    dom = subprocess.run(flags + ["--virtual-time-budget=5000", "--dump-dom", url],
+                         capture_output=True, text=True, timeout=120).stdout
+    shot = tmp_path / "shot.png"
+    subprocess.run(flags + ["--window-size=1400,4000", f"--screenshot={shot}", url],
+                   capture_output=True, timeout=120, check=True)
+    return dom, shot
+
+
+def check_rendered(html: Path, tmp_path: Path, n_pictures: int):
+    dom, shot = render(html, tmp_path)
+    assert f'data-pictures="{n_pictures}/{n_pictures}"' in dom
+    sizes = re.findall(r'data-decoded="(\d+)x(\d+)"', dom)
+    assert len(sizes) == n_pictures and all(int(w) > 100 and int(h) > 100 for w, h in sizes)
+    image = matplotlib.image.imread(shot)
+    colours = np.unique((image[..., :3] * 255).astype(int).reshape(-1, 3), axis=0)
+    assert len(colours) > 200  # plots, not a blank page
+
+
+def test_synthetic_report_renders_in_headless_chromium(tmp_path):
+    html = write_report(synthetic(tmp_path))
+    check_rendered(html, tmp_path, 2)
+
+
+def test_heartbeat_report_renders_with_every_section(tmp_path):
+    results = os.environ.get("SYSTOLE_REPORT_RESULTS")
+    if not results:
+        if os.environ.get("SYSTOLE_REQUIRE_APP"):
+            pytest.fail("SYSTOLE_REPORT_RESULTS not set")
+        pytest.skip("SYSTOLE_REPORT_RESULTS (a heartbeat's results.h5) not set")
+    html = write_report(results, tmp_path / "report.html")
+    text = html.read_text()
+    for title in ("Provenance", "Pressure-volume loop", "Traces", "Global indices",
+                  "Activation map", "AHA segments", "Beats", "Cost", "Parameters"):
+        assert f"<h2>{title}</h2>" in text, title
+    assert "code version" in text and "wall time" in text
+    check_rendered(html, tmp_path, 5)
+
+
+def test_paraview_script_has_a_colour_map_for_every_postprocessor_field():
+    import paraview_load
+
+    for name in ("fibre_stretch", "active_tension", "first_principal_stress", "fibre_stress",
+                 "strain_circumferential", "strain_longitudinal", "strain_radial", "J",
+                 "activation_time", "displacement"):
+        assert name in paraview_load.COLOUR_MAPS
+    assert paraview_load.colour_range((-0.1, 0.3), 0.0) == (-0.3, 0.3)
+    assert paraview_load.colour_range((0.9, 1.05), 1.0) == pytest.approx((0.9, 1.1))
+    assert paraview_load.colour_range((2.0, 5.0), None) == (2.0, 5.0)
