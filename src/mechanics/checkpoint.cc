@@ -65,7 +65,7 @@ namespace systole::Mechanics
     archive                                  &m.factorized_active_tension;
     // Whether the next solve may reuse the factorization (the last one
     // converged), and whether it is of a bordered system (B0, W0 stored).
-    bool bordered = !m.factorized_volume_derivatives.empty();
+    bool     bordered = !m.factorized_volume_derivatives.empty();
     archive &m.last_solve_converged &bordered;
   }
 
