@@ -56,6 +56,8 @@ namespace systole::Electrophysiology
     m.checkpoint_transfer->prepare_for_serialization(in);
     archive &m.t &m.gamma_stage &m.gamma_amg;
     serialize_statistics(archive, m.stats);
+    // Whether the gates' opening Rush-Larsen half step is still to come.
+    archive &m.gate_half_step_pending;
   }
 
 
@@ -66,6 +68,7 @@ namespace systole::Electrophysiology
     double   gamma_stage = -1, gamma_amg = -1;
     archive &m.t &gamma_stage &gamma_amg;
     serialize_statistics(archive, m.stats);
+    archive &m.gate_half_step_pending;
 
     const unsigned int             n = m.n_components + 2;
     std::vector<LA::MPI::Vector>   out(n);

@@ -620,6 +620,11 @@ namespace systole::IO
                     "remove /fields/" + name);
           }
         H5Gclose(fields);
+        // The statistics of the earlier run (the resumed run writes its
+        // own at its end).
+        if (H5Lexists(impl->file, "statistics", H5P_DEFAULT) > 0)
+          check(H5Ldelete(impl->file, "statistics", H5P_DEFAULT),
+                "remove /statistics");
         // Meshes of removed steps.
         for (const auto &name : link_names(impl->file))
           if (name.rfind("mesh_step_", 0) == 0 &&

@@ -114,4 +114,25 @@ namespace systole::Postprocess
   {
     reset();
   }
+
+  std::vector<double>
+  AhaRegional::state() const
+  {
+    std::vector<double> values;
+    for (const auto &segment : peaks)
+      values.insert(values.end(), segment.begin(), segment.end());
+    return values;
+  }
+
+
+  void
+  AhaRegional::set_state(const std::vector<double> &values)
+  {
+    AssertThrow(values.size() == 17 * 3,
+                dealii::ExcMessage("AhaRegional: a state of 51 numbers "
+                                   "expected."));
+    for (unsigned int s = 0; s < 17; ++s)
+      for (unsigned int k = 0; k < 3; ++k)
+        peaks[s][k] = values[3 * s + k];
+  }
 } // namespace systole::Postprocess

@@ -37,6 +37,12 @@ namespace systole::Postprocess
     static std::array<std::array<double, 3>, 17>
     segment_means(const StepData &data);
 
+    std::vector<double>
+    state() const override;
+
+    void
+    set_state(const std::vector<double> &values) override;
+
   private:
     /// No peaks yet (NaN).
     void

@@ -334,6 +334,41 @@ namespace systole::Postprocess
       p->end_beat(impl->data, activation_times, row);
   }
 
+  std::vector<double>
+  Manager::state() const
+  {
+    std::vector<double> values;
+    for (const auto &p : impl->postprocessors)
+      {
+        const auto own = p->state();
+        values.push_back(static_cast<double>(own.size()));
+        values.insert(values.end(), own.begin(), own.end());
+      }
+    return values;
+  }
+
+  void
+  Manager::set_state(const std::vector<double> &values)
+  {
+    std::size_t i = 0;
+    for (const auto &p : impl->postprocessors)
+      {
+        AssertThrow(i < values.size(),
+                    dealii::ExcMessage("Postprocess: the saved state has "
+                                       "fewer postprocessors than the run."));
+        const auto n = static_cast<std::size_t>(values[i++]);
+        AssertThrow(i + n <= values.size(),
+                    dealii::ExcMessage("Postprocess: the saved state is "
+                                       "truncated."));
+        p->set_state(
+          std::vector<double>(values.begin() + i, values.begin() + i + n));
+        i += n;
+      }
+    AssertThrow(i == values.size(),
+                dealii::ExcMessage("Postprocess: the saved state has more "
+                                   "postprocessors than the run."));
+  }
+
   void
   Manager::attach_output(dealii::DataOut<3, 3> &data_out)
   {

@@ -83,6 +83,15 @@ namespace systole::Postprocess
     end_beat(const std::vector<std::vector<double>> *activation_times,
              std::vector<IO::Column>                &row);
 
+    /// The postprocessors' state (Postprocessor::state()), for checkpoints:
+    /// per postprocessor its count, then its numbers.
+    std::vector<double>
+    state() const;
+
+    /// Restore what state() returned (the same list of postprocessors).
+    void
+    set_state(const std::vector<double> &values);
+
     /// Add the fields of the last step() to @p data_out (the vectors stay
     /// valid until the next call). Call before build_patches.
     void

@@ -100,5 +100,21 @@ namespace systole::Postprocess
       (void)activation_times;
       (void)row;
     }
+
+    /// What the next step() and end_beat() depend on (reference values,
+    /// the peaks of the beat so far), as numbers: for checkpoints. The
+    /// default: no state.
+    virtual std::vector<double>
+    state() const
+    {
+      return {};
+    }
+
+    /// Restore what state() returned.
+    virtual void
+    set_state(const std::vector<double> &values)
+    {
+      (void)values;
+    }
   };
 } // namespace systole::Postprocess

@@ -120,4 +120,28 @@ namespace systole::Postprocess
     row.push_back({"torsion", "deg", torsion});
     row.push_back({"ejection_fraction", "-", ejection_fraction});
   }
+
+  std::vector<double>
+  VentricleFunction::state() const
+  {
+    return {initialized ? 1.0 : 0.0,
+            reference_length,
+            reference_thickness,
+            static_cast<double>(beat),
+            max_volume};
+  }
+
+
+  void
+  VentricleFunction::set_state(const std::vector<double> &values)
+  {
+    AssertThrow(values.size() == 5,
+                dealii::ExcMessage("VentricleFunction: a state of 5 numbers "
+                                   "expected."));
+    initialized         = values[0] != 0.0;
+    reference_length    = values[1];
+    reference_thickness = values[2];
+    beat                = static_cast<unsigned int>(values[3]);
+    max_volume          = values[4];
+  }
 } // namespace systole::Postprocess

@@ -27,6 +27,12 @@ namespace systole::Postprocess
     void
     step(const StepData &data, std::vector<IO::Column> &row) override;
 
+    std::vector<double>
+    state() const override;
+
+    void
+    set_state(const std::vector<double> &values) override;
+
   private:
     bool         initialized      = false;
     double       reference_length = 0, reference_thickness = 0;

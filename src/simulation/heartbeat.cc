@@ -23,10 +23,11 @@
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
 
+#include "postprocess/manager.h"
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array.hpp>
-#include "postprocess/manager.h"
+#include <boost/serialization/vector.hpp>
 
 #include <array>
 #include <chrono>
@@ -717,7 +718,7 @@ namespace systole
     // Bestel onset, taken within the beat.
     const double onset =
       std::fmod(earliest + bestel.onset(), circulation.period);
-    MechanicsVentricles  ventricles(problem,
+    MechanicsVentricles ventricles(problem,
                                    bestel,
                                    times,
                                    ep.get(),
@@ -758,11 +759,11 @@ namespace systole
                                      problem,
                                      names,
                                      &logger);
-    Progress         progress(logger,
+    Progress             progress(logger,
                       Progress::parse_mode(run.progress),
                       0.0,
                       circulation.period * circulation.n_max_beats);
-    Writer           writer(zero_d,
+    Writer               writer(zero_d,
                   results,
                   ventricles,
                   problem,
@@ -773,7 +774,7 @@ namespace systole
                   postprocess,
                   circulation.period,
                   comm);
-    HeartbeatStepper stepper(zero_d, ventricles, settings, y0, p0);
+    HeartbeatStepper     stepper(zero_d, ventricles, settings, y0, p0);
 
     if (state_in)
       {
@@ -786,6 +787,9 @@ namespace systole
         std::array<double, 5> beat_seconds;
         archive              &beat_seconds;
         writer.set_beat_seconds(beat_seconds);
+        std::vector<double> postprocess_state;
+        archive            &postprocess_state;
+        postprocess.set_state(postprocess_state);
         state_in.reset();
       }
 
@@ -811,6 +815,9 @@ namespace systole
         writer.serialize(archive);
         std::array<double, 5> beat_seconds = writer.beat_seconds();
         archive              &beat_seconds;
+        // The postprocessors' reference values and peaks of the beat.
+        std::vector<double> postprocess_state = postprocess.state();
+        archive            &postprocess_state;
       }
       model.tria.save(folder + "mechanics.mesh");
       problem.finish_checkpoint();
