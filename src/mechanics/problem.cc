@@ -602,6 +602,25 @@ namespace systole::Mechanics
     // only, one back substitution per iteration, the bordered system of that
     // tangent (its B0 and W0 = K^-1 B0; W and W' of the current pressures);
     // left as soon as they stop converging fast.
+    // du = -K^-1 R on the held factorization (a chord update); false if the
+    // linear solver fails.
+    const auto chord_solve = [&]() {
+      try
+        {
+          dealii::TimerOutput::Scope scope(m.timer,
+                                           "Mechanics / linear solver");
+          m.residual *= -1.0;
+          du = 0;
+          report.linear_iterations += m.linear_solver->solve(du, m.residual);
+          m.constraints.distribute(du);
+          return true;
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          return false;
+        }
+    };
+
     // The factorization of the last solve is worth reusing only if that
     // solve converged (its tangent is that of an iterate near its solution).
     const bool reuse = m.params.reuse_factorization && m.have_factorization &&
@@ -633,17 +652,7 @@ namespace systole::Mechanics
               }
             if (it == max_chord_iterations)
               break;
-            m.residual *= -1.0;
-            try
-              {
-                dealii::TimerOutput::Scope scope(m.timer,
-                                                 "Mechanics / linear solver");
-                du = 0;
-                report.linear_iterations +=
-                  m.linear_solver->solve(du, m.residual);
-                m.constraints.distribute(du);
-              }
-            catch (const dealii::ExceptionBase &)
+            if (!chord_solve())
               {
                 ok = false;
                 break;
@@ -711,21 +720,7 @@ namespace systole::Mechanics
         const LA::MPI::Vector u_start = m.u_owned;
         bool                  ok      = try_assemble(residual, false);
         report.initial_residual       = residual[0];
-        if (ok)
-          try
-            {
-              dealii::TimerOutput::Scope scope(m.timer,
-                                               "Mechanics / linear solver");
-              m.residual *= -1.0;
-              du = 0;
-              report.linear_iterations +=
-                m.linear_solver->solve(du, m.residual);
-              m.constraints.distribute(du);
-            }
-          catch (const dealii::ExceptionBase &)
-            {
-              ok = false;
-            }
+        ok                            = ok && chord_solve();
         if (ok)
           {
             m.u_owned.add(1.0, du);
@@ -767,6 +762,20 @@ namespace systole::Mechanics
     // (a chord iteration: a residual and a back substitution instead of a
     // tangent and a factorization); at most three per solve, and not counted
     // against the Newton iteration limit.
+    // The bordered update of du (and dp) with B = dV/du and W = K^-1 B of
+    // the factorized iterate; an error if the Schur complement is singular.
+    const auto bordered_correction = [&](const std::vector<LA::MPI::Vector> &B,
+                                         const std::vector<LA::MPI::Vector> &W,
+                                         dealii::Vector<double>             &dp,
+                                         const unsigned int                  it,
+                                         const double relative) {
+      AssertThrow(
+        bordered_update(B, W, volume_residual(), target_derivative, du, dp),
+        ExcNewtonDidNotConverge(
+          "the bordered system is singular (B^T K^-1 B - dW/dp)",
+          it,
+          relative));
+    };
     unsigned int n_chord           = 0;
     bool         last_was_chord    = false;
     double       previous_residual = 0;
@@ -850,18 +859,12 @@ namespace systole::Mechanics
                                              "Mechanics / linear solver");
             report.linear_iterations +=
               m.linear_solve(du, m.residual, it, relative);
-            AssertThrow(!bordered ||
-                          bordered_update(m.factorized_volume_derivatives,
-                                          m.factorized_w,
-                                          volume_residual(),
-                                          target_derivative,
-                                          du,
-                                          dp),
-                        ExcNewtonDidNotConverge(
-                          "the bordered system is singular (B^T K^-1 B - "
-                          "dW/dp)",
-                          it,
-                          relative));
+            if (bordered)
+              bordered_correction(m.factorized_volume_derivatives,
+                                  m.factorized_w,
+                                  dp,
+                                  it,
+                                  relative);
           }
         else
           {
@@ -898,17 +901,11 @@ namespace systole::Mechanics
                                    m.volume_derivatives[j],
                                    it,
                                    relative);
-                AssertThrow(bordered_update(m.volume_derivatives,
-                                            w_volume,
-                                            volume_residual(),
-                                            target_derivative,
-                                            du,
-                                            dp),
-                            ExcNewtonDidNotConverge(
-                              "the bordered system is singular (B^T K^-1 B - "
-                              "dW/dp)",
-                              it,
-                              relative));
+                bordered_correction(m.volume_derivatives,
+                                    w_volume,
+                                    dp,
+                                    it,
+                                    relative);
                 m.factorized_volume_derivatives = m.volume_derivatives;
                 m.factorized_w                  = w_volume;
                 m.have_factorization            = true;

@@ -137,6 +137,8 @@ namespace systole
     std::ostringstream o;
     o << cell.n_steps() << " ARKode steps";
     logger.line(o.str());
+    results.write_statistics(
+      {{"arkode_steps", "-", static_cast<double>(cell.n_steps())}});
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

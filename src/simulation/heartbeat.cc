@@ -923,6 +923,13 @@ namespace systole
            {"ep_transfer_seconds", "s", ep->transfer_seconds()},
            {"ep_nodes", "-", static_cast<double>(ep->n_nodes())}});
       }
+    statistics.insert(
+      statistics.end(),
+      {{"checkpoints", "-", static_cast<double>(n_checkpoints)},
+       {"checkpoint_seconds", "s", checkpoint_seconds},
+       {"mechanics_dofs", "-", static_cast<double>(problem.n_dofs())}});
+    if (n_checkpoints > 0)
+      texts.emplace_back("last_checkpoint", store.list().front());
     results.write_statistics(statistics, texts);
     logger.line("Wrote " + results.path());
   }
