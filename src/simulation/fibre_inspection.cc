@@ -275,6 +275,29 @@ namespace systole
                              interpretation);
     data_out.build_patches(mapping, 1);
     results.write_fields(data_out, 0, 0.0);
+    if (wall)
+      {
+        // The cost of the wall coordinates' two solves as numbers (those of
+        // the inspection's own WallCoordinates, the same solves as the
+        // rule-based generator's; scripts/bench reads them).
+        const Fibres::WallCoordinatesReport r = wall->report();
+        results.write_statistics(
+          {{"n_cells", "-", static_cast<double>(tria.n_global_active_cells())},
+           {"degree", "-", static_cast<double>(r.degree)},
+           {"n_dofs", "-", static_cast<double>(r.n_dofs)},
+           {"transmural_iterations",
+            "-",
+            static_cast<double>(r.transmural_iterations)},
+           {"apicobasal_iterations",
+            "-",
+            static_cast<double>(r.apicobasal_iterations)},
+           {"transmural_direct", "-", r.transmural_direct ? 1.0 : 0.0},
+           {"apicobasal_direct", "-", r.apicobasal_direct ? 1.0 : 0.0},
+           {"tangled_cells", "-", static_cast<double>(r.n_tangled_cells)},
+           {"setup_seconds", "s", r.setup_seconds},
+           {"transmural_seconds", "s", r.transmural_seconds},
+           {"apicobasal_seconds", "s", r.apicobasal_seconds}});
+      }
     logger.line("Wrote " + results.path());
   }
 } // namespace systole
