@@ -757,11 +757,6 @@ namespace systole::Mechanics
                                             1.0));
         report.initial_residual = residual[0];
       }
-    // Modified Newton near the solution: once the residual is small and the
-    // last update cut it tenfold, the next update reuses the factorization
-    // (a chord iteration: a residual and a back substitution instead of a
-    // tangent and a factorization); at most three per solve, and not counted
-    // against the Newton iteration limit.
     // The bordered update of du (and dp) with B = dV/du and W = K^-1 B of
     // the factorized iterate; an error if the Schur complement is singular.
     const auto bordered_correction = [&](const std::vector<LA::MPI::Vector> &B,
@@ -776,6 +771,11 @@ namespace systole::Mechanics
           it,
           relative));
     };
+    // Modified Newton near the solution: once the residual is small and the
+    // last update cut it tenfold, the next update reuses the factorization
+    // (a chord iteration: a residual and a back substitution instead of a
+    // tangent and a factorization); at most three per solve, and not counted
+    // against the Newton iteration limit.
     unsigned int n_chord           = 0;
     bool         last_was_chord    = false;
     double       previous_residual = 0;
