@@ -358,6 +358,32 @@ namespace systole::Mechanics
     std::vector<double>       p_values(quadrature.size());
     std::vector<Tensor<1, 3>> face_u(face_quadrature.size());
 
+    // Elastodynamics: the residual becomes (1 - alpha_f) R(u) + alpha_f
+    // R(u_n) + M A(u), A the effective acceleration (problem_impl.h,
+    // Dynamics), and the tangent (1 - alpha_f) K + c M.
+    const bool   dynamic      = dynamics.started && dynamics.time_step > 0.0;
+    const double force_weight = dynamic ? 1.0 - dynamics.alpha_f : 1.0;
+    const double mass_weight =
+      dynamic ? dynamics.effective_mass_coefficient() : 0.0;
+    std::vector<Tensor<1, 3>> acceleration(quadrature.size());
+    if (dynamic)
+      {
+        AssertThrow(!mixed,
+                    dealii::ExcMessage("Mechanics: the inertia is implemented "
+                                       "for the penalty formulation only."));
+        LA::MPI::Vector a(owned, comm), v(owned, comm), A(owned, comm);
+        dynamics.rates(u_owned, a, v);
+        A = a;
+        A *= 1.0 - dynamics.alpha_m;
+        A.add(dynamics.alpha_m, dynamics.a_n);
+        if (dynamics.mass_damping != 0.0)
+          {
+            A.add(dynamics.mass_damping * (1.0 - dynamics.alpha_f), v);
+            A.add(dynamics.mass_damping * dynamics.alpha_f, dynamics.v_n);
+          }
+        dynamics.effective_acceleration = A;
+      }
+
     if (with_matrix)
       {
         tangent            = 0;
@@ -531,6 +557,35 @@ namespace systole::Mechanics
                 }
             }
 
+        if (dynamic)
+          {
+            // The inertia: int rho phi_i . A dV and c int rho phi_i . phi_j
+            // dV (the same component), after the averaged forces.
+            cell_system.residual *= force_weight;
+            if (with_matrix)
+              cell_system.matrix *= force_weight;
+            fe_values[layout.displacement].get_function_values(
+              dynamics.effective_acceleration,
+              acceleration);
+            for (const unsigned int q : fe_values.quadrature_point_indices())
+              {
+                const double w = params.density * fe_values.JxW(q);
+                for (unsigned int i = 0; i < n; ++i)
+                  {
+                    const unsigned int ci =
+                      fe->system_to_component_index(i).first;
+                    const double phi_i = fe_values.shape_value(i, q);
+                    cell_system.residual(i) += w * phi_i * acceleration[q][ci];
+                    if (with_matrix)
+                      for (unsigned int j = 0; j < n; ++j)
+                        if (fe->system_to_component_index(j).first == ci)
+                          cell_system.matrix(i, j) +=
+                            mass_weight * w * phi_i *
+                            fe_values.shape_value(j, q);
+                  }
+              }
+          }
+
         cell->get_dof_indices(dofs);
         if (with_matrix)
           constraints.distribute_local_to_global(cell_system.matrix,
@@ -562,6 +617,8 @@ namespace systole::Mechanics
     if (with_pressure_matrix)
       pressure_matrix->compress();
     residual.compress(dealii::VectorOperation::add);
+    if (dynamic)
+      residual.add(dynamics.alpha_f, dynamics.residual_n);
     if (with_volume_derivative)
       for (auto &b : volume_derivatives)
         b.compress(dealii::VectorOperation::add);

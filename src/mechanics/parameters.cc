@@ -166,6 +166,28 @@ namespace systole::Mechanics
       "factorization at every iteration (pure Newton, e.g. to see its "
       "quadratic convergence). Units: -.");
     prm.declare_entry(
+      "Density",
+      "1000",
+      Double(0.0),
+      "Mass density of the tissue, for the inertia of time-dependent runs "
+      "that include it (Problem::set_time_step; the quasi-static problems "
+      "ignore it). Units: kg/m^3 (1000 kg/m^3 = 1 mg/mm^3, the code's unit).");
+    prm.declare_entry(
+      "Spectral radius",
+      "0.8",
+      Double(0.0, 1.0),
+      "Spectral radius at infinite frequency of the generalized-alpha time "
+      "integration of the inertia (Chung and Hulbert 1993): 1 keeps every "
+      "frequency undamped (the trapezoidal rule, energy-conserving for "
+      "linear problems), smaller values damp the highest frequencies of the "
+      "mesh; second order for every value. Units: -.");
+    prm.declare_entry(
+      "Rayleigh mass damping",
+      "0",
+      Double(0.0),
+      "Damping proportional to the mass, C = c_M M, in time-dependent runs "
+      "with inertia. Units: 1/s.");
+    prm.declare_entry(
       "Linear solver",
       "auto",
       Selection("auto|direct|iterative"),
@@ -259,7 +281,10 @@ namespace systole::Mechanics
       prm.get(m, "Displacement preconditioner") == "amg"
         ? DisplacementPreconditioner::amg
         : DisplacementPreconditioner::p_multigrid;
-    p.tracked_points = parse_points(prm.get(m, "Tracked points"));
+    p.tracked_points        = parse_points(prm.get(m, "Tracked points"));
+    p.density               = 1e-3 * prm.get_double(m, "Density");
+    p.spectral_radius       = prm.get_double(m, "Spectral radius");
+    p.rayleigh_mass_damping = 1e-3 * prm.get_double(m, "Rayleigh mass damping");
     AssertThrow(p.robin_boundaries.empty() || p.robin_stiffness > 0,
                 dealii::ExcMessage(
                   "Mechanics / Robin boundaries are set but Robin stiffness "

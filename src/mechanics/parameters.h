@@ -139,6 +139,18 @@ namespace systole::Mechanics
 
     std::vector<TrackedPoint> tracked_points;
 
+    /// Elastodynamics (Problem::set_time_step()): the inertia M a of the
+    /// density, integrated by the generalized-alpha method.
+    /// Density rho [mg/mm^3] (1 mg/mm^3 = 1000 kg/m^3; the entry is in
+    /// kg/m^3).
+    double density = 1.0;
+    /// Spectral radius rho_inf in [0, 1] of the generalized-alpha method at
+    /// infinite frequency (1: no numerical dissipation).
+    double spectral_radius = 0.8;
+    /// Rayleigh damping proportional to the mass, C = c_M M [1/ms] (the
+    /// entry is in 1/s).
+    double rayleigh_mass_damping = 0.0;
+
     static void
     declare(dealii::ParameterHandler &prm);
 

@@ -202,6 +202,51 @@ namespace systole::Mechanics
     void
     set_active_tension(std::vector<std::vector<double>> tension);
 
+    /// Elastodynamics, part 1: start a time integration with inertia
+    /// (density Parameters::density, Rayleigh damping c_M M) from the
+    /// current displacement at rest, under the loads @p pressures [kPa] (one
+    /// per pressure part) and @p active_tension [kPa] at the start time: the
+    /// initial acceleration solves M a_0 = -R(u_0) (zero at an
+    /// equilibrium). Assembles the mass matrix on the first call. The
+    /// generalized-alpha method (Chung and Hulbert 1993, with the spectral
+    /// radius Parameters::spectral_radius; second order) then integrates
+    /// M a + C v + R(u) = 0 step by step: set_time_step(), solve() at the
+    /// loads of the step's end, accept_time_step(). Penalty formulation,
+    /// solve() and solve(pressures) only (not the volume-constrained
+    /// solves). Collective.
+    void
+    start_dynamics(const dealii::Vector<double> &pressures,
+                   const double                  active_tension);
+    void
+    start_dynamics(const double pressure, const double active_tension);
+
+    /// Part 2: the solves until the next call are time steps of
+    /// @p time_step [ms] from the accepted state (0: quasi-static solves
+    /// again, the state is kept).
+    void
+    set_time_step(const double time_step);
+
+    /// Part 3: after a converged solve, the displacement becomes the
+    /// accepted state (with its velocity and acceleration from Newmark's
+    /// formulas); @p pressures and @p active_tension are the loads the step
+    /// was solved with. Collective.
+    void
+    accept_time_step(const dealii::Vector<double> &pressures,
+                     const double                  active_tension);
+    void
+    accept_time_step(const double pressure, const double active_tension);
+
+    /// Kinetic energy (1/2) int rho |v|^2 dV of the accepted state [mN mm =
+    /// µJ] (0 before start_dynamics(); collective).
+    double
+    kinetic_energy() const;
+
+    /// Stored energy int (psi + U(J)) dV at the current displacement [µJ]:
+    /// the passive law and the volumetric penalty (the active tension and
+    /// the loads do no part of it; collective).
+    double
+    strain_energy() const;
+
     /// Verification hook: relative errors of the bordered Jacobian against
     /// central differences in a fixed pseudo-random direction (d, dp) at the
     /// current u and the cavity pressures @p pressures [kPa] (size

@@ -40,6 +40,44 @@ namespace systole::Mechanics
     double tension = 0.0; ///< active tension added to the uniform one [kPa]
   };
 
+  /// The state of the elastodynamics (Problem::start_dynamics()): the
+  /// generalized-alpha method of Chung and Hulbert (1993) with the averaged
+  /// forces, for M a + C v + R(u) = 0 (R the quasi-static residual, with
+  /// every load):
+  /// @f[ (1 - \alpha_m) M a_{n+1} + \alpha_m M a_n
+  ///     + C ((1 - \alpha_f) v_{n+1} + \alpha_f v_n)
+  ///     + (1 - \alpha_f) R(u_{n+1}) + \alpha_f R(u_n) = 0, @f]
+  /// with Newmark's u_{n+1} = u_n + dt v_n + dt^2 ((1/2 - beta) a_n + beta
+  /// a_{n+1}), v_{n+1} = v_n + dt ((1 - gamma) a_n + gamma a_{n+1}) and
+  /// alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 -
+  /// alpha_m + alpha_f, beta = (1 - alpha_m + alpha_f)^2 / 4 (rho the
+  /// spectral radius at infinite frequency): second order, unconditionally
+  /// stable, C = c_M M (Rayleigh).
+  struct Dynamics
+  {
+    bool   started   = false;
+    double time_step = 0.0; ///< of the next solves [ms]; 0: quasi-static
+    double alpha_m = 0, alpha_f = 0, beta = 0, gamma = 0;
+    double mass_damping = 0.0; ///< c_M [1/ms]
+    /// The consistent mass matrix (condensed like the tangent) [mg].
+    LA::MPI::SparseMatrix mass;
+    /// The accepted state: displacement, velocity, acceleration, and the
+    /// quasi-static residual R(u_n) (owned).
+    LA::MPI::Vector u_n, v_n, a_n, residual_n;
+    /// (1 - alpha_m) a_{n+1} + alpha_m a_n + c_M ((1 - alpha_f) v_{n+1} +
+    /// alpha_f v_n) at the current u (ghosted; set by the assembly).
+    LA::MPI::Vector effective_acceleration;
+
+    /// a_{n+1} and v_{n+1} of the displacement @p u (owned).
+    void
+    rates(const LA::MPI::Vector &u,
+          LA::MPI::Vector       &a,
+          LA::MPI::Vector       &v) const;
+    /// d(effective acceleration)/du [1/ms^2] (a multiple of the identity).
+    double
+    effective_mass_coefficient() const;
+  };
+
   /// Euclidean norms of the two blocks (u, p) of a vector in the layout of
   /// @p layout (collective).
   std::array<double, 2>
@@ -155,6 +193,9 @@ namespace systole::Mechanics
     unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
+
+    /// Elastodynamics (time_step > 0: the assembly adds the inertia).
+    Dynamics dynamics;
 
     /// The uniform active tension of the last assembly [kPa] (for
     /// point_states()).
