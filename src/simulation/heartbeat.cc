@@ -644,20 +644,41 @@ namespace systole
                   "Problem = heartbeat needs Mechanics / Pressure boundary = "
                   "endocardium (the cavity pressure acts there; a part "
                   "whose name contains 'endocardium')."));
-    AssertThrow(problem.n_cavities() == 1,
-                dealii::ExcMessage(
-                  "Problem = heartbeat couples one 3D cavity, the left "
-                  "ventricle; Mechanics / Pressure boundary lists " +
-                  std::to_string(problem.n_cavities()) +
-                  " parts. Name its endocardium only."));
-    // The left ventricle is 3D, the other chambers of the model 0D.
-    const auto circulation_model     = Circulation::create_model(prm, {"lv"});
-    const Circulation::Model &zero_d = *circulation_model;
+    // The 3D ventricles: one (the left) or two (left and right, a
+    // biventricular mesh); the other chambers of the model are 0D.
+    const auto               cavity_names = problem.cavity_names();
+    std::vector<std::string> ventricle_names;
+    if (cavity_names.size() == 1)
+      ventricle_names = {"lv"};
+    else
+      {
+        AssertThrow(cavity_names.size() == 2 &&
+                      cavity_names[0].find("lv") == 0 &&
+                      cavity_names[1].find("rv") == 0,
+                    dealii::ExcMessage(
+                      "Problem = heartbeat couples the left ventricle, or the "
+                      "left and the right ventricle of a biventricular mesh; "
+                      "Mechanics / Pressure boundary lists " +
+                      std::to_string(cavity_names.size()) +
+                      " parts. Name the endocardium, or lv_endocardium, "
+                      "rv_endocardium in this order."));
+        ventricle_names = {"lv", "rv"};
+      }
+    const auto circulation_model =
+      Circulation::create_model(prm, ventricle_names);
+    const Circulation::Model &zero_d           = *circulation_model;
     const Vector              unloaded_volumes = problem.cavity_volumes();
-    logger.line(
-      model.banner(run) + ", unloaded cavity " +
-      dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volumes[0])) +
-      " mL; circulation '" + zero_d.name() + "'");
+    std::string               unloaded         = ", unloaded cavit";
+    unloaded += unloaded_volumes.size() == 1 ? "y" : "ies";
+    for (unsigned int a = 0; a < unloaded_volumes.size(); ++a)
+      unloaded +=
+        (a == 0 ? " " : ", ") +
+        (unloaded_volumes.size() == 1 ? std::string()
+                                      : ventricle_names[a] + " ") +
+        dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volumes[a])) +
+        " mL";
+    logger.line(model.banner(run) + unloaded + "; circulation '" +
+                zero_d.name() + "'");
 
     // The activation times: from the electrophysiology, or prescribed.
     std::unique_ptr<ElectricalActivation> ep;
