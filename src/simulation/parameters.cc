@@ -12,6 +12,7 @@
 #include "materials/factory.h"
 #include "mechanics/parameters.h"
 #include "simulation/kinematics.h"
+#include "simulation/unloading.h"
 
 #include "postprocess/manager.h"
 
@@ -87,7 +88,7 @@ namespace systole
       "cavity volume",
       Selection(
         "cavity volume|mechanics|heartbeat|electrophysiology|circulation|"
-        "cell"),
+        "cell|unloading"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
@@ -105,7 +106,10 @@ namespace systole
       "paced as subsection Cell says and integrated with the time step and "
       "method of subsection Electrophysiology; the potential and calcium "
       "every Time / Time step and the resting and peak potential, APD90 and "
-      "peak calcium of every beat.");
+      "peak calcium of every beat. 'unloading': the stress-free reference "
+      "of the geometry imaged at Unloading / Image pressure (backward "
+      "displacement fixed point; writes the unloaded gmsh mesh; subsections "
+      "Unloading, Material, Mechanics).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -212,6 +216,7 @@ namespace systole
     Electrophysiology::Parameters::declare(prm);
     Electrophysiology::SingleCell::Pacing::declare(prm);
     Postprocess::Parameters::declare(prm);
+    UnloadingParameters::declare(prm);
   }
 
   void
@@ -263,6 +268,7 @@ namespace systole
     Electrophysiology::Parameters::parse(prm);
     Electrophysiology::SingleCell::Pacing::parse(prm);
     Postprocess::Parameters::parse(prm);
+    UnloadingParameters::parse(prm);
   }
 
   RunParameters

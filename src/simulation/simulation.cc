@@ -14,6 +14,7 @@
 #include "simulation/kinematics.h"
 #include "simulation/parameters.h"
 #include "simulation/quasi_static.h"
+#include "simulation/unloading.h"
 
 #include <chrono>
 #include <filesystem>
@@ -126,6 +127,12 @@ namespace systole
                                     impl->text,
                                     impl->logger,
                                     impl->comm);
+    else if (impl->run.problem == "unloading")
+      run_unloading_problem(impl->prm,
+                            impl->run,
+                            impl->text,
+                            impl->logger,
+                            impl->comm);
     else if (impl->run.problem == "cell")
       run_cell_problem(impl->prm,
                        impl->run,

@@ -1,0 +1,59 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include <string>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+namespace systole
+{
+  class Logger;
+  struct RunParameters;
+
+  /// Subsection "Unloading" of the parameter file (Problem = unloading).
+  struct UnloadingParameters
+  {
+    enum class Acceleration
+    {
+      none,
+      aitken
+    };
+
+    double       image_pressure  = 1.333224; ///< [kPa] (10 mmHg)
+    double       tolerance       = 0.01;     ///< [mm]
+    unsigned int max_iterations  = 30;       ///< fixed-point updates
+    Acceleration acceleration    = Acceleration::aitken;
+    bool         synthetic_image = false;
+    std::string  mesh_file       = "unloaded.msh"; ///< in the run folder
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads and validates the subsection (clear errors naming the entry).
+    static UnloadingParameters
+    parse(const dealii::ParameterHandler &prm);
+  };
+
+  /// Run the "unloading" problem: take the mesh of the parameter file as the
+  /// geometry x_img of the ventricle imaged at the cavity pressure
+  /// Unloading / Image pressure, and find the stress-free reference X whose
+  /// inflation to that pressure gives x_img, by the backward-displacement
+  /// fixed point (Sellier 2011; Bols et al. 2013, J. Comput. Appl. Math.
+  /// 255:505): X_{k+1} = X_k + omega_k (x_img - X_k - u(X_k)), u(X_k) the
+  /// displacement of a load-stepped forward solve on the reference X_k,
+  /// omega_k = 1 (plain) or Aitken's dynamic relaxation. The reference is the
+  /// mesh's vertices, moved on every rank (curved manifolds are dropped
+  /// first); the fibres are recomputed on every reference. Writes the
+  /// unloaded mesh (gmsh), one time-series row per iteration, a /summary row
+  /// and the unloading displacement x_img - X as a field.
+  void
+  run_unloading_problem(const dealii::ParameterHandler &prm,
+                        const RunParameters            &run,
+                        const std::string              &parameter_text,
+                        Logger                         &logger,
+                        const MPI_Comm                  comm);
+} // namespace systole
