@@ -350,7 +350,12 @@ namespace systole
     tria.set_all_manifold_ids(dealii::numbers::flat_manifold_id);
     tria.reset_all_manifolds();
 
-    const auto rebuild = [&]() {
+    // The mechanics' timer sections summed over the problems of all the
+    // trial references (each rebuild starts its own timers).
+    std::map<std::string, double> earlier_timings;
+    const auto                    rebuild = [&]() {
+      for (const auto &[section, seconds] : model.problem->timings())
+        earlier_timings[section] += seconds;
       model.problem.reset();
       model.problem = std::make_unique<Mechanics::Problem>(
         model.params,
@@ -567,6 +572,12 @@ namespace systole
     results.append_summary(summary);
     std::vector<std::pair<std::string, std::string>> texts;
     auto statistics = model.statistics(texts);
+    for (auto &column : statistics)
+      for (const auto &[section, seconds] : earlier_timings)
+        if (column.name ==
+            "timer: " +
+              dealii::Utilities::replace_in_string(section, " / ", ": "))
+          column.value += seconds;
     statistics.insert(
       statistics.end(),
       {{"forward_solves", "-", static_cast<double>(forward_solves)},
