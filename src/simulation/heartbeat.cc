@@ -14,8 +14,9 @@
 #include "geometry/mesh.h"
 #include "io/checkpoint.h"
 #include "io/results_file.h"
-#include "materials/bestel.h"
+#include "materials/bestel_tension.h"
 #include "materials/factory.h"
+#include "materials/tension_factory.h"
 #include "mechanics/problem.h"
 #include "simulation/circulation_columns.h"
 #include "simulation/electrical_activation.h"
@@ -49,7 +50,8 @@ namespace systole
 
     /// The 3D ventricle(s) as the heartbeat stepper sees them: the
     /// mechanics with its cavity volumes constrained (Mechanics::Problem::
-    /// solve_cavities), under the Bestel active tension of the time. The
+    /// solve_cavities), under the active tension of the time (a tension
+    /// model driven by activation times, Materials::TensionModel). The
     /// tension of each quadrature point starts at its activation time:
     /// prescribed, or the latest upstroke at or before t of the
     /// electrophysiology (@p ep not null).
@@ -59,13 +61,13 @@ namespace systole
       /// @p contraction_onset: the earliest time in a beat at which a
       /// point's tension starts to rise [ms].
       MechanicsVentricles(Mechanics::Problem              &problem,
-                          const Materials::Bestel         &bestel,
+                          const Materials::TensionModel   &tension_model,
                           std::vector<std::vector<double>> activation_times,
                           ElectricalActivation            *ep,
                           const double                     contraction_onset,
                           Logger                          &logger)
         : problem(problem)
-        , bestel(bestel)
+        , tension_model(tension_model)
         , activation_times(std::move(activation_times))
         , ep(ep)
         , contraction_onset(contraction_onset)
@@ -93,15 +95,20 @@ namespace systole
                             std::chrono::steady_clock::now() - start)
                             .count();
           }
+        // The model has no state and no stretch dependence (it is driven
+        // by the activation time alone; run_heartbeat_problem checks).
+        Materials::TensionInput  in;
+        Materials::TensionOutput out;
+        in.time = t;
         tension.resize(activation_times.size());
         for (unsigned int c = 0; c < activation_times.size(); ++c)
           {
             tension[c].resize(activation_times[c].size());
             for (unsigned int q = 0; q < activation_times[c].size(); ++q)
               {
-                const double t_a = activation_times[c][q];
-                // Not activated yet: at rest.
-                tension[c][q] = std::isnan(t_a) ? 0.0 : bestel.tension(t, t_a);
+                in.activation_time = activation_times[c][q];
+                tension_model.step(nullptr, in, nullptr, out);
+                tension[c][q] = out.tension;
               }
           }
         problem.set_active_tension(tension);
@@ -184,7 +191,7 @@ namespace systole
 
     private:
       Mechanics::Problem              &problem;
-      const Materials::Bestel         &bestel;
+      const Materials::TensionModel   &tension_model;
       std::vector<std::vector<double>> activation_times;
       ElectricalActivation            *ep;
       std::vector<std::vector<double>> tension;
@@ -217,6 +224,9 @@ namespace systole
       highest = dealii::Utilities::MPI::max(highest, comm);
       // The base normal's sign is arbitrary: the apex is the far end.
       const bool apex_is_low = std::abs(lowest) > std::abs(highest);
+      // uniform: every point at 0 (a zero delay).
+      const double delay =
+        params.activation_map == "uniform" ? 0.0 : params.activation_delay;
       std::vector<std::vector<double>> times(points.size());
       for (unsigned int c = 0; c < points.size(); ++c)
         for (const auto &X : points[c])
@@ -224,9 +234,7 @@ namespace systole
             double s = (height(X) - lowest) / (highest - lowest);
             if (!apex_is_low)
               s = 1.0 - s;
-            times[c].push_back(params.activation_map == "uniform"
-                                 ? 0.0
-                                 : params.activation_delay * s);
+            times[c].push_back(delay * s);
           }
       return times;
     }
@@ -576,7 +584,18 @@ namespace systole
   {
     const auto circulation   = Circulation::Parameters::parse(prm);
     const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
-    const Materials::Bestel bestel(bestel_params, circulation.period);
+    const auto tension_model =
+      Materials::create_tension_model(prm, circulation.period);
+    const auto *bestel =
+      dynamic_cast<const Materials::BestelTension *>(tension_model.get());
+    AssertThrow(bestel != nullptr,
+                dealii::ExcMessage(
+                  "Problem = heartbeat: Active tension / Model = " +
+                  tension_model->name() +
+                  " needs the calcium of a cell model at the mechanics' "
+                  "points, which the heartbeat does not pass yet; use "
+                  "Active tension / Model = Bestel (Problem = cell runs "
+                  "Land)."));
 
     // Resume: the newest valid checkpoint of the run, written for the same
     // problem (every entry outside subsection Output equal).
@@ -738,9 +757,9 @@ namespace systole
     // The tension starts to rise at the earliest activation plus the
     // Bestel onset, taken within the beat.
     const double onset =
-      std::fmod(earliest + bestel.onset(), circulation.period);
+      std::fmod(earliest + bestel->law().onset(), circulation.period);
     MechanicsVentricles ventricles(problem,
-                                   bestel,
+                                   *tension_model,
                                    times,
                                    ep.get(),
                                    onset,

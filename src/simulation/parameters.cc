@@ -10,6 +10,8 @@
 #include "geometry/mesh.h"
 #include "materials/bestel.h"
 #include "materials/factory.h"
+#include "materials/land.h"
+#include "materials/tension_factory.h"
 #include "mechanics/parameters.h"
 #include "simulation/kinematics.h"
 #include "simulation/unloading.h"
@@ -210,7 +212,7 @@ namespace systole
     Mechanics::Parameters::declare_incompressibility(prm);
     prm.leave_subsection();
     Mechanics::Parameters::declare(prm);
-    Materials::Bestel::Parameters::declare(prm);
+    Materials::declare_tension_parameters(prm);
     Circulation::Parameters::declare(prm);
     Circulation::declare_model_parameters(prm);
     Electrophysiology::Parameters::declare(prm);
@@ -263,6 +265,7 @@ namespace systole
     Materials::create_volumetric_law(prm);
     Mechanics::Parameters::parse(prm);
     Materials::Bestel::Parameters::parse(prm);
+    Materials::Land::Parameters::parse(prm);
     Circulation::Parameters::parse(prm);
     Circulation::create_model(prm);
     Electrophysiology::Parameters::parse(prm);

@@ -1,0 +1,63 @@
+#include "materials/bestel_tension.h"
+
+#include <deal.II/base/exceptions.h>
+
+#include <cmath>
+
+namespace systole::Materials
+{
+  BestelTension::BestelTension(const Bestel::Parameters &params,
+                               const double              period)
+    : bestel(params, period)
+  {}
+
+  std::string
+  BestelTension::name() const
+  {
+    return model_name;
+  }
+
+  TensionDrive
+  BestelTension::drive() const
+  {
+    return TensionDrive::activation_time;
+  }
+
+  unsigned int
+  BestelTension::n_states() const
+  {
+    return 0;
+  }
+
+  void
+  BestelTension::initial_state(double *) const
+  {}
+
+  void
+  BestelTension::step(const double *,
+                      const TensionInput &in,
+                      double *,
+                      TensionOutput &out) const
+  {
+    // Not activated yet: at rest.
+    out.tension           = std::isnan(in.activation_time)
+                              ? 0.0
+                              : bestel.tension(in.time, in.activation_time);
+    out.dtension_dstretch = 0.0;
+  }
+
+  double
+  BestelTension::tension_of_state(const double *, const double) const
+  {
+    AssertThrow(false,
+                dealii::ExcMessage("The Bestel tension is a function of time "
+                                   "and activation time, not of a state."));
+    return 0.0;
+  }
+
+  const Bestel &
+  BestelTension::law() const
+  {
+    return bestel;
+  }
+} // namespace systole::Materials

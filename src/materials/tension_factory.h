@@ -1,0 +1,42 @@
+#pragma once
+
+#include "materials/tension_model.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dealii
+{
+  class ParameterHandler;
+}
+
+/// @file
+/// The one place that knows every active-tension model (an explicit table in
+/// tension_factory.cc). To add a model, see the recipe in
+/// materials/tension_model.h.
+
+namespace systole::Materials
+{
+  /// Declares subsection "Active tension": "Model" (a selection of
+  /// tension_model_names(), default "Bestel"), the Bestel entries
+  /// (Bestel::Parameters, which stay at the subsection's top level) and one
+  /// subsection per other model ("Active tension / Land").
+  void
+  declare_tension_parameters(dealii::ParameterHandler &prm);
+
+  /// The model named in "Active tension / Model", from its parsed and
+  /// validated parameters. @p period: the beat period [ms] (the Bestel curve
+  /// is periodic).
+  std::unique_ptr<TensionModel>
+  create_tension_model(const dealii::ParameterHandler &prm,
+                       const double                    period);
+
+  /// The name in "Active tension / Model".
+  std::string
+  tension_model_name(const dealii::ParameterHandler &prm);
+
+  /// Names of all tension models, as shown to users.
+  std::vector<std::string>
+  tension_model_names();
+} // namespace systole::Materials
