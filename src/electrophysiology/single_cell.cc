@@ -47,6 +47,13 @@ namespace systole::Electrophysiology
       "Problem = cell: the stimulus repeats with this period (the beat); 0: "
       "one stimulus and one beat up to Time / End time. Units: ms. Default: "
       "1 Hz.");
+    prm.declare_entry(
+      "Fibre stretch",
+      to_string(d.stretch),
+      Double(0.5, 1.5),
+      "Problem = cell with a calcium-driven Active tension / Model (Land): "
+      "the fixed fibre stretch lambda of the isometric cell (its rate is "
+      "0). Units: -.");
     prm.leave_subsection();
   }
 
@@ -60,6 +67,7 @@ namespace systole::Electrophysiology
     p.duration  = prm.get_double(s, "Stimulus duration");
     p.amplitude = prm.get_double(s, "Stimulus amplitude");
     p.period    = prm.get_double(s, "Pacing cycle length");
+    p.stretch   = prm.get_double(s, "Fibre stretch");
     AssertThrow(p.duration > 0,
                 dealii::ExcMessage("Cell / Stimulus duration must be > 0."));
     AssertThrow(p.period == 0 || p.start + p.duration < p.period,

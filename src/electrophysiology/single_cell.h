@@ -34,6 +34,9 @@ namespace systole::Electrophysiology
       double duration  = 1;    ///< [ms]
       double amplitude = 52;   ///< depolarising current [µA/µF = pA/pF]
       double period    = 1000; ///< cycle length [ms]; 0: one stimulus
+      /// Fixed fibre stretch of a calcium-driven tension model (Active
+      /// tension / Model = Land) [-].
+      double stretch = 1;
 
       /// Declares subsection "Cell".
       static void

@@ -8,11 +8,15 @@
 #include "electrophysiology/parameters.h"
 #include "electrophysiology/single_cell.h"
 #include "io/results_file.h"
+#include "materials/tension_factory.h"
 #include "simulation/parameters.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <sstream>
+#include <vector>
 
 namespace systole
 {
@@ -36,12 +40,51 @@ namespace systole
     settings.absolute_tolerance = ep.absolute_tolerance;
     SingleCell cell(model, settings, pacing, run.start_time);
 
+    // A calcium-driven tension model (Active tension / Model = Land) at the
+    // fixed stretch Cell / Fibre stretch: one implicit step per cell step,
+    // driven by the calcium at its end. The prescribed models (Bestel) need
+    // an activation time and are not run here.
+    std::unique_ptr<Materials::TensionModel> tension_model;
+    if (Materials::tension_model_name(prm) != "Bestel")
+      tension_model =
+        Materials::create_tension_model(prm,
+                                        pacing.period > 0
+                                          ? pacing.period
+                                          : std::max(run.end_time, 1.0));
+    const bool with_tension =
+      tension_model &&
+      tension_model->drive() == Materials::TensionDrive::calcium;
+    const unsigned int n_tension = with_tension ? tension_model->n_states() : 0;
+    std::vector<double> tension_state(n_tension), tension_trial(n_tension);
+    if (with_tension)
+      tension_model->initial_state(tension_state.data());
+    double     tension = 0, tension_time = run.start_time, peak_tension = 0;
+    const auto step_tension = [&](const double t, const double *s) {
+      if (!with_tension || !(t > tension_time))
+        return;
+      Materials::TensionInput in;
+      in.time             = t;
+      in.time_step        = t - tension_time;
+      in.calcium          = model.calcium_uM(s);
+      in.stretch          = pacing.stretch;
+      in.previous_stretch = pacing.stretch;
+      Materials::TensionOutput out;
+      tension_model->step(tension_state.data(), in, tension_trial.data(), out);
+      tension_state.swap(tension_trial);
+      tension      = out.tension;
+      tension_time = t;
+      peak_tension = std::max(peak_tension, tension);
+    };
+
     {
       std::ostringstream o;
       o << IO::code_version() << ": problem '" << run.problem << "', "
         << model.name() << " (" << model.n_states() << " states, "
         << model.n_gates() << " gates by Rush-Larsen), step " << ep.time_step
         << " ms, paced every " << pacing.period << " ms";
+      if (with_tension)
+        o << "; " << tension_model->name() << " tension at stretch "
+          << pacing.stretch;
       logger.line(o.str());
     }
 
@@ -65,32 +108,40 @@ namespace systole
     unsigned long           steps_at_beat_start = 0;
 
     const auto write_summary = [&]() {
-      const BeatSummary s = recorder.summary();
-      results.append_summary(
-        {{"beat", "-", static_cast<double>(beat)},
-         {"start_time", "ms", beat * period},
-         {"resting_potential_mV", "mV", s.resting_potential_mV},
-         {"peak_potential_mV", "mV", s.peak_potential_mV},
-         {"APD90_ms", "ms", s.APD90_ms},
-         {"peak_calcium_uM", "µM", s.peak_calcium_uM},
-         {"arkode_steps",
-          "-",
-          static_cast<double>(cell.n_steps() - steps_at_beat_start)}});
+      const BeatSummary       s   = recorder.summary();
+      std::vector<IO::Column> row = {
+        {"beat", "-", static_cast<double>(beat)},
+        {"start_time", "ms", beat * period},
+        {"resting_potential_mV", "mV", s.resting_potential_mV},
+        {"peak_potential_mV", "mV", s.peak_potential_mV},
+        {"APD90_ms", "ms", s.APD90_ms},
+        {"peak_calcium_uM", "µM", s.peak_calcium_uM}};
+      if (with_tension)
+        row.push_back({"peak_tension_kPa", "kPa", peak_tension});
+      row.push_back(
+        {"arkode_steps",
+         "-",
+         static_cast<double>(cell.n_steps() - steps_at_beat_start)});
+      results.append_summary(row);
       std::ostringstream o;
       o << std::setprecision(5) << "Beat " << beat << ": rest "
         << s.resting_potential_mV << " mV, peak " << s.peak_potential_mV
         << " mV, APD90 " << s.APD90_ms << " ms, peak calcium "
         << s.peak_calcium_uM << " µM";
+      if (with_tension)
+        o << ", peak tension " << peak_tension << " kPa";
       logger.line(o.str());
     };
 
     // Every ARKode step: the beat's samples from its stimulus onset (a step
     // boundary) on, and a summary row when a beat ends.
     const auto observe = [&](const double t, const double v, const double *s) {
+      step_tension(t, s);
       if (beat_of(t) > beat)
         {
           if (measuring)
             write_summary();
+          peak_tension        = tension;
           beat                = beat_of(t);
           onset               = beat * period + pacing.start;
           measuring           = false;
@@ -108,11 +159,14 @@ namespace systole
       observe(run.start_time, cell.potential(), cell.state().data());
 
     const auto write_row = [&](const double time) {
-      results.append_timeseries(
-        {{"time", "ms", time},
-         {"beat", "-", static_cast<double>(beat_of(time))},
-         {"potential_mV", "mV", mV(cell.potential())},
-         {"calcium_uM", "µM", model.calcium_uM(cell.state().data())}});
+      std::vector<IO::Column> row = {
+        {"time", "ms", time},
+        {"beat", "-", static_cast<double>(beat_of(time))},
+        {"potential_mV", "mV", mV(cell.potential())},
+        {"calcium_uM", "µM", model.calcium_uM(cell.state().data())}};
+      if (with_tension)
+        row.push_back({"active_tension", "kPa", tension});
+      results.append_timeseries(row);
     };
 
     const unsigned int n_steps = static_cast<unsigned int>(
