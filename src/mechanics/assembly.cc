@@ -396,6 +396,8 @@ namespace systole::Mechanics
       for (auto &b : volume_derivatives)
         b = 0;
 
+    std::vector<double> tension_trial(
+      tension_model != nullptr ? tension_model->n_states() : 0);
     unsigned int inverted = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
       {
@@ -439,7 +441,36 @@ namespace systole::Mechanics
               volumetric_law.add_to(in.F, out.S, out.dS_dE);
             // The active stress comes after the volumetric part: it is not
             // projected.
-            const double tension = active_tension + data[q]->tension;
+            double tension = active_tension + data[q]->tension;
+            if (tension_model != nullptr)
+              {
+                // Two-way coupling: the model's step at this iterate's
+                // stretch, from the accepted state (the trial state is
+                // dropped; accept_tension_step() recomputes it).
+                double       dT_dstretch, stretch;
+                const double model_tension =
+                  step_tension_model(*tension_model,
+                                     *data[q],
+                                     in.F,
+                                     tension_time,
+                                     tension_time_step,
+                                     tension_trial.data(),
+                                     dT_dstretch,
+                                     stretch);
+                data[q]->model_tension = model_tension;
+                tension += model_tension;
+                // dS/dE += f0 x f0 x dT/dE with dT/dE = dT/dlambda f0 x f0 /
+                // lambda (lambda^2 = 1 + 2 f0.E f0).
+                // The transverse fraction is 0 here (set_tension_model()
+                // refuses others: the term would not be major symmetric).
+                if (with_matrix && dT_dstretch != 0.0)
+                  {
+                    const dealii::SymmetricTensor<2, 3> ff = dealii::symmetrize(
+                      dealii::outer_product(in.basis.f, in.basis.f));
+                    out.dS_dE +=
+                      (dT_dstretch / stretch) * dealii::outer_product(ff, ff);
+                  }
+              }
             if (tension != 0.0)
               Materials::add_active_stress(tension,
                                            params.active_transverse_fraction,

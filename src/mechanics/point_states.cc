@@ -40,13 +40,15 @@ namespace systole::Mechanics
           out.resize(quadrature.size());
           for (unsigned int q = 0; q < quadrature.size(); ++q)
             {
-              PointState &s    = out[q];
-              s.position       = data[q]->position;
-              s.JxW            = fe_values.JxW(q);
-              s.F              = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-              s.basis          = data[q]->basis;
-              s.active_tension = m.last_active_tension + data[q]->tension;
-              const double J   = dealii::determinant(s.F);
+              PointState &s = out[q];
+              s.position    = data[q]->position;
+              s.JxW         = fe_values.JxW(q);
+              s.F           = dealii::unit_symmetric_tensor<3>() + grad_u[q];
+              s.basis       = data[q]->basis;
+              s.active_tension =
+                m.last_active_tension + data[q]->tension +
+                (m.tension_model != nullptr ? data[q]->model_tension : 0.0);
+              const double J = dealii::determinant(s.F);
               if (!(J > 0.0))
                 {
                   // An inverted point has no stress: NaN marks it.

@@ -50,6 +50,7 @@ namespace systole::Materials
 {
   class PassiveLaw;
   class VolumetricLaw;
+  class TensionModel;
 } // namespace systole::Materials
 
 namespace systole::Mechanics
@@ -246,6 +247,47 @@ namespace systole::Mechanics
     /// the loads do no part of it; collective).
     double
     strain_energy() const;
+
+    /// Two-way coupling with a tension model (Materials::TensionModel,
+    /// e.g. Land): every assembly evaluates @p model at each quadrature
+    /// point from the point's accepted state, its calcium
+    /// (set_calcium()), the fibre stretch λ = |F f0| of the current
+    /// iterate and the rate dλ/dt = (λ - λ_n)/Δt (λ_n: the stretch of the
+    /// accepted state), over the step of set_tension_step(); its tension
+    /// adds to the others and dT/dλ enters the tangent, dS/dE +=
+    /// (dT/dλ / λ) f0 x f0 x f0 x f0 (Mechanics / Active transverse
+    /// fraction must be 0: throws otherwise). Newton
+    /// iterations and cut steps repeat the step from the accepted state;
+    /// accept_tension_step() commits it. Initializes every point's state
+    /// to the model's resting state and λ_n = 1 (the reference
+    /// configuration); nullptr removes the model. @p model must outlive
+    /// the problem (or the next call). Checkpoints do not hold the model's
+    /// states yet.
+    void
+    set_tension_model(const Materials::TensionModel *model);
+
+    /// The step of the tension model: from the accepted state to @p time
+    /// [ms], of length @p time_step [ms] (> 0).
+    void
+    set_tension_step(const double time, const double time_step);
+
+    /// The calcium at the end of the step [µM] per point (layout of
+    /// quadrature_points()), or one value for every point (@p uniform).
+    void
+    set_calcium(const std::vector<std::vector<double>> &calcium);
+    void
+    set_calcium(const double uniform);
+
+    /// Accept the tension model's step at the current displacement: every
+    /// point's state becomes the step's result and λ_n its current stretch.
+    void
+    accept_tension_step();
+
+    /// The tension model's tension at every point for the current
+    /// displacement and step [kPa] (layout of quadrature_points(); does not
+    /// change the states).
+    std::vector<std::vector<double>>
+    model_tensions() const;
 
     /// Verification hook: relative errors of the bordered Jacobian against
     /// central differences in a fixed pseudo-random direction (d, dp) at the

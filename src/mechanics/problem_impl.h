@@ -20,11 +20,13 @@
 #include "base/logger.h"
 #include "fibres/fibre_basis.h"
 #include "materials/isochoric_part.h"
+#include "materials/tension_model.h"
 #include "mechanics/cavity_volume.h"
 #include "mechanics/field_layout.h"
 #include "mechanics/linear_solver.h"
 #include "mechanics/problem.h"
 
+#include <functional>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -38,6 +40,12 @@ namespace systole::Mechanics
     Fibres::FibreBasis basis;    ///< fibre frame
     dealii::Point<3>   position; ///< reference position [mm]
     double tension = 0.0; ///< active tension added to the uniform one [kPa]
+    /// The tension model's accepted state (Problem::set_tension_model()).
+    std::vector<double> tension_state;
+    double stretch_n = 1.0; ///< fibre stretch of the accepted state [-]
+    double calcium   = 0.0; ///< at the end of the step [µM]
+    /// The model's tension of the last assembly [kPa] (for point_states()).
+    double model_tension = 0.0;
   };
 
   /// The state of the elastodynamics (Problem::start_dynamics()): the
@@ -77,6 +85,20 @@ namespace systole::Mechanics
     double
     effective_mass_coefficient() const;
   };
+
+  /// One step of the tension model @p model at point @p data with
+  /// deformation gradient @p F, from the accepted state to @p time over
+  /// @p time_step; writes the step's state to @p trial (n_states() values).
+  /// Returns T [kPa] and sets @p dT_dstretch and @p stretch (λ = |F f0|).
+  double
+  step_tension_model(const Materials::TensionModel &model,
+                     const PointData               &data,
+                     const dealii::Tensor<2, 3>    &F,
+                     const double                   time,
+                     const double                   time_step,
+                     double                        *trial,
+                     double                        &dT_dstretch,
+                     double                        &stretch);
 
   /// Euclidean norms of the two blocks (u, p) of a vector in the layout of
   /// @p layout (collective).
@@ -196,6 +218,19 @@ namespace systole::Mechanics
 
     /// Elastodynamics (time_step > 0: the assembly adds the inertia).
     Dynamics dynamics;
+
+    /// The two-way coupled tension model (none: nullptr) and its step.
+    const Materials::TensionModel *tension_model     = nullptr;
+    double                         tension_time      = 0.0;
+    double                         tension_time_step = 0.0;
+
+    /// Calls @p f(active cell index, q, data, F) at every quadrature point
+    /// of the locally owned cells, F of the current displacement.
+    void
+    for_each_point(const std::function<void(const unsigned int,
+                                            const unsigned int,
+                                            PointData &,
+                                            const dealii::Tensor<2, 3> &)> &f);
 
     /// The uniform active tension of the last assembly [kPa] (for
     /// point_states()).

@@ -1,0 +1,191 @@
+// The two-way coupling of the mechanics with a tension model: the states
+// at the quadrature points, the step and its acceptance.
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_values.h>
+
+#include "materials/tension_model.h"
+#include "mechanics/problem_impl.h"
+
+namespace systole::Mechanics
+{
+  double
+  step_tension_model(const Materials::TensionModel &model,
+                     const PointData               &data,
+                     const dealii::Tensor<2, 3>    &F,
+                     const double                   time,
+                     const double                   time_step,
+                     double                        *trial,
+                     double                        &dT_dstretch,
+                     double                        &stretch)
+  {
+    stretch = (F * data.basis.f).norm();
+    Materials::TensionInput in;
+    in.time             = time;
+    in.time_step        = time_step;
+    in.calcium          = data.calcium;
+    in.stretch          = stretch;
+    in.previous_stretch = data.stretch_n;
+    Materials::TensionOutput out;
+    model.step(data.tension_state.data(), in, trial, out);
+    dT_dstretch = out.dtension_dstretch;
+    return out.tension;
+  }
+
+  void
+  Problem::set_tension_model(const Materials::TensionModel *model)
+  {
+    Impl &m = *impl;
+    AssertThrow(model == nullptr ||
+                  model->drive() == Materials::TensionDrive::calcium,
+                dealii::ExcMessage(
+                  "Mechanics: only calcium-driven tension models are coupled "
+                  "two-way (" +
+                  model->name() +
+                  " is driven by activation times: use set_active_tension)."));
+    // dT/dlambda with a transverse part, dT/dE x (I - f0 x f0), is not
+    // major symmetric; the assembly mirrors the element matrix.
+    AssertThrow(model == nullptr || m.params.active_transverse_fraction == 0.0,
+                dealii::ExcMessage(
+                  "Mechanics / Active transverse fraction must be 0 with a "
+                  "stretch-dependent tension model (" +
+                  model->name() +
+                  "): its tangent would not be symmetric, which the "
+                  "assembly assumes."));
+    m.tension_model = model;
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &data : m.point_data.get_data(cell))
+          {
+            data->tension_state.assign(model ? model->n_states() : 0, 0.0);
+            if (model)
+              model->initial_state(data->tension_state.data());
+            data->stretch_n     = 1.0;
+            data->model_tension = 0.0;
+          }
+  }
+
+  void
+  Problem::set_tension_step(const double time, const double time_step)
+  {
+    AssertThrow(time_step > 0.0,
+                dealii::ExcMessage("Mechanics: the tension model's time step "
+                                   "must be positive."));
+    impl->tension_time      = time;
+    impl->tension_time_step = time_step;
+  }
+
+  void
+  Problem::set_calcium(const std::vector<std::vector<double>> &calcium)
+  {
+    Impl &m = *impl;
+    AssertThrow(calcium.size() == m.tria.n_active_cells(),
+                dealii::ExcMessage("set_calcium: one vector per cell (by "
+                                   "active cell index) expected."));
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const auto data = m.point_data.get_data(cell);
+          const auto c    = cell->active_cell_index();
+          AssertThrow(calcium[c].size() == data.size(),
+                      dealii::ExcMessage("set_calcium: one value per "
+                                         "quadrature point expected."));
+          for (unsigned int q = 0; q < data.size(); ++q)
+            data[q]->calcium = calcium[c][q];
+        }
+  }
+
+  void
+  Problem::set_calcium(const double uniform)
+  {
+    Impl &m = *impl;
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto &data : m.point_data.get_data(cell))
+          data->calcium = uniform;
+  }
+
+  void
+  Problem::Impl::for_each_point(
+    const std::function<void(const unsigned int,
+                             const unsigned int,
+                             PointData &,
+                             const dealii::Tensor<2, 3> &)> &f)
+  {
+    Impl &m = *this;
+    {
+      const dealii::QGauss<3>           quadrature(m.n_q_1d);
+      dealii::FEValues<3>               fe_values(m.mapping,
+                                    *m.fe,
+                                    quadrature,
+                                    dealii::update_gradients);
+      std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
+      for (const auto &cell : m.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_values.reinit(cell);
+            fe_values[m.layout.displacement].get_function_gradients(m.u,
+                                                                    grad_u);
+            const auto data = m.point_data.get_data(cell);
+            for (unsigned int q = 0; q < quadrature.size(); ++q)
+              f(cell->active_cell_index(),
+                q,
+                *data[q],
+                dealii::unit_symmetric_tensor<3>() + grad_u[q]);
+          }
+    }
+  }
+
+  void
+  Problem::accept_tension_step()
+  {
+    Impl &m = *impl;
+    AssertThrow(m.tension_model != nullptr,
+                dealii::ExcMessage("accept_tension_step: no tension model."));
+    AssertThrow(m.tension_time_step > 0.0,
+                dealii::ExcMessage("accept_tension_step: set_tension_step() "
+                                   "first."));
+    std::vector<double> trial(m.tension_model->n_states());
+    m.for_each_point([&](const unsigned int,
+                         const unsigned int,
+                         PointData                  &data,
+                         const dealii::Tensor<2, 3> &F) {
+      double dT, stretch;
+      data.model_tension = step_tension_model(*m.tension_model,
+                                              data,
+                                              F,
+                                              m.tension_time,
+                                              m.tension_time_step,
+                                              trial.data(),
+                                              dT,
+                                              stretch);
+      data.tension_state = trial;
+      data.stretch_n     = stretch;
+    });
+  }
+
+  std::vector<std::vector<double>>
+  Problem::model_tensions() const
+  {
+    Impl                            &m = *impl;
+    std::vector<std::vector<double>> tensions(m.tria.n_active_cells());
+    if (m.tension_model == nullptr)
+      return tensions;
+    std::vector<double> trial(m.tension_model->n_states());
+    m.for_each_point([&](const unsigned int          c,
+                         const unsigned int          q,
+                         PointData                  &data,
+                         const dealii::Tensor<2, 3> &F) {
+      double dT, stretch;
+      tensions[c].resize(q + 1);
+      tensions[c][q] = step_tension_model(*m.tension_model,
+                                          data,
+                                          F,
+                                          m.tension_time,
+                                          m.tension_time_step,
+                                          trial.data(),
+                                          dT,
+                                          stretch);
+    });
+    return tensions;
+  }
+} // namespace systole::Mechanics
