@@ -12,12 +12,15 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SYSTOLE_ROOT}
 # libopenblas0-serial replaces the reference BLAS/LAPACK behind the Debian alternatives (no
 # rebuild): MUMPS factorizes the mechanics tangent 3-4 times faster with it. The serial
 # variant, because every MPI rank already has its core. chromium: the headless browser that
-# renders scripts/report.py's page in the pytest (scripts/tests/test_report.py).
+# renders scripts/report.py's page in the pytest (scripts/tests/test_report.py). gmsh and its
+# Python module: scripts/make_biv_mesh.py regenerates meshes/biv_coarse.msh (the tests read
+# the shipped file and need neither).
 SYSTOLE_PACKAGES=(
   libdeal.ii-dev libsundials-dev libhdf5-mpi-dev libeigen3-dev libvtk9-dev libopenblas0-serial
   catch2 cmake ninja-build ccache mold clang-format-14 g++ git
   openmpi-bin python3 python3-venv
   chromium
+  gmsh python3-gmsh
 )
 
 say() { printf '[systole] %s\n' "$*"; }
