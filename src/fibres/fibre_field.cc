@@ -107,7 +107,7 @@ namespace systole::Fibres
     prm.declare_entry(
       "Generator",
       "cartesian",
-      Selection("analytic|cartesian|dti|rule-based"),
+      Selection("analytic|biventricular|cartesian|dti|rule-based"),
       "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
       "problem 1, isotropic laws); analytic: the helix rule of "
       "Land et al. 2015 problem 3 on the generated ellipsoid, "
@@ -115,6 +115,9 @@ namespace systole::Fibres
       "Laplace-Dirichlet rule of Bayer et al. 2012 on any LV mesh with "
       "boundary parts endocardium, epicardium and base (helix angle linear "
       "in the transmural Laplace coordinate, same conventions as analytic); "
+      "biventricular: Bayer et al. 2012 for two ventricles on a mesh with "
+      "boundary parts lv_endocardium, rv_endocardium, epicardium and base "
+      "(subsection Biventricular; the three angles above do not apply); "
       "dti: principal eigenvectors of a diffusion-tensor image (subsection "
       "DTI). Units: -.");
     prm.declare_entry("Helix angle endocardium",
@@ -157,6 +160,7 @@ namespace systole::Fibres
       "peaks (the apex). Units: -.");
     prm.leave_subsection();
     prm.leave_subsection();
+    Biventricular::Parameters::declare(prm);
     DTIParameters::declare(prm);
   }
 
@@ -175,6 +179,7 @@ namespace systole::Fibres
     p.rule_based.apicobasal = prm.get(rule, "Apicobasal field") == "laplace"
                                 ? ApicobasalField::laplace
                                 : ApicobasalField::poisson;
+    p.biventricular         = Biventricular::Parameters::parse(prm);
     p.dti                   = DTIParameters::parse(prm, base_directory);
     return p;
   }
@@ -198,6 +203,17 @@ namespace systole::Fibres
         p.coordinates = params.rule_based;
         const auto rule =
           std::make_shared<const RuleBased>(p, tria, names, logger);
+        return [rule](const auto &cell, const auto &points, auto &bases) {
+          (*rule)(cell, points, bases);
+        };
+      }
+    if (params.generator == Biventricular::name)
+      {
+        const auto rule =
+          std::make_shared<const Biventricular>(params.biventricular,
+                                                tria,
+                                                names,
+                                                logger);
         return [rule](const auto &cell, const auto &points, auto &bases) {
           (*rule)(cell, points, bases);
         };

@@ -3,6 +3,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
 
+#include "fibres/biventricular.h"
 #include "fibres/dti_import.h"
 #include "fibres/fibre_basis.h"
 #include "fibres/rule_based.h"
@@ -87,8 +88,8 @@ namespace systole::Fibres
   /// Subsection "Fibres": the generator and its parameters.
   struct Parameters
   {
-    /// "analytic", "cartesian", "dti" (dti_import.h) or "rule-based"
-    /// (rule_based.h)
+    /// "analytic", "biventricular" (biventricular.h), "cartesian", "dti"
+    /// (dti_import.h) or "rule-based" (rule_based.h)
     std::string generator  = "cartesian";
     double      alpha_endo = 60.0;  ///< [degrees]
     double      alpha_epi  = -60.0; ///< [degrees]
@@ -96,6 +97,8 @@ namespace systole::Fibres
     /// Subsection "Fibres / Rule-based": how the rule-based generator
     /// solves for its wall coordinates.
     WallCoordinates::Parameters rule_based;
+    /// Subsection "Fibres / Biventricular".
+    Biventricular::Parameters biventricular;
     /// Subsection "Fibres / DTI": the diffusion-tensor image.
     DTIParameters dti;
 

@@ -15,6 +15,7 @@
 
 #include "base/linear_algebra.h"
 #include "base/logger.h"
+#include "fibres/biventricular.h"
 #include "fibres/fibre_field.h"
 #include "fibres/rule_based.h"
 #include "geometry/mesh.h"
@@ -112,21 +113,40 @@ namespace systole
 
     // The wall frame to measure helix angles in (see the header): only on
     // LV meshes.
-    std::unique_ptr<Fibres::WallCoordinates> wall;
+    // On BiV meshes, the transmural and apicobasal fields of the
+    // biventricular rule (Biventricular::wall_frames).
+    std::unique_ptr<Fibres::WallCoordinates> lv_wall;
+    std::unique_ptr<Fibres::Biventricular>   biv_wall;
     if (names.has("endocardium") && names.has("epicardium") &&
         names.has("base"))
-      wall = std::make_unique<Fibres::WallCoordinates>(fibres.rule_based,
-                                                       tria,
-                                                       names);
+      lv_wall = std::make_unique<Fibres::WallCoordinates>(fibres.rule_based,
+                                                          tria,
+                                                          names);
+    else if (names.has("lv_endocardium") && names.has("rv_endocardium") &&
+             names.has("epicardium") && names.has("base"))
+      biv_wall = std::make_unique<Fibres::Biventricular>(fibres.biventricular,
+                                                         tria,
+                                                         names);
     else
       logger.line("The mesh has no boundary parts endocardium, epicardium "
-                  "and base: no helix-angle profile.");
+                  "and base (or lv_endocardium, rv_endocardium, epicardium "
+                  "and base): no helix-angle profile.");
+    const bool wall = lv_wall || biv_wall;
+    const auto wall_frames =
+      [&](const auto &cell, const auto &points, auto &frames) {
+        if (lv_wall)
+          lv_wall->evaluate(cell, points, frames);
+        else
+          biv_wall->wall_frames(cell, points, frames);
+      };
 
     // The helix angle [degree] of f in a wall frame. Fibres from a diffusion
     // tensor have no sign (dti_import.h): f and -f are the same fibre, so
     // their angle is folded into (-90, 90].
-    const bool signless = fibres.generator == "dti";
-    const auto measure  = [signless](const dealii::Tensor<1, 3> &f,
+    // The biventricular rule interpolates axes (bislerp): no sign either.
+    const bool signless = fibres.generator == "dti" ||
+                          fibres.generator == Fibres::Biventricular::name;
+    const auto measure = [signless](const dealii::Tensor<1, 3> &f,
                                     const Fibres::WallFrame    &frame) {
       double angle = Fibres::helix_angle(f, frame.e_c, frame.e_l) / degree;
       if (signless && angle > 90.0)
@@ -155,7 +175,7 @@ namespace systole
             {
               fe_values.reinit(cell);
               field(cell, fe_values.get_quadrature_points(), bases);
-              wall->evaluate(cell, fe_values.get_quadrature_points(), frames);
+              wall_frames(cell, fe_values.get_quadrature_points(), frames);
               for (unsigned int q = 0; q < bases.size(); ++q)
                 if (!frames[q].degenerate)
                   profile.add(frames[q].transmural,
@@ -199,7 +219,7 @@ namespace systole
             vertices[v] = cell->vertex(v);
           field(cell, vertices, bases);
           if (wall)
-            wall->evaluate(cell, vertices, frames);
+            wall_frames(cell, vertices, frames);
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < dofs.size(); ++i)
             {
@@ -275,12 +295,12 @@ namespace systole
                              interpretation);
     data_out.build_patches(mapping, 1);
     results.write_fields(data_out, 0, 0.0);
-    if (wall)
+    if (lv_wall)
       {
         // The cost of the wall coordinates' two solves as numbers (those of
         // the inspection's own WallCoordinates, the same solves as the
         // rule-based generator's; scripts/bench reads them).
-        const Fibres::WallCoordinatesReport r = wall->report();
+        const Fibres::WallCoordinatesReport r = lv_wall->report();
         results.write_statistics(
           {{"n_cells", "-", static_cast<double>(tria.n_global_active_cells())},
            {"degree", "-", static_cast<double>(r.degree)},

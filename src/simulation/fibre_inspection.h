@@ -16,8 +16,8 @@ namespace systole
   /// `<Output/Directory>/<run name>/results.h5` (+ fields.xdmf for ParaView):
   /// - /fields/step_000000: the unit vectors fibre, sheet, sheet_normal at the
   ///   vertices of every cell (each cell's own values: a discontinuous Q1
-  ///   field), and, on LV meshes, transmural (phi), apicobasal (psi) and
-  ///   helix_angle [degree];
+  ///   field), and, on LV and BiV meshes, transmural (phi), apicobasal (psi)
+  ///   and helix_angle [degree];
   /// - /summary: the helix-angle profile through the wall, one row per bin of
   ///   the transmural coordinate phi (n_helix_profile_bins equal bins of
   ///   [0, 1]): depth_lower, depth_upper, depth (bin centre), helix_mean
@@ -36,9 +36,12 @@ namespace systole
   /// agrees with the analytic frame to hundredths of a degree away from the
   /// apex (tests/unit/fibres/rule_based_test.cc), but phi is the harmonic
   /// transmural coordinate, not the geometric t of the analytic rule (they
-  /// differ by up to about 0.1). Meshes without the boundary parts
-  /// endocardium, epicardium and base (a box) get the fibre vectors only.
-  /// Collective; throws one clear message on bad input.
+  /// differ by up to about 0.1). On BiV meshes (boundary parts
+  /// lv_endocardium, rv_endocardium, epicardium and base) the frame and depth
+  /// are those of Fibres::Biventricular::wall_frames (phi_epi, psi of
+  /// subsection Fibres / Biventricular). Meshes without either set of parts (a
+  /// box) get the fibre vectors only. Collective; throws one clear message on
+  /// bad input.
   void
   inspect_fibres(const std::string &parameter_file,
                  const MPI_Comm     comm,

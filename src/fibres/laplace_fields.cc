@@ -1,0 +1,342 @@
+#include "fibres/laplace_fields.h"
+
+#include <deal.II/base/geometry_info.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/petsc_solver.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/sparsity_tools.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/matrix_free/fe_point_evaluation.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include "base/linear_algebra.h"
+
+#include <cmath>
+#include <limits>
+
+namespace systole::Fibres
+{
+  struct LaplaceFields::Impl
+  {
+    Impl(const dealii::Triangulation<3, 3> &tria, const unsigned int degree)
+      : tria(tria)
+      , comm(tria.get_communicator())
+      , fe(degree)
+      , mapping(2)
+      , dof_handler(tria)
+      , evaluator(mapping, fe, dealii::update_values | dealii::update_gradients)
+    {}
+
+    const dealii::Triangulation<3, 3> &tria;
+    MPI_Comm                           comm;
+    dealii::FE_Q<3>                    fe;
+    dealii::MappingQ<3>                mapping;
+    dealii::DoFHandler<3>              dof_handler;
+    dealii::IndexSet                   owned, relevant;
+    std::vector<LA::MPI::Vector>       fields; // with ghost values
+    std::vector<unsigned int>          iterations;
+    unsigned int                       n_tangled = 0;
+
+    mutable dealii::FEPointEvaluation<1, 3> evaluator;
+    mutable std::vector<dealii::Point<3>>   unit_points;
+    mutable dealii::Vector<double>          local;
+
+    /// -Laplace u = source with @p constraints into @p solution (owned).
+    unsigned int
+    solve(const dealii::AffineConstraints<double> &constraints,
+          const double                             source,
+          LA::MPI::Vector                         &solution,
+          const std::string                       &what) const;
+  };
+
+  unsigned int
+  LaplaceFields::Impl::solve(
+    const dealii::AffineConstraints<double> &constraints,
+    const double                             source,
+    LA::MPI::Vector                         &solution,
+    const std::string                       &what) const
+  {
+    dealii::DynamicSparsityPattern dsp(relevant);
+    dealii::DoFTools::make_sparsity_pattern(dof_handler,
+                                            dsp,
+                                            constraints,
+                                            false);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       owned,
+                                                       comm,
+                                                       relevant);
+    LA::MPI::SparseMatrix matrix;
+    matrix.reinit(owned, owned, dsp, comm);
+    LA::MPI::Vector rhs(owned, comm);
+    solution.reinit(owned, comm);
+
+    const dealii::QGauss<3>                      quadrature(fe.degree + 1);
+    dealii::FEValues<3>                          fe_values(mapping,
+                                  fe,
+                                  quadrature,
+                                  dealii::update_values |
+                                    dealii::update_gradients |
+                                    dealii::update_JxW_values);
+    const unsigned int                           n = fe.n_dofs_per_cell();
+    dealii::FullMatrix<double>                   cell_matrix(n, n);
+    dealii::Vector<double>                       cell_rhs(n);
+    std::vector<dealii::types::global_dof_index> dofs(n);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          cell_matrix = 0;
+          cell_rhs    = 0;
+          for (const unsigned int q : fe_values.quadrature_point_indices())
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                for (unsigned int j = 0; j < n; ++j)
+                  cell_matrix(i, j) += fe_values.shape_grad(i, q) *
+                                       fe_values.shape_grad(j, q) *
+                                       fe_values.JxW(q);
+                cell_rhs(i) +=
+                  source * fe_values.shape_value(i, q) * fe_values.JxW(q);
+              }
+          cell->get_dof_indices(dofs);
+          constraints.distribute_local_to_global(cell_matrix,
+                                                 cell_rhs,
+                                                 dofs,
+                                                 matrix,
+                                                 rhs);
+        }
+    matrix.compress(dealii::VectorOperation::add);
+    rhs.compress(dealii::VectorOperation::add);
+
+    dealii::SolverControl control(std::max<unsigned int>(1000,
+                                                         dof_handler.n_dofs()),
+                                  1e-10 * rhs.l2_norm());
+    LA::SolverCG          cg(control, comm);
+    LA::MPI::PreconditionAMG::AdditionalData amg_data;
+    amg_data.symmetric_operator = true;
+    amg_data.strong_threshold   = 0.5;
+    const LA::MPI::PreconditionAMG amg(matrix, amg_data);
+    unsigned int                   iterations = 0;
+    try
+      {
+        cg.solve(matrix, solution, rhs, amg);
+        iterations = control.last_step();
+      }
+    catch (const std::exception &)
+      {
+        // A tangled cell makes the matrix indefinite and AMG-CG breaks down.
+        solution = 0;
+        dealii::SolverControl                    direct_control(1, 0);
+        dealii::PETScWrappers::SparseDirectMUMPS direct(direct_control, comm);
+        try
+          {
+            direct.solve(matrix, solution, rhs);
+          }
+        catch (const std::exception &e)
+          {
+            AssertThrow(false,
+                        dealii::ExcMessage(
+                          "Rule-based fibres: the " + what +
+                          " solve failed with CG + AMG and with MUMPS (" +
+                          e.what() + "). Is the mesh valid?"));
+          }
+      }
+    constraints.distribute(solution);
+    return iterations;
+  }
+
+  LaplaceFields::LaplaceFields(const dealii::Triangulation<3, 3> &tria,
+                               const unsigned int                 degree,
+                               const std::vector<LaplaceProblem> &problems)
+    : impl(std::make_unique<Impl>(tria, degree))
+  {
+    Impl &m = *impl;
+    m.dof_handler.distribute_dofs(m.fe);
+    m.owned = m.dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
+
+    {
+      const dealii::QGauss<3> quadrature(m.fe.degree + 1);
+      dealii::FEValues<3>     fe_values(m.mapping,
+                                    m.fe,
+                                    quadrature,
+                                    dealii::update_JxW_values);
+      unsigned int            n = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_values.reinit(cell);
+            for (const unsigned int q : fe_values.quadrature_point_indices())
+              if (!(fe_values.JxW(q) > 0))
+                {
+                  ++n;
+                  break;
+                }
+          }
+      m.n_tangled = dealii::Utilities::MPI::sum(n, m.comm);
+    }
+
+    dealii::AffineConstraints<double> hanging(m.relevant);
+    dealii::DoFTools::make_hanging_node_constraints(m.dof_handler, hanging);
+    hanging.close();
+    for (const LaplaceProblem &problem : problems)
+      {
+        dealii::AffineConstraints<double> constraints(m.relevant);
+        constraints.merge(hanging);
+        for (const auto &[id, value] : problem.dirichlet)
+          dealii::VectorTools::interpolate_boundary_values(
+            m.mapping,
+            m.dof_handler,
+            id,
+            dealii::Functions::ConstantFunction<3>(value),
+            constraints);
+        constraints.close();
+        LA::MPI::Vector solution;
+        m.iterations.push_back(
+          m.solve(constraints, problem.source, solution, problem.name));
+        m.fields.emplace_back(m.owned, m.relevant, m.comm);
+        m.fields.back() = solution;
+      }
+  }
+
+  LaplaceFields::~LaplaceFields() = default;
+
+  unsigned int
+  LaplaceFields::n_fields() const
+  {
+    return impl->fields.size();
+  }
+
+  void
+  LaplaceFields::scale(const unsigned int k, const double a, const double b)
+  {
+    Impl           &m = *impl;
+    LA::MPI::Vector u(m.owned, m.comm);
+    u = m.fields[k];
+    u *= a;
+    u.add(b);
+    m.fields[k] = u;
+  }
+
+  std::pair<double, dealii::Point<3>>
+  LaplaceFields::maximum(const unsigned int k) const
+  {
+    const Impl                                        &m = *impl;
+    const LA::MPI::Vector                             &u = m.fields[k];
+    std::pair<double, dealii::types::global_dof_index> best =
+      {-std::numeric_limits<double>::max(), 0};
+    for (const auto i : m.owned)
+      if (u(i) > best.first)
+        best = {u(i), i};
+    for (const auto &candidate :
+         dealii::Utilities::MPI::all_gather(m.comm, best))
+      if (candidate.first > best.first ||
+          (candidate.first == best.first && candidate.second < best.second))
+        best = candidate;
+
+    std::array<double, 4>                        found = {{0.0, 0.0, 0.0, 0.0}};
+    std::vector<dealii::types::global_dof_index> dofs(m.fe.n_dofs_per_cell());
+    if (m.owned.is_element(best.second))
+      for (const auto &cell : m.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && found[0] == 0.0)
+          {
+            cell->get_dof_indices(dofs);
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              if (dofs[i] == best.second)
+                {
+                  const auto x = m.mapping.transform_unit_to_real_cell(
+                    cell,
+                    m.fe.get_unit_support_points()[i]);
+                  found = {{1.0, x[0], x[1], x[2]}};
+                  break;
+                }
+          }
+    for (const auto &candidate :
+         dealii::Utilities::MPI::all_gather(m.comm, found))
+      if (candidate[0] == 1.0)
+        found = candidate;
+    return {best.first, dealii::Point<3>(found[1], found[2], found[3])};
+  }
+
+  void
+  LaplaceFields::evaluate(
+    const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+    const std::vector<dealii::Point<3>>                     &points,
+    std::vector<std::vector<FieldValue>>                    &values) const
+  {
+    const Impl &m = *impl;
+    AssertThrow(&cell->get_triangulation() == &m.tria,
+                dealii::ExcMessage("Rule-based fibres: asked for a cell of "
+                                   "another mesh than the one solved on."));
+    const dealii::DoFHandler<3>::active_cell_iterator dof_cell(&m.tria,
+                                                               cell->level(),
+                                                               cell->index(),
+                                                               &m.dof_handler);
+    m.unit_points.resize(points.size());
+    m.mapping.transform_points_real_to_unit_cell(
+      cell,
+      dealii::make_array_view(points),
+      dealii::make_array_view(m.unit_points));
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        if (!std::isfinite(m.unit_points[i][0]))
+          {
+            bool vertex = false;
+            for (const unsigned int v : cell->vertex_indices())
+              if (cell->vertex(v).distance(points[i]) <=
+                  1e-12 * cell->diameter())
+                {
+                  m.unit_points[i] =
+                    dealii::GeometryInfo<3>::unit_cell_vertex(v);
+                  vertex = true;
+                }
+            if (!vertex)
+              m.unit_points[i] =
+                m.mapping.transform_real_to_unit_cell(cell, points[i]);
+          }
+        m.unit_points[i] =
+          dealii::GeometryInfo<3>::project_to_unit_cell(m.unit_points[i]);
+      }
+    m.evaluator.reinit(cell, dealii::make_array_view(m.unit_points));
+    const auto flags =
+      dealii::EvaluationFlags::values | dealii::EvaluationFlags::gradients;
+    values.resize(m.fields.size());
+    m.local.reinit(m.fe.n_dofs_per_cell());
+    for (unsigned int k = 0; k < m.fields.size(); ++k)
+      {
+        dof_cell->get_dof_values(m.fields[k], m.local);
+        m.evaluator.evaluate(dealii::make_array_view(m.local), flags);
+        values[k].resize(points.size());
+        for (unsigned int i = 0; i < points.size(); ++i)
+          values[k][i] = {m.evaluator.get_value(i),
+                          m.evaluator.get_gradient(i)};
+      }
+  }
+
+  unsigned long long
+  LaplaceFields::n_dofs() const
+  {
+    return impl->dof_handler.n_dofs();
+  }
+
+  const std::vector<unsigned int> &
+  LaplaceFields::iterations() const
+  {
+    return impl->iterations;
+  }
+
+  unsigned int
+  LaplaceFields::n_tangled_cells() const
+  {
+    return impl->n_tangled;
+  }
+} // namespace systole::Fibres
