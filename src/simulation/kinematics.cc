@@ -42,6 +42,13 @@ namespace systole
                       "100",
                       dealii::Patterns::Double(0.0),
                       "T in lambda(t) = 1 + A sin^2(pi t / T). Units: ms.");
+    prm.declare_entry(
+      "Cavities",
+      "endocardium",
+      dealii::Patterns::List(dealii::Patterns::Anything(), 1),
+      "Boundary parts (comma-separated) that each bound a cavity closed by "
+      "the plane of the base, e.g. 'lv_endocardium, rv_endocardium' on a "
+      "biventricular mesh; each gets its own columns <part>_volume and <part>_volume_mL. Units: -.");
     prm.leave_subsection();
   }
 
@@ -51,6 +58,8 @@ namespace systole
     KinematicsParameters p;
     p.amplitude = prm.get_double({"Kinematics"}, "Stretch amplitude");
     p.period    = prm.get_double({"Kinematics"}, "Period");
+    p.cavities =
+      dealii::Utilities::split_string_list(prm.get({"Kinematics"}, "Cavities"));
     AssertThrow(p.period > 0,
                 dealii::ExcMessage("Kinematics / Period must be positive."));
     return p;
@@ -101,7 +110,8 @@ namespace systole
 
     dealii::parallel::distributed::Triangulation<3> tria(comm);
     const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
-    Geometry::require_boundary(tria, names, "endocardium");
+    for (const auto &part : kinematics.cavities)
+      Geometry::require_boundary(tria, names, part);
     Geometry::require_boundary(tria, names, "base");
     const Geometry::Plane lid =
       Geometry::boundary_plane(tria, names.id("base"), "base");
@@ -118,8 +128,18 @@ namespace systole
     LA::MPI::Vector u_owned(owned, comm);
     LA::MPI::Vector u(owned, relevant, comm);
 
-    const Mechanics::CavityVolume cavity(names.id("endocardium"), lid);
-    const double volume0 = cavity.volume(mapping, dof_handler, u, n_q);
+    // Each cavity closed by its own lid in the common base plane: the field
+    // of CavityVolume has no flux through that plane, so each lid adds 0.
+    std::vector<Mechanics::CavityVolume> cavities;
+    for (const auto &part : kinematics.cavities)
+      cavities.emplace_back(names.id(part), lid);
+    const auto volumes = [&]() {
+      std::vector<double> v;
+      for (const auto &cavity : cavities)
+        v.push_back(cavity.volume(mapping, dof_handler, u, n_q));
+      return v;
+    };
+    const std::vector<double> volumes0 = volumes();
 
     {
       std::ostringstream o;
@@ -128,10 +148,15 @@ namespace systole
         << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
         << " rank(s)";
       logger.line(o.str());
-      o.str("");
-      o << "Undeformed cavity volume: " << std::setprecision(10) << volume0
-        << " mm^3 (" << Units::mm3_to_mL(volume0) << " mL)";
-      logger.line(o.str());
+      for (unsigned int c = 0; c < cavities.size(); ++c)
+        {
+          o.str("");
+          o << "Undeformed cavity volume"
+            << (cavities.size() > 1 ? " " + kinematics.cavities[c] : "") << ": "
+            << std::setprecision(10) << volumes0[c] << " mm^3 ("
+            << Units::mm3_to_mL(volumes0[c]) << " mL)";
+          logger.line(o.str());
+        }
     }
 
     IO::ResultsFile results(run.output_directory, parameter_text, comm);
@@ -154,15 +179,22 @@ namespace systole
                                          dof_handler,
                                          UniformStretch(lambda, lid.point),
                                          u_owned);
-        u                   = u_owned;
-        const double volume = cavity.volume(mapping, dof_handler, u, n_q);
+        u                           = u_owned;
+        const std::vector<double> v = volumes();
 
-        results.append_timeseries(
-          {{"time", "ms", time},
-           {"step", "-", static_cast<double>(step)},
-           {"stretch", "-", lambda},
-           {"volume", "mm^3", volume},
-           {"volume_mL", "mL", Units::mm3_to_mL(volume)}});
+        std::vector<IO::Column> row = {{"time", "ms", time},
+                                       {"step", "-", static_cast<double>(step)},
+                                       {"stretch", "-", lambda}};
+        for (unsigned int c = 0; c < cavities.size(); ++c)
+          {
+            // Named as Problem = mechanics names its cavities.
+            const std::string name = cavities.size() > 1
+                                       ? kinematics.cavities[c] + "_volume"
+                                       : "volume";
+            row.push_back({name, "mm^3", v[c]});
+            row.push_back({name + "_mL", "mL", Units::mm3_to_mL(v[c])});
+          }
+        results.append_timeseries(row);
 
         const bool field_step =
           run.field_output_interval > 0 &&

@@ -3,6 +3,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <string>
+#include <vector>
 
 namespace dealii
 {
@@ -21,6 +22,8 @@ namespace systole
   {
     double amplitude = 0.1;   ///< A [-]
     double period    = 100.0; ///< T [ms]
+    /// Boundary parts that each bound a cavity closed by the base plane.
+    std::vector<std::string> cavities = {"endocardium"};
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -34,7 +37,8 @@ namespace systole
 
   /// Run the "cavity volume" problem: mesh, undeformed cavity volume, then the
   /// prescribed motion step by step, writing the time series (time, step,
-  /// stretch, volume, volume_mL) and the displacement field to the results
+  /// stretch, volume, volume_mL; with several cavities <part>_volume and
+  /// <part>_volume_mL instead) and the displacement field to the results
   /// file.
   void
   run_cavity_volume_problem(const dealii::ParameterHandler &prm,

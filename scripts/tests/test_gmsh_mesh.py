@@ -1,0 +1,81 @@
+"""systole_post.gmsh_mesh on tiny hand-made meshes with known answers."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from systole_post.gmsh_mesh import cavity_volume, read_msh, scaled_jacobians
+
+
+def write_block_with_cavity(path, shear=0.0, flip=False):
+    """A 3 x 3 x 2 block of unit cubes (z in [0, 2]) without its top centre cube: a cavity of
+    volume 1 open to the lid plane z = 2. Its 5 walls are the physical surface "endo" (tag 1),
+    written with mixed orientations as gmsh does; the top faces are "base" (tag 2). With
+    @p shear, x += shear * z (volumes unchanged). With @p flip, one cell is written inverted."""
+    index = {}
+    nodes = []
+    for k, j, i in itertools.product(range(3), range(4), range(4)):
+        index[(i, j, k)] = len(nodes) + 1
+        nodes.append((i + shear * k, j, k))
+    hexes, quads = [], []
+    for i, j, k in itertools.product(range(3), range(3), range(2)):
+        if (i, j, k) == (1, 1, 1):
+            continue
+        corners = [(i, j, k), (i + 1, j, k), (i + 1, j + 1, k), (i, j + 1, k)]
+        cell = [index[c] for c in corners] + [index[(a, b, c + 1)] for a, b, c in corners]
+        if flip and (i, j, k) == (0, 0, 0):
+            cell = cell[4:] + cell[:4]
+        hexes.append(cell)
+    cavity = {"x-": [(1, 1, 1), (1, 2, 1), (1, 2, 2), (1, 1, 2)],
+              "x+": [(2, 1, 1), (2, 1, 2), (2, 2, 2), (2, 2, 1)],
+              "y-": [(1, 1, 1), (1, 1, 2), (2, 1, 2), (2, 1, 1)],
+              "y+": [(1, 2, 1), (2, 2, 1), (2, 2, 2), (1, 2, 2)],
+              "z-": [(1, 1, 1), (2, 1, 1), (2, 2, 1), (1, 2, 1)]}
+    for n, face in enumerate(cavity.values()):
+        ids = [index[c] for c in face]
+        quads.append((1, ids[::-1] if n % 2 else ids))
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2",
+             '2 1 "endo"', '2 2 "base"', "$EndPhysicalNames", "$Nodes", str(len(nodes))]
+    lines += [f"{n + 1} {x} {y} {z}" for n, (x, y, z) in enumerate(nodes)]
+    lines += ["$EndNodes", "$Elements", str(len(hexes) + len(quads))]
+    element = 1
+    for tag, q in quads:
+        lines.append(f"{element} 3 2 {tag} {tag} " + " ".join(map(str, q)))
+        element += 1
+    for h in hexes:
+        lines.append(f"{element} 5 2 1 1 " + " ".join(map(str, h)))
+        element += 1
+    lines += ["$EndElements", ""]
+    path.write_text("\n".join(lines))
+    return path
+
+
+def test_reader_and_cube_quality(tmp_path):
+    mesh = read_msh(write_block_with_cavity(tmp_path / "block.msh"))
+    assert mesh.nodes.shape == (48, 3)
+    assert mesh.hexahedra.shape == (17, 8)
+    assert mesh.names == {"endo": 1, "base": 2}
+    assert mesh.quads[1].shape == (5, 4)
+    np.testing.assert_allclose(scaled_jacobians(mesh), 1.0, rtol=0, atol=1e-14)
+
+
+def test_sheared_and_inverted_cells(tmp_path):
+    sheared = read_msh(write_block_with_cavity(tmp_path / "s.msh", shear=1.0))
+    # A unit cube sheared by x += z: the corner angle between e_x and (1, 0, 1)/sqrt 2.
+    np.testing.assert_allclose(scaled_jacobians(sheared), 1 / np.sqrt(2), atol=1e-14)
+    flipped = read_msh(write_block_with_cavity(tmp_path / "f.msh", flip=True))
+    sj = scaled_jacobians(flipped)
+    assert sj.min() == pytest.approx(-1.0) and np.sum(sj < 0) == 1
+
+
+@pytest.mark.parametrize("shear", [0.0, 0.3])
+def test_cavity_volume_of_the_open_cube(tmp_path, shear):
+    mesh = read_msh(write_block_with_cavity(tmp_path / "b.msh", shear=shear))
+    assert cavity_volume(mesh, "endo", lid_z=2.0) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_cavity_volume_needs_its_ring_in_the_lid_plane(tmp_path):
+    mesh = read_msh(write_block_with_cavity(tmp_path / "b.msh"))
+    with pytest.raises(ValueError, match="off the lid plane"):
+        cavity_volume(mesh, "endo", lid_z=1.5)
