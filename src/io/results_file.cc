@@ -2,6 +2,7 @@
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/numerics/data_out.h>
 
 #include <hdf5.h>
@@ -697,6 +698,89 @@ namespace systole::IO
     const std::vector<std::pair<std::string, std::string>> &texts)
   {
     write_statistics_to(impl->file, values, texts);
+    impl->flush();
+  }
+
+  void
+  ResultsFile::write_table(const std::string              &path,
+                           const std::vector<TableColumn> &columns)
+  {
+    // Open or create every group on the path (creation order tracked, so
+    // readers list the columns in the order written). Collective: every rank
+    // makes the same calls and writes the same values.
+    std::vector<hid_t> groups = {impl->file};
+    std::string        so_far;
+    for (const auto &part : dealii::Utilities::split_string_list(path, '/'))
+      {
+        if (part.empty())
+          continue;
+        so_far += "/" + part;
+        const hid_t parent = groups.back();
+        if (H5Lexists(parent, part.c_str(), H5P_DEFAULT) > 0)
+          groups.push_back(checked(H5Gopen2(parent, part.c_str(), H5P_DEFAULT),
+                                   "group " + so_far));
+        else
+          {
+            const hid_t plist =
+              checked(H5Pcreate(H5P_GROUP_CREATE), "group plist");
+            check(H5Pset_link_creation_order(plist,
+                                             H5P_CRT_ORDER_TRACKED |
+                                               H5P_CRT_ORDER_INDEXED),
+                  "creation order");
+            groups.push_back(checked(
+              H5Gcreate2(parent, part.c_str(), H5P_DEFAULT, plist, H5P_DEFAULT),
+              "group " + so_far));
+            H5Pclose(plist);
+          }
+      }
+    const hid_t group = groups.back();
+    for (const auto &column : columns)
+      {
+        const bool    is_text = !column.text.empty();
+        const hsize_t n = is_text ? column.text.size() : column.values.size();
+        const hid_t   space =
+          checked(H5Screate_simple(1, &n, nullptr), "space " + column.name);
+        hid_t       type = H5T_NATIVE_DOUBLE;
+        std::string buffer;
+        if (is_text)
+          {
+            std::size_t width = 1;
+            for (const auto &s : column.text)
+              width = std::max(width, s.size());
+            type = checked(H5Tcopy(H5T_C_S1), "string type");
+            check(H5Tset_size(type, width), "string size");
+            check(H5Tset_strpad(type, H5T_STR_NULLPAD), "string padding");
+            check(H5Tset_cset(type, H5T_CSET_UTF8), "utf8");
+            buffer.assign(width * n, '\0');
+            for (hsize_t i = 0; i < n; ++i)
+              buffer.replace(i * width, column.text[i].size(), column.text[i]);
+          }
+        const hid_t dataset = checked(H5Dcreate2(group,
+                                                 column.name.c_str(),
+                                                 type,
+                                                 space,
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT),
+                                      so_far + "/" + column.name);
+        if (n > 0)
+          check(H5Dwrite(dataset,
+                         type,
+                         H5S_ALL,
+                         H5S_ALL,
+                         H5P_DEFAULT,
+                         is_text ? static_cast<const void *>(buffer.data())
+                                 : column.values.data()),
+                so_far + "/" + column.name);
+        if (!is_text)
+          write_string_attribute(dataset, "unit", column.unit);
+        H5Dclose(dataset);
+        if (is_text)
+          H5Tclose(type);
+        H5Sclose(space);
+      }
+    for (std::size_t g = groups.size() - 1; g > 0; --g)
+      H5Gclose(groups[g]);
     impl->flush();
   }
 

@@ -23,6 +23,16 @@ namespace systole::IO
     double      value;
   };
 
+  /// One column of a small table written at once (ResultsFile::write_table()):
+  /// numbers (float64, with a unit) or, when @p text is not empty, strings.
+  struct TableColumn
+  {
+    std::string              name;
+    std::string              unit;
+    std::vector<double>      values;
+    std::vector<std::string> text;
+  };
+
   /// The results file of a run, `<directory>/results.h5` (HDF5, written
   /// collectively by all ranks through MPI-IO), with an XDMF companion
   /// `fields.xdmf` that ParaView opens:
@@ -103,6 +113,16 @@ namespace systole::IO
     write_statistics(
       const std::vector<Column>                              &values,
       const std::vector<std::pair<std::string, std::string>> &texts = {});
+
+    /// Write the table /@p path/<column> once: every column a 1-D dataset of
+    /// its rows, float64 with attribute unit, or fixed-length strings (for
+    /// names); the groups of @p path (e.g. "calibration/parameters") are
+    /// created as needed, the columns in creation order. For results written
+    /// once at the end of a run (a calibration's parameters); the
+    /// time-series, summary and event tables are not touched.
+    void
+    write_table(const std::string              &path,
+                const std::vector<TableColumn> &columns);
 
     /// Path of the HDF5 file.
     const std::string &
