@@ -3,7 +3,7 @@
 
 Order (STYLE.md 2.3): base <- geometry <- fibres <- materials <- {electrophysiology,
 mechanics} <- circulation <- postprocess <- simulation; io sits beside simulation and may use any
-layer below simulation. Exit status 1 lists every offending include.
+layer below simulation; inverse (calibration) sits beside circulation. Exit status 1 lists every offending include.
 """
 
 import re
@@ -19,6 +19,7 @@ ORDER = {
     "mechanics": 4,
     "circulation": 5,
     "io": 5,
+    "inverse": 5,
     "postprocess": 6,
     "simulation": 7,
 }
