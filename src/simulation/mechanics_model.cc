@@ -12,14 +12,17 @@
 
 namespace systole
 {
-  MechanicsModel::MechanicsModel(const dealii::ParameterHandler &prm,
-                                 const RunParameters            &run,
-                                 Logger                         &logger,
-                                 const MPI_Comm                  comm,
-                                 const std::string              &saved_mesh)
+  MechanicsModel::MechanicsModel(
+    const dealii::ParameterHandler        &prm,
+    const RunParameters                   &run,
+    Logger                                &logger,
+    const MPI_Comm                         comm,
+    const std::string                     &saved_mesh,
+    std::unique_ptr<Materials::PassiveLaw> passive_law)
     : geometry(Geometry::Parameters::parse(prm, run.parameter_directory))
     , params(Mechanics::Parameters::parse(prm))
-    , passive(Materials::create_passive_law(prm))
+    , passive(passive_law ? std::move(passive_law)
+                          : Materials::create_passive_law(prm))
     , volumetric(Materials::create_volumetric_law(prm))
     , tria(comm)
   {

@@ -33,11 +33,14 @@ namespace systole
   {
     /// @p saved_mesh: load the mesh refinement from this file (a
     /// checkpoint's, see Geometry::create_mesh()) instead of refining.
-    MechanicsModel(const dealii::ParameterHandler &prm,
-                   const RunParameters            &run,
-                   Logger                         &logger,
-                   const MPI_Comm                  comm,
-                   const std::string              &saved_mesh = "");
+    /// @p passive_law: use this law instead of the one of Material / Passive
+    /// law (the calibration passes one whose parameters it changes).
+    MechanicsModel(const dealii::ParameterHandler        &prm,
+                   const RunParameters                   &run,
+                   Logger                                &logger,
+                   const MPI_Comm                         comm,
+                   const std::string                     &saved_mesh  = "",
+                   std::unique_ptr<Materials::PassiveLaw> passive_law = {});
 
     /// One line for the log: code version, problem, cells, degree, DOFs,
     /// ranks, passive law, linear solver.

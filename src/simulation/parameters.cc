@@ -13,6 +13,7 @@
 #include "materials/land.h"
 #include "materials/tension_factory.h"
 #include "mechanics/parameters.h"
+#include "simulation/calibration.h"
 #include "simulation/kinematics.h"
 #include "simulation/unloading.h"
 
@@ -90,7 +91,7 @@ namespace systole
       "cavity volume",
       Selection(
         "cavity volume|mechanics|heartbeat|electrophysiology|circulation|"
-        "cell|unloading"),
+        "cell|unloading|calibration"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
@@ -111,7 +112,11 @@ namespace systole
       "peak calcium of every beat. 'unloading': the stress-free reference "
       "of the geometry imaged at Unloading / Image pressure (backward "
       "displacement fixed point; writes the unloaded gmsh mesh; subsections "
-      "Unloading, Material, Mechanics).");
+      "Unloading, Material, Mechanics). 'calibration': fit passive parameters "
+      "of the Material to an end-diastolic pressure-volume relation (pairs, "
+      "Klotz's EDPVR, or synthetic data) by bounded least squares, each "
+      "evaluation a pressure inflation (subsections Calibration, Material, "
+      "Mechanics).");
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -219,6 +224,7 @@ namespace systole
     Electrophysiology::SingleCell::Pacing::declare(prm);
     Postprocess::Parameters::declare(prm);
     UnloadingParameters::declare(prm);
+    CalibrationParameters::declare(prm);
   }
 
   void
@@ -272,6 +278,8 @@ namespace systole
     Electrophysiology::SingleCell::Pacing::parse(prm);
     Postprocess::Parameters::parse(prm);
     UnloadingParameters::parse(prm);
+    if (prm.get("Problem") == "calibration")
+      CalibrationParameters::parse(prm);
   }
 
   RunParameters

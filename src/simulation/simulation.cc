@@ -7,6 +7,7 @@
 #include "base/logger.h"
 #include "io/checkpoint.h"
 #include "io/results_file.h"
+#include "simulation/calibration.h"
 #include "simulation/cell_run.h"
 #include "simulation/circulation_run.h"
 #include "simulation/electrophysiology_run.h"
@@ -139,6 +140,12 @@ namespace systole
                        impl->text,
                        impl->logger,
                        impl->comm);
+    else if (impl->run.problem == "calibration")
+      run_calibration_problem(impl->prm,
+                              impl->run,
+                              impl->text,
+                              impl->logger,
+                              impl->comm);
     else
       AssertThrow(false,
                   dealii::ExcMessage("Problem '" + impl->run.problem +

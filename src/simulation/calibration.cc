@@ -1,0 +1,559 @@
+#include "simulation/calibration.h"
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
+
+#include "base/logger.h"
+#include "base/units.h"
+#include "io/results_file.h"
+#include "mechanics/problem.h"
+#include "simulation/mechanics_model.h"
+#include "simulation/parameters.h"
+
+#include "inverse/adjustable_law.h"
+#include "inverse/inflation.h"
+#include "inverse/klotz.h"
+#include "inverse/least_squares.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <random>
+#include <set>
+#include <sstream>
+
+namespace systole
+{
+  namespace
+  {
+    const std::string section = "Calibration / ";
+
+    std::vector<double>
+    parse_numbers(const std::string &text, const std::string &entry)
+    {
+      std::vector<double> values;
+      for (const auto &item : dealii::Utilities::split_string_list(text, ','))
+        {
+          std::istringstream in(item);
+          double             v;
+          std::string        rest;
+          AssertThrow((in >> v) && !(in >> rest),
+                      dealii::ExcMessage(section + entry + ": '" + item +
+                                         "' is not a number (give a "
+                                         "comma-separated list)."));
+          values.push_back(v);
+        }
+      return values;
+    }
+
+    /// One bound per parameter, or one for all.
+    std::vector<double>
+    parse_bounds(const std::string &text,
+                 const std::string &entry,
+                 const unsigned int n)
+    {
+      auto values = parse_numbers(text, entry);
+      if (values.size() == 1)
+        values.assign(n, values[0]);
+      AssertThrow(values.size() == n,
+                  dealii::ExcMessage(section + entry + " has " +
+                                     std::to_string(values.size()) +
+                                     " values for " + std::to_string(n) +
+                                     " parameters: give one per parameter "
+                                     "or one for all."));
+      return values;
+    }
+
+    std::string
+    fixed(const double v, const int digits)
+    {
+      std::ostringstream o;
+      o << std::fixed << std::setprecision(digits) << v;
+      return o.str();
+    }
+  } // namespace
+
+  void
+  CalibrationParameters::declare(dealii::ParameterHandler &prm)
+  {
+    using namespace dealii::Patterns;
+    prm.enter_subsection("Calibration");
+    prm.declare_entry(
+      "Parameters",
+      "C",
+      Anything(),
+      "Problem = calibration: the entries of subsection Material / <Passive "
+      "law> to fit, 1 to 4, comma-separated (e.g. 'a, a_f' for "
+      "Holzapfel-Ogden, 'C' for Guccione). Each is fitted as a positive scale "
+      "factor of its value in the file (the initial guess), so stiffnesses "
+      "and exponents are fitted alike. Units: -.");
+    prm.declare_entry("Lower bounds",
+                      "0.1",
+                      Anything(),
+                      "Lower bounds of the fitted scale factors (fitted value "
+                      "/ value in the file), one per parameter or one for "
+                      "all; > 0 and <= 1. Units: -.");
+    prm.declare_entry("Upper bounds",
+                      "10",
+                      Anything(),
+                      "Upper bounds of the fitted scale factors, one per "
+                      "parameter or one for all; >= 1. Units: -.");
+    prm.declare_entry(
+      "Target",
+      "Klotz",
+      Selection("Klotz|pressure-volume pairs|synthetic"),
+      "What to fit. 'Klotz': the end-diastolic pressure-volume relation of "
+      "Klotz et al. 2006 (Am. J. Physiol. 291:H403) through (Klotz "
+      "end-diastolic pressure, Klotz end-diastolic volume), at the Target "
+      "pressures. 'pressure-volume pairs': the pairs of Pressure-volume "
+      "pairs. 'synthetic': the volumes of this model with the entries set to "
+      "Synthetic values at the Target pressures, with relative Gaussian "
+      "noise of standard deviation Synthetic noise (a round-trip test). The "
+      "residuals are relative: V_model / V_target - 1 at each pressure.");
+    prm.declare_entry("Pressure-volume pairs",
+                      "",
+                      Anything(),
+                      "Target = pressure-volume pairs: 'p: V, p: V, ...' "
+                      "with p in mmHg (> 0) and V in mL (cavity volume). At "
+                      "least as many pairs as parameters (one more for the "
+                      "covariance). Units: mmHg: mL.");
+    prm.declare_entry("Target pressures",
+                      "5, 10, 15, 20, 25",
+                      Anything(),
+                      "Target = Klotz or synthetic: the pressures at which "
+                      "the target volumes are taken (> 0, comma-separated). "
+                      "Units: mmHg.");
+    prm.declare_entry("Klotz end-diastolic pressure",
+                      "10",
+                      Double(0.0),
+                      "Target = Klotz: the measured end-diastolic pressure "
+                      "EDP_m (> 0). Units: mmHg.");
+    prm.declare_entry(
+      "Klotz end-diastolic volume",
+      "0",
+      Double(0.0),
+      "Target = Klotz: the measured end-diastolic volume V_m; 0: the cavity "
+      "volume of this model with the parameters of the file at Klotz "
+      "end-diastolic pressure (an inflation before the fit). Units: mL.");
+    prm.declare_entry("Synthetic values",
+                      "",
+                      Anything(),
+                      "Target = synthetic: the true values of the fitted "
+                      "entries (one per parameter, > 0). Units: those of the "
+                      "entries (kPa for stiffnesses, - for exponents).");
+    prm.declare_entry("Synthetic noise",
+                      "0",
+                      Double(0.0, 0.5),
+                      "Target = synthetic: standard deviation of the relative "
+                      "Gaussian noise on the synthetic volumes (V (1 + noise "
+                      "N(0, 1))). Units: -.");
+    prm.declare_entry("Noise seed",
+                      "42",
+                      Integer(0),
+                      "Target = synthetic: seed of the noise (std::mt19937). "
+                      "Units: -.");
+    prm.declare_entry("Finite difference step",
+                      "1e-3",
+                      Double(1e-8, 0.1),
+                      "Relative step of the forward differences of the "
+                      "volumes in the parameters (each value times 1 + step). "
+                      "Units: -.");
+    prm.declare_entry("Pressure step",
+                      "2.5",
+                      Double(1e-6),
+                      "Largest pressure increment of the inflation ramp (cut "
+                      "in half when Newton fails, up to Mechanics / Maximum "
+                      "step cuts times). Units: mmHg.");
+    prm.declare_entry("Maximum iterations",
+                      "30",
+                      Integer(1),
+                      "Iterations of the least-squares solver (PETSc TAO, "
+                      "bounded regularized Gauss-Newton; PETSc options with "
+                      "the prefix -calibration_ reach it). Units: -.");
+    prm.leave_subsection();
+  }
+
+  CalibrationParameters
+  CalibrationParameters::parse(const dealii::ParameterHandler &prm)
+  {
+    CalibrationParameters          p;
+    const std::vector<std::string> s = {"Calibration"};
+    p.parameters =
+      dealii::Utilities::split_string_list(prm.get(s, "Parameters"), ',');
+    const unsigned int n = p.parameters.size();
+    AssertThrow(n >= 1 && n <= 4,
+                dealii::ExcMessage(section + "Parameters names " +
+                                   std::to_string(n) +
+                                   " entries: fit 1 to 4 parameters."));
+    AssertThrow(
+      std::set<std::string>(p.parameters.begin(), p.parameters.end()).size() ==
+        n,
+      dealii::ExcMessage(section + "Parameters names an entry twice."));
+    p.lower = parse_bounds(prm.get(s, "Lower bounds"), "Lower bounds", n);
+    p.upper = parse_bounds(prm.get(s, "Upper bounds"), "Upper bounds", n);
+    for (unsigned int i = 0; i < n; ++i)
+      AssertThrow(p.lower[i] > 0 && p.lower[i] <= 1 && p.upper[i] >= 1,
+                  dealii::ExcMessage(
+                    section + "Lower bounds and Upper bounds of " +
+                    p.parameters[i] + " (" +
+                    dealii::Utilities::to_string(p.lower[i]) + ", " +
+                    dealii::Utilities::to_string(p.upper[i]) +
+                    ") must satisfy 0 < lower <= 1 <= upper: they bound the "
+                    "scale factor of the value in the file, which starts at "
+                    "1."));
+    p.target = prm.get(s, "Target");
+    if (p.target == "pressure-volume pairs")
+      {
+        for (const auto &item : dealii::Utilities::split_string_list(
+               prm.get(s, "Pressure-volume pairs"),
+               ','))
+          {
+            const auto pv = dealii::Utilities::split_string_list(item, ':');
+            AssertThrow(pv.size() == 2,
+                        dealii::ExcMessage(
+                          section + "Pressure-volume pairs: '" + item +
+                          "' is not 'p: V' (p in mmHg, V in mL)."));
+            const double pressure =
+              parse_numbers(pv[0], "Pressure-volume pairs")[0];
+            const double volume =
+              parse_numbers(pv[1], "Pressure-volume pairs")[0];
+            AssertThrow(pressure > 0 && volume > 0,
+                        dealii::ExcMessage(section +
+                                           "Pressure-volume pairs: '" + item +
+                                           "' needs p > 0 mmHg and V > 0 mL."));
+            p.pairs.emplace_back(pressure, volume);
+          }
+        std::sort(p.pairs.begin(), p.pairs.end());
+        for (unsigned int i = 1; i < p.pairs.size(); ++i)
+          AssertThrow(
+            p.pairs[i].first > p.pairs[i - 1].first,
+            dealii::ExcMessage(
+              section + "Pressure-volume pairs gives two volumes at " +
+              dealii::Utilities::to_string(p.pairs[i].first) + " mmHg."));
+        AssertThrow(p.pairs.size() >= n,
+                    dealii::ExcMessage(
+                      section + "Pressure-volume pairs has " +
+                      std::to_string(p.pairs.size()) + " pairs for " +
+                      std::to_string(n) +
+                      " parameters: give at least as many pairs as "
+                      "parameters (one more for the covariance)."));
+      }
+    else
+      {
+        p.pressures_mmHg =
+          parse_numbers(prm.get(s, "Target pressures"), "Target pressures");
+        std::sort(p.pressures_mmHg.begin(), p.pressures_mmHg.end());
+        AssertThrow(!p.pressures_mmHg.empty() && p.pressures_mmHg[0] > 0 &&
+                      std::adjacent_find(p.pressures_mmHg.begin(),
+                                         p.pressures_mmHg.end()) ==
+                        p.pressures_mmHg.end() &&
+                      p.pressures_mmHg.size() >= n,
+                    dealii::ExcMessage(
+                      section +
+                      "Target pressures must be distinct, > 0 mmHg, and at "
+                      "least as many as the parameters (one more for the "
+                      "covariance)."));
+      }
+    p.klotz_edp_mmHg = prm.get_double(s, "Klotz end-diastolic pressure");
+    p.klotz_edv_mL   = prm.get_double(s, "Klotz end-diastolic volume");
+    AssertThrow(p.target != "Klotz" || p.klotz_edp_mmHg > 0,
+                dealii::ExcMessage(
+                  section + "Klotz end-diastolic pressure must be > 0 mmHg."));
+    if (p.target == "synthetic")
+      {
+        p.synthetic_values =
+          parse_numbers(prm.get(s, "Synthetic values"), "Synthetic values");
+        AssertThrow(p.synthetic_values.size() == n,
+                    dealii::ExcMessage(section +
+                                       "Synthetic values needs one value per "
+                                       "parameter of Calibration / "
+                                       "Parameters (" +
+                                       std::to_string(n) + ")."));
+        for (const double v : p.synthetic_values)
+          AssertThrow(v > 0,
+                      dealii::ExcMessage(section +
+                                         "Synthetic values must be > 0."));
+      }
+    p.synthetic_noise        = prm.get_double(s, "Synthetic noise");
+    p.noise_seed             = prm.get_integer(s, "Noise seed");
+    p.finite_difference_step = prm.get_double(s, "Finite difference step");
+    p.pressure_step_mmHg     = prm.get_double(s, "Pressure step");
+    p.max_iterations         = prm.get_integer(s, "Maximum iterations");
+    return p;
+  }
+
+  void
+  run_calibration_problem(const dealii::ParameterHandler &prm,
+                          const RunParameters            &run,
+                          const std::string              &parameter_text,
+                          Logger                         &logger,
+                          const MPI_Comm                  comm)
+  {
+    // Hundreds of Newton solves: their histories only on request.
+    logger.set_details(run.solver_log == "on");
+    const auto         start = std::chrono::steady_clock::now();
+    const auto         cal   = CalibrationParameters::parse(prm);
+    const unsigned int n     = cal.parameters.size();
+
+    Inverse::LawRebuilder     rebuilder(prm,
+                                    cal.parameters,
+                                    "Calibration / Parameters");
+    const std::vector<double> initial = rebuilder.initial_values();
+    for (unsigned int i = 0; i < n; ++i)
+      AssertThrow(initial[i] > 0,
+                  dealii::ExcMessage(
+                    "Calibration / Parameters: Material / " +
+                    rebuilder.law_name() + " / " + cal.parameters[i] +
+                    " is 0 in the file; a fitted entry is a scale factor of "
+                    "its value there, so give it a positive starting value."));
+    auto adjustable =
+      std::make_unique<Inverse::AdjustableLaw>(rebuilder.build(initial));
+    Inverse::AdjustableLaw &law = *adjustable;
+    MechanicsModel model(prm, run, logger, comm, "", std::move(adjustable));
+    Mechanics::Problem &problem = *model.problem;
+    logger.line(model.banner(run));
+    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+
+    // The target pressures [mmHg] (ascending).
+    std::vector<double> p_mmHg = cal.pressures_mmHg;
+    if (cal.target == "pressure-volume pairs")
+      {
+        p_mmHg.clear();
+        for (const auto &[p, v] : cal.pairs)
+          p_mmHg.push_back(p);
+      }
+    const unsigned int  m = p_mmHg.size();
+    std::vector<double> p_kPa(m);
+    for (unsigned int j = 0; j < m; ++j)
+      p_kPa[j] = Units::mmHg_to_kPa(p_mmHg[j]);
+    const auto inflation_over = [&](const std::vector<double> &pressures) {
+      return Inverse::PassiveInflation(problem,
+                                       law,
+                                       rebuilder,
+                                       pressures,
+                                       Units::mmHg_to_kPa(
+                                         cal.pressure_step_mmHg),
+                                       model.params.max_step_cuts,
+                                       logger);
+    };
+    Inverse::PassiveInflation inflation = inflation_over(p_kPa);
+    // The same numbers on every rank, bit for bit (TAO runs on each).
+    const auto broadcast = [&](std::vector<double> &v) {
+      MPI_Bcast(v.data(), v.size(), MPI_DOUBLE, 0, comm);
+    };
+
+    // The target volumes [mL].
+    std::vector<double> target_mL(m);
+    double       klotz_edv = cal.klotz_edv_mL, klotz_v0 = 0, klotz_v30 = 0;
+    unsigned int extra_solves = 0;
+    if (cal.target == "pressure-volume pairs")
+      for (unsigned int j = 0; j < m; ++j)
+        target_mL[j] = cal.pairs[j].second;
+    else if (cal.target == "Klotz")
+      {
+        if (klotz_edv == 0)
+          {
+            auto own = inflation_over({Units::mmHg_to_kPa(cal.klotz_edp_mmHg)});
+            std::vector<double> v = own.volumes(initial, nullptr, 0.0);
+            broadcast(v);
+            klotz_edv = Units::mm3_to_mL(v[0]);
+            extra_solves += own.counts().forward_solves;
+            logger.line("Klotz: the model's own volume at " +
+                        fixed(cal.klotz_edp_mmHg, 2) +
+                        " mmHg with the "
+                        "parameters of the file: " +
+                        fixed(klotz_edv, 3) + " mL");
+          }
+        const Inverse::KlotzCurve curve(cal.klotz_edp_mmHg, klotz_edv);
+        klotz_v0  = curve.v0_mL();
+        klotz_v30 = curve.v30_mL();
+        for (unsigned int j = 0; j < m; ++j)
+          target_mL[j] = curve.volume_mL(p_mmHg[j]);
+        logger.line("Klotz EDPVR through (" + fixed(cal.klotz_edp_mmHg, 2) +
+                    " mmHg, " + fixed(klotz_edv, 3) +
+                    " mL): V0 = " + fixed(klotz_v0, 3) +
+                    " mL, V30 = " + fixed(klotz_v30, 3) + " mL");
+      }
+    else
+      {
+        auto                truth = inflation_over(p_kPa);
+        std::vector<double> v =
+          truth.volumes(cal.synthetic_values, nullptr, 0.0);
+        broadcast(v);
+        extra_solves += truth.counts().forward_solves;
+        std::mt19937                     rng(cal.noise_seed);
+        std::normal_distribution<double> normal(0.0, 1.0);
+        for (unsigned int j = 0; j < m; ++j)
+          target_mL[j] =
+            Units::mm3_to_mL(v[j]) * (1 + cal.synthetic_noise * normal(rng));
+      }
+
+    // The least-squares problem in the scale factors x (value = x initial).
+    Inverse::LeastSquaresProblem ls;
+    ls.n_residuals = m;
+    ls.initial.assign(n, 1.0);
+    ls.lower = cal.lower;
+    ls.upper = cal.upper;
+    std::vector<double> initial_model_mL;
+    unsigned int        evaluation = 0;
+    ls.evaluate                    = [&](const std::vector<double> &x,
+                      std::vector<double>       &r,
+                      std::vector<double>       *J) {
+      std::vector<double> values(n);
+      for (unsigned int i = 0; i < n; ++i)
+        values[i] = x[i] * initial[i];
+      std::vector<double> dV;
+      std::vector<double> V = inflation.volumes(values,
+                                                J ? &dV : nullptr,
+                                                cal.finite_difference_step);
+      broadcast(V);
+      if (J)
+        broadcast(dV);
+      double rss = 0;
+      for (unsigned int j = 0; j < m; ++j)
+        {
+          const double target = Units::mL_to_mm3(target_mL[j]);
+          r[j]                = V[j] / target - 1;
+          rss += r[j] * r[j];
+          if (J)
+            for (unsigned int i = 0; i < n; ++i)
+              (*J)[j * n + i] = dV[j * n + i] * initial[i] / target;
+        }
+      if (initial_model_mL.empty())
+        for (const double v : V)
+          initial_model_mL.push_back(Units::mm3_to_mL(v));
+      std::vector<IO::Column> row = {
+        {"evaluation", "-", static_cast<double>(evaluation)}};
+      std::ostringstream line;
+      line << "  Evaluation " << evaluation << ":";
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          row.push_back({cal.parameters[i], "entry units", values[i]});
+          line << " " << cal.parameters[i] << " = " << std::setprecision(6)
+               << values[i];
+        }
+      row.push_back({"residual_norm", "-", std::sqrt(rss)});
+      row.push_back({"forward_solves",
+                     "-",
+                     static_cast<double>(inflation.counts().forward_solves +
+                                         extra_solves)});
+      line << "  |r| = " << std::scientific << std::setprecision(4)
+           << std::sqrt(rss);
+      results.append_timeseries(row);
+      logger.line(line.str());
+      ++evaluation;
+    };
+    Inverse::LeastSquaresSettings settings;
+    settings.max_iterations = cal.max_iterations;
+    const auto   fit        = Inverse::solve_least_squares(ls, settings);
+    const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+        .count();
+
+    // Report: the parameters (values in the entries' units) and the EDPVR.
+    std::vector<std::string> names;
+    std::vector<double>      fitted(n), sd(n), lo(n), hi(n), lower(n), upper(n),
+      at_bound(n);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        fitted[i]   = fit.x[i] * initial[i];
+        sd[i]       = fit.standard_deviation[i] * initial[i];
+        lo[i]       = fit.lower_95[i] * initial[i];
+        hi[i]       = fit.upper_95[i] * initial[i];
+        lower[i]    = cal.lower[i] * initial[i];
+        upper[i]    = cal.upper[i] * initial[i];
+        at_bound[i] = fit.at_bound[i] ? 1.0 : 0.0;
+      }
+    std::vector<double> fitted_mL(m), residuals = fit.residual;
+    for (unsigned int j = 0; j < m; ++j)
+      fitted_mL[j] = (1 + fit.residual[j]) * target_mL[j];
+    if (initial_model_mL.empty())
+      initial_model_mL = fitted_mL;
+
+    std::ostringstream o;
+    o << "Calibration of Material / " << rebuilder.law_name() << " ("
+      << fit.reason << " after " << fit.iterations << " TAO iterations, "
+      << fit.evaluations << " inflations, "
+      << inflation.counts().forward_solves + extra_solves << " forward solves, "
+      << fixed(seconds, 1) << " s):\n"
+      << "  parameter      initial       fitted    std. dev.   95 % interval\n";
+    for (unsigned int i = 0; i < n; ++i)
+      o << "  " << std::left << std::setw(8) << cal.parameters[i] << std::right
+        << std::setprecision(6) << std::setw(13) << initial[i] << std::setw(13)
+        << fitted[i] << std::setw(13) << sd[i] << "   [" << lo[i] << ", "
+        << hi[i] << "]" << (fit.at_bound[i] ? " at a bound" : "") << "\n";
+    o << "  relative residual norm " << std::scientific << std::setprecision(4)
+      << fit.residual_norm << ", sigma^2 = " << fit.sigma2 << " (" << m - n
+      << " degrees of freedom)\n"
+      << std::fixed
+      << "  p [mmHg]   target [mL]   fitted [mL]   initial [mL]   error [%]";
+    for (unsigned int j = 0; j < m; ++j)
+      o << "\n  " << std::setw(8) << std::setprecision(2) << p_mmHg[j]
+        << std::setw(14) << std::setprecision(3) << target_mL[j]
+        << std::setw(14) << fitted_mL[j] << std::setw(15) << initial_model_mL[j]
+        << std::setw(12) << std::setprecision(3) << 100 * fit.residual[j];
+    logger.line(o.str());
+
+    results.write_table("calibration/parameters",
+                        {{"name", "", {}, cal.parameters},
+                         {"initial", "entry units", initial, {}},
+                         {"fitted", "entry units", fitted, {}},
+                         {"standard_deviation", "entry units", sd, {}},
+                         {"lower_95", "entry units", lo, {}},
+                         {"upper_95", "entry units", hi, {}},
+                         {"scale_factor", "-", fit.x, {}},
+                         {"lower_bound", "entry units", lower, {}},
+                         {"upper_bound", "entry units", upper, {}},
+                         {"at_bound", "-", at_bound, {}}});
+    results.write_table("calibration/edpvr",
+                        {{"pressure_mmHg", "mmHg", p_mmHg, {}},
+                         {"volume_mL", "mL", fitted_mL, {}},
+                         {"target_volume_mL", "mL", target_mL, {}},
+                         {"initial_volume_mL", "mL", initial_model_mL, {}},
+                         {"relative_residual", "-", residuals, {}}});
+    std::vector<double> covariance(n * n);
+    for (unsigned int a = 0; a < n; ++a)
+      for (unsigned int b = 0; b < n; ++b)
+        covariance[a * n + b] =
+          fit.covariance[a * n + b] * initial[a] * initial[b];
+    std::vector<IO::TableColumn> fit_columns = {
+      {"target", "", {}, {cal.target}},
+      {"residuals", "", {}, {"relative: V_model / V_target - 1"}},
+      {"reason", "", {}, {fit.reason}},
+      {"converged", "-", {fit.converged ? 1.0 : 0.0}, {}},
+      {"residual_norm", "-", {fit.residual_norm}, {}},
+      {"sigma2", "-", {fit.sigma2}, {}},
+      {"degrees_of_freedom", "-", {static_cast<double>(m - n)}, {}},
+      {"t_quantile", "-", {fit.t_quantile}, {}},
+      {"tao_iterations", "-", {static_cast<double>(fit.iterations)}, {}},
+      {"evaluations", "-", {static_cast<double>(fit.evaluations)}, {}},
+      {"covariance", "entry units^2", covariance, {}}};
+    if (cal.target == "Klotz")
+      fit_columns.insert(fit_columns.end(),
+                         {{"klotz_edp_mmHg", "mmHg", {cal.klotz_edp_mmHg}, {}},
+                          {"klotz_edv_mL", "mL", {klotz_edv}, {}},
+                          {"klotz_v0_mL", "mL", {klotz_v0}, {}},
+                          {"klotz_v30_mL", "mL", {klotz_v30}, {}}});
+    results.write_table("calibration/fit", fit_columns);
+
+    std::vector<std::pair<std::string, std::string>> texts;
+    auto        statistics = model.statistics(texts);
+    const auto &c          = inflation.counts();
+    statistics.insert(
+      statistics.end(),
+      {{"forward_solves",
+        "-",
+        static_cast<double>(c.forward_solves + extra_solves)},
+       {"perturbed_solves", "-", static_cast<double>(c.perturbed_solves)},
+       {"inflations", "-", static_cast<double>(c.inflations)},
+       {"load_steps", "-", static_cast<double>(c.load_steps)},
+       {"step_cuts", "-", static_cast<double>(c.step_cuts)},
+       {"newton_iterations", "-", static_cast<double>(c.newton_iterations)},
+       {"chord_iterations", "-", static_cast<double>(c.chord_iterations)},
+       {"tao_iterations", "-", static_cast<double>(fit.iterations)},
+       {"calibration_seconds", "s", seconds}});
+    results.write_statistics(statistics, texts);
+    logger.line("Wrote " + results.path());
+  }
+} // namespace systole
