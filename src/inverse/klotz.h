@@ -29,7 +29,8 @@ namespace systole::Inverse
       return v0;
     }
 
-    /// V_30 [mL], the volume at 30 mmHg.
+    /// V_30 [mL], the normalising volume of the curve (which reaches it at
+    /// EDP = A_n = 27.78 mmHg, as the formulas are quoted).
     double
     v30_mL() const
     {

@@ -161,7 +161,12 @@ namespace systole::Inverse
       check(TaoBRGNSetRegularizerWeight(tao, settings.regularizer_weight),
             "TaoBRGNSetRegularizerWeight");
     check(TaoSetFromOptions(tao), "TaoSetFromOptions");
+    // A failed evaluation returns an error code through TAO: keep PETSc
+    // from printing its traceback (the model's own exception is rethrown
+    // below, one clear message).
+    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
     const PetscErrorCode solved = TaoSolve(tao);
+    PetscPopErrorHandler();
     if (context.failure)
       {
         TaoDestroy(&tao);

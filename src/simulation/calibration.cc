@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/utilities.h>
 
+#include "base/errors.h"
 #include "base/logger.h"
 #include "base/units.h"
 #include "io/results_file.h"
@@ -404,23 +405,44 @@ namespace systole
       for (unsigned int i = 0; i < n; ++i)
         values[i] = x[i] * initial[i];
       std::vector<double> dV;
-      std::vector<double> V = inflation.volumes(values,
-                                                J ? &dV : nullptr,
-                                                cal.finite_difference_step);
-      broadcast(V);
-      if (J)
-        broadcast(dV);
+      std::vector<double> V;
+      bool                failed = false;
+      try
+        {
+          V = inflation.volumes(values,
+                                J ? &dV : nullptr,
+                                cal.finite_difference_step);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          // A trial point of the line search where the inflation fails
+          // (collectively) counts as a very bad point (every relative
+          // residual 1), so TAO steps back; the first point must work.
+          if (evaluation == 0)
+            throw;
+          failed = true;
+          logger.line("  Evaluation " + std::to_string(evaluation) +
+                      ": the inflation failed (" + one_line_message(e) +
+                      "); residuals set to 1");
+        }
+      if (!failed)
+        {
+          broadcast(V);
+          if (J)
+            broadcast(dV);
+        }
       double rss = 0;
       for (unsigned int j = 0; j < m; ++j)
         {
           const double target = Units::mL_to_mm3(target_mL[j]);
-          r[j]                = V[j] / target - 1;
+          r[j]                = failed ? 1.0 : V[j] / target - 1;
           rss += r[j] * r[j];
           if (J)
             for (unsigned int i = 0; i < n; ++i)
-              (*J)[j * n + i] = dV[j * n + i] * initial[i] / target;
+              (*J)[j * n + i] =
+                failed ? 0.0 : dV[j * n + i] * initial[i] / target;
         }
-      if (initial_model_mL.empty())
+      if (initial_model_mL.empty() && !failed)
         for (const double v : V)
           initial_model_mL.push_back(Units::mm3_to_mL(v));
       std::vector<IO::Column> row = {
