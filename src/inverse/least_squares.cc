@@ -102,6 +102,40 @@ namespace systole::Inverse
       return 0;
     }
 
+    /// TAO's default tests, then stagnation of the objective.
+    struct Stagnation
+    {
+      double              tolerance = 0;
+      std::vector<double> history;
+    };
+
+    PetscErrorCode
+    convergence_test(Tao tao, void *ptr)
+    {
+      PetscErrorCode code = TaoDefaultConvergenceTest(tao, nullptr);
+      if (code != 0)
+        return code;
+      TaoConvergedReason reason;
+      PetscInt           its;
+      PetscReal          f, gnorm, cnorm, xdiff;
+      TaoGetSolutionStatus(tao, &its, &f, &gnorm, &cnorm, &xdiff, &reason);
+      if (reason != TAO_CONTINUE_ITERATING)
+        return 0;
+      auto &s = *static_cast<Stagnation *>(ptr);
+      s.history.push_back(f);
+      const unsigned int k = s.history.size();
+      if (k >= 4)
+        {
+          bool stagnant = true;
+          for (unsigned int i = k - 3; i < k; ++i)
+            stagnant = stagnant && std::abs(s.history[i - 1] - s.history[i]) <=
+                                     s.tolerance * std::abs(s.history[i - 1]);
+          if (stagnant)
+            TaoSetConvergedReason(tao, TAO_CONVERGED_USER);
+        }
+      return 0;
+    }
+
     Vec
     make_vector(const std::vector<double> &values)
     {
@@ -157,6 +191,10 @@ namespace systole::Inverse
           "TaoSetTolerances");
     check(TaoSetMaximumIterations(tao, settings.max_iterations),
           "TaoSetMaximumIterations");
+    Stagnation stagnation;
+    stagnation.tolerance = settings.stagnation_tolerance;
+    check(TaoSetConvergenceTest(tao, convergence_test, &stagnation),
+          "TaoSetConvergenceTest");
     if (settings.method == TAOBRGN)
       check(TaoBRGNSetRegularizerWeight(tao, settings.regularizer_weight),
             "TaoBRGNSetRegularizerWeight");

@@ -41,6 +41,11 @@ namespace systole::Inverse
     double gradient_tolerance = 1e-10;
     /// ... or when |J^T r| <= this times its initial value.
     double relative_gradient_tolerance = 1e-8;
+    /// ... or when the objective 1/2 |r|^2 changed by at most this fraction
+    /// over each of the last 3 iterations (stagnation, TAO_CONVERGED_USER):
+    /// at a bound-constrained optimum with finite-difference derivatives the
+    /// gradient tests may never be met.
+    double stagnation_tolerance = 1e-9;
     /// PETSc options prefix (e.g. -calibration_tao_monitor on the command
     /// line).
     std::string options_prefix = "calibration_";
