@@ -193,7 +193,12 @@ namespace systole::Inverse
           "TaoSetMaximumIterations");
     Stagnation stagnation;
     stagnation.tolerance = settings.stagnation_tolerance;
-    check(TaoSetConvergenceTest(tao, convergence_test, &stagnation),
+    // TAOBRGN iterates with its subsolver (bounded Newton line search),
+    // whose convergence test decides; the outer one is not consulted.
+    Tao iterating = tao;
+    if (settings.method == TAOBRGN)
+      check(TaoBRGNGetSubsolver(tao, &iterating), "TaoBRGNGetSubsolver");
+    check(TaoSetConvergenceTest(iterating, convergence_test, &stagnation),
           "TaoSetConvergenceTest");
     if (settings.method == TAOBRGN)
       check(TaoBRGNSetRegularizerWeight(tao, settings.regularizer_weight),
