@@ -6,6 +6,8 @@
 #include <deal.II/distributed/tria_base.h>
 #include <deal.II/grid/tria.h>
 
+#include "geometry/point_less.h"
+
 #include <array>
 #include <fstream>
 #include <iomanip>
@@ -16,20 +18,6 @@ namespace systole::Geometry
 {
   namespace
   {
-    /// Exact (bitwise) order of points: the vertices shared by cells of
-    /// different ranks carry the same coordinates on every rank.
-    struct PointLess
-    {
-      bool
-      operator()(const dealii::Point<3> &a, const dealii::Point<3> &b) const
-      {
-        for (unsigned int d = 0; d < 3; ++d)
-          if (a[d] != b[d])
-            return a[d] < b[d];
-        return false;
-      }
-    };
-
     /// One element for the file: its physical tag and its corners.
     struct Element
     {

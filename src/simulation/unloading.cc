@@ -13,6 +13,7 @@
 #include "base/units.h"
 #include "fibres/fibre_field.h"
 #include "geometry/gmsh_export.h"
+#include "geometry/point_less.h"
 #include "io/results_file.h"
 #include "mechanics/problem.h"
 #include "simulation/mechanics_model.h"
@@ -113,20 +114,6 @@ namespace systole
 
   namespace
   {
-    /// Exact (bitwise) order of points: a vertex carries the same coordinates
-    /// on every rank (the same computations made it, or moved it).
-    struct PointLess
-    {
-      bool
-      operator()(const dealii::Point<3> &a, const dealii::Point<3> &b) const
-      {
-        for (unsigned int d = 0; d < 3; ++d)
-          if (a[d] != b[d])
-            return a[d] < b[d];
-        return false;
-      }
-    };
-
     /// What the load steps of one forward solve did.
     struct ForwardReport
     {
@@ -208,7 +195,7 @@ namespace systole
         const auto gathered = gather(problem, tria.get_communicator());
         for (std::size_t i = 0; i < gathered.size(); i += 6)
           X.emplace_back(gathered[i], gathered[i + 1], gathered[i + 2]);
-        std::sort(X.begin(), X.end(), PointLess());
+        std::sort(X.begin(), X.end(), Geometry::PointLess());
         const auto lookup = index();
         record.assign(tria.n_vertices(), dealii::numbers::invalid_unsigned_int);
         for (const auto &cell : tria.active_cell_iterators())
@@ -289,10 +276,10 @@ namespace systole
         return all;
       }
 
-      std::map<dealii::Point<3>, unsigned int, PointLess>
+      std::map<dealii::Point<3>, unsigned int, Geometry::PointLess>
       index() const
       {
-        std::map<dealii::Point<3>, unsigned int, PointLess> lookup;
+        std::map<dealii::Point<3>, unsigned int, Geometry::PointLess> lookup;
         for (unsigned int i = 0; i < X.size(); ++i)
           lookup.emplace(X[i], i);
         AssertThrow(lookup.size() == X.size(),
@@ -520,7 +507,7 @@ namespace systole
         const dealii::FESystem<3> fe(dealii::FE_Q<3>(1), 3);
         q1.distribute_dofs(fe);
         dealii::Vector<double> unloading(q1.n_dofs());
-        std::map<dealii::Point<3>, unsigned int, PointLess> lookup;
+        std::map<dealii::Point<3>, unsigned int, Geometry::PointLess> lookup;
         for (unsigned int i = 0; i < table.X.size(); ++i)
           lookup.emplace(table.X[i], i);
         for (const auto &cell : q1.active_cell_iterators())

@@ -23,42 +23,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
+from systole_post.gmsh_mesh import read_msh  # noqa: E402
 from systole_post.results import read_results  # noqa: E402
-
-
-def read_msh(path):
-    """Nodes (dict id -> xyz), physical surface names (name -> tag), quads (tag, node ids)."""
-    lines = Path(path).read_text().splitlines()
-    names, nodes, quads, hexes = {}, {}, [], 0
-    i = 0
-    while i < len(lines):
-        line = lines[i].strip()
-        if line == "$PhysicalNames":
-            n = int(lines[i + 1])
-            for entry in lines[i + 2 : i + 2 + n]:
-                dim, tag, name = entry.split(maxsplit=2)
-                if int(dim) == 2:
-                    names[name.strip('"')] = int(tag)
-            i += n + 2
-        elif line == "$Nodes":
-            n = int(lines[i + 1])
-            for entry in lines[i + 2 : i + 2 + n]:
-                k, x, y, z = entry.split()
-                nodes[int(k)] = np.array([float(x), float(y), float(z)])
-            i += n + 2
-        elif line == "$Elements":
-            n = int(lines[i + 1])
-            for entry in lines[i + 2 : i + 2 + n]:
-                f = [int(v) for v in entry.split()]
-                kind, n_tags = f[1], f[2]
-                if kind == 3:
-                    quads.append((f[3], f[3 + n_tags :]))
-                elif kind == 5:
-                    hexes += 1
-            i += n + 2
-        else:
-            i += 1
-    return nodes, names, quads, hexes
 
 
 def ellipsoid_distance(p, rs, rl):
@@ -89,17 +55,16 @@ def main() -> int:
     print("fixed-point iterations:", summary["fixed_point_iterations"][-1],
           "forward solves:", summary["forward_solves"][-1])
 
-    nodes, names, quads, hexes = read_msh(args.mesh)
+    mesh = read_msh(args.mesh)
+    nodes, names = mesh.nodes, mesh.names
     for part in ("endocardium", "epicardium", "base"):
         if part not in names:
             failures.append(f"{args.mesh} has no physical surface '{part}' ({sorted(names)})")
-    if hexes == 0:
+    if len(mesh.hexahedra) == 0:
         failures.append(f"{args.mesh} has no hexahedra")
     if not failures:
-        on = {part: set() for part in names}
-        tag_to_part = {tag: part for part, tag in names.items()}
-        for tag, ids in quads:
-            on[tag_to_part[tag]].update(ids)
+        on = {part: set(mesh.quads.get(tag, np.zeros((0, 4), int)).ravel().tolist())
+              for part, tag in names.items()}
         rs_endo, rl_endo, rs_epi, rl_epi = args.wall
         for part, rs, rl in (("endocardium", rs_endo, rl_endo), ("epicardium", rs_epi, rl_epi)):
             # The rims (shared with the base) lie on the ellipsoid too.
