@@ -51,7 +51,9 @@ namespace systole::Materials
                       "Electrophysiology; the stimulus triggers the beat); "
                       "or prescribed: uniform: 0 everywhere; apex-to-base: "
                       "Activation delay times the height above the apex, "
-                      "normalized to 1 at the base. Units: -.");
+                      "normalized to 1 at the base. (Bestel only: a "
+                      "calcium-driven Model follows the electrophysiology.) "
+                      "Units: -.");
     prm.declare_entry("Activation delay",
                       std::to_string(d.activation_delay),
                       Double(0.0),

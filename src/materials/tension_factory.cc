@@ -40,7 +40,11 @@ namespace systole::Materials
         {Land::model_name,
          "the calcium-driven human cross-bridge model of Land et al. 2017 "
          "(J. Mol. Cell. Cardiol. 106:68) with length and velocity "
-         "dependence (subsection Land); needs a cell model's calcium",
+         "dependence (subsection Land), driven by a cell model's calcium "
+         "(Problem = cell, or Problem = heartbeat with an ionic model with "
+         "calcium: ten Tusscher-Panfilov; the heartbeat then always runs "
+         "the electrophysiology and couples the tension two-way with the "
+         "fibre stretch and its rate)",
          &Land::Parameters::declare,
          [](const dealii::ParameterHandler &prm, const double) {
            return std::make_unique<Land>(Land::Parameters::parse(prm));

@@ -9,6 +9,7 @@
 
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/vector.hpp>
 
 namespace systole::Mechanics
 {
@@ -26,11 +27,28 @@ namespace systole::Mechanics
   Problem::Impl::remember_factorized_tension()
   {
     factorized_tension.assign(tria.n_active_cells(), {});
+    factorized_model_inputs.assign(tension_model != nullptr
+                                     ? tria.n_active_cells()
+                                     : 0,
+                                   {});
+    factorized_tension_time      = tension_time;
+    factorized_tension_time_step = tension_time_step;
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const auto &data : point_data.get_data(cell))
-          factorized_tension[cell->active_cell_index()].push_back(
-            data->tension);
+          {
+            const auto c = cell->active_cell_index();
+            factorized_tension[c].push_back(data->tension);
+            if (tension_model != nullptr)
+              {
+                auto &inputs = factorized_model_inputs[c];
+                inputs.insert(inputs.end(),
+                              data->tension_state.begin(),
+                              data->tension_state.end());
+                inputs.push_back(data->stretch_n);
+                inputs.push_back(data->calcium);
+              }
+          }
   }
 
 
@@ -54,15 +72,30 @@ namespace systole::Mechanics
     m.checkpoint_transfer->prepare_for_serialization(in);
     m.tria.register_data_attach(
       [&m](const CellIterator &cell, const CellStatus) {
-        const auto c = cell->active_cell_index();
-        return dealii::Utilities::pack(c < m.factorized_tension.size()
-                                         ? m.factorized_tension[c]
-                                         : std::vector<double>(),
-                                       false);
+        // The tension of the factorized iterate, and the tension model's
+        // accepted state of every point (its states, the stretch, the
+        // tension).
+        const auto                       c = cell->active_cell_index();
+        std::vector<std::vector<double>> data(3);
+        if (c < m.factorized_tension.size())
+          data[0] = m.factorized_tension[c];
+        if (c < m.factorized_model_inputs.size())
+          data[2] = m.factorized_model_inputs[c];
+        if (m.tension_model != nullptr && cell->is_locally_owned())
+          for (const auto &point : m.point_data.get_data(cell))
+            {
+              data[1].insert(data[1].end(),
+                             point->tension_state.begin(),
+                             point->tension_state.end());
+              data[1].push_back(point->stretch_n);
+              data[1].push_back(point->model_tension);
+            }
+        return dealii::Utilities::pack(data, false);
       },
       /*returns_variable_size_data=*/true);
     archive &m.n_saves &m.have_factorization &m.factorized_pressures;
     archive                                  &m.factorized_active_tension;
+    archive &m.factorized_tension_time &m.factorized_tension_time_step;
     // Whether the next solve may reuse the factorization (the last one
     // converged), and whether it is of a bordered system (B0, W0 stored).
     bool     bordered = !m.factorized_volume_derivatives.empty();
@@ -76,7 +109,8 @@ namespace systole::Mechanics
     Impl    &m = *impl;
     archive &m.n_saves &m.have_factorization &m.factorized_pressures;
     archive                                  &m.factorized_active_tension;
-    bool                                      bordered = false;
+    archive &m.factorized_tension_time &m.factorized_tension_time_step;
+    bool                                bordered = false;
     archive &m.last_solve_converged &bordered;
 
     std::vector<LA::MPI::Vector>   out(3);
@@ -98,13 +132,41 @@ namespace systole::Mechanics
       },
       true);
     m.factorized_tension.assign(m.tria.n_active_cells(), {});
+    m.factorized_model_inputs.assign(m.tension_model != nullptr
+                                       ? m.tria.n_active_cells()
+                                       : 0,
+                                     {});
     m.tria.notify_ready_to_unpack(
       handle,
-      [&m](const CellIterator &cell, const CellStatus, const Range &data) {
-        m.factorized_tension[cell->active_cell_index()] =
-          dealii::Utilities::unpack<std::vector<double>>(data.begin(),
-                                                         data.end(),
-                                                         false);
+      [&m](const CellIterator &cell, const CellStatus, const Range &range) {
+        const auto data =
+          dealii::Utilities::unpack<std::vector<std::vector<double>>>(
+            range.begin(),
+            range.end(),
+            false);
+        AssertThrow(data.size() == 3,
+                    dealii::ExcMessage("The checkpoint's mechanics cell data "
+                                       "are not of this version."));
+        m.factorized_tension[cell->active_cell_index()] = data[0];
+        if (m.tension_model != nullptr)
+          m.factorized_model_inputs[cell->active_cell_index()] = data[2];
+        const unsigned int n =
+          m.tension_model != nullptr ? m.tension_model->n_states() : 0;
+        const auto points = m.point_data.get_data(cell);
+        AssertThrow((m.tension_model == nullptr && data[1].empty()) ||
+                      data[1].size() == points.size() * (n + 2),
+                    dealii::ExcMessage(
+                      "The checkpoint's tension-model states do not fit "
+                      "this run (another Active tension / Model, or "
+                      "another quadrature)."));
+        if (m.tension_model != nullptr)
+          for (unsigned int q = 0; q < points.size(); ++q)
+            {
+              const double *x = data[1].data() + q * (n + 2);
+              points[q]->tension_state.assign(x, x + n);
+              points[q]->stretch_n     = x[n];
+              points[q]->model_tension = x[n + 1];
+            }
       });
 
     if (m.have_factorization)
@@ -126,10 +188,41 @@ namespace systole::Mechanics
               for (unsigned int q = 0; q < data.size(); ++q)
                 data[q]->tension = t[q];
             }
+        // The tension model's inputs of that iterate in place of the
+        // accepted ones while it is assembled (swapped in, then back).
+        const unsigned int n =
+          m.tension_model != nullptr ? m.tension_model->n_states() : 0;
+        const auto swap_model_inputs = [&]() {
+          if (m.tension_model == nullptr)
+            return;
+          for (const auto &cell : m.tria.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                const auto data = m.point_data.get_data(cell);
+                auto      &inputs =
+                  m.factorized_model_inputs[cell->active_cell_index()];
+                AssertThrow(inputs.size() == data.size() * (n + 2),
+                            dealii::ExcMessage(
+                              "The checkpoint's tension-model inputs do not "
+                              "fit the quadrature of the mechanics."));
+                for (unsigned int q = 0; q < data.size(); ++q)
+                  {
+                    double *x = inputs.data() + q * (n + 2);
+                    for (unsigned int i = 0; i < n; ++i)
+                      std::swap(data[q]->tension_state[i], x[i]);
+                    std::swap(data[q]->stretch_n, x[n]);
+                    std::swap(data[q]->calcium, x[n + 1]);
+                  }
+              }
+          std::swap(m.tension_time, m.factorized_tension_time);
+          std::swap(m.tension_time_step, m.factorized_tension_time_step);
+        };
+        swap_model_inputs();
         m.assemble(m.factorized_pressures,
                    m.factorized_active_tension,
                    true,
                    true);
+        swap_model_inputs();
         m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
         m.factorized_volume_derivatives.clear();
         m.factorized_w.clear();

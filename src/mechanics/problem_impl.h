@@ -267,8 +267,14 @@ namespace systole::Mechanics
     dealii::Vector<double>           factorized_pressures;
     double                           factorized_active_tension = 0;
     std::vector<std::vector<double>> factorized_tension;
+    /// With a tension model: its inputs at the factorized iterate, per
+    /// point its accepted state, stretch and calcium (flat per cell), and
+    /// the step.
+    std::vector<std::vector<double>> factorized_model_inputs;
+    double factorized_tension_time = 0, factorized_tension_time_step = 0;
 
-    /// Copy the per-point active tension into factorized_tension.
+    /// Copy the per-point active tension (and the tension model's inputs)
+    /// into factorized_tension (factorized_model_inputs).
     void
     remember_factorized_tension();
 

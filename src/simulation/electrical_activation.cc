@@ -21,8 +21,10 @@
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <sstream>
 
@@ -103,7 +105,7 @@ namespace systole
 
     /// Values (potential, first, latest activation) at the points of @p rpe,
     /// NaN where a point was not found. Collective.
-    std::vector<dealii::Tensor<1, 3>>
+    std::vector<dealii::Tensor<1, 4>>
     evaluate(const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
              const unsigned int n_points) const;
 
@@ -126,11 +128,16 @@ namespace systole
     dealii::Utilities::MPI::RemotePointEvaluation<3> at_quadrature;
     /// Upstrokes of the potential interpolated at each point (crossings of
     /// the activation threshold, located linearly in time between samples).
-    Electrophysiology::ActivationTracker                   tracker;
-    std::vector<double>                                    sampled_potential;
-    double                                                 sampled_time = 0;
-    std::vector<std::vector<double>>                       upstrokes;
-    double                                                 transfer_seconds = 0;
+    Electrophysiology::ActivationTracker tracker;
+    std::vector<double>                  sampled_potential;
+    double                               sampled_time = 0;
+    std::vector<std::vector<double>>     upstrokes;
+    double                               transfer_seconds = 0;
+    /// The calcium [µM] at the mechanics points at the sample times since
+    /// the last forget_calcium_before() (keep_calcium()).
+    bool                                                   keep_calcium = false;
+    std::deque<double>                                     calcium_times;
+    std::deque<std::vector<double>>                        calcium_samples;
     const dealii::parallel::distributed::Triangulation<3> &mech_tria;
     const Mechanics::Problem                              &problem;
 
@@ -208,12 +215,12 @@ namespace systole
   }
 
 
-  std::vector<dealii::Tensor<1, 3>>
+  std::vector<dealii::Tensor<1, 4>>
   ElectricalActivation::Impl::evaluate(
     const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
     const unsigned int                                      n) const
   {
-    using Value = dealii::Tensor<1, 3>;
+    using Value = dealii::Tensor<1, 4>;
     std::vector<Value>             output, buffer;
     Electrophysiology::PointValues values;
     rpe.evaluate_and_process<Value>(
@@ -242,11 +249,12 @@ namespace systole
                 result[begin + q][0] = values.potential[q];
                 result[begin + q][1] = values.activation_time[q];
                 result[begin + q][2] = values.latest_activation_time[q];
+                result[begin + q][3] = values.calcium_uM[q];
               }
           }
       });
     // One entry per point and cell around it (unique mapping: at most one).
-    std::vector<Value> per_point(n, Value({nan, nan, nan}));
+    std::vector<Value> per_point(n, Value({nan, nan, nan, nan}));
     const auto        &ptr = rpe.get_point_ptrs();
     for (unsigned int i = 0; i < n; ++i)
       if (ptr[i + 1] > ptr[i])
@@ -277,6 +285,14 @@ namespace systole
                 (upstrokes[i].empty() || latest > upstrokes[i].back()))
               upstrokes[i].push_back(latest);
           }
+      }
+    if (keep_calcium && (calcium_times.empty() || time > calcium_times.back()))
+      {
+        std::vector<double> calcium(n_points);
+        for (unsigned int i = 0; i < n_points; ++i)
+          calcium[i] = values[i][3];
+        calcium_times.push_back(time);
+        calcium_samples.push_back(std::move(calcium));
       }
     sampled_potential = std::move(potential);
     sampled_time      = time;
@@ -325,10 +341,14 @@ namespace systole
     m.monodomain->prepare_checkpoint(archive);
     m.tria.save(folder + "/ep.mesh");
     m.monodomain->finish_checkpoint();
-    archive &m.sampled_time;
+    archive            &m.sampled_time;
+    std::vector<double> calcium_times(m.calcium_times.begin(),
+                                      m.calcium_times.end());
+    archive &m.keep_calcium &calcium_times;
     // Per mechanics point: first and latest upstroke of the tracker, the
-    // last sample, the upstrokes. (The registration only lasts until the
-    // mechanics mesh is saved; it does not change the mesh, hence the cast.)
+    // last sample, the upstrokes, the calcium samples (keep_calcium()). (The
+    // registration only lasts until the mechanics mesh is saved; it does not
+    // change the mesh, hence the cast.)
     auto &mechanics_tria =
       const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
         m.mech_tria);
@@ -345,6 +365,8 @@ namespace systole
             data.insert(data.end(),
                         m.upstrokes[i].begin(),
                         m.upstrokes[i].end());
+            for (const auto &sample : m.calcium_samples)
+              data.push_back(sample[i]);
           }
         return dealii::Utilities::pack(data, false);
       },
@@ -358,8 +380,13 @@ namespace systole
   {
     Impl &m = *impl;
     m.monodomain->load_checkpoint(archive);
-    archive &m.sampled_time;
-    auto    &mechanics_tria =
+    archive            &m.sampled_time;
+    std::vector<double> calcium_times;
+    archive &m.keep_calcium &calcium_times;
+    m.calcium_times.assign(calcium_times.begin(), calcium_times.end());
+    m.calcium_samples.assign(calcium_times.size(),
+                             std::vector<double>(m.n_points));
+    auto &mechanics_tria =
       const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
         m.mech_tria);
     const unsigned int handle = mechanics_tria.register_data_attach(
@@ -390,6 +417,12 @@ namespace systole
             m.upstrokes[i].assign(data.begin() + pos,
                                   data.begin() + pos + count);
             pos += count;
+            AssertThrow(pos + m.calcium_samples.size() <= data.size(),
+                        dealii::ExcMessage(
+                          "The checkpoint's calcium samples do not fit the "
+                          "quadrature of the mechanics."));
+            for (auto &sample : m.calcium_samples)
+              sample[i] = data[pos++];
           }
       });
     m.tracker.set(first, latest);
@@ -449,6 +482,82 @@ namespace systole
   ElectricalActivation::time() const
   {
     return impl->monodomain->time();
+  }
+
+
+  void
+  ElectricalActivation::keep_calcium()
+  {
+    Impl &m = *impl;
+    AssertThrow(m.monodomain->ionic_model().has_calcium(),
+                dealii::ExcMessage(
+                  "A calcium-driven tension model (Active tension / Model) "
+                  "needs an ionic model with intracellular calcium: set "
+                  "Electrophysiology / Ionic model = ten Tusscher-Panfilov."));
+    if (m.keep_calcium)
+      return;
+    m.keep_calcium             = true;
+    const auto          values = m.evaluate(m.at_quadrature, m.n_points);
+    std::vector<double> calcium(m.n_points);
+    for (unsigned int i = 0; i < m.n_points; ++i)
+      calcium[i] = values[i][3];
+    m.calcium_times.assign(1, m.monodomain->time());
+    m.calcium_samples.assign(1, std::move(calcium));
+  }
+
+
+  void
+  ElectricalActivation::calcium(const double                      t,
+                                std::vector<std::vector<double>> &calcium) const
+  {
+    const Impl &m = *impl;
+    AssertThrow(m.keep_calcium && !m.calcium_times.empty(),
+                dealii::ExcMessage("ElectricalActivation: keep_calcium() "
+                                   "first."));
+    const double slack = 1e-9 * std::max(1.0, std::abs(t));
+    AssertThrow(t >= m.calcium_times.front() - slack &&
+                  t <= m.calcium_times.back() + slack,
+                dealii::ExcMessage(
+                  "ElectricalActivation: the calcium at t = " +
+                  dealii::Utilities::to_string(t) +
+                  " ms lies outside the kept samples (" +
+                  dealii::Utilities::to_string(m.calcium_times.front()) +
+                  " to " +
+                  dealii::Utilities::to_string(m.calcium_times.back()) +
+                  " ms): advance_to(t) first, forget only accepted times."));
+    // The samples around t, linear in between.
+    std::size_t k = 0;
+    while (k + 2 < m.calcium_times.size() && m.calcium_times[k + 1] < t)
+      ++k;
+    const auto &a = m.calcium_samples[k];
+    const auto &b =
+      m.calcium_samples[std::min(k + 1, m.calcium_times.size() - 1)];
+    const double t0 = m.calcium_times[k];
+    const double t1 =
+      m.calcium_times[std::min(k + 1, m.calcium_times.size() - 1)];
+    const double w = t1 > t0 ? std::clamp((t - t0) / (t1 - t0), 0.0, 1.0) : 0.0;
+    calcium.resize(m.cell_start.size() - 1);
+    for (unsigned int c = 0; c + 1 < m.cell_start.size(); ++c)
+      {
+        calcium[c].resize(m.cell_start[c + 1] - m.cell_start[c]);
+        for (unsigned int q = 0; q < calcium[c].size(); ++q)
+          {
+            const unsigned int i = m.cell_start[c] + q;
+            calcium[c][q]        = (1.0 - w) * a[i] + w * b[i];
+          }
+      }
+  }
+
+
+  void
+  ElectricalActivation::forget_calcium_before(const double t)
+  {
+    Impl &m = *impl;
+    while (m.calcium_times.size() >= 2 && m.calcium_times[1] <= t)
+      {
+        m.calcium_times.pop_front();
+        m.calcium_samples.pop_front();
+      }
   }
 
 

@@ -109,6 +109,25 @@ namespace systole
     double
     time() const;
 
+    /// Keep the intracellular calcium at the mechanics points at every
+    /// sample from now on (the input of a calcium-driven tension model).
+    /// Throws if the ionic model has no calcium. Collective.
+    void
+    keep_calcium();
+
+    /// The calcium [µM] of every mechanics quadrature point (the layout of
+    /// activation_times()) at @p t [ms], linear in time between the kept
+    /// samples: EP may have run ahead of a rejected step, and a shorter
+    /// retry reads the calcium of its own time. @p t must lie between the
+    /// oldest kept sample (forget_calcium_before()) and time().
+    void
+    calcium(const double t, std::vector<std::vector<double>> &calcium) const;
+
+    /// Drop the calcium samples no longer needed for times at or after
+    /// @p t [ms] (an accepted mechanics time: no step starts before it).
+    void
+    forget_calcium_before(const double t);
+
     /// Earliest onset of any stimulus [ms]: no point activates before.
     double
     earliest_stimulus() const;

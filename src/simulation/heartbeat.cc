@@ -50,11 +50,16 @@ namespace systole
 
     /// The 3D ventricle(s) as the heartbeat stepper sees them: the
     /// mechanics with its cavity volumes constrained (Mechanics::Problem::
-    /// solve_cavities), under the active tension of the time (a tension
-    /// model driven by activation times, Materials::TensionModel). The
-    /// tension of each quadrature point starts at its activation time:
-    /// prescribed, or the latest upstroke at or before t of the
-    /// electrophysiology (@p ep not null).
+    /// solve_cavities), under the active tension of the time, of one of two
+    /// kinds of tension model (Materials::TensionModel):
+    /// - driven by activation times (Bestel): the tension of each quadrature
+    ///   point starts at its activation time, prescribed or the latest
+    ///   upstroke at or before t of the electrophysiology (@p ep not null);
+    /// - driven by calcium (Land): coupled two-way with the mechanics
+    ///   (Mechanics::Problem::set_tension_model), its states stepped from
+    ///   the accepted time to t with the calcium of the electrophysiology at
+    ///   t (linear in time between EP's samples) and the fibre stretch of
+    ///   each Newton iterate; accept() commits them.
     class MechanicsVentricles : public CoupledVentricles
     {
     public:
@@ -68,11 +73,22 @@ namespace systole
                           Logger                          &logger)
         : problem(problem)
         , tension_model(tension_model)
+        , calcium_driven(tension_model.drive() ==
+                         Materials::TensionDrive::calcium)
         , activation_times(std::move(activation_times))
         , ep(ep)
         , contraction_onset(contraction_onset)
         , logger(logger)
       {
+        if (calcium_driven)
+          {
+            AssertThrow(ep != nullptr,
+                        dealii::ExcMessage(
+                          "A calcium-driven tension model needs the "
+                          "electrophysiology of the heartbeat."));
+            ep->keep_calcium();
+            problem.set_tension_model(&tension_model);
+          }
         problem.save();
       }
 
@@ -91,9 +107,18 @@ namespace systole
             const auto start = std::chrono::steady_clock::now();
             ep->advance_to(t);
             ep->activation_times(t, activation_times);
+            if (calcium_driven)
+              ep->calcium(t, calcium);
             ep_seconds += std::chrono::duration<double>(
                             std::chrono::steady_clock::now() - start)
                             .count();
+          }
+        if (calcium_driven)
+          {
+            // The stepper only steps forward from the accepted time.
+            problem.set_calcium(calcium);
+            problem.set_tension_step(t, t - accepted_time);
+            return;
           }
         // The model has no state and no stretch dependence (it is driven
         // by the activation time alone; run_heartbeat_problem checks).
@@ -140,7 +165,28 @@ namespace systole
       void
       accept() override
       {
+        if (calcium_driven)
+          {
+            problem.accept_tension_step();
+            ep->forget_calcium_before(time);
+            // The accepted tension of every point (for mean_tension()).
+            std::vector<std::vector<Mechanics::PointState>> states;
+            problem.point_states(states);
+            tension.assign(states.size(), {});
+            for (unsigned int c = 0; c < states.size(); ++c)
+              for (const auto &state : states[c])
+                tension[c].push_back(state.active_tension);
+          }
+        accepted_time = time;
         problem.save();
+      }
+
+      /// The accepted time (checkpoints).
+      template <class Archive>
+      void
+      serialize(Archive &archive)
+      {
+        archive &accepted_time &tension;
       }
 
       void
@@ -192,12 +238,15 @@ namespace systole
     private:
       Mechanics::Problem              &problem;
       const Materials::TensionModel   &tension_model;
+      const bool                       calcium_driven;
       std::vector<std::vector<double>> activation_times;
       ElectricalActivation            *ep;
       std::vector<std::vector<double>> tension;
+      /// The calcium at the points at time [µM] (calcium-driven models).
+      std::vector<std::vector<double>> calcium;
       const double                     contraction_onset;
       Logger                          &logger;
-      double                           time = 0;
+      double                           time = 0, accepted_time = 0;
     };
 
     /// Activation time of every quadrature point of the mechanics [ms].
@@ -588,14 +637,13 @@ namespace systole
       Materials::create_tension_model(prm, circulation.period);
     const auto *bestel =
       dynamic_cast<const Materials::BestelTension *>(tension_model.get());
-    AssertThrow(bestel != nullptr,
+    const bool calcium_driven =
+      tension_model->drive() == Materials::TensionDrive::calcium;
+    AssertThrow(bestel != nullptr || calcium_driven,
                 dealii::ExcMessage(
                   "Problem = heartbeat: Active tension / Model = " +
                   tension_model->name() +
-                  " needs the calcium of a cell model at the mechanics' "
-                  "points, which the heartbeat does not pass yet; use "
-                  "Active tension / Model = Bestel (Problem = cell runs "
-                  "Land)."));
+                  " is neither Bestel nor calcium-driven (Land)."));
 
     // Resume: the newest valid checkpoint of the run, written for the same
     // problem (every entry outside subsection Output equal).
@@ -703,7 +751,8 @@ namespace systole
     std::unique_ptr<ElectricalActivation> ep;
     std::vector<std::vector<double>>      times;
     double earliest = std::numeric_limits<double>::max();
-    if (bestel_params.activation_map == "electrophysiology")
+    // (A calcium-driven tension always runs the electrophysiology.)
+    if (calcium_driven || bestel_params.activation_map == "electrophysiology")
       {
         ep = std::make_unique<ElectricalActivation>(prm,
                                                     run,
@@ -756,8 +805,10 @@ namespace systole
 
     // The tension starts to rise at the earliest activation plus the
     // Bestel onset, taken within the beat.
+    // (A calcium-driven tension rises smoothly after the stimulus.)
     const double onset =
-      std::fmod(earliest + bestel->law().onset(), circulation.period);
+      std::fmod(earliest + (bestel != nullptr ? bestel->law().onset() : 0.0),
+                circulation.period);
     MechanicsVentricles ventricles(problem,
                                    *tension_model,
                                    times,
@@ -823,6 +874,7 @@ namespace systole
         if (ep != nullptr)
           ep->load_checkpoint(archive);
         stepper.load(archive);
+        ventricles.serialize(archive);
         writer.serialize(archive);
         std::array<double, 5> beat_seconds;
         archive              &beat_seconds;
@@ -852,6 +904,7 @@ namespace systole
         if (ep != nullptr)
           ep->save_checkpoint(archive, folder);
         stepper.save(archive);
+        ventricles.serialize(archive);
         writer.serialize(archive);
         std::array<double, 5> beat_seconds = writer.beat_seconds();
         archive              &beat_seconds;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checkpoint and restart of the heartbeat: killed runs resume and lose nothing.
 
-    checkpoint_resume.py MODE SYSTOLE MPIEXEC PRM
+    checkpoint_resume.py MODE SYSTOLE MPIEXEC PRM [KILL_STEP [REFERENCE.h5]]
 
 PRM writes a checkpoint every 20 steps. Every mode works in the current folder, on run names of
 its own (an Output subsection appended to a copy of PRM; only Output may differ on resume):
@@ -14,6 +14,8 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   the wall-time columns *_seconds excepted).
 - ranks-2-1 / ranks-1-2: killed on 2 ranks after step 25 and resumed on 1, or killed on 1
   rank after step 105 and resumed on 2; equal to the reference to 1e-8.
+  KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
+  of PRM itself).
 - corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
   resuming (Output / Resume = true) prints one line naming that file and falls back to the
   previous checkpoint; the results equal the reference to 1e-12.
@@ -92,7 +94,8 @@ def compare(reference: Path, result: Path, tolerance: float) -> None:
 def main() -> None:
     mode, systole, mpiexec, prm = sys.argv[1], Path(sys.argv[2]), sys.argv[3], Path(sys.argv[4])
     mpi2 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", systole]
-    reference = Path("results/reference/results.h5")
+    kill_step = sys.argv[5] if len(sys.argv) > 5 else None
+    reference = Path(sys.argv[6] if len(sys.argv) > 6 else "results/reference/results.h5")
 
     if mode == "reference":
         shutil.rmtree("results/reference", ignore_errors=True)
@@ -121,6 +124,7 @@ def main() -> None:
         shutil.rmtree(f"results/{name}", ignore_errors=True)
         first, then, step = (mpi2, [systole], "25") if mode == "ranks-2-1" else \
             ([systole], mpi2, "105")
+        step = kill_step or step
         run(first + [prm_for(prm, name)], {"SYSTOLE_TEST_KILL_AT_STEP": step}, expect_kill=True)
         log = run(then + ["--resume", f"results/{name}"])
         assert "Resuming from" in log, log[-2000:]

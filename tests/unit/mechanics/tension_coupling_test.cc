@@ -61,6 +61,28 @@ namespace
   private:
     double lambda;
   };
+
+  /// test_support::Wobble scaled by @p scale plus a uniform dilation u =
+  /// epsilon X.
+  class DilatedWobble : public dealii::Function<3>
+  {
+  public:
+    DilatedWobble(const double scale, const double epsilon)
+      : dealii::Function<3>(3)
+      , scale(scale)
+      , epsilon(epsilon)
+    {}
+
+    double
+    value(const dealii::Point<3> &p, const unsigned int c) const override
+    {
+      return scale * wobble.value(p, c) + epsilon * p[c];
+    }
+
+  private:
+    test_support::Wobble wobble;
+    double               scale, epsilon;
+  };
 } // namespace
 
 TEST_CASE("The mechanics tangent with Land tension at a non-trivial state is "
@@ -228,4 +250,59 @@ TEST_CASE("Accepted Land states in the mechanics equal the model stepped at "
   for (const auto &cell : problem.model_tensions())
     for (const double t : cell)
       CHECK(t == Approx(out.tension).epsilon(1e-10));
+}
+
+TEST_CASE("The bordered Jacobian of the heartbeat with Land tension is the "
+          "derivative of (R, V)",
+          "[mechanics][fd][active]")
+{
+  // The heartbeat's system: the ventricle with its cavity volume as a
+  // constraint (one cavity, or two), the Land states of 60 ms of activation
+  // at a first deformation, then a step to a second one, so that the
+  // tension, its stretch and its stretch-rate dependence all enter.
+  const Materials::Land land(Materials::Land::Parameters{});
+  for (const unsigned int n_cavities : {1u, 2u})
+    {
+      test_support::VentricleMechanics s;
+      if (n_cavities == 2)
+        s.use_two_cavities();
+      const auto problem = s.problem();
+      problem->set_tension_model(&land);
+      // Fibre stretches within about 0.9 to 1.1: away from the kinks of
+      // Land's length dependence at 0.87 and 1.2.
+      problem->set_displacement(DilatedWobble(0.3, 0.0));
+      problem->set_calcium(1.0);
+      for (unsigned int k = 1; k <= 30; ++k)
+        {
+          problem->set_tension_step(2.0 * k, 2.0);
+          problem->accept_tension_step();
+        }
+      // The next iterate stretches every fibre further (a uniform dilation
+      // of 2 % more): the distortions ζ_s, ζ_w are positive
+      // everywhere, away from the kinks of the model's |ζ_w| and max(ζ_s,
+      // 0) (at a kink the derivative is one-sided, and a central
+      // difference across it is only first order).
+      problem->set_displacement(DilatedWobble(0.3, 0.02));
+      problem->set_tension_step(62.0, 2.0);
+
+      double high = 0;
+      for (const auto &cell : problem->model_tensions())
+        for (const double t : cell)
+          high = std::max(high, t);
+      INFO(n_cavities << " cavities; largest Land tension " << high << " kPa");
+      CHECK(high > 10.0);
+
+      dealii::Vector<double> pressures(n_cavities);
+      pressures[0] = 2.0;
+      if (n_cavities == 2)
+        pressures[1] = 0.5;
+      // (No uniform tension: the Land tension is the active one.)
+      const auto e1 = problem->bordered_jacobian_error(pressures, 0.0, 5e-4);
+      const auto e2 = problem->bordered_jacobian_error(pressures, 0.0, 2.5e-4);
+      INFO("row errors at h: " << e1[0] << ", " << e1[1]
+                               << "; at h/2: " << e2[0] << ", " << e2[1]);
+      CHECK(e2[0] < 1e-6);
+      CHECK(std::log2(e1[0] / e2[0]) == Approx(2.0).margin(0.2));
+      CHECK(e2[1] < 1e-7);
+    }
 }
