@@ -1351,6 +1351,139 @@ def postprocess_section(build: Path) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: The heartbeat with ten Tusscher-Panfilov calcium and Land tension: the coarse one of the
+#: tests (801 DOFs, the whole wall stimulated) for the sweeps, the full one with --full.
+LAND_COARSE = ROOT / "tests" / "runs" / "lv_heartbeat_ttp_land_coarse.prm"
+LAND_FULL = ROOT / "parameters" / "lv_heartbeat_ttp_land.prm"
+#: Land without length dependence: h(lambda) = 1 and Ca50 independent of the stretch.
+NO_LENGTH_DEPENDENCE = {"Active tension/Land/beta0": "0", "Active tension/Land/beta1": "0"}
+
+
+def run_land_heartbeat(name: str, prm: Path, changes: dict[str, str], beats: int, ranks: int,
+                       build: Path, workdir: Path) -> dict:
+    """One heartbeat of `prm` with `changes` for `beats` beats: its last beat's summary, the
+    pressure at the aortic valve's closure (end-systolic), and the cost."""
+    changes = {**changes, "Circulation/Number of beats": str(beats),
+               "Output/Run name": name, "Output/Field output interval": "0",
+               "Output/Checkpoint interval": "0"}
+    path = workdir / f"{name}.prm"
+    path.write_text(with_changes(prm.read_text(), changes))
+    command = [str(build / "systole"), str(path)]
+    if ranks > 1:
+        command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + command
+    out, busy = run_watched(command, workdir, ranks)
+    row = {"name": name, "ok": out.returncode == 0, "busy": busy, "ranks": ranks}
+    h5 = workdir / "results" / name / "results.h5"
+    if out.returncode != 0:
+        return failed_row(row, out, h5)
+    import h5py  # the valve events (/events) are not part of systole_post's Results
+
+    results = read_results(h5)
+    summary, stats = results.summary, results.statistics
+    with h5py.File(h5, "r") as f:
+        events = {k: f["events"][k][()] for k in f["events"]}
+    row["summary"] = {k: float(v[-1]) for k, v in summary.items()}
+    last = events["beat"] == summary["beat"][-1]
+    closes = last & (events["valve"] == 1) & (events["opens"] == 0)
+    row["esp"] = float(events["lv_pressure_mmHg"][closes][0]) if np.any(closes) else float("nan")
+    row["wall"] = stats["wall_time"]
+    row["dofs"] = int(stats["n_dofs"])
+    row["beats"] = int(stats["beats"])
+    row["periodic"] = bool(stats["periodic"])
+    row["newton"] = int(stats["newton_iterations"])
+    row["steps"] = int(stats["steps"])
+    row["ep_nodes"] = int(stats.get("ep_nodes", 0))
+    row["ep_seconds"] = stats.get("ep_seconds", float("nan"))
+    return row
+
+
+def land_section(build: Path, workdir: Path, full: bool) -> str:
+    """Frank-Starling (preload sweep with and without Land's length dependence) and the ESPVR
+    (afterload sweep) of the heartbeat with ten Tusscher-Panfilov and Land, 2 beats each."""
+    prm = LAND_FULL if full else LAND_COARSE
+    # The coarse one with the full one's reference tension.
+    base = {} if full else {"Active tension/Land/Reference tension": "200"}
+    ranks = 2
+    preload = {}
+    for label, extra in (("with", {}), ("without", NO_LENGTH_DEPENDENCE)):
+        for edp in (6, 10, 14):
+            name = f"land_preload_{label}_{edp}"
+            print(f"running {name} ...", flush=True)
+            preload[(label, edp)] = run_land_heartbeat(
+                name, prm, {**base, **extra, "Circulation/Atrial pressure": str(edp)}, 2, ranks,
+                build,
+                workdir)
+    afterload = {}
+    for factor in (0.7, 1.0, 1.4):
+        name = f"land_afterload_{factor}"
+        print(f"running {name} ...", flush=True)
+        afterload[factor] = run_land_heartbeat(
+            name, prm, {**base, "Circulation/Peripheral resistance": f"{factor:g}"}, 2, ranks,
+            build, workdir)
+
+    def cells(r: dict) -> str:
+        if not r["ok"]:
+            return f"failed: {r['error']} | | |"
+        s = r["summary"]
+        return f"{s['lv_EDP_mmHg']:.2f} | {s['lv_EDV_mL']:.1f} | {s['lv_SV_mL']:.2f}"
+
+    first = next((r for r in [*preload.values(), *afterload.values()] if r["ok"]), None)
+    size = (f"{first['dofs']} mechanics DOFs, {first['ep_nodes']} EP nodes, " if first else "")
+    lines = [f"## Excitation-contraction coupling: Frank-Starling and the ESPVR "
+             f"({'parameters/lv_heartbeat_ttp_land.prm' if full else 'the coarse ventricle'})",
+             "The heartbeat with ten Tusscher-Panfilov 2006 (epicardial) calcium driving the Land "
+             "et al. 2017 tension, coupled two-way with the mechanics "
+             f"({prm.relative_to(ROOT)}{'' if full else ' with T_ref = 200 kPa'}; {size}{ranks} ranks; 2 beats each from the unloaded "
+             "state, the second one reported; `scripts/bench --only land`"
+             f"{'' if full else ' (--full: parameters/lv_heartbeat_ttp_land.prm)'}). "
+             "Preload: the 3-element Windkessel's atrial (filling) pressure 6, 10, 14 mmHg, with "
+             "the paper's length dependence and without it (beta0 = beta1 = 0: h(lambda) = 1, "
+             "Ca50 independent of the stretch). Afterload: the peripheral resistance x0.7, x1, "
+             "x1.4; the end-systolic point is the LV pressure and volume at the aortic valve's "
+             "closure.", "",
+             "| atrial pressure [mmHg] | with length dependence: EDP [mmHg] | EDV [mL] | SV [mL] "
+             "| without: EDP [mmHg] | EDV [mL] | SV [mL] |", "|---|---|---|---|---|---|---|"]
+    for edp in (6, 10, 14):
+        lines.append(f"| {edp} | {cells(preload[('with', edp)])} | "
+                     f"{cells(preload[('without', edp)])} |")
+    def sv(label):
+        return [preload[(label, e)]["summary"]["lv_SV_mL"] if preload[(label, e)]["ok"]
+                else float("nan") for e in (6, 10, 14)]
+    with_sv, without_sv = sv("with"), sv("without")
+    monotone = all(b > a for a, b in zip(with_sv, with_sv[1:]))
+    gain_with, gain_without = with_sv[2] - with_sv[0], without_sv[2] - without_sv[0]
+    lines += ["", f"Stroke volume from 6 to 14 mmHg: {gain_with:+.2f} mL with the length "
+              f"dependence ({'monotonic' if monotone else 'NOT monotonic'}), "
+              f"{gain_without:+.2f} mL without it "
+              f"({'more' if gain_with > gain_without else 'NOT more'} with it).", "",
+              "| peripheral resistance | ESV [mL] | ESP [mmHg] | EDV [mL] | SV [mL] | peak "
+              "[mmHg] |", "|---|---|---|---|---|---|"]
+    points = []
+    for factor, r in afterload.items():
+        if not r["ok"]:
+            lines.append(f"| x{factor:g} | failed: {r['error']} |")
+            continue
+        s = r["summary"]
+        points.append((s["lv_ESV_mL"], r["esp"]))
+        lines.append(f"| x{factor:g} | {s['lv_ESV_mL']:.2f} | {r['esp']:.2f} | "
+                     f"{s['lv_EDV_mL']:.1f} | {s['lv_SV_mL']:.2f} | "
+                     f"{s['lv_peak_pressure_mmHg']:.1f} |")
+    if len(points) == 3:
+        v, p = np.array(points).T
+        slope, intercept = np.polyfit(v, p, 1)
+        fit = slope * v + intercept
+        r2 = 1 - np.sum((p - fit) ** 2) / np.sum((p - np.mean(p)) ** 2)
+        lines += ["", f"ESPVR: P_es = {slope:.3f} (V_es - {-intercept / slope:.1f} mL) mmHg "
+                  f"(elastance {slope:.3f} mmHg/mL), R^2 = {r2:.4f}."]
+    walls = [r for r in [*preload.values(), *afterload.values()] if r["ok"]]
+    if walls:
+        per_beat = [r["wall"] / r["beats"] for r in walls]
+        lines += ["", f"Wall time per beat on {ranks} ranks: {min(per_beat):.1f} to "
+                  f"{max(per_beat):.1f} s ({sum(r['newton'] for r in walls) / sum(r['steps'] for r in walls):.2f} "
+                  "Newton iterations per step); the machine is shared, so times vary."]
+    return "\n".join(lines) + "\n"
+
+
 def write_docs(output: Path, sections: dict[str, str], replace_only: bool) -> None:
     """Replace the given sections of the existing file and keep the others (new sections
     are appended): sections that no group writes (tables of the tests, studies run by hand)
@@ -1372,11 +1505,14 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--build", type=Path, default=ROOT / "build")
     parser.add_argument("--quick", action="store_true", help="skip the finest levels")
+    parser.add_argument("--full", action="store_true",
+                        help="land: sweep parameters/lv_heartbeat_ttp_land.prm (hours) in place "
+                        "of the coarse ventricle")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
-                                           "niederer"],
+                                           "niederer", "land"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -1489,6 +1625,11 @@ def main() -> int:
 
         if args.only in (None, "ep"):
             sections.update(ep_sections(args.build, workdir, args.quick))
+        if args.only in (None, "land"):
+            title = ("Excitation-contraction coupling: Frank-Starling and the ESPVR "
+                     f"({'parameters/lv_heartbeat_ttp_land.prm' if args.full else 'the coarse ventricle'})")
+            sections[title] = land_section(args.build, workdir, args.full)
+            print(sections[title], flush=True)
         if args.only in (None, "niederer"):
             title = "Electrophysiology: the Niederer et al. 2011 benchmark"
             sections[title] = niederer_section(args.build, workdir, args.quick)
