@@ -237,23 +237,32 @@ namespace systole::Mechanics
                                           s.psi[s.p_dofs[j]] * JxW;
     }
 
-    /// Robin springs on one face: R_a += k phi_a (u.N)N_c (normal) or k phi_a
-    /// u_c (full), and their constant tangent.
+    /// Spring-dashpot (Robin) support on one face: R_a += phi_a (alpha u_c +
+    /// beta v_c) (full) or phi_a ((alpha u + beta v).N) N_c (normal), and
+    /// the tangent (alpha + beta dv/du) phi_a phi_b (N_c N_d or delta_cd);
+    /// @p face_v (the velocity) is read only when @p with_rates.
     void
     add_robin_face(const dealii::FEFaceValues<3>   &fe_face,
                    const std::vector<Tensor<1, 3>> &face_u,
-                   const double                     stiffness,
-                   const bool                       normal_only,
+                   const std::vector<Tensor<1, 3>> &face_v,
+                   const RobinSupport              &support,
+                   const bool                       with_rates,
+                   const double                     velocity_coefficient,
                    const bool                       with_matrix,
                    const ShapeScratch              &s,
                    CellSystem                      &cell)
     {
+      const double beta = with_rates ? support.damping : 0.0;
+      const double k    = support.stiffness + beta * velocity_coefficient;
       for (const unsigned int q : fe_face.quadrature_point_indices())
         {
-          const Tensor<1, 3> &N   = fe_face.normal_vector(q);
-          const double        JxW = stiffness * fe_face.JxW(q);
-          const Tensor<1, 3>  traction =
-            normal_only ? (face_u[q] * N) * N : face_u[q];
+          const Tensor<1, 3> &N     = fe_face.normal_vector(q);
+          const double        JxW   = fe_face.JxW(q);
+          Tensor<1, 3>        force = support.stiffness * face_u[q];
+          if (beta != 0.0)
+            force += beta * face_v[q];
+          const Tensor<1, 3> traction =
+            support.normal_only ? (force * N) * N : force;
           for (const unsigned int a : s.u_dofs)
             {
               const double phi_a = fe_face.shape_value(a, q);
@@ -266,13 +275,47 @@ namespace systole::Mechanics
                 {
                   const double phi_b = fe_face.shape_value(b, q);
                   const double coupling =
-                    normal_only
+                    support.normal_only
                       ? N[s.component[a]] * N[s.component[b]]
                       : (s.component[a] == s.component[b] ? 1.0 : 0.0);
-                  cell.matrix(a, b) += phi_a * phi_b * coupling * JxW;
+                  cell.matrix(a, b) += k * phi_a * phi_b * coupling * JxW;
                 }
             }
         }
+    }
+
+    /// The part of the Kelvin-Voigt tangent that dE/dt = sym(F^T grad v)
+    /// owes to F at a fixed velocity: dS = eta sym(dF^T Fdot), so that
+    /// K_(Ac)(Bd) += eta/2 ((F g_B)_c (Fdot g_A)_d + (g_A . g_B)
+    /// (F Fdot^T)_cd) (not symmetric; the part through the velocity, eta
+    /// dv/du dE, is in dS/dE). Needs the node gradients of
+    /// add_stress_point().
+    void
+    add_viscous_point(const double        JxW,
+                      const Tensor<2, 3> &F,
+                      const Tensor<2, 3> &F_dot,
+                      const double        viscosity,
+                      const ShapeScratch &s,
+                      CellSystem         &cell)
+    {
+      const unsigned int        n      = s.node_dofs.size();
+      const double              w      = 0.5 * viscosity * JxW;
+      const Tensor<2, 3>        F_Fdot = F * dealii::transpose(F_dot);
+      std::vector<Tensor<1, 3>> Fg(n), Fdot_g(n);
+      for (unsigned int A = 0; A < n; ++A)
+        {
+          Fg[A]     = F * s.node_grad[A];
+          Fdot_g[A] = F_dot * s.node_grad[A];
+        }
+      for (unsigned int A = 0; A < n; ++A)
+        for (unsigned int B = 0; B < n; ++B)
+          {
+            const double gg = s.node_grad[A] * s.node_grad[B];
+            for (unsigned int c = 0; c < 3; ++c)
+              for (unsigned int d = 0; d < 3; ++d)
+                cell.matrix(s.node_dofs[A][c], s.node_dofs[B][d]) +=
+                  w * (Fg[B][c] * Fdot_g[A][d] + gg * F_Fdot[c][d]);
+          }
     }
 
     /// Shear stiffness of a point for the Schur preconditioner: the mean of
@@ -382,7 +425,17 @@ namespace systole::Mechanics
             A.add(dynamics.mass_damping * dynamics.alpha_f, dynamics.v_n);
           }
         dynamics.effective_acceleration = A;
+        if (params.viscosity != 0.0 || !robin_supports.empty())
+          dynamics.velocity = v;
       }
+    // The rate terms (Kelvin-Voigt viscosity, dashpots) in a time step and
+    // in the accepted state's residual R(u_n, v_n).
+    const bool with_rates = dynamics.started && (dynamic || dynamics.accepting);
+    const bool viscous    = with_rates && params.viscosity != 0.0;
+    const double velocity_coefficient =
+      dynamic ? dynamics.velocity_coefficient() : 0.0;
+    std::vector<Tensor<2, 3>> grad_v(quadrature.size());
+    std::vector<Tensor<1, 3>> face_v(face_quadrature.size());
 
     if (with_matrix)
       {
@@ -407,6 +460,9 @@ namespace systole::Mechanics
         fe_values[layout.displacement].get_function_gradients(u, grad_u);
         if (mixed)
           fe_values[layout.pressure].get_function_values(u, p_values);
+        if (viscous)
+          fe_values[layout.displacement]
+            .get_function_gradients(dynamics.velocity, grad_v);
         cell_system.matrix          = 0;
         cell_system.residual        = 0;
         cell_system.pressure_matrix = 0;
@@ -476,6 +532,17 @@ namespace systole::Mechanics
                                            params.active_transverse_fraction,
                                            in.basis,
                                            out.S);
+            // Kelvin-Voigt: S += eta dE/dt, dE/dt = sym(F^T grad v); through
+            // v (dv/du = gamma / (beta dt)) it stiffens like eta dv/du dE.
+            if (viscous)
+              {
+                out.S +=
+                  params.viscosity *
+                  dealii::symmetrize(dealii::transpose(in.F) * grad_v[q]);
+                if (with_matrix)
+                  out.dS_dE += (params.viscosity * velocity_coefficient) *
+                               dealii::identity_tensor<3>();
+              }
             add_stress_point(fe_values,
                              q,
                              in.F,
@@ -484,6 +551,13 @@ namespace systole::Mechanics
                              with_matrix,
                              scratch,
                              cell_system);
+            if (viscous && with_matrix)
+              add_viscous_point(fe_values.JxW(q),
+                                in.F,
+                                grad_v[q],
+                                params.viscosity,
+                                scratch,
+                                cell_system);
             if (mixed)
               add_pressure_point(fe_values,
                                  q,
@@ -574,14 +648,20 @@ namespace systole::Mechanics
                                     with_matrix ? &cell_system.matrix
                                                 : nullptr);
                 }
-              if (robin_ids.count(id) > 0)
+              const auto support = robin_supports.find(id);
+              if (support != robin_supports.end())
                 {
                   fe_face.reinit(cell, face);
                   fe_face[layout.displacement].get_function_values(u, face_u);
+                  if (with_rates && support->second.damping != 0.0)
+                    fe_face[layout.displacement]
+                      .get_function_values(dynamics.velocity, face_v);
                   add_robin_face(fe_face,
                                  face_u,
-                                 params.robin_stiffness,
-                                 params.robin_normal_only,
+                                 face_v,
+                                 support->second,
+                                 with_rates,
+                                 velocity_coefficient,
                                  with_matrix,
                                  scratch,
                                  cell_system);

@@ -1,6 +1,7 @@
 // Elastodynamics of Mechanics::Problem: the mass matrix, the generalized-alpha
 // state and the energies. The inertia term of the assembly is in assembly.cc.
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -10,6 +11,7 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/sparsity_tools.h>
 
+#include "materials/active_stress.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/problem_impl.h"
@@ -40,6 +42,12 @@ namespace systole::Mechanics
     const double dt = time_step;
     return (1.0 - alpha_m) / (beta * dt * dt) +
            mass_damping * (1.0 - alpha_f) * gamma / (beta * dt);
+  }
+
+  double
+  Dynamics::velocity_coefficient() const
+  {
+    return gamma / (beta * time_step);
   }
 
   namespace
@@ -135,6 +143,7 @@ namespace systole::Mechanics
         d.a_n.reinit(m.owned, m.comm);
         d.residual_n.reinit(m.owned, m.comm);
         d.effective_acceleration.reinit(m.owned, m.relevant, m.comm);
+        d.velocity.reinit(m.owned, m.relevant, m.comm);
       }
 
     // At rest at the current displacement; the acceleration of the equation
@@ -188,10 +197,23 @@ namespace systole::Mechanics
     d.rates(m.u_owned, a, v);
     m.constraints.distribute(a);
     m.constraints.distribute(v);
-    // The quasi-static residual of the new state under its loads.
+    // The residual of the new state under its loads, with the rate terms
+    // (viscosity, dashpots) of its velocity: R(u_{n+1}, v_{n+1}).
     const double dt = d.time_step;
     d.time_step     = 0.0;
-    m.assemble(pressures, active_tension, false);
+    d.velocity      = v;
+    d.accepting     = true;
+    try
+      {
+        m.assemble(pressures, active_tension, false);
+      }
+    catch (...)
+      {
+        d.accepting = false;
+        d.time_step = dt;
+        throw;
+      }
+    d.accepting  = false;
     d.time_step  = dt;
     d.residual_n = m.residual;
     d.u_n        = m.u_owned;
@@ -229,6 +251,158 @@ namespace systole::Mechanics
             0.5 * m.params.density * values[q].norm_square() * fe_values.JxW(q);
       });
     return dealii::Utilities::MPI::sum(energy, m.comm);
+  }
+
+  double
+  Problem::support_energy() const
+  {
+    const Impl                       &m = *impl;
+    const dealii::QGauss<2>           face_quadrature(m.n_q_face_1d);
+    dealii::FEFaceValues<3>           fe_face(m.mapping,
+                                    *m.fe,
+                                    face_quadrature,
+                                    dealii::update_values |
+                                      dealii::update_normal_vectors |
+                                      dealii::update_JxW_values);
+    std::vector<dealii::Tensor<1, 3>> u_at(face_quadrature.size());
+    double                            energy = 0.0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() && cell->at_boundary())
+        for (const auto &face : cell->face_iterators())
+          {
+            if (!face->at_boundary())
+              continue;
+            const auto support = m.robin_supports.find(face->boundary_id());
+            if (support == m.robin_supports.end() ||
+                support->second.stiffness == 0.0)
+              continue;
+            fe_face.reinit(cell, face);
+            fe_face[m.layout.displacement].get_function_values(m.u, u_at);
+            for (const unsigned int q : fe_face.quadrature_point_indices())
+              {
+                const double un = u_at[q] * fe_face.normal_vector(q);
+                const double u2 =
+                  support->second.normal_only ? un * un : u_at[q].norm_square();
+                energy += 0.5 * support->second.stiffness * u2 * fe_face.JxW(q);
+              }
+          }
+    return dealii::Utilities::MPI::sum(energy, m.comm);
+  }
+
+  PowerReport
+  Problem::accepted_powers(const dealii::Vector<double> &pressures,
+                           const double                  active_tension) const
+  {
+    const Impl     &m = *impl;
+    const Dynamics &d = m.dynamics;
+    PowerReport     report;
+    if (!d.started)
+      return report;
+    AssertThrow(pressures.size() == m.pressure_ids.size(),
+                dealii::ExcMessage("Mechanics: one pressure per pressure "
+                                   "part."));
+    LA::MPI::Vector u(m.owned, m.relevant, m.comm),
+      v(m.owned, m.relevant, m.comm);
+    u = d.u_n;
+    v = d.v_n;
+    const dealii::QGauss<3>           quadrature(m.n_q_1d);
+    const dealii::QGauss<2>           face_quadrature(m.n_q_face_1d);
+    dealii::FEValues<3>               fe_values(m.mapping,
+                                  *m.fe,
+                                  quadrature,
+                                  dealii::update_values |
+                                    dealii::update_gradients |
+                                    dealii::update_JxW_values);
+    dealii::FEFaceValues<3>           fe_face(m.mapping,
+                                    *m.fe,
+                                    face_quadrature,
+                                    dealii::update_values |
+                                      dealii::update_gradients |
+                                      dealii::update_normal_vectors |
+                                      dealii::update_JxW_values);
+    std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size()),
+      grad_v(quadrature.size()), face_grad_u(face_quadrature.size());
+    std::vector<dealii::Tensor<1, 3>> v_at(quadrature.size()),
+      face_v(face_quadrature.size());
+    double dissipation = 0.0, loads = 0.0;
+    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        fe_values.reinit(cell);
+        fe_values[m.layout.displacement].get_function_gradients(u, grad_u);
+        fe_values[m.layout.displacement].get_function_gradients(v, grad_v);
+        fe_values[m.layout.displacement].get_function_values(v, v_at);
+        const auto data = m.point_data.get_data(cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            const dealii::Tensor<2, 3> F =
+              dealii::unit_symmetric_tensor<3>() + grad_u[q];
+            const dealii::SymmetricTensor<2, 3> E_dot =
+              dealii::symmetrize(dealii::transpose(F) * grad_v[q]);
+            double tension = active_tension + data[q]->tension;
+            if (m.tension_model != nullptr)
+              tension += data[q]->model_tension;
+            dealii::SymmetricTensor<2, 3> S_active;
+            if (tension != 0.0)
+              Materials::add_active_stress(tension,
+                                           m.params.active_transverse_fraction,
+                                           data[q]->basis,
+                                           S_active);
+            const double JxW = fe_values.JxW(q);
+            dissipation +=
+              m.params.viscosity * (E_dot * E_dot) * JxW +
+              d.mass_damping * m.params.density * v_at[q].norm_square() * JxW;
+            loads -= (S_active * E_dot) * JxW;
+          }
+        if (!cell->at_boundary())
+          continue;
+        for (const auto &face : cell->face_iterators())
+          {
+            if (!face->at_boundary())
+              continue;
+            const auto id      = face->boundary_id();
+            const auto support = m.robin_supports.find(id);
+            const auto part =
+              std::find(m.pressure_ids.begin(), m.pressure_ids.end(), id) -
+              m.pressure_ids.begin();
+            const bool on_part =
+              part < static_cast<std::ptrdiff_t>(m.pressure_ids.size()) &&
+              pressures[part] != 0.0;
+            const bool damped = support != m.robin_supports.end() &&
+                                support->second.damping != 0.0;
+            if (!on_part && !damped)
+              continue;
+            fe_face.reinit(cell, face);
+            fe_face[m.layout.displacement].get_function_values(v, face_v);
+            fe_face[m.layout.displacement].get_function_gradients(u,
+                                                                  face_grad_u);
+            for (const unsigned int q : fe_face.quadrature_point_indices())
+              {
+                const dealii::Tensor<1, 3> &N = fe_face.normal_vector(q);
+                if (damped)
+                  {
+                    const double vn = face_v[q] * N;
+                    dissipation +=
+                      support->second.damping *
+                      (support->second.normal_only ? vn * vn
+                                                   : face_v[q].norm_square()) *
+                      fe_face.JxW(q);
+                  }
+                if (on_part)
+                  {
+                    const dealii::Tensor<2, 3> F =
+                      dealii::unit_symmetric_tensor<3>() + face_grad_u[q];
+                    loads -= pressures[part] *
+                             (face_v[q] * (dealii::cofactor(F) * N)) *
+                             fe_face.JxW(q);
+                  }
+              }
+          }
+      }
+    report.dissipation = dealii::Utilities::MPI::sum(dissipation, m.comm);
+    report.loads       = dealii::Utilities::MPI::sum(loads, m.comm);
+    return report;
   }
 
   double

@@ -38,6 +38,49 @@ namespace systole::Mechanics
         }
       return points;
     }
+
+    std::vector<RobinSupport>
+    parse_supports(const std::string &text)
+    {
+      const std::string form =
+        "' is not of the form 'part: normal|full, stiffness [kPa/mm], "
+        "damping [kPa ms/mm]'.";
+      std::vector<RobinSupport> supports;
+      for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
+        {
+          const auto colon = item.find(':');
+          AssertThrow(colon != std::string::npos,
+                      dealii::ExcMessage("Mechanics / Robin supports: '" +
+                                         item + form));
+          RobinSupport s;
+          s.boundary = dealii::Utilities::trim(item.substr(0, colon));
+          const auto values =
+            dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
+          AssertThrow(!s.boundary.empty() && values.size() == 3 &&
+                        (values[0] == "normal" || values[0] == "full"),
+                      dealii::ExcMessage("Mechanics / Robin supports: '" +
+                                         item + form));
+          s.normal_only = values[0] == "normal";
+          try
+            {
+              s.stiffness = dealii::Utilities::string_to_double(values[1]);
+              s.damping   = dealii::Utilities::string_to_double(values[2]);
+            }
+          catch (...)
+            {
+              AssertThrow(false,
+                          dealii::ExcMessage("Mechanics / Robin supports: '" +
+                                             item + form));
+            }
+          AssertThrow(
+            s.stiffness >= 0 && s.damping >= 0 && s.stiffness + s.damping > 0,
+            dealii::ExcMessage("Mechanics / Robin supports: '" + item +
+                               "': the stiffness and the damping must not be "
+                               "negative, and not both zero."));
+          supports.push_back(s);
+        }
+      return supports;
+    }
   } // namespace
 
   void
@@ -91,6 +134,27 @@ namespace systole::Mechanics
                       Selection("normal|full"),
                       "normal: springs resist the normal displacement only; "
                       "full: all components. Units: -.");
+    prm.declare_entry(
+      "Robin damping",
+      "0",
+      Double(0.0),
+      "Dashpot coefficient per reference area of the Robin boundaries (the "
+      "traction -beta v, normal or full as Robin type says), in time "
+      "integrations with inertia (Problem = elastodynamics); quasi-static "
+      "solves see no velocity. 1 Pa s/m = 1e-3 kPa ms/mm (Arostica et al. "
+      "2025: 5e3 Pa s/m = 5). Units: kPa ms/mm.");
+    prm.declare_entry(
+      "Robin supports",
+      "",
+      Anything(),
+      "Spring-dashpot supports with their own values, one per boundary part: "
+      "'part: normal|full, alpha, beta; part: ...' gives the traction "
+      "-(alpha u + beta v) per reference area on the normal component "
+      "(normal: ((alpha u + beta v).N) N) or on all components (full). "
+      "alpha in kPa/mm (1 Pa/m = 1e-6 kPa/mm), beta in kPa ms/mm "
+      "(1 Pa s/m = 1e-3 kPa ms/mm); the benchmark of Arostica et al. 2025: "
+      "'epicardium: normal, 100, 5; base: full, 0.1, 5'. A part may not be "
+      "in Robin boundaries as well. Units: kPa/mm, kPa ms/mm.");
     prm.declare_entry(
       "Active tension",
       "0",
@@ -188,6 +252,15 @@ namespace systole::Mechanics
       "Damping proportional to the mass, C = c_M M, in time-dependent runs "
       "with inertia. Units: 1/s.");
     prm.declare_entry(
+      "Viscosity",
+      "0",
+      Double(0.0),
+      "Kelvin-Voigt viscosity eta of the tissue in time integrations with "
+      "inertia: the 2nd Piola-Kirchhoff stress eta dE/dt (E the Green strain) "
+      "adds to the elastic one; quasi-static solves see no rate. Arostica et "
+      "al. 2025: 0.1 kPa s (= 100 Pa s). Units: kPa s (1 kPa s = 1000 kPa "
+      "ms, the code's unit).");
+    prm.declare_entry(
       "Linear solver",
       "auto",
       Selection("auto|direct|iterative"),
@@ -249,6 +322,8 @@ namespace systole::Mechanics
     p.robin_boundaries   = names(prm.get(m, "Robin boundaries"));
     p.robin_stiffness    = prm.get_double(m, "Robin stiffness");
     p.robin_normal_only  = prm.get(m, "Robin type") == "normal";
+    p.robin_damping      = prm.get_double(m, "Robin damping");
+    p.robin_supports     = parse_supports(prm.get(m, "Robin supports"));
     p.active_tension     = prm.get_double(m, "Active tension");
     p.active_transverse_fraction =
       prm.get_double(m, "Active transverse fraction");
@@ -285,10 +360,22 @@ namespace systole::Mechanics
     p.density               = 1e-3 * prm.get_double(m, "Density");
     p.spectral_radius       = prm.get_double(m, "Spectral radius");
     p.rayleigh_mass_damping = 1e-3 * prm.get_double(m, "Rayleigh mass damping");
-    AssertThrow(p.robin_boundaries.empty() || p.robin_stiffness > 0,
+    p.viscosity             = 1e3 * prm.get_double(m, "Viscosity");
+    AssertThrow(p.robin_boundaries.empty() || p.robin_stiffness > 0 ||
+                  p.robin_damping > 0,
                 dealii::ExcMessage(
                   "Mechanics / Robin boundaries are set but Robin stiffness "
-                  "is 0: give the spring stiffness in kPa/mm."));
+                  "and Robin damping are 0: give the spring stiffness in "
+                  "kPa/mm (or the damping in kPa ms/mm)."));
+    const auto supports = p.all_robin_supports();
+    for (unsigned int i = 0; i < supports.size(); ++i)
+      for (unsigned int j = 0; j < i; ++j)
+        AssertThrow(supports[i].boundary != supports[j].boundary,
+                    dealii::ExcMessage(
+                      "Mechanics / Robin boundaries and Robin supports name "
+                      "the boundary part '" +
+                      supports[i].boundary +
+                      "' twice: give each part one support."));
     AssertThrow(p.pressure == 0.0 || !p.pressure_boundaries().empty(),
                 dealii::ExcMessage("Mechanics / Pressure is not zero but "
                                    "Pressure boundary is empty: name the "
@@ -302,6 +389,19 @@ namespace systole::Mechanics
                   " the pressure field already removes the locking: set it "
                   "to full."));
     return p;
+  }
+
+  std::vector<RobinSupport>
+  Parameters::all_robin_supports() const
+  {
+    std::vector<RobinSupport> supports;
+    for (const auto &part : robin_boundaries)
+      supports.push_back(
+        {part, robin_stiffness, robin_damping, robin_normal_only});
+    supports.insert(supports.end(),
+                    robin_supports.begin(),
+                    robin_supports.end());
+    return supports;
   }
 
   std::vector<std::string>

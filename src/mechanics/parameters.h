@@ -21,6 +21,17 @@ namespace systole::Mechanics
     dealii::Point<3> position; ///< reference position [mm]
   };
 
+  /// A spring-dashpot (Robin) support on one boundary part: the traction
+  /// -(alpha u + beta v) per reference area, on the normal component only
+  /// ((u.N) N) or on all components.
+  struct RobinSupport
+  {
+    std::string boundary;
+    double      stiffness   = 0.0;  ///< alpha [kPa/mm]
+    double      damping     = 0.0;  ///< beta [kPa ms/mm]
+    bool        normal_only = true; ///< normal component only
+  };
+
   /// How the near-incompressibility of the myocardium is imposed
   /// ("Material / Incompressibility").
   enum class Incompressibility
@@ -96,6 +107,16 @@ namespace systole::Mechanics
     double robin_stiffness = 0.0;
     /// Whether the springs act on the normal component only.
     bool robin_normal_only = true;
+    /// Dashpot coefficient per reference area of robin_boundaries [kPa
+    /// ms/mm] (acts on the velocity of time integrations only).
+    double robin_damping = 0.0;
+    /// Further supports, each with its own values ("Robin supports").
+    std::vector<RobinSupport> robin_supports;
+
+    /// Every support: robin_boundaries with the uniform values, then
+    /// robin_supports.
+    std::vector<RobinSupport>
+    all_robin_supports() const;
 
     /// Prescribed active tension at the end of the load ramp [kPa] (2nd
     /// Piola-Kirchhoff, along the reference fibre).
@@ -150,6 +171,9 @@ namespace systole::Mechanics
     /// Rayleigh damping proportional to the mass, C = c_M M [1/ms] (the
     /// entry is in 1/s).
     double rayleigh_mass_damping = 0.0;
+    /// Kelvin-Voigt viscosity eta [kPa ms]: S_visc = eta dE/dt in time
+    /// integrations (the entry is in kPa s).
+    double viscosity = 0.0;
 
     static void
     declare(dealii::ParameterHandler &prm);

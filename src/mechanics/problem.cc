@@ -130,7 +130,10 @@ namespace systole::Mechanics
     };
     m.fixed_ids   = ids(params.fixed_boundaries, "Fixed boundaries");
     m.sliding_ids = ids(params.sliding_boundaries, "Sliding boundaries");
-    m.robin_ids   = ids(params.robin_boundaries, "Robin boundaries");
+    for (const auto &support : params.all_robin_supports())
+      m.robin_supports[*ids({support.boundary},
+                            "Robin boundaries (or Robin supports)")
+                          .begin()] = support;
     // Pressure parts, each with its own pressure; with a base, each is a
     // cavity closed by the base plane.
     m.pressure_names = params.pressure_boundaries();
@@ -251,8 +254,17 @@ namespace systole::Mechanics
     // load is the exact derivative of the discrete cavity volume while the
     // rim stays in the base plane, so its tangent is a Hessian). A follower
     // pressure on an open surface is not.
-    const bool symmetric = m.pressure_ids.empty() || !m.cavities.empty();
-    m.linear_solver      = create_linear_solver(solver,
+    // A cavity's load is that derivative only while its rim stays in the base
+    // plane: the base must be held in it (fixed or sliding). The viscous
+    // stress of a time step, eta dE/dt with E(F) and its rate, has a
+    // tangent that is not symmetric.
+    const bool base_held = !names.has("base") ||
+                           m.fixed_ids.count(names.id("base")) > 0 ||
+                           m.sliding_ids.count(names.id("base")) > 0;
+    const bool symmetric =
+      (m.pressure_ids.empty() || (!m.cavities.empty() && base_held)) &&
+      params.viscosity == 0.0;
+    m.linear_solver = create_linear_solver(solver,
                                            m.mapping,
                                            m.dof_handler,
                                            m.layout,

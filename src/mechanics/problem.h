@@ -69,6 +69,18 @@ namespace systole::Mechanics
 
   using FibreFunction = Fibres::FibreField;
 
+  /// The energy flows of the accepted state of a time integration
+  /// (Problem::accepted_powers()) [kPa mm^3/ms = mW].
+  struct PowerReport
+  {
+    /// Dissipated: int eta dE/dt : dE/dt dV + the dashpots' beta |v|^2 (or
+    /// (v.N)^2) over their parts + c_M v.Mv (Rayleigh).
+    double dissipation = 0.0;
+    /// Delivered by the loads: the follower pressures, -p int v . cof(F) N
+    /// dA, and the active stress, -int S_a : dE/dt dV.
+    double loads = 0.0;
+  };
+
   /// The state of the mechanics at one quadrature point of a locally owned
   /// cell, for the postprocessors (Problem::point_states()).
   struct PointState
@@ -241,6 +253,20 @@ namespace systole::Mechanics
     /// µJ] (0 before start_dynamics(); collective).
     double
     kinetic_energy() const;
+
+    /// Energy stored in the springs of the Robin supports, (1/2) alpha int
+    /// |u|^2 dA (or (u.N)^2) at the current displacement [µJ] (collective).
+    double
+    support_energy() const;
+
+    /// The powers of the accepted state (u_n, v_n) of the time integration
+    /// under @p pressures [kPa] (one per pressure part) and the uniform
+    /// @p active_tension [kPa] (plus the per-point tensions): kinetic +
+    /// strain + support energy change at the rate loads - dissipation.
+    /// Zero before start_dynamics(). Collective.
+    PowerReport
+    accepted_powers(const dealii::Vector<double> &pressures,
+                    const double                  active_tension) const;
 
     /// Stored energy int (psi + U(J)) dV at the current displacement [µJ]:
     /// the passive law and the volumetric penalty (the active tension and

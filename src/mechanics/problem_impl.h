@@ -75,6 +75,12 @@ namespace systole::Mechanics
     /// (1 - alpha_m) a_{n+1} + alpha_m a_n + c_M ((1 - alpha_f) v_{n+1} +
     /// alpha_f v_n) at the current u (ghosted; set by the assembly).
     LA::MPI::Vector effective_acceleration;
+    /// The velocity the rate terms (viscosity, dashpots) see: v_{n+1} of the
+    /// current u in a time step, v_n while the accepted state's residual is
+    /// assembled (ghosted; set by the assembly and accept_time_step()).
+    LA::MPI::Vector velocity;
+    /// accept_time_step() assembles R(u_n, v_n): the rate terms use v_n.
+    bool accepting = false;
 
     /// a_{n+1} and v_{n+1} of the displacement @p u (owned).
     void
@@ -84,6 +90,9 @@ namespace systole::Mechanics
     /// d(effective acceleration)/du [1/ms^2] (a multiple of the identity).
     double
     effective_mass_coefficient() const;
+    /// d v_{n+1} / d u_{n+1} = gamma / (beta dt) [1/ms].
+    double
+    velocity_coefficient() const;
   };
 
   /// One step of the tension model @p model at point @p data with
@@ -189,7 +198,10 @@ namespace systole::Mechanics
     dealii::IndexSet                  owned, relevant;
     dealii::AffineConstraints<double> constraints; ///< homogeneous
 
-    std::set<dealii::types::boundary_id> fixed_ids, sliding_ids, robin_ids;
+    std::set<dealii::types::boundary_id> fixed_ids, sliding_ids;
+    /// The spring-dashpot supports by boundary id (Parameters::
+    /// all_robin_supports()).
+    std::map<dealii::types::boundary_id, RobinSupport> robin_supports;
     /// The pressure parts (Parameters::pressure_boundaries()), in order.
     std::vector<std::string>                pressure_names;
     std::vector<dealii::types::boundary_id> pressure_ids;
