@@ -14,6 +14,7 @@
 #include "materials/tension_factory.h"
 #include "mechanics/parameters.h"
 #include "simulation/calibration.h"
+#include "simulation/elastodynamics.h"
 #include "simulation/kinematics.h"
 #include "simulation/unloading.h"
 
@@ -90,14 +91,21 @@ namespace systole
       "Problem",
       "cavity volume",
       Selection(
-        "cavity volume|mechanics|heartbeat|electrophysiology|circulation|"
-        "cell|unloading|calibration"),
+        "cavity volume|mechanics|elastodynamics|heartbeat|electrophysiology|"
+        "circulation|cell|unloading|calibration"),
       "What to simulate. 'cavity volume': build the mesh and follow the "
       "cavity volume under a prescribed uniform stretch about the base centre "
       "(subsection Kinematics), a check of geometry, volume and output. "
       "'mechanics': quasi-static finite-strain mechanics, the "
       "pressure and active tension ramped in load steps "
-      "(subsections Material, Mechanics). 'heartbeat': the beating "
+      "(subsections Material, Mechanics). 'elastodynamics': the same "
+      "mechanics with inertia (Mechanics / Density), Kelvin-Voigt viscosity, "
+      "Rayleigh damping and spring-dashpot supports, integrated in time by "
+      "the generalized-alpha method from rest, from Time / Start time to End "
+      "time in steps of Time / Time step, under the follower pressure and "
+      "the fibre active stress of subsection Elastodynamics (Mechanics / "
+      "Pressure and Active tension are not used); time series of the loads, "
+      "cavity volume, tracked points and energies. 'heartbeat': the beating "
       "ventricle coupled to a Windkessel afterload through the four-phase "
       "cardiac cycle (subsections Circulation, Active tension, Material, "
       "Mechanics). 'electrophysiology': the monodomain model alone, "
@@ -225,6 +233,7 @@ namespace systole
     Postprocess::Parameters::declare(prm);
     UnloadingParameters::declare(prm);
     CalibrationParameters::declare(prm);
+    declare_elastodynamics_parameters(prm);
   }
 
   void
@@ -280,6 +289,7 @@ namespace systole
     UnloadingParameters::parse(prm);
     if (prm.get("Problem") == "calibration")
       CalibrationParameters::parse(prm);
+    validate_elastodynamics_parameters(prm);
   }
 
   RunParameters

@@ -10,6 +10,7 @@
 #include "simulation/calibration.h"
 #include "simulation/cell_run.h"
 #include "simulation/circulation_run.h"
+#include "simulation/elastodynamics.h"
 #include "simulation/electrophysiology_run.h"
 #include "simulation/heartbeat.h"
 #include "simulation/kinematics.h"
@@ -110,6 +111,12 @@ namespace systole
                                impl->text,
                                impl->logger,
                                impl->comm);
+    else if (impl->run.problem == "elastodynamics")
+      run_elastodynamics_problem(impl->prm,
+                                 impl->run,
+                                 impl->text,
+                                 impl->logger,
+                                 impl->comm);
     else if (impl->run.problem == "heartbeat")
       run_heartbeat_problem(impl->prm,
                             impl->run,
