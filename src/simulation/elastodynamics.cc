@@ -39,6 +39,17 @@ namespace systole
   {
     LoadCurveParameters::create(prm, "Pressure");
     LoadCurveParameters::create(prm, "Active stress");
+    if (prm.get("Problem") != "elastodynamics")
+      return;
+    AssertThrow(prm.get({"Material"}, "Incompressibility") == "penalty",
+                dealii::ExcMessage(
+                  "Problem = elastodynamics: the inertia is implemented for "
+                  "Material / Incompressibility = penalty only (set it to "
+                  "penalty; the bulk modulus of Material / Volumetric holds "
+                  "the volume)."));
+    AssertThrow(prm.get_double({"Mechanics"}, "Density") > 0.0,
+                dealii::ExcMessage("Problem = elastodynamics needs Mechanics / "
+                                   "Density > 0 (kg/m^3; 1000 for tissue)."));
   }
 
   void

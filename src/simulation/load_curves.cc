@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iostream>
 #include <map>
+#include <sstream>
 
 namespace systole
 {
@@ -112,15 +114,21 @@ namespace systole
     public:
       FunctionCurve(const std::string &expression, const std::string &entry)
       {
+        // muparser reports a syntax error on std::cerr before deal.II
+        // throws; the one-line message below says it instead.
+        std::ostringstream quiet;
+        std::streambuf    *cerr = std::cerr.rdbuf(quiet.rdbuf());
         try
           {
             function.initialize("t",
                                 expression,
                                 std::map<std::string, double>{{"pi", M_PI}});
             function.value(dealii::Point<1>(0.0));
+            std::cerr.rdbuf(cerr);
           }
         catch (...)
           {
+            std::cerr.rdbuf(cerr);
             AssertThrow(false,
                         dealii::ExcMessage(
                           entry + ": '" + expression +
