@@ -1484,6 +1484,105 @@ def land_section(build: Path, workdir: Path, full: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
+
+def run_inverse(base: str, name: str, build: Path, workdir: Path, ranks: int = 2) -> dict:
+    """One Problem = unloading or calibration run of parameters/<base> on `ranks` ranks:
+    /statistics (counts and the mechanics' timer sections), /summary, the calibration
+    tables."""
+    text = (ROOT / "parameters" / base).read_text()
+    prm = workdir / f"{name}.prm"
+    prm.write_text(text + f"\nsubsection Output\n  set Run name = {name}\n"
+                   "  set Field output interval = 0\nend\n")
+    command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks),
+               str(build / "systole"), str(prm)]
+    out, busy = run_watched(command, workdir, ranks)
+    if out.returncode != 0:
+        lines = out.stderr.strip().splitlines() or ["?"]
+        return {"ok": False, "base": base,
+                "error": next((line for line in lines if "error" in line), lines[0])}
+    path = workdir / "results" / name / "results.h5"
+    results = read_results(path)
+    row = {"ok": True, "busy": busy, "base": base, "stats": results.statistics,
+           "summary": {k: float(v[-1]) for k, v in results.summary.items()}}
+    import h5py
+    with h5py.File(path, "r") as f:
+        for group in ("calibration/edpvr", "calibration/parameters", "calibration/fit"):
+            if group in f:
+                row[group] = {k: f[group][k][()] for k in f[group]}
+    return row
+
+
+def timer_seconds(stats: dict, *words: str) -> float:
+    """Sum of the /statistics timer sections whose name holds every word."""
+    return sum(v for k, v in stats.items()
+               if k.startswith("timer: ") and all(w in k for w in words))
+
+
+def inverse_section(build: Path, workdir: Path) -> str:
+    """The cost of unloading (parameters/lv_unloading.prm) and of the Klotz calibration on
+    the unloaded reference (parameters/lv_calibration.prm), 2 ranks, and the fitted EDPVR
+    against Klotz's curve recomputed here from the formulas."""
+    print("running parameters/lv_unloading.prm on 2 ranks ...", flush=True)
+    unloading = run_inverse("lv_unloading.prm", "bench_unloading", build, workdir)
+    print("running parameters/lv_calibration.prm on 2 ranks (takes a while) ...", flush=True)
+    calibration = run_inverse("lv_calibration.prm", "bench_calibration", build, workdir)
+    lines = ["## Cost of unloading and calibration (2 ranks)",
+             "Written by `scripts/bench --only inverse`: the default ventricle (16 x 5 cells, "
+             "Q2) on 2 ranks (`mpirun -np 2`). Counts from `/statistics`; the assembly and "
+             "linear-solver times are the mechanics' TimerOutput sections summed over the "
+             "meshes built on every trial reference (rank 0's wall times). A forward solve is "
+             "one Newton solve (a load step or a finite-difference solve); an unloading "
+             "inflation is one load-stepped inflation of a trial reference to the image "
+             "pressure.\n",
+             "| case | DOFs | fixed-point iterations | unloading inflations | forward solves "
+             "(calibration) | TAO iterations | Newton iterations | assembly [s] | "
+             "linear solves [s] | wall [s] |",
+             "|" + "---|" * 10]
+    for label, r in (("unloading (`lv_unloading.prm`)", unloading),
+                     ("Klotz calibration on the unloaded reference (`lv_calibration.prm`)",
+                      calibration)):
+        if not r["ok"]:
+            lines.append(f"| {label} | failed: {r['error']} |")
+            continue
+        st = r["stats"]
+        if "tao_iterations" in st:
+            newton = (f"{st['newton_iterations']:.0f} + {st['unloading_newton_iterations']:.0f} "
+                      "(unloading)")
+            cells = (f"{st['fixed_point_iterations']:.0f} | {st['unloading_inflations']:.0f} | "
+                     f"{st['forward_solves']:.0f} | {st['tao_iterations']:.0f} | {newton}")
+        else:
+            cells = (f"{st['fixed_point_iterations']:.0f} | {st['forward_solves']:.0f} | – | – | "
+                     f"{st['newton_iterations']:.0f}")
+        star = " \\*" if r["busy"] else ""
+        lines.append(f"| {label} | {st['n_dofs']:.0f} | {cells} | "
+                     f"{timer_seconds(st, 'assembl'):.1f} | {timer_seconds(st, 'linear solver'):.1f} | "
+                     f"{st['wall_time']:.0f}{star} |")
+    if any(r.get("busy") for r in (unloading, calibration)):
+        lines.append(BUSY_NOTE)
+    if calibration["ok"] and "calibration/edpvr" in calibration:
+        e, fit = calibration["calibration/edpvr"], calibration["calibration/fit"]
+        par, st = calibration["calibration/parameters"], calibration["stats"]
+        edp, edv = float(fit["klotz_edp_mmHg"][0]), float(fit["klotz_edv_mL"][0])
+        v0 = edv * (0.6 - 0.006 * edv)
+        v30 = v0 + (edv - v0) / (edp / 27.78) ** (1 / 2.76)
+        names = [n.decode() if isinstance(n, bytes) else str(n) for n in par["name"]]
+        fitted = ", ".join(f"{n} = {v:.4g}" + (" (at a bound)" if b else "")
+                           for n, v, b in zip(names, par["fitted"], par["at_bound"]))
+        lines += ["", f"Klotz's curve through ({edp:g} mmHg, {edv:.3f} mL, the image's cavity), "
+                  f"recomputed here: V0 = {v0:.3f} mL, V30 = {v30:.3f} mL. Fitted: {fitted}; "
+                  f"relative residual norm {float(fit['residual_norm'][0]):.4f}; unloaded "
+                  f"cavity {st['unloaded_volume_mL']:.2f} mL (reload error "
+                  f"{st['reload_max_error_mm']:.2g} mm).\n",
+                  "| p [mmHg] | Klotz [mL] | fitted [mL] | error | initial values [mL] |",
+                  "|---|---|---|---|---|"]
+        for p, v, v_init in zip(e["pressure_mmHg"], e["volume_mL"], e["initial_volume_mL"]):
+            klotz = v0 + (v30 - v0) * (p / 27.78) ** (1 / 2.76)
+            lines.append(f"| {p:g} | {klotz:.1f} | {v:.1f} | {100 * (v / klotz - 1):+.1f} % | "
+                         f"{v_init:.1f} |")
+    return "\n".join(lines) + "\n"
+
+
+
 def write_docs(output: Path, sections: dict[str, str], replace_only: bool) -> None:
     """Replace the given sections of the existing file and keep the others (new sections
     are appended): sections that no group writes (tables of the tests, studies run by hand)
@@ -1512,7 +1611,7 @@ def main() -> int:
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
-                                           "niederer", "land"],
+                                           "niederer", "land", "inverse"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -1633,6 +1732,10 @@ def main() -> int:
         if args.only in (None, "niederer"):
             title = "Electrophysiology: the Niederer et al. 2011 benchmark"
             sections[title] = niederer_section(args.build, workdir, args.quick)
+            print(sections[title], flush=True)
+        if args.only in (None, "inverse"):
+            title = "Cost of unloading and calibration (2 ranks)"
+            sections[title] = inverse_section(args.build, workdir)
             print(sections[title], flush=True)
         if args.only in (None, "ep-lv"):
             title = "Electrophysiology: the default heartbeat's ventricle"

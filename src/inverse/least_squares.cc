@@ -106,6 +106,7 @@ namespace systole::Inverse
     struct Stagnation
     {
       double              tolerance = 0;
+      double              floor     = 0; ///< of the objective
       std::vector<double> history;
     };
 
@@ -122,6 +123,11 @@ namespace systole::Inverse
       if (reason != TAO_CONTINUE_ITERATING)
         return 0;
       auto &s = *static_cast<Stagnation *>(ptr);
+      if (f <= s.floor)
+        {
+          TaoSetConvergedReason(tao, TAO_CONVERGED_USER);
+          return 0;
+        }
       s.history.push_back(f);
       const unsigned int k = s.history.size();
       if (k >= 4)
@@ -193,6 +199,8 @@ namespace systole::Inverse
           "TaoSetMaximumIterations");
     Stagnation stagnation;
     stagnation.tolerance = settings.stagnation_tolerance;
+    stagnation.floor =
+      0.5 * settings.residual_tolerance * settings.residual_tolerance;
     // TAOBRGN iterates with its subsolver (bounded Newton line search),
     // whose convergence test decides; the outer one is not consulted.
     Tao iterating = tao;

@@ -46,6 +46,9 @@ namespace systole::Inverse
     /// at a bound-constrained optimum with finite-difference derivatives the
     /// gradient tests may never be met.
     double stagnation_tolerance = 1e-9;
+    /// ... or when |r| <= this (the data matched; TAO_CONVERGED_USER), for
+    /// residuals with a noise floor (0: off).
+    double residual_tolerance = 0;
     /// PETSc options prefix (e.g. -calibration_tao_monitor on the command
     /// line).
     std::string options_prefix = "calibration_";

@@ -6,10 +6,13 @@
 #include "base/errors.h"
 #include "base/logger.h"
 #include "base/units.h"
+#include "geometry/gmsh_export.h"
 #include "io/results_file.h"
 #include "mechanics/problem.h"
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
+#include "simulation/reference_unloader.h"
+#include "simulation/unloading.h"
 
 #include "inverse/adjustable_law.h"
 #include "inverse/inflation.h"
@@ -19,6 +22,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <iomanip>
 #include <random>
 #include <set>
@@ -166,6 +172,36 @@ namespace systole
                       "Largest pressure increment of the inflation ramp (cut "
                       "in half when Newton fails, up to Mechanics / Maximum "
                       "step cuts times). Units: mmHg.");
+    prm.declare_entry(
+      "Reference",
+      "given",
+      Selection("given|unloaded"),
+      "given: the mesh of subsection Geometry is the stress-free reference "
+      "of every inflation. unloaded: the mesh is the ventricle imaged at "
+      "Unloading / Image pressure (loaded, as a patient's image is): every "
+      "evaluation of the fit unloads the image with its parameter values "
+      "(Problem = unloading's fixed point with Unloading / Tolerance, "
+      "Acceleration and Maximum iterations, started from the last "
+      "evaluation's reference) and inflates that reference; the "
+      "finite-difference derivatives unload anew for each perturbed value, "
+      "so choose Unloading / Tolerance small against Finite difference step "
+      "times the displacements (e.g. 1e-4 mm with a step of 1e-2). Fibres / "
+      "Generator must be rule-based (recomputed on every reference). Target "
+      "= Klotz with Klotz end-diastolic volume = 0 takes the image's cavity "
+      "volume (its vertices, trilinear cells), at Klotz end-diastolic "
+      "pressure, which must equal Unloading / Image pressure. Writes the "
+      "unloaded mesh of the fitted values (Unloading / Mesh file) beside the "
+      "results. Units: -.");
+    prm.declare_entry(
+      "Residual tolerance",
+      "0",
+      Double(0.0),
+      "Stop the fit when the norm of the relative residuals |r| is at most "
+      "this (the data are matched; 0: off, TAO's gradient tests and the "
+      "stagnation test only). With Reference = unloaded the unloading's "
+      "tolerance leaves a noise floor in r (about 1e-6 at Unloading / "
+      "Tolerance = 1e-4 mm on the coarse ventricle) below which the line "
+      "search fails. Units: -.");
     prm.declare_entry("Maximum iterations",
                       "30",
                       Integer(1),
@@ -281,6 +317,8 @@ namespace systole
     p.finite_difference_step = prm.get_double(s, "Finite difference step");
     p.pressure_step_mmHg     = prm.get_double(s, "Pressure step");
     p.max_iterations         = prm.get_integer(s, "Maximum iterations");
+    p.reference              = prm.get(s, "Reference");
+    p.residual_tolerance     = prm.get_double(s, "Residual tolerance");
     return p;
   }
 
@@ -312,9 +350,42 @@ namespace systole
       std::make_unique<Inverse::AdjustableLaw>(rebuilder.build(initial));
     Inverse::AdjustableLaw &law = *adjustable;
     MechanicsModel model(prm, run, logger, comm, "", std::move(adjustable));
-    Mechanics::Problem &problem = *model.problem;
     logger.line(model.banner(run));
     IO::ResultsFile results(run.output_directory, parameter_text, comm);
+
+    // Reference = unloaded: the mesh is the image; the unloader moves the
+    // mesh's vertices to the unloaded reference of the current parameters
+    // (and rebuilds model.problem on it: use *model.problem afresh).
+    const bool                         unloaded = cal.reference == "unloaded";
+    const UnloadingParameters          up = UnloadingParameters::parse(prm);
+    std::unique_ptr<ReferenceUnloader> unloader;
+    std::vector<dealii::Point<3>>      image, given;
+    double                             image_volume = 0;
+    if (unloaded)
+      {
+        AssertThrow(cal.target != "Klotz" ||
+                      std::abs(cal.klotz_edp_mmHg -
+                               Units::kPa_to_mmHg(up.image_pressure)) <=
+                        1e-9 * cal.klotz_edp_mmHg,
+                    dealii::ExcMessage(
+                      section +
+                      "Reference = unloaded with Target = Klotz: the image is "
+                      "the end-diastolic geometry, so Calibration / Klotz "
+                      "end-diastolic pressure (" +
+                      fixed(cal.klotz_edp_mmHg, 3) +
+                      " mmHg) must equal Unloading / Image pressure (" +
+                      fixed(Units::kPa_to_mmHg(up.image_pressure), 3) +
+                      " mmHg)."));
+        unloader = std::make_unique<ReferenceUnloader>(
+          model,
+          run,
+          Fibres::Parameters::parse(prm, run.parameter_directory),
+          logger,
+          comm);
+        image        = unloader->vertices();
+        given        = image;
+        image_volume = model.problem->cavity_volume();
+      }
 
     // The target pressures [mmHg] (ascending).
     std::vector<double> p_mmHg = cal.pressures_mmHg;
@@ -329,7 +400,7 @@ namespace systole
     for (unsigned int j = 0; j < m; ++j)
       p_kPa[j] = Units::mmHg_to_kPa(p_mmHg[j]);
     const auto inflation_over = [&](const std::vector<double> &pressures) {
-      return Inverse::PassiveInflation(problem,
+      return Inverse::PassiveInflation(*model.problem,
                                        law,
                                        rebuilder,
                                        pressures,
@@ -338,7 +409,22 @@ namespace systole
                                        model.params.max_step_cuts,
                                        logger);
     };
-    Inverse::PassiveInflation inflation = inflation_over(p_kPa);
+    // One inflation per reference (it holds the mechanics built on it); the
+    // counts of the earlier ones.
+    auto inflation =
+      std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+    Inverse::InflationCounts earlier;
+    const auto               counts = [&]() {
+      Inverse::InflationCounts c = inflation->counts();
+      c.inflations += earlier.inflations;
+      c.load_steps += earlier.load_steps;
+      c.step_cuts += earlier.step_cuts;
+      c.forward_solves += earlier.forward_solves;
+      c.perturbed_solves += earlier.perturbed_solves;
+      c.newton_iterations += earlier.newton_iterations;
+      c.chord_iterations += earlier.chord_iterations;
+      return c;
+    };
     // The same numbers on every rank, bit for bit (TAO runs on each).
     const auto broadcast = [&](std::vector<double> &v) {
       MPI_Bcast(v.data(), v.size(), MPI_DOUBLE, 0, comm);
@@ -353,7 +439,15 @@ namespace systole
         target_mL[j] = cal.pairs[j].second;
     else if (cal.target == "Klotz")
       {
-        if (klotz_edv == 0)
+        if (klotz_edv == 0 && unloaded)
+          {
+            klotz_edv = Units::mm3_to_mL(image_volume);
+            logger.line("Klotz: the image's cavity volume at " +
+                        fixed(cal.klotz_edp_mmHg, 2) +
+                        " mmHg (its vertices, trilinear cells): " +
+                        fixed(klotz_edv, 3) + " mL");
+          }
+        else if (klotz_edv == 0)
           {
             auto own = inflation_over({Units::mmHg_to_kPa(cal.klotz_edp_mmHg)});
             std::vector<double> v = own.volumes(initial, nullptr, 0.0);
@@ -388,7 +482,103 @@ namespace systole
         for (unsigned int j = 0; j < m; ++j)
           target_mL[j] =
             Units::mm3_to_mL(v[j]) * (1 + cal.synthetic_noise * normal(rng));
+        if (unloaded)
+          {
+            // The round trip: the given mesh is the true reference; the
+            // image is its inflation with the true values to the image
+            // pressure (its vertices), from which the calibration starts.
+            law.set(rebuilder.build(cal.synthetic_values));
+            unloader->set_vertices(given);
+            const auto r = unloader->inflate(up.image_pressure);
+            extra_solves += r.load_steps;
+            image_volume = model.problem->cavity_volume();
+            const auto u = unloader->displacements();
+            for (unsigned int i = 0; i < image.size(); ++i)
+              image[i] = given[i] + u[i];
+            law.set(rebuilder.build(initial));
+            logger.line("Synthetic image: the true reference inflated to " +
+                        fixed(Units::kPa_to_mmHg(up.image_pressure), 2) +
+                        " mmHg holds " +
+                        fixed(Units::mm3_to_mL(image_volume), 3) + " mL");
+          }
       }
+
+    // Reference = unloaded: every evaluation unloads the image with its
+    // values (the fixed point started from the reference of the last
+    // unperturbed evaluation) and inflates that reference; the derivatives
+    // difference whole unload-and-inflate evaluations, the reference
+    // unloaded anew for each perturbed value (started from the unperturbed
+    // one's).
+    UnloadingResult               unloading_total;
+    unsigned int                  fixed_point_iterations = 0;
+    std::vector<dealii::Point<3>> last_reference         = image;
+    std::vector<double>           last_reference_stats;
+    const auto                    unload_and_inflate =
+      [&](const std::vector<double>           &values,
+          const std::vector<dealii::Point<3>> &start,
+          UnloadingResult                     &u) {
+        law.set(rebuilder.build(values));
+        unloader->set_vertices(start);
+        u = unloader->unload(image,
+                             up.image_pressure,
+                             up.tolerance,
+                             up.tolerance,
+                             up.max_iterations,
+                             up.acceleration ==
+                               UnloadingParameters::Acceleration::aitken,
+                             cal.target == "synthetic" ? &given : nullptr,
+                             [&](const UnloadingIteration &it) {
+                               logger.detail()
+                                 << "    unloading iteration " << it.iteration
+                                 << ": reference "
+                                 << Units::mm3_to_mL(it.reference_volume)
+                                 << " mL, reload error " << it.reload_error
+                                 << " mm" << std::endl;
+                             });
+        fixed_point_iterations += u.iterations;
+        unloading_total.forward_solves += u.forward_solves;
+        unloading_total.totals += u.totals;
+        earlier = counts();
+        inflation =
+          std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+        auto V = inflation->volumes(values, nullptr, 0.0);
+        broadcast(V);
+        return V;
+      };
+    std::function<std::vector<double>(const std::vector<double> &,
+                                      std::vector<double> *,
+                                      std::vector<double> &)>
+      unloaded_volumes = [&](const std::vector<double> &values,
+                             std::vector<double>       *dV,
+                             std::vector<double>       &stats) {
+        UnloadingResult u;
+        const auto      V = unload_and_inflate(values, last_reference, u);
+        const std::vector<dealii::Point<3>> reference = unloader->vertices();
+        last_reference                                = reference;
+        unloading_total.last                          = u.last;
+        stats                = {static_cast<double>(u.iterations),
+                                Units::mm3_to_mL(u.last.reference_volume),
+                                u.last.reload_error};
+        last_reference_stats = stats;
+        if (dV)
+          {
+            const double h = cal.finite_difference_step;
+            dV->assign(m * n, 0.0);
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                std::vector<double> perturbed = values;
+                perturbed[i] *= 1 + h;
+                UnloadingResult up_i;
+                const auto Vi = unload_and_inflate(perturbed, reference, up_i);
+                for (unsigned int j = 0; j < m; ++j)
+                  (*dV)[j * n + i] = (Vi[j] - V[j]) / (h * values[i]);
+              }
+            // Back to the unperturbed reference (the next evaluation starts
+            // there; the mechanics is rebuilt then).
+            law.set(rebuilder.build(values));
+          }
+        return V;
+      };
 
     // The least-squares problem in the scale factors x (value = x initial).
     Inverse::LeastSquaresProblem ls;
@@ -407,11 +597,15 @@ namespace systole
       std::vector<double> dV;
       std::vector<double> V;
       bool                failed = false;
+      std::vector<double> reference_stats;
       try
         {
-          V = inflation.volumes(values,
-                                J ? &dV : nullptr,
-                                cal.finite_difference_step);
+          if (unloaded)
+            V = unloaded_volumes(values, J ? &dV : nullptr, reference_stats);
+          else
+            V = inflation->volumes(values,
+                                   J ? &dV : nullptr,
+                                   cal.finite_difference_step);
         }
       catch (const dealii::ExceptionBase &e)
         {
@@ -456,10 +650,20 @@ namespace systole
                << values[i];
         }
       row.push_back({"residual_norm", "-", std::sqrt(rss)});
-      row.push_back({"forward_solves",
-                     "-",
-                     static_cast<double>(inflation.counts().forward_solves +
-                                         extra_solves)});
+      row.push_back(
+        {"forward_solves",
+         "-",
+         static_cast<double>(counts().forward_solves + extra_solves)});
+      if (unloaded)
+        {
+          if (reference_stats.empty())
+            reference_stats.assign(3, std::nan(""));
+          row.push_back({"fixed_point_iterations", "-", reference_stats[0]});
+          row.push_back({"reference_volume_mL", "mL", reference_stats[1]});
+          row.push_back({"reload_max_error_mm", "mm", reference_stats[2]});
+          line << "  (unloaded in " << reference_stats[0]
+               << " iterations: " << fixed(reference_stats[1], 3) << " mL)";
+        }
       line << "  |r| = " << std::scientific << std::setprecision(4)
            << std::sqrt(rss);
       results.append_timeseries(row);
@@ -467,8 +671,19 @@ namespace systole
       ++evaluation;
     };
     Inverse::LeastSquaresSettings settings;
-    settings.max_iterations = cal.max_iterations;
-    const auto   fit        = Inverse::solve_least_squares(ls, settings);
+    settings.max_iterations     = cal.max_iterations;
+    settings.residual_tolerance = cal.residual_tolerance;
+
+    const auto         fit = Inverse::solve_least_squares(ls, settings);
+    const unsigned int tao_iterations = fit.iterations;
+    if (unloaded)
+      {
+        // The mechanics on the unloaded reference of the fitted values.
+        std::vector<double> values(n);
+        for (unsigned int i = 0; i < n; ++i)
+          values[i] = fit.x[i] * initial[i];
+        unloaded_volumes(values, nullptr, last_reference_stats);
+      }
     const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();
@@ -495,10 +710,14 @@ namespace systole
 
     std::ostringstream o;
     o << "Calibration of Material / " << rebuilder.law_name() << " ("
-      << fit.reason << " after " << fit.iterations << " TAO iterations, "
-      << fit.evaluations << " inflations, "
-      << inflation.counts().forward_solves + extra_solves << " forward solves, "
-      << fixed(seconds, 1) << " s):\n"
+      << fit.reason << " after " << tao_iterations << " TAO iterations, "
+      << evaluation << " inflations, " << counts().forward_solves + extra_solves
+      << " forward solves";
+    if (unloaded)
+      o << ", " << fixed_point_iterations
+        << " fixed-point iterations of the unloading in "
+        << unloading_total.forward_solves << " unloading inflations";
+    o << ", " << fixed(seconds, 1) << " s):\n"
       << "  parameter      initial       fitted    std. dev.   95 % interval\n";
     for (unsigned int i = 0; i < n; ++i)
       o << "  " << std::left << std::setw(8) << cal.parameters[i] << std::right
@@ -548,8 +767,9 @@ namespace systole
       {"sigma2", "-", {fit.sigma2}, {}},
       {"degrees_of_freedom", "-", {static_cast<double>(m - n)}, {}},
       {"t_quantile", "-", {fit.t_quantile}, {}},
-      {"tao_iterations", "-", {static_cast<double>(fit.iterations)}, {}},
-      {"evaluations", "-", {static_cast<double>(fit.evaluations)}, {}},
+      {"tao_iterations", "-", {static_cast<double>(tao_iterations)}, {}},
+      {"evaluations", "-", {static_cast<double>(evaluation)}, {}},
+      {"reference", "", {}, {cal.reference}},
       {"covariance", "entry units^2", covariance, {}}};
     if (cal.target == "Klotz")
       fit_columns.insert(fit_columns.end(),
@@ -559,9 +779,50 @@ namespace systole
                           {"klotz_v30_mL", "mL", {klotz_v30}, {}}});
     results.write_table("calibration/fit", fit_columns);
 
+    // Reference = unloaded: the unloaded mesh of the fitted values.
+    std::string mesh_path;
+    if (unloaded)
+      {
+        mesh_path = run.output_directory + "/" + up.mesh_file;
+        Geometry::write_gmsh(model.tria, model.names, mesh_path);
+      }
+
+    // calibrated.prm: what a later run includes to start from the fitted
+    // values (and the unloaded mesh).
+    const std::string fragment = run.output_directory + "/calibrated.prm";
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      {
+        std::ofstream out(fragment);
+        out << "# Written by Problem = calibration (" << run.run_name
+            << "): the fitted entries of Material / " << rebuilder.law_name()
+            << (unloaded ? " and the unloaded reference mesh" : "")
+            << ".\n# A parameter file starts from them with the line\n"
+            << "#   include <path of this file>\n"
+            << "# after its own entries (deal.II's ParameterHandler: the "
+               "path is taken from the\n# current directory; the last "
+               "value of an entry wins). The other entries of the law\n"
+            << "# must be those of the calibration's file.\n";
+        if (unloaded)
+          out
+            << "subsection Geometry\n  set Type = gmsh\n"
+            << "  subsection Gmsh\n    set Mesh file = "
+            << std::filesystem::absolute(mesh_path).lexically_normal().string()
+            << "\n  end\nend\n";
+        out << "subsection Material\n  set Passive law = "
+            << rebuilder.law_name() << "\n  subsection " << rebuilder.law_name()
+            << "\n";
+        for (unsigned int i = 0; i < n; ++i)
+          out << "    set " << cal.parameters[i] << " = "
+              << std::setprecision(12) << fitted[i] << "\n";
+        out << "  end\nend\n";
+        AssertThrow(out.good(),
+                    dealii::ExcMessage("Calibration: cannot write " + fragment +
+                                       "."));
+      }
+
     std::vector<std::pair<std::string, std::string>> texts;
-    auto        statistics = model.statistics(texts);
-    const auto &c          = inflation.counts();
+    auto       statistics = model.statistics(texts);
+    const auto c          = counts();
     statistics.insert(
       statistics.end(),
       {{"forward_solves",
@@ -573,9 +834,37 @@ namespace systole
        {"step_cuts", "-", static_cast<double>(c.step_cuts)},
        {"newton_iterations", "-", static_cast<double>(c.newton_iterations)},
        {"chord_iterations", "-", static_cast<double>(c.chord_iterations)},
-       {"tao_iterations", "-", static_cast<double>(fit.iterations)},
+       {"tao_iterations", "-", static_cast<double>(tao_iterations)},
        {"calibration_seconds", "s", seconds}});
+    if (unloaded)
+      {
+        unloader->add_earlier_timings(statistics);
+        statistics.insert(
+          statistics.end(),
+          {{"fixed_point_iterations",
+            "-",
+            static_cast<double>(fixed_point_iterations)},
+           {"unloading_inflations",
+            "-",
+            static_cast<double>(unloading_total.forward_solves)},
+           {"unloading_load_steps",
+            "-",
+            static_cast<double>(unloading_total.totals.load_steps)},
+           {"unloading_newton_iterations",
+            "-",
+            static_cast<double>(unloading_total.totals.newton)},
+           {"reload_max_error_mm", "mm", unloading_total.last.reload_error},
+           {"unloaded_volume_mL",
+            "mL",
+            Units::mm3_to_mL(unloading_total.last.reference_volume)},
+           {"image_volume_mL", "mL", Units::mm3_to_mL(image_volume)}});
+        if (cal.target == "synthetic")
+          statistics.push_back({"reference_max_error_mm",
+                                "mm",
+                                unloading_total.last.reference_error});
+      }
     results.write_statistics(statistics, texts);
-    logger.line("Wrote " + results.path());
+    logger.line("Wrote " + results.path() + ", " + fragment +
+                (unloaded ? " and " + mesh_path : ""));
   }
 } // namespace systole

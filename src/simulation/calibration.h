@@ -37,6 +37,10 @@ namespace systole
     double              finite_difference_step = 1e-3;
     double              pressure_step_mmHg     = 2.5;
     unsigned int        max_iterations         = 30;
+    /// "given" (the mesh is the reference) or "unloaded" (the mesh is the
+    /// image at Unloading / Image pressure).
+    std::string reference          = "given";
+    double      residual_tolerance = 0; ///< on |r| (relative residuals)
 
     /// Declares subsection Calibration.
     static void

@@ -2,7 +2,8 @@
 """Check a calibration's results file against the truth it was made from.
 
     check_calibration.py RESULTS.h5 [NAME=TRUE ...] [--recovered TOL] [--interval]
-                         [--klotz TOL] [--max-sd REL]
+                         [--klotz TOL] [--max-sd REL] [--unloaded MESH.msh]
+                         [--reference-error TOL]
 
 Always: /calibration/parameters, /calibration/edpvr and /calibration/fit are there and
 finite, the fit converged, volume_mL / target_volume_mL - 1 is the stored relative residual,
@@ -12,18 +13,28 @@ and /statistics counts the forward solves. --recovered TOL: every fitted NAME wi
 standard deviation below REL times TRUE (the interval says something). --klotz TOL: the target volumes are
 Klotz et al. 2006's curve through the stored (EDP, EDV) pair, computed here from the formulas
 (A_n = 27.78 mmHg, B_n = 2.76), and the fitted volumes lie within TOL (relative) of it.
+--unloaded MESH (Calibration / Reference = unloaded): the unloaded mesh's cavity volume,
+computed here from MESH (closed by the base plane), is the reported unloaded volume (to
+1e-6) and below every fitted volume, and the reference reloads to the image's vertices within
+0.1 mm. --reference-error TOL: the unloaded reference lies within TOL [mm]
+of the true one (a synthetic round trip).
 """
 
 import sys
 
+from pathlib import Path
+
 import h5py
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
+from systole_post.gmsh_mesh import cavity_volume, read_msh  # noqa: E402
 
 
 def main(argv) -> int:
     args = argv[1:]
     path = args.pop(0)
-    recovered = interval = klotz = max_sd = None
+    recovered = interval = klotz = max_sd = unloaded = reference_error = None
     truth = {}
     while args:
         a = args.pop(0)
@@ -35,6 +46,10 @@ def main(argv) -> int:
             max_sd = float(args.pop(0))
         elif a == "--klotz":
             klotz = float(args.pop(0))
+        elif a == "--unloaded":
+            unloaded = args.pop(0)
+        elif a == "--reference-error":
+            reference_error = float(args.pop(0))
         else:
             name, value = a.split("=")
             truth[name] = float(value)
@@ -50,7 +65,8 @@ def main(argv) -> int:
         edpvr = {k: f["calibration/edpvr"][k][()] for k in f["calibration/edpvr"]}
         fit = {k: f["calibration/fit"][k][()] for k in f["calibration/fit"]}
         solves = f["statistics/forward_solves"][()]
-
+        stats = {k: f["statistics"][k][()] for k in f["statistics"]
+                 if f["statistics"][k].shape == ()}
     for name in names:
         print(f"{name}: fitted {fitted[name]:.6g} +- {sd[name]:.3g}, "
               f"95 % [{lower[name]:.6g}, {upper[name]:.6g}]"
@@ -96,6 +112,28 @@ def main(argv) -> int:
             print(f"  {p:6.2f} mmHg: fitted vs Klotz {100 * e:+.2f} %")
         if np.max(np.abs(error)) > klotz:
             failures.append(f"fitted EDPVR off Klotz's by {np.max(np.abs(error)):.3f} (> {klotz})")
+
+    if unloaded is not None:
+        m = read_msh(unloaded)
+        lid = m.nodes[m.quads[m.names["base"]]][..., 2].max()
+        volume = cavity_volume(m, "endocardium", lid) / 1000
+        print(f"unloaded mesh: cavity {volume:.6f} mL (reported "
+              f"{stats['unloaded_volume_mL']:.6f} mL), image {stats['image_volume_mL']:.6f} mL, "
+              f"reload error {stats['reload_max_error_mm']:.3g} mm, "
+              f"{stats['fixed_point_iterations']:.0f} fixed-point iterations")
+        if abs(volume / stats["unloaded_volume_mL"] - 1) > 1e-6:
+            failures.append("the unloaded mesh's cavity is not the reported unloaded volume")
+        if not volume < np.min(edpvr["volume_mL"]):
+            failures.append("the unloaded cavity is not below the fitted volumes")
+        if not stats["reload_max_error_mm"] <= 0.1:
+            failures.append(f"the unloaded reference reloads to {stats['reload_max_error_mm']} "
+                            f"mm of the image (> 0.1 mm)")
+    if reference_error is not None:
+        error = stats["reference_max_error_mm"]
+        print(f"unloaded reference vs the true one: {error:.3g} mm")
+        if not error <= reference_error:
+            failures.append(f"the unloaded reference is {error} mm off the true one "
+                            f"(> {reference_error})")
 
     for failure in failures:
         print("FAIL:", failure)
