@@ -3,7 +3,7 @@
 
     check_calibration.py RESULTS.h5 [NAME=TRUE ...] [--recovered TOL] [--interval]
                          [--klotz TOL] [--max-sd REL] [--unloaded MESH.msh]
-                         [--reference-error TOL]
+                         [--reference-error TOL] [--improves]
 
 Always: /calibration/parameters, /calibration/edpvr and /calibration/fit are there and
 finite, the fit converged, volume_mL / target_volume_mL - 1 is the stored relative residual,
@@ -16,7 +16,9 @@ Klotz et al. 2006's curve through the stored (EDP, EDV) pair, computed here from
 --unloaded MESH (Calibration / Reference = unloaded): the unloaded mesh's cavity volume,
 computed here from MESH (closed by the base plane), is the reported unloaded volume (to
 1e-6) and below every fitted volume, and the reference reloads to the image's vertices within
-0.1 mm. --reference-error TOL: the unloaded reference lies within TOL [mm]
+0.1 mm. --improves (with --klotz): the fitted EDPVR is closer to Klotz's curve (norm of the
+relative errors) than the EDPVR of the initial values. --reference-error TOL: the unloaded
+reference lies within TOL [mm]
 of the true one (a synthetic round trip).
 """
 
@@ -34,7 +36,7 @@ from systole_post.gmsh_mesh import cavity_volume, read_msh  # noqa: E402
 def main(argv) -> int:
     args = argv[1:]
     path = args.pop(0)
-    recovered = interval = klotz = max_sd = unloaded = reference_error = None
+    recovered = interval = klotz = max_sd = unloaded = reference_error = improves = None
     truth = {}
     while args:
         a = args.pop(0)
@@ -46,6 +48,8 @@ def main(argv) -> int:
             max_sd = float(args.pop(0))
         elif a == "--klotz":
             klotz = float(args.pop(0))
+        elif a == "--improves":
+            improves = True
         elif a == "--unloaded":
             unloaded = args.pop(0)
         elif a == "--reference-error":
@@ -110,6 +114,11 @@ def main(argv) -> int:
         error = edpvr["volume_mL"] / curve - 1
         for p, e in zip(edpvr["pressure_mmHg"], error):
             print(f"  {p:6.2f} mmHg: fitted vs Klotz {100 * e:+.2f} %")
+        initial = edpvr["initial_volume_mL"] / curve - 1
+        print(f"  relative error norm: fitted {np.linalg.norm(error):.4f}, initial values "
+              f"{np.linalg.norm(initial):.4f}")
+        if improves and not np.linalg.norm(error) < np.linalg.norm(initial):
+            failures.append("the fit is not closer to Klotz's curve than the initial values")
         if np.max(np.abs(error)) > klotz:
             failures.append(f"fitted EDPVR off Klotz's by {np.max(np.abs(error)):.3f} (> {klotz})")
 
