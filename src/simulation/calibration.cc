@@ -335,6 +335,25 @@ namespace systole
     const auto         cal   = CalibrationParameters::parse(prm);
     const unsigned int n     = cal.parameters.size();
 
+    const bool                unloaded = cal.reference == "unloaded";
+    const UnloadingParameters up       = UnloadingParameters::parse(prm);
+    if (unloaded)
+      {
+        AssertThrow(cal.target != "Klotz" ||
+                      std::abs(cal.klotz_edp_mmHg -
+                               Units::kPa_to_mmHg(up.image_pressure)) <=
+                        1e-9 * cal.klotz_edp_mmHg,
+                    dealii::ExcMessage(
+                      section +
+                      "Reference = unloaded with Target = Klotz: the image is "
+                      "the end-diastolic geometry, so Calibration / Klotz "
+                      "end-diastolic pressure (" +
+                      fixed(cal.klotz_edp_mmHg, 3) +
+                      " mmHg) must equal Unloading / Image pressure (" +
+                      fixed(Units::kPa_to_mmHg(up.image_pressure), 3) +
+                      " mmHg)."));
+      }
+
     Inverse::LawRebuilder     rebuilder(prm,
                                     cal.parameters,
                                     "Calibration / Parameters");
@@ -356,26 +375,11 @@ namespace systole
     // Reference = unloaded: the mesh is the image; the unloader moves the
     // mesh's vertices to the unloaded reference of the current parameters
     // (and rebuilds model.problem on it: use *model.problem afresh).
-    const bool                         unloaded = cal.reference == "unloaded";
-    const UnloadingParameters          up = UnloadingParameters::parse(prm);
     std::unique_ptr<ReferenceUnloader> unloader;
     std::vector<dealii::Point<3>>      image, given;
     double                             image_volume = 0;
     if (unloaded)
       {
-        AssertThrow(cal.target != "Klotz" ||
-                      std::abs(cal.klotz_edp_mmHg -
-                               Units::kPa_to_mmHg(up.image_pressure)) <=
-                        1e-9 * cal.klotz_edp_mmHg,
-                    dealii::ExcMessage(
-                      section +
-                      "Reference = unloaded with Target = Klotz: the image is "
-                      "the end-diastolic geometry, so Calibration / Klotz "
-                      "end-diastolic pressure (" +
-                      fixed(cal.klotz_edp_mmHg, 3) +
-                      " mmHg) must equal Unloading / Image pressure (" +
-                      fixed(Units::kPa_to_mmHg(up.image_pressure), 3) +
-                      " mmHg)."));
         unloader = std::make_unique<ReferenceUnloader>(
           model,
           run,
