@@ -125,3 +125,42 @@ TEST_CASE("Least squares stops at an active bound", "[inverse][least_squares]")
   CHECK(fit.at_bound[0]);
   CHECK_FALSE(fit.at_bound[1]);
 }
+
+TEST_CASE("Least squares stops once the residual is within its tolerance",
+          "[inverse][least_squares]")
+{
+  // The exponential of the exact-data case: with a residual tolerance the fit
+  // stops (TAO_CONVERGED_USER) at the first iterate with |r| below it, in
+  // fewer evaluations than without, and |r| is then at most the tolerance.
+  const auto run = [](const double tolerance) {
+    Inverse::LeastSquaresProblem problem;
+    problem.n_residuals = t.size();
+    problem.initial     = {1, 0.1};
+    problem.lower       = {0.01, 0.01};
+    problem.upper       = {10, 1};
+    problem.evaluate    = [](const std::vector<double> &x,
+                          std::vector<double>       &r,
+                          std::vector<double>       *J) {
+      for (unsigned int i = 0; i < t.size(); ++i)
+        {
+          const double e = std::exp(x[1] * t[i]);
+          r[i]           = x[0] * e - 2 * std::exp(0.3 * t[i]);
+          if (J)
+            {
+              (*J)[2 * i]     = e;
+              (*J)[2 * i + 1] = x[0] * t[i] * e;
+            }
+        }
+    };
+    Inverse::LeastSquaresSettings settings;
+    settings.residual_tolerance = tolerance;
+    return Inverse::solve_least_squares(problem, settings);
+  };
+  const auto loose = run(1e-2);
+  const auto tight = run(0);
+  CHECK(loose.converged);
+  CHECK(loose.reason == "CONVERGED_USER");
+  CHECK(loose.residual_norm <= 1e-2);
+  CHECK(loose.evaluations < tight.evaluations);
+  CHECK(tight.residual_norm < 1e-6);
+}
