@@ -3,18 +3,22 @@
 independent computation from the .msh file, and V(t) = stretch(t)^3 V(0).
 
     check_biv_volumes.py RESULTS.h5 MESH.msh [--serial=SERIAL.h5] [--coarser=COARSE.h5]
+                         [--max-below=FRACTION] [--min-ratio=R]
 
 - V_LV(0), V_RV(0) (Systole: deal.II's gmsh import, Mechanics::CavityVolume with the field
   ((x - x0) . e) e that has no flux through the base plane) equal those of
   systole_post.gmsh_mesh.cavity_volume (its own .msh reader, the field x / 3 over the
   endocardium plus the explicit polygon of its basal ring) to 1e-9 (relative): the same
   discrete surface, two code paths. The issue asks for 1e-3.
-- Both lie within 1 % of the exact volumes of the smooth shape (systole_post.biv_shape),
-  below it (the flat facets cut the convex cavity walls).
+- Both lie within 1 % (or --max-below) of the exact volumes of the smooth shape
+  (systole_post.biv_shape), below it (the flat facets cut the convex cavity walls; the
+  structured meshes of scripts/make_biv_hex_mesh.py are far coarser on the RV free wall).
 - With --serial every column equals the serial run's to 1e-10 (relative).
 - With --coarser (the same run on a coarser mesh): the distance to the exact volume shrinks by
-  at least 1.8 for both cavities (meshes/biv_coarse.msh to biv_fine.msh: element size 6 to
-  4 mm, 2.3 and 2.4 measured, close to the (6/4)^2 = 2.25 of second order).
+  at least 1.8 (or --min-ratio) for both cavities (meshes/biv_coarse.msh to biv_fine.msh: element size 6 to
+  4 mm, 2.3 and 2.4 measured, close to the (6/4)^2 = 2.25 of second order; biv_hex_coarse.msh
+  to biv_hex_fine.msh: 8 instead of 6 cells along the junction, (8/6)^2 = 1.78 for second
+  order, 1.70 and 1.94 measured).
 """
 
 import sys
@@ -36,6 +40,8 @@ def main(argv) -> int:
     ts = read_results(argv[1]).timeseries
     coarse = read_results(options["coarser"]).timeseries if "coarser" in options else None
     mesh = read_msh(argv[2])
+    max_below = float(options.get("max-below", 0.01))
+    min_ratio = float(options.get("min-ratio", 1.8))
     exact = {"lv_endocardium": lv_cavity_volume(), "rv_endocardium": rv_cavity_volume()}
     failures = []
     for part in ("lv_endocardium", "rv_endocardium"):
@@ -48,13 +54,13 @@ def main(argv) -> int:
               f"({below * 100:.3f} % below)")
         if not difference <= 1e-9:
             failures.append(f"{part}: V(0) differs from the independent value by {difference:.3g}")
-        if not 0 <= below <= 0.01:
+        if not 0 <= below <= max_below:
             failures.append(f"{part}: V(0) is {below * 100:.3g} % below the exact volume")
         if coarse is not None:
             below_coarse = (exact[part] - coarse[f"{part}_volume"][0]) / exact[part]
             print(f"{part}: {below_coarse:.3e} below on the coarser mesh, {below:.3e} here "
                   f"(ratio {below_coarse / below:.2f})")
-            if not below_coarse >= 1.8 * below:
+            if not below_coarse >= min_ratio * below:
                 failures.append(f"{part}: the error shrinks only by {below_coarse / below:.3g}")
         worst = np.max(np.abs(volume - volume[0] * ts["stretch"] ** 3) / volume[0])
         if not worst <= 1e-10:
