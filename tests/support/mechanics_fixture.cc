@@ -92,6 +92,14 @@ namespace test_support
     params.pressure_boundary = "endocardium, epicardium";
   }
 
+  void
+  VentricleMechanics::use_biventricular_mesh(const std::string &file)
+  {
+    tria.clear();
+    names                    = systole::Geometry::read_gmsh(file, 1.0, tria);
+    params.pressure_boundary = "lv_endocardium, rv_endocardium";
+  }
+
   std::unique_ptr<systole::Mechanics::Problem>
   VentricleMechanics::problem(const unsigned int degree)
   {
@@ -136,6 +144,21 @@ namespace test_support
     VentricleMechanics s(comm);
     s.use_two_cavities();
     const auto problem = s.problem();
+    problem->set_displacement(Wobble());
+    dealii::Vector<double> pressures(2);
+    pressures[0] = 2.0;
+    pressures[1] = 0.5;
+    return bordered_jacobian_errors(*problem, pressures);
+  }
+
+  std::array<std::array<double, 2>, 2>
+  biventricular_jacobian_errors(const std::string &file,
+                                const MPI_Comm     comm,
+                                const unsigned int degree)
+  {
+    VentricleMechanics s(comm);
+    s.use_biventricular_mesh(file);
+    const auto problem = s.problem(degree);
     problem->set_displacement(Wobble());
     dealii::Vector<double> pressures(2);
     pressures[0] = 2.0;

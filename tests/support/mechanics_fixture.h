@@ -18,6 +18,7 @@
 #include <array>
 #include <memory>
 #include <sstream>
+#include <string>
 #include <vector>
 
 /// @file
@@ -65,6 +66,13 @@ namespace test_support
     void
     use_two_cavities();
 
+    /// Replace the mesh by the biventricular gmsh mesh @p file (parts
+    /// lv_endocardium, rv_endocardium, epicardium, base) and make both
+    /// endocardia the pressure boundary: two cavities, each closed by its lid
+    /// in the base plane.
+    void
+    use_biventricular_mesh(const std::string &file);
+
     /// The problem (Q@p degree on a MappingQ@p degree).
     std::unique_ptr<systole::Mechanics::Problem>
     problem(const unsigned int degree = 2);
@@ -97,4 +105,13 @@ namespace test_support
   /// Wobble and the pressures 2 kPa (endocardium), 0.5 kPa (epicardium).
   std::array<std::array<double, 2>, 2>
   two_cavity_jacobian_errors(const MPI_Comm comm);
+
+  /// bordered_jacobian_errors() of both ventricles of the biventricular mesh
+  /// @p file (VentricleMechanics::use_biventricular_mesh()) on @p comm, Q@p
+  /// degree, at the displacement Wobble and the pressures 2 kPa (LV),
+  /// 0.5 kPa (RV).
+  std::array<std::array<double, 2>, 2>
+  biventricular_jacobian_errors(const std::string &file,
+                                const MPI_Comm     comm,
+                                const unsigned int degree = 1);
 } // namespace test_support
