@@ -2,7 +2,7 @@
 """Check a heartbeat results file against conservation laws and the phase logic.
 
     check_heartbeat.py RESULTS.h5 [--serial SERIAL.h5] [--activation EP.h5] [--closed]
-                       [--expect NAME=VALUE:TOL ...]
+                       [--cavities c1,c2] [--expect NAME=VALUE:TOL ...]
 
 For every 3D cavity c (a c_mechanics_volume_mL column):
 - its phases follow 0 -> 1 -> 2 -> 3 -> 0 (column c_phase);
@@ -12,6 +12,9 @@ For every 3D cavity c (a c_mechanics_volume_mL column):
   cavity volume changes by less than 1e-5 of itself (the closed diode valves leak through
   R_max only: 130 mmHg / 75006 mmHg s/mL over 100 ms is 1.7e-4 mL, 3e-6 of an ESV of 60 mL;
   a lost constraint or an open valve moves millilitres);
+- with --cavities (e.g. lv,rv for a biventricular mesh), each of them is a 3D cavity, passes
+  through all four phases, and has a PV loop: its volume falls by more than 5 % of its EDV
+  and its peak pressure exceeds its end-diastolic pressure by more than 5 mmHg in a beat;
 - with --closed (a closed-loop circulation), total_blood_volume_mL stays constant to 1e-8
   relative;
 - with --serial, the valve events and the beat summaries agree with the serial run (event
@@ -58,6 +61,8 @@ def main(argv) -> int:
     serial = option(args, "--serial")
     activation = option(args, "--activation")
     expectations = option(args, "--expect", many=True)
+    required = option(args, "--cavities", "")
+    required = [c for c in required.split(",") if c]
     closed = "--closed" in args
     if closed:
         args.remove("--closed")
@@ -98,6 +103,21 @@ def main(argv) -> int:
             failures.append(f"{c}: the mesh volume differs from the 0D volume by {coupling:.3e}")
         if not worst_iso <= 1e-5:
             failures.append(f"{c}: isovolumetric volume change {worst_iso:.3e} > 1e-5")
+
+    for c in required:
+        if c not in cavities(ts):
+            failures.append(f"{c} is not a 3D cavity of this run")
+            continue
+        visited = sorted(set(ts[f"{c}_phase"].astype(int)))
+        edv, esv = summary.get(f"{c}_EDV_mL"), summary.get(f"{c}_ESV_mL")
+        peak, edp = summary.get(f"{c}_peak_pressure_mmHg"), summary.get(f"{c}_EDP_mmHg")
+        print(f"{c}: phases {visited}; EDV {edv}, ESV {esv} mL; EDP {edp}, peak {peak} mmHg")
+        if visited != [0, 1, 2, 3]:
+            failures.append(f"{c}: phases visited {visited}, not all four")
+        if edv is None or esv is None or not np.all(edv - esv > 0.05 * edv):
+            failures.append(f"{c}: no PV loop (EDV {edv}, ESV {esv} mL)")
+        if peak is None or edp is None or not np.all(peak - edp > 5):
+            failures.append(f"{c}: no pressure rise (EDP {edp}, peak {peak} mmHg)")
 
     if closed:
         blood = ts["total_blood_volume_mL"]
