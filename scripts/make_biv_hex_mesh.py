@@ -9,28 +9,31 @@ cells are a block structure built here, not gmsh's split tetrahedra:
 * The LV wall is a thick shell: a quadrilateral mesh of its epicardium extruded through
   `--lv-layers` layers onto the endocardium. The epicardial mesh lives in a polar chart
   q = f (cos theta, sin theta), |q| <= 1, f the polar angle from the apex as a fraction of the
-  base angle (the reference of the LV generator, geometry/ellipsoid.cc): a square cap of
-  N x N cells around the apex (elliptical square-to-disk map) and a ring of 4N columns and
-  `--rows` rows up to the base circle |q| = 1. A point of the chart at transmural fraction t
-  is on the ellipsoid of semi-axes LV_ENDO + 5 t mm at the polar angle f * base angle(t), so
-  every level keeps its base on the plane z = 25.
-* The RV sits on a footprint of the ring: columns -A..A, rows j0..base. Its outer boundary
-  line (columns +-A, row j0) lies on the curve where the RV epicardium meets the LV
-  epicardium, the line inside it (columns +-(A-1), row j0 + 1) on the curve where the RV
-  endocardium meets it (the junctions, found in the chart by bisection). Over the footprint
-  two layers of cells: the lower one is the RV cavity (not meshed) inside the inner line
-  and the junction wall over the strip between the two lines; the upper one is the RV free
-  wall. Nodes above the footprint lie on the rays along the LV epicardial normal (RV
-  endocardium, RV epicardium); the junction wall rises along the RV surfaces from the
-  junction curves (steepest direction away from the LV epicardium, a height of one cell).
+  base angle (the reference of the LV generator, geometry/ellipsoid.cc): a rectangular cap of
+  `--cap` x N cells around the apex and a ring of 2 (cap + N) columns and `--rows` rows up to
+  the base circle |q| = 1. A point of the chart at transmural fraction t is on the ellipsoid
+  of semi-axes LV_ENDO + 5 t mm at the polar angle f * base angle(t), so every level keeps its
+  base on the plane z = 25.
+* The RV sits on the footprint of the ring columns that start on the cap's side facing the RV
+  (RV-local columns -A..A, A = N/2, all rows). Its boundary (columns +-A, row 0) lies on the
+  curve where the RV epicardium meets the LV epicardium, the line inside it (columns
+  +-(A-1), row 1) on the curve where the RV endocardium meets it (the junctions, found in the
+  chart by bisection; arms from the base to `--corner` of their length, the chord round the
+  bottom between). Over the footprint two layers of cells: the lower one is the RV cavity
+  (not meshed) inside the inner line and the junction wall over the strip between the two
+  lines; the upper one is the RV free wall. Free-wall nodes lie on the rays along the LV
+  epicardial normal (RV endocardium, RV epicardium); the junction wall rises one cell up the
+  RV endocardium from the inner junction, and its outer nodes lie where rays from there
+  cross the RV epicardium.
 * The chart's free nodes are placed by Laplace smoothing with the junction nodes fixed at
-  equal arc length along their curves, so the grid lines bend to follow the junctions.
+  equal arc length along their pieces, so the grid lines bend to follow the junctions.
+* Then a pattern search moves nodes to raise the smallest scaled Jacobian (improve(): within
+  each node's surfaces or curve; the cavity walls only in cells below `--free-below`).
 
 Every boundary node lies on its exact surface (ellipsoid or base plane; junction nodes on
 both), so the cavity volumes converge to the smooth shape's under refinement (--cells).
-The chart of the RV cavity's apex (below the LV junction's bottom) is covered by the free
-wall's lower face. numpy only; writes ASCII gmsh 2.2 (hexahedra, boundary quadrangles with
-their physical surfaces), read by Systole's `Geometry / Type = gmsh`.
+numpy only; writes ASCII gmsh 2.2 (hexahedra, boundary quadrangles with their physical
+surfaces), read by Systole's `Geometry / Type = gmsh`; prints the scaled Jacobians.
 
   python3 scripts/make_biv_hex_mesh.py -o meshes/biv_hex_coarse.msh
   python3 scripts/make_biv_hex_mesh.py --cells 8 -o meshes/biv_hex_fine.msh
@@ -169,7 +172,7 @@ def corner_split(curve, fraction):
     1 - fraction of its length on the LV epicardium: where the arms (from the base) end and
     the chord (round the bottom) begins."""
     x = np.array([lv_point(q, 1.0) for q in curve])
-    s = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(x, axis=0), axis=1))]) / 1.0
+    s = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(x, axis=0), axis=1))])
     s /= s[-1]
     return int(np.argmin(np.abs(s - fraction))), int(np.argmin(np.abs(s - 1 + fraction)))
 
@@ -335,11 +338,7 @@ def build(N, rows, lv_layers, fraction=0.35, Nx=0):
                     cavity.append(cell)
                 else:
                     cells.append(cell)
-    STORE.update(position=position, quads=quads, pinned=pinned)
     return np.array(mesh.nodes), np.array(cells), cavity
-
-
-STORE = {}
 
 
 # For each corner of a hexahedron (gmsh/VTK order), its three edge neighbours, right-handed.
@@ -452,10 +451,8 @@ def orient(nodes, cells):
     out = []
     for c in cells:
         x = nodes[c]
-        centre = x.mean(axis=0)
         v = np.linalg.det(np.array([x[1] - x[0], x[3] - x[0], x[4] - x[0]]))
         out.append(c if v > 0 else [c[4], c[5], c[6], c[7], c[0], c[1], c[2], c[3]])
-        del centre
     return np.array(out)
 
 
