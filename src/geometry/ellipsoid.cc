@@ -36,10 +36,92 @@ namespace systole::Geometry
     return endo_long_radius + t * (epi_long_radius - endo_long_radius);
   }
 
+  LVShape
+  LVShape::arostica()
+  {
+    LVShape shape;
+    shape.endo_short_radius = 25.0;
+    shape.endo_long_radius  = 90.0;
+    shape.epi_short_radius  = 35.0;
+    shape.epi_long_radius   = 97.0;
+    // x = r_l cos(mu_b) with cos(mu_b) = 5/17 (endo) and 5/20 (epi).
+    shape.base_height     = 90.0 * 5.0 / 17.0;
+    shape.epi_base_height = 97.0 * 5.0 / 20.0;
+    shape.long_axis_x     = true;
+    return shape;
+  }
+
+  bool
+  LVShape::ruled_base() const
+  {
+    return !std::isnan(epi_base_height) && epi_base_height != base_height;
+  }
+
+  double
+  LVShape::epicardial_base_height() const
+  {
+    return ruled_base() ? epi_base_height : base_height;
+  }
+
+  namespace
+  {
+    /// Where the segment from the endocardial cut ring to the epicardial one
+    /// (in a meridional plane: rho, z) meets the spheroid (rs, rl): the root
+    /// s >= 0 of the quadratic A s^2 + B s + C = 0 in the segment parameter.
+    /// C <= 0 (the endocardial ring lies inside every spheroid t >= 0) and
+    /// A > 0, so it is unique; the form 2(-C)/(B + sqrt(B^2 - 4AC)) gives
+    /// s = 0 exactly on the endocardium.
+    std::array<double, 2>
+    ruled_base_point(const LVShape &shape, const double rs, const double rl)
+    {
+      const double z_e = shape.base_height;
+      const double z_p = shape.epi_base_height;
+      const double rho_e =
+        shape.endo_short_radius *
+        std::sqrt(1.0 - std::pow(z_e / shape.endo_long_radius, 2));
+      const double rho_p =
+        shape.epi_short_radius *
+        std::sqrt(1.0 - std::pow(z_p / shape.epi_long_radius, 2));
+      const double d_rho = rho_p - rho_e, d_z = z_p - z_e;
+      const double A = d_rho * d_rho / (rs * rs) + d_z * d_z / (rl * rl);
+      const double B =
+        2.0 * (rho_e * d_rho / (rs * rs) + z_e * d_z / (rl * rl));
+      const double C =
+        std::min(0.0, rho_e * rho_e / (rs * rs) + z_e * z_e / (rl * rl) - 1.0);
+      const double s = 2.0 * (-C) / (B + std::sqrt(B * B - 4.0 * A * C));
+      return {{rho_e + s * d_rho, z_e + s * d_z}};
+    }
+  } // namespace
+
   double
   LVShape::base_angle(const double t) const
   {
-    return std::acos(-base_height / long_radius(t));
+    if (!ruled_base())
+      return std::acos(-base_height / long_radius(t));
+    const double rs = short_radius(t), rl = long_radius(t);
+    const auto   p = ruled_base_point(*this, rs, rl);
+    return std::atan2(p[0] / rs, -p[1] / rl);
+  }
+
+  Point<3>
+  LVShape::to_generator_frame(const Point<3> &wall) const
+  {
+    return long_axis_x ? Point<3>(wall[1], wall[2], wall[0]) : wall;
+  }
+
+  Point<3>
+  LVShape::from_generator_frame(const Point<3> &generator) const
+  {
+    return long_axis_x ? Point<3>(generator[2], generator[0], generator[1])
+                       : generator;
+  }
+
+  dealii::Tensor<1, 3>
+  LVShape::from_generator_frame(const dealii::Tensor<1, 3> &generator) const
+  {
+    return long_axis_x
+             ? dealii::Tensor<1, 3>({generator[2], generator[0], generator[1]})
+             : generator;
   }
 
   void
@@ -63,6 +145,32 @@ namespace systole::Geometry
               " mm) must be smaller than Endocardium long radius (" +
               std::to_string(endo_long_radius) +
               " mm), or the base plane misses the cavity.");
+    if (ruled_base())
+      {
+        require(std::abs(epi_base_height) < epi_long_radius,
+                "Geometry: the epicardial cut height (" +
+                  std::to_string(epi_base_height) +
+                  " mm) must be smaller than the epicardial long radius (" +
+                  std::to_string(epi_long_radius) + " mm).");
+        // The base segment must leave the endocardial ring outwards (into
+        // the wall), or the cut rings do not bound a wall.
+        const double z_e = base_height;
+        const double rho_e =
+          endo_short_radius *
+          std::sqrt(1.0 - std::pow(z_e / endo_long_radius, 2));
+        const double rho_p =
+          epi_short_radius *
+          std::sqrt(1.0 - std::pow(epi_base_height / epi_long_radius, 2));
+        const double outward =
+          rho_e * (rho_p - rho_e) / (endo_short_radius * endo_short_radius) +
+          z_e * (epi_base_height - z_e) / (endo_long_radius * endo_long_radius);
+        require(outward > 0.0,
+                "Geometry: the base segment from the endocardial cut ring "
+                "(height " +
+                  std::to_string(base_height) + " mm) to the epicardial one (" +
+                  std::to_string(epi_base_height) +
+                  " mm) runs into the cavity; bring the cut heights closer.");
+      }
   }
 
   EllipsoidalWallManifold::EllipsoidalWallManifold(const LVShape &shape)
@@ -93,12 +201,13 @@ namespace systole::Geometry
         wall[1]             = factor * reference[1];
       }
     wall[2] = -shape.long_radius(t) * std::cos(theta);
-    return wall;
+    return shape.from_generator_frame(wall);
   }
 
   double
-  EllipsoidalWallManifold::transmural_coordinate(const Point<3> &wall) const
+  EllipsoidalWallManifold::transmural_coordinate(const Point<3> &point) const
   {
+    const Point<3> wall = shape.to_generator_frame(point);
     // Solve rho^2 / r_s(t)^2 + z^2 / r_l(t)^2 = 1; the left side decreases
     // monotonically in t.
     const double rho2 = wall[0] * wall[0] + wall[1] * wall[1];
@@ -142,11 +251,12 @@ namespace systole::Geometry
   }
 
   Point<3>
-  EllipsoidalWallManifold::pull_back(const Point<3> &wall) const
+  EllipsoidalWallManifold::pull_back(const Point<3> &point) const
   {
-    const double t   = transmural_coordinate(wall);
-    const double rho = std::hypot(wall[0], wall[1]);
-    const double theta =
+    const double   t    = transmural_coordinate(point);
+    const Point<3> wall = shape.to_generator_frame(point);
+    const double   rho  = std::hypot(wall[0], wall[1]);
+    const double   theta =
       std::atan2(rho / shape.short_radius(t), -wall[2] / shape.long_radius(t));
     const double theta_ref = theta * half_pi / shape.base_angle(t);
     const double r         = 1.0 + t;

@@ -6,6 +6,7 @@
 
 #include "geometry/boundary_names.h"
 
+#include <limits>
 #include <memory>
 
 namespace dealii
@@ -24,21 +25,59 @@ namespace systole::Geometry
   ///   -r_l(t) cos(theta),
   /// with radii varying linearly through the wall, r(t) = r_endo + t (r_epi -
   /// r_endo). The base is the plane z = base_height. Lengths in mm.
+  ///
+  /// Two generalisations, both off by default:
+  /// - each surface cut at its own height (epi_base_height): the endocardium
+  ///   at z = base_height, the epicardium at z = epi_base_height, and the
+  ///   base the ruled (conical) surface of the straight segments between the
+  ///   two cut rings in every meridional plane (Aróstica et al. 2025);
+  /// - the long axis along x (long_axis_x): the whole wall turned by the
+  ///   rotation (x, y, z) -> (z, x, y), so the apex points to -x and the
+  ///   formulas above hold for the generator's frame (to_generator_frame).
   struct LVShape
   {
     double endo_short_radius = 7.0;  ///< r_s at the endocardium [mm]
     double endo_long_radius  = 17.0; ///< r_l at the endocardium [mm]
     double epi_short_radius  = 10.0; ///< r_s at the epicardium [mm]
     double epi_long_radius   = 20.0; ///< r_l at the epicardium [mm]
-    double base_height       = 5.0;  ///< z of the base plane [mm]
+    /// Height of the (endocardial) cut along the long axis [mm].
+    double base_height = 5.0;
+    /// Height of the epicardial cut [mm]; NaN: base_height (a flat base).
+    double epi_base_height = std::numeric_limits<double>::quiet_NaN();
+    /// false: long axis z (apex at -z); true: long axis x (apex at -x).
+    bool long_axis_x = false;
+
+    /// The monoventricular geometry of Aróstica et al. 2025 (CMAME
+    /// 435:117485) in its own frame: endocardium r_s = 25, r_l = 90 mm cut
+    /// at mu_b = -arccos(5/17) (x = 90 * 5/17 = 26.47 mm), epicardium
+    /// r_s = 35, r_l = 97 mm cut at mu_b = -arccos(5/20) (x = 24.25 mm),
+    /// long axis x.
+    static LVShape
+    arostica();
 
     double
     short_radius(const double t) const;
     double
     long_radius(const double t) const;
-    /// Polar angle (from the apex) of the base on the surface t.
+    /// Polar angle (from the apex) of the base on the surface t: where the
+    /// base plane, or the ruled base's segment, meets the spheroid t.
     double
     base_angle(const double t) const;
+    /// Each surface cut at its own height (the base is not a plane).
+    bool
+    ruled_base() const;
+    /// Height of the epicardial cut [mm] (base_height for a flat base).
+    double
+    epicardial_base_height() const;
+
+    /// A point of the wall's frame in the generator's (long axis z) and back.
+    dealii::Point<3>
+    to_generator_frame(const dealii::Point<3> &wall) const;
+    dealii::Point<3>
+    from_generator_frame(const dealii::Point<3> &generator) const;
+    /// A vector of the generator's frame in the wall's frame.
+    dealii::Tensor<1, 3>
+    from_generator_frame(const dealii::Tensor<1, 3> &generator) const;
 
     /// Throws a message naming the offending Geometry / Ellipsoid entry if the
     /// shape is invalid.

@@ -26,7 +26,8 @@ namespace systole::Geometry
     {
       ellipsoid,
       box,
-      gmsh
+      gmsh,
+      arostica ///< the ellipsoid generator with LVShape::arostica()
     };
 
     Type         type               = Type::ellipsoid;
@@ -96,6 +97,18 @@ namespace systole::Geometry
                  const dealii::types::boundary_id   id,
                  const std::string                 &name,
                  const double                       relative_tolerance = 1e-6);
+
+  /// The plane that closes the cavity bounded by boundary part @p cavity
+  /// (collective): the plane of the base (boundary_plane) where the base is
+  /// flat, as for every mesh with one cut plane; otherwise (each surface cut
+  /// at its own height, the base a ruled surface: Aróstica et al. 2025) the
+  /// plane fitted through the vertices where @p cavity meets the base (its
+  /// basal ring), which must then be planar within 1e-6 of the mesh diameter.
+  Plane
+  cavity_lid(const dealii::Triangulation<3, 3> &tria,
+             const BoundaryNames               &names,
+             const std::string                 &cavity,
+             const std::string                 &base = "base");
 
   /// Throw unless at least one face of the mesh (on any rank) carries boundary
   /// part @p name.

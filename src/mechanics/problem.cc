@@ -152,10 +152,12 @@ namespace systole::Mechanics
     if (!m.pressure_ids.empty() && names.has("base"))
       {
         Geometry::require_boundary(tria, names, "base");
-        const auto lid =
-          Geometry::boundary_plane(tria, names.id("base"), "base");
-        for (const auto id : m.pressure_ids)
-          m.cavities.emplace_back(id, lid);
+        // The base plane; for a ruled base, each cavity's basal ring.
+        for (unsigned int c = 0; c < m.pressure_ids.size(); ++c)
+          m.cavities.emplace_back(m.pressure_ids[c],
+                                  Geometry::cavity_lid(tria,
+                                                       names,
+                                                       m.pressure_names[c]));
       }
 
     // DoFs and constraints (zero displacement on fixed parts, zero normal

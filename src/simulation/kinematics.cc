@@ -113,8 +113,12 @@ namespace systole
     for (const auto &part : kinematics.cavities)
       Geometry::require_boundary(tria, names, part);
     Geometry::require_boundary(tria, names, "base");
+    // The base plane (for a ruled base: the first cavity's basal ring, the
+    // center of the prescribed stretch).
     const Geometry::Plane lid =
-      Geometry::boundary_plane(tria, names.id("base"), "base");
+      kinematics.cavities.empty()
+        ? Geometry::boundary_plane(tria, names.id("base"), "base")
+        : Geometry::cavity_lid(tria, names, kinematics.cavities.front());
 
     const dealii::FESystem<3> fe(dealii::FE_Q<3>(run.polynomial_degree), 3);
     dealii::DoFHandler<3>     dof_handler(tria);
@@ -132,7 +136,8 @@ namespace systole
     // of CavityVolume has no flux through that plane, so each lid adds 0.
     std::vector<Mechanics::CavityVolume> cavities;
     for (const auto &part : kinematics.cavities)
-      cavities.emplace_back(names.id(part), lid);
+      cavities.emplace_back(names.id(part),
+                            Geometry::cavity_lid(tria, names, part));
     const auto volumes = [&]() {
       std::vector<double> v;
       for (const auto &cavity : cavities)
