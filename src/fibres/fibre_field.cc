@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "base/logger.h"
+#include "fibres/arostica.h"
 #include "fibres/rule_based.h"
 
 #include <cmath>
@@ -52,12 +53,14 @@ namespace systole::Fibres
   {}
 
   void
-  AnalyticHelix::local_frame(const dealii::Point<3> &X,
+  AnalyticHelix::local_frame(const dealii::Point<3> &point,
                              dealii::Tensor<1, 3>   &e_u,
                              dealii::Tensor<1, 3>   &e_v,
                              double                 &t) const
   {
-    t               = manifold.transmural_coordinate(X);
+    // In the generator's frame (long axis z), turned back at the end.
+    const dealii::Point<3> X = shape.to_generator_frame(point);
+    t                        = manifold.transmural_coordinate(point);
     const double rs = shape.short_radius(t), rl = shape.long_radius(t);
     // The axis has no circumferential direction: step off it a little.
     double       x = X[0], y = X[1];
@@ -76,8 +79,8 @@ namespace systole::Fibres
       {rs * cos_u * std::cos(v), rs * cos_u * std::sin(v), -rl * sin_u});
     e_v = dealii::Tensor<1, 3>(
       {-rs * sin_u * std::sin(v), rs * sin_u * std::cos(v), 0.0});
-    e_u /= e_u.norm();
-    e_v /= e_v.norm();
+    e_u = shape.from_generator_frame(e_u / e_u.norm());
+    e_v = shape.from_generator_frame(e_v / e_v.norm());
   }
 
   FibreBasis
@@ -107,7 +110,7 @@ namespace systole::Fibres
     prm.declare_entry(
       "Generator",
       "cartesian",
-      Selection("analytic|biventricular|cartesian|dti|rule-based"),
+      Selection("analytic|arostica|biventricular|cartesian|dti|rule-based"),
       "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
       "problem 1, isotropic laws); analytic: the helix rule of "
       "Land et al. 2015 problem 3 on the generated ellipsoid, "
@@ -119,7 +122,13 @@ namespace systole::Fibres
       "boundary parts lv_endocardium, rv_endocardium, epicardium and base "
       "(subsection Biventricular; the three angles above do not apply); "
       "dti: principal eigenvectors of a diffusion-tensor image (subsection "
-      "DTI). Units: -.");
+      "DTI); arostica: the rule of the Arostica et al. 2025 benchmark on a "
+      "generated ventricle (Geometry / Type = arostica or ellipsoid): the "
+      "transmural coordinate from a Laplace solve (0 endocardium, 1 "
+      "epicardium, no flux on the base; Rule-based / Element degree), the "
+      "radii and the helix angle linear in it, f = sin(alpha) e_mu + "
+      "cos(alpha) e_theta, the sheet s = f x (e_mu x e_theta) in the wall "
+      "(the Sheet angle does not apply). Units: -.");
     prm.declare_entry("Helix angle endocardium",
                       "60",
                       Double(-90, 90),
@@ -214,6 +223,18 @@ namespace systole::Fibres
                                                 tria,
                                                 names,
                                                 logger);
+        return [rule](const auto &cell, const auto &points, auto &bases) {
+          (*rule)(cell, points, bases);
+        };
+      }
+    if (params.generator == Arostica::name)
+      {
+        Arostica::Parameters p;
+        p.alpha_endo = params.alpha_endo * degree;
+        p.alpha_epi  = params.alpha_epi * degree;
+        p.degree     = params.rule_based.degree;
+        const auto rule =
+          std::make_shared<const Arostica>(p, shape, tria, names, logger);
         return [rule](const auto &cell, const auto &points, auto &bases) {
           (*rule)(cell, points, bases);
         };

@@ -88,8 +88,9 @@ namespace systole::Fibres
   /// Subsection "Fibres": the generator and its parameters.
   struct Parameters
   {
-    /// "analytic", "biventricular" (biventricular.h), "cartesian", "dti"
-    /// (dti_import.h) or "rule-based" (rule_based.h)
+    /// "analytic", "arostica" (arostica.h), "biventricular"
+    /// (biventricular.h), "cartesian", "dti" (dti_import.h) or "rule-based"
+    /// (rule_based.h)
     std::string generator  = "cartesian";
     double      alpha_endo = 60.0;  ///< [degrees]
     double      alpha_epi  = -60.0; ///< [degrees]

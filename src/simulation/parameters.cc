@@ -270,12 +270,15 @@ namespace systole
     const auto fibres = Fibres::Parameters::parse(prm, directory);
     if (fibres.generator == "dti")
       Fibres::DTIField check(fibres.dti); // reads the file: errors now
-    AssertThrow(fibres.generator != "analytic" ||
-                  prm.get({"Geometry"}, "Type") == "ellipsoid",
+    AssertThrow((fibres.generator != "analytic" &&
+                 fibres.generator != "arostica") ||
+                  prm.get({"Geometry"}, "Type") == "ellipsoid" ||
+                  prm.get({"Geometry"}, "Type") == "arostica",
                 dealii::ExcMessage(
-                  "Fibres / Generator = analytic needs the generated "
-                  "ventricle (Geometry / Type = ellipsoid): the helix rule is "
-                  "defined in its ellipsoidal coordinates."));
+                  "Fibres / Generator = " + fibres.generator +
+                  " needs a generated ventricle (Geometry / Type = ellipsoid "
+                  "or arostica): the helix rule is defined in its ellipsoidal "
+                  "coordinates."));
     Materials::create_passive_law(prm);
     Materials::create_volumetric_law(prm);
     Mechanics::Parameters::parse(prm);
