@@ -24,20 +24,29 @@ namespace systole::Materials
               a * e * (1.0 + 2.0 * b * x * x)};
     }
 
-    /// w(x) Psi(x) for a fibre or sheet term, w the tension switch.
+    /// w(x) Psi(x) for a fibre or sheet term, w the tension switch @p w.
     Scalar3
-    switched_term(const double x,
-                  const double a,
-                  const double b,
-                  const double delta)
+    weighted_term(const double                 x,
+                  const double                 a,
+                  const double                 b,
+                  const std::array<double, 3> &w)
     {
-      const std::array<double, 3> w = HolzapfelOgden::tension_switch(x, delta);
       if (w[0] == 0.0 && w[1] == 0.0 && w[2] == 0.0)
         return {0.0, 0.0, 0.0};
       const Scalar3 psi = exponential_term(x, a, b);
       return {w[0] * psi.value,
               w[1] * psi.value + w[0] * psi.first,
               w[2] * psi.value + 2.0 * w[1] * psi.first + w[0] * psi.second};
+    }
+
+    /// w(x) Psi(x) with the smootherstep of width delta.
+    Scalar3
+    switched_term(const double x,
+                  const double a,
+                  const double b,
+                  const double delta)
+    {
+      return weighted_term(x, a, b, HolzapfelOgden::tension_switch(x, delta));
     }
 
     void
@@ -66,6 +75,16 @@ namespace systole::Materials
     return {{t * t * t * (10.0 + t * (-15.0 + 6.0 * t)),
              30.0 * t * t * (1.0 - t) * (1.0 - t) / delta,
              60.0 * t * (1.0 - t) * (1.0 - 2.0 * t) / (delta * delta)}};
+  }
+
+
+  std::array<double, 3>
+  HolzapfelOgden::logistic_switch(const double x, const double k)
+  {
+    // 1/(1 + exp(-k x)) = (1 + tanh(k x / 2)) / 2: no overflow for any x.
+    const double w = 0.5 * (1.0 + std::tanh(0.5 * k * x));
+    const double v = w * (1.0 - w);
+    return {{w, k * v, k * k * v * (1.0 - 2.0 * w)}};
   }
 
 
@@ -139,7 +158,23 @@ namespace systole::Materials
       "sheet terms on in tension: off for I4 <= 1, the full 2009 law for "
       "I4 >= 1 + delta; 0 gives the hard switch of the paper (discontinuous "
       "tangent). Units: none. Range: 0-0.05; default 0.01 (a stretch of "
-      "0.5 %).");
+      "0.5 %). Only for Tension switch = smootherstep.");
+    prm.declare_entry(
+      "Tension switch",
+      "smootherstep",
+      dealii::Patterns::Selection("logistic|smootherstep"),
+      "How the fibre and sheet terms switch off in compression: "
+      "smootherstep, the C^2 blend of width 'Tension switch width' (exactly "
+      "0 for I4 <= 1); logistic, the smooth Heaviside 1/(1 + exp(-k (I4 - "
+      "1))) of the Arostica et al. 2025 benchmark, multiplying the term (1/2 "
+      "at I4 = 1, never exactly 0), k = 'Tension switch sharpness'. Units: "
+      "none.");
+    prm.declare_entry("Tension switch sharpness",
+                      to_string(defaults.switch_sharpness),
+                      dealii::Patterns::Double(0.0),
+                      "Sharpness k of the logistic tension switch; must be > "
+                      "0. Units: none. Source: Arostica et al. 2025 (k = "
+                      "100, the default).");
   }
 
 
@@ -148,15 +183,19 @@ namespace systole::Materials
   {
     const std::vector<std::string> path = {"Material", law_name};
     Parameters                     p;
-    p.a            = prm.get_double(path, "a");
-    p.b            = prm.get_double(path, "b");
-    p.a_f          = prm.get_double(path, "a_f");
-    p.b_f          = prm.get_double(path, "b_f");
-    p.a_s          = prm.get_double(path, "a_s");
-    p.b_s          = prm.get_double(path, "b_s");
-    p.a_fs         = prm.get_double(path, "a_fs");
-    p.b_fs         = prm.get_double(path, "b_fs");
-    p.switch_width = prm.get_double(path, "Tension switch width");
+    p.a                = prm.get_double(path, "a");
+    p.b                = prm.get_double(path, "b");
+    p.a_f              = prm.get_double(path, "a_f");
+    p.b_f              = prm.get_double(path, "b_f");
+    p.a_s              = prm.get_double(path, "a_s");
+    p.b_s              = prm.get_double(path, "b_s");
+    p.a_fs             = prm.get_double(path, "a_fs");
+    p.b_fs             = prm.get_double(path, "b_fs");
+    p.switch_width     = prm.get_double(path, "Tension switch width");
+    p.switch_form      = prm.get(path, "Tension switch") == "logistic"
+                           ? Parameters::Switch::logistic
+                           : Parameters::Switch::smootherstep;
+    p.switch_sharpness = prm.get_double(path, "Tension switch sharpness");
     p.validate();
     return p;
   }
@@ -192,6 +231,10 @@ namespace systole::Materials
             "Tension switch width",
             switch_width,
             ">= 0; set e.g. 0.01, or 0 for a hard switch");
+    require(positive(switch_sharpness),
+            "Tension switch sharpness",
+            switch_sharpness,
+            "> 0; set e.g. 100 (Arostica et al. 2025)");
   }
 
 
@@ -231,8 +274,14 @@ namespace systole::Materials
         return;
       const SymmetricTensor<2, 3> M =
         dealii::symmetrize(outer_product(axis, axis));
+      const double  x = M * C - 1.0;
       const Scalar3 term =
-        switched_term(M * C - 1.0, a_i, b_i, params.switch_width);
+        params.switch_form == Parameters::Switch::logistic
+          ? weighted_term(x,
+                          a_i,
+                          b_i,
+                          logistic_switch(x, params.switch_sharpness))
+          : switched_term(x, a_i, b_i, params.switch_width);
       psi += term.value;
       dpsi_dC += term.first * M;
       if (in.with_tangent)

@@ -42,6 +42,15 @@ namespace systole::Materials
   /// restores the hard switch (discontinuous tangent). The I8 term is even
   /// in @f$I_{8fs}@f$ and is not switched.
   ///
+  /// Logistic switch ("Tension switch = logistic"): the form of the Aróstica
+  /// et al. 2025 benchmark, as its participants implement it (Simula's
+  /// cardiac_benchmark, svMultiPhysics' HolzapfelOgden-ModifiedAnisotropy):
+  /// @f$w(x) = 1/(1 + e^{-k x})@f$, @f$x = I_{4i} - 1@f$, sharpness k
+  /// ("Tension switch sharpness", 100 in the benchmark), multiplying the
+  /// whole term, so its derivative enters the stress. It is smooth
+  /// everywhere but never exactly 0 or 1: w(0) = 1/2, and a compressed
+  /// fibre keeps a small stress (w = 0.007 at I4 = 0.95 for k = 100).
+  ///
   /// Transversely isotropic reduction: a_s = a_fs = 0 leaves only the
   /// isotropic and fibre terms (the form "keep a, b, a_f, b_f only" of
   /// physiology.md); b_s and b_fs then have no effect but must stay > 0.
@@ -62,6 +71,15 @@ namespace systole::Materials
       double b_fs = 11.436; ///< fibre-sheet coupling exponent [-], > 0
       /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
       double switch_width = 0.01;
+      /// The form of the tension switch.
+      enum class Switch
+      {
+        smootherstep, ///< C^2 quintic of width switch_width (default)
+        logistic      ///< 1 / (1 + exp(-k (I4 - 1))), k = switch_sharpness
+      };
+      Switch switch_form = Switch::smootherstep;
+      /// sharpness k of the logistic switch [-], > 0
+      double switch_sharpness = 100.0;
 
       /// Declares "a", "b", "a_f", "b_f", "a_s", "b_s", "a_fs", "b_fs" and
       /// "Tension switch width" in the current subsection (the factory enters
@@ -104,6 +122,11 @@ namespace systole::Materials
     /// documentation); returned as {w, w', w''}.
     static std::array<double, 3>
     tension_switch(const double x, const double delta);
+
+    /// The logistic switch @f$w(x) = 1/(1 + e^{-k x})@f$ and its first two
+    /// derivatives at @f$x = I_4 - 1@f$, sharpness @p k [-] > 0; {w, w', w''}.
+    static std::array<double, 3>
+    logistic_switch(const double x, const double k);
 
     /// A switched fibre or sheet term @f$w(x)\,\frac{a}{2b}(e^{b x^2} - 1)@f$
     /// [kPa] and its first two derivatives in @f$x = I_4 - 1@f$, with

@@ -81,7 +81,12 @@ namespace test_support
           law_case<HolzapfelOgden>(ho_ti,
                                    false,
                                    "transversely isotropic",
-                                   switches_of(ho_ti))};
+                                   switches_of(ho_ti)),
+          // The benchmark's logistic switch is smooth everywhere: no
+          // interval for the FD steps to avoid.
+          law_case<HolzapfelOgden>(arostica_holzapfel_ogden(),
+                                   false,
+                                   "logistic switch")};
         t[MooneyRivlin::law_name]      = {defaults<MooneyRivlin>()};
         t[NeoHookean::law_name]        = {defaults<NeoHookean>()};
         t[StVenantKirchhoff::law_name] = {defaults<StVenantKirchhoff>()};
@@ -121,6 +126,17 @@ namespace test_support
       if (!cases.empty())
         names.push_back(name);
     return names;
+  }
+
+
+  systole::Materials::HolzapfelOgden::Parameters
+  arostica_holzapfel_ogden()
+  {
+    systole::Materials::HolzapfelOgden::Parameters p; // HO 2009 = Arostica
+    p.switch_form =
+      systole::Materials::HolzapfelOgden::Parameters::Switch::logistic;
+    p.switch_sharpness = 100.0;
+    return p;
   }
 
 

@@ -57,6 +57,11 @@ namespace test_support
   std::vector<std::string>
   laws_with_test_parameters();
 
+  /// Holzapfel-Ogden with the parameters and the logistic tension switch
+  /// (k = 100) of Arostica et al. 2025.
+  systole::Materials::HolzapfelOgden::Parameters
+  arostica_holzapfel_ogden();
+
   /// Holzapfel-Ogden with the default parameters but no sheet and no
   /// fibre-sheet terms (a_s = a_fs = 0): the transversely isotropic law.
   systole::Materials::HolzapfelOgden::Parameters

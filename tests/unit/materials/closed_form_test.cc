@@ -309,10 +309,17 @@ namespace
     const double b_i[2] = {p.b_f, p.b_s};
     for (unsigned int i = 0; i < 2; ++i) // f0, s0
       {
-        const double x     = d.C[i][i] - 1.0;
-        const auto [w, dw] = smootherstep(x, p.switch_width);
-        const double psi   = 0.5 * a_i[i] / b_i[i] * std::expm1(b_i[i] * x * x);
-        const double dpsi  = a_i[i] * x * std::exp(b_i[i] * x * x);
+        const double x = d.C[i][i] - 1.0;
+        auto [w, dw]   = smootherstep(x, p.switch_width);
+        if (p.switch_form ==
+            Materials::HolzapfelOgden::Parameters::Switch::logistic)
+          {
+            // Arostica et al. 2025: w = 1 / (1 + e^{-k x}), w' = k w (1 - w).
+            w  = 1.0 / (1.0 + std::exp(-p.switch_sharpness * x));
+            dw = p.switch_sharpness * w * (1.0 - w);
+          }
+        const double psi  = 0.5 * a_i[i] / b_i[i] * std::expm1(b_i[i] * x * x);
+        const double dpsi = a_i[i] * x * std::exp(b_i[i] * x * x);
         result.psi += w * psi;
         result.S[i][i] += 2.0 * (dw * psi + w * dpsi);
       }

@@ -872,3 +872,71 @@ TEST_CASE("Active stress rejects a transverse fraction outside [0, 1]",
   CHECK_NOTHROW(Materials::add_active_stress(5.0, 0.0, basis, S));
   CHECK_NOTHROW(Materials::add_active_stress(5.0, 1.0, basis, S));
 }
+
+
+TEST_CASE("The logistic tension switch of Arostica et al. 2025: values, "
+          "derivatives and the FD tangent across I4 = 1",
+          "[materials][fd]")
+{
+  using Materials::HolzapfelOgden;
+  const double k = 100.0;
+  // w = 1/(1 + e^{-k x}) directly (the law uses the tanh form).
+  for (const double x : {-0.3, -0.02, -1e-3, 0.0, 1e-3, 0.02, 0.3})
+    {
+      const auto   w     = HolzapfelOgden::logistic_switch(x, k);
+      const double plain = 1.0 / (1.0 + std::exp(-k * x));
+      CHECK(w[0] == Approx(plain).epsilon(1e-13).margin(1e-300));
+      // First and second derivatives against central differences.
+      const double h  = 1e-5;
+      const auto   wp = HolzapfelOgden::logistic_switch(x + h, k);
+      const auto   wm = HolzapfelOgden::logistic_switch(x - h, k);
+      CHECK(w[1] ==
+            Approx((wp[0] - wm[0]) / (2 * h)).epsilon(1e-6).margin(1e-9));
+      CHECK(w[2] ==
+            Approx((wp[1] - wm[1]) / (2 * h)).epsilon(1e-6).margin(1e-7));
+    }
+  CHECK(HolzapfelOgden::logistic_switch(0.0, k)[0] == 0.5);
+  // No overflow far in compression or tension.
+  CHECK(HolzapfelOgden::logistic_switch(-50.0, 1e3)[0] == 0.0);
+  CHECK(HolzapfelOgden::logistic_switch(50.0, 1e3)[0] == 1.0);
+
+  // The law's stress and tangent against central differences with I4f - 1
+  // and I4s - 1 on, and on both sides of, the switch (observed order 2).
+  const HolzapfelOgden      law(test_support::arostica_holzapfel_ogden());
+  const std::vector<double> steps = {4e-5, 2e-5, 1e-5};
+  for (const auto &[x_f, x_s] :
+       std::vector<std::pair<double, double>>{{0.0, 0.0},
+                                              {-0.01, 0.005},
+                                              {0.004, -0.02},
+                                              {-0.05, -0.05}})
+    for (const unsigned int seed : {1u, 2u})
+      {
+        INFO("I4f - 1 = " << x_f << ", I4s - 1 = " << x_s << ", seed " << seed);
+        const auto in = input_with_fibre_invariants(seed, x_f, x_s);
+        check_second_order(
+          test_support::fd_study_of_stress(test_support::evaluator_of(law),
+                                           in,
+                                           steps));
+        check_second_order(
+          test_support::fd_study_of_tangent(test_support::evaluator_of(law),
+                                            in,
+                                            steps));
+      }
+
+  // A compressed fibre keeps the small stress of the logistic weight: at
+  // I4f = 0.95 the fibre term is w(-0.05) = 1/(1 + e^5) of the full one.
+  HolzapfelOgden::Parameters fibre_only =
+    test_support::arostica_holzapfel_ogden();
+  fibre_only.a_s = fibre_only.a_fs = 0.0;
+  const HolzapfelOgden    switched(fibre_only);
+  Materials::PassiveInput in  = input_with_fibre_invariants(3, -0.05, 0.0);
+  fibre_only.switch_sharpness = 1e6; // effectively the hard switch: off
+  const HolzapfelOgden     off(fibre_only);
+  Materials::PassiveOutput a, b;
+  switched.evaluate(in, a);
+  off.evaluate(in, b);
+  const double x = -0.05;
+  const double psi =
+    0.5 * fibre_only.a_f / fibre_only.b_f * std::expm1(fibre_only.b_f * x * x);
+  CHECK(a.psi - b.psi == Approx(psi / (1.0 + std::exp(5.0))).epsilon(1e-9));
+}
