@@ -67,6 +67,10 @@ namespace systole
          "-",
          static_cast<double>(report.linear_iterations)},
         {"residual", "mN", report.final_residual}};
+      // The stored energy (passive law and volumetric penalty), for energy
+      // balances: with a fixed base it equals the pressure work int p dV.
+      if (!params.mixed())
+        row.push_back({"strain_energy", "uJ", problem.strain_energy()});
       if (problem.n_cavities() == 1)
         {
           const double volume = problem.cavity_volume();

@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""Physics checks of the quasi-static inflation of the Arostica et al. 2025 ventricle.
+
+    check_arostica_passive.py RESULTS.h5 EXACT_V0_MM3 V0_REL_TOL PRESSURE_KPA
+
+- V(0), the undeformed cavity closed by the endocardial cut plane, within V0_REL_TOL of the
+  exact prolate cap (the mesh's discretization error, docs/verification.md).
+- The load reaches PRESSURE_KPA, and the volume grows with the pressure at every step.
+- Energy balance: with a fixed base the follower pressure is conservative, so the stored
+  energy (passive law + penalty, the strain_energy column) equals the pressure work int p dV
+  along the load path (a cubic spline of p(V) integrated exactly), to 0.2 %. The two come
+  from separate code paths (energy at the quadrature points vs the Newton equilibrium and the
+  cavity-volume surface integral), so this fails if the stress is not the energy's derivative
+  or the pressure load not dV/du.
+- The wall moves out at the mid-ventricular point p1 = (0, 30, 0) mm.
+"""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
+from systole_post.results import read_results  # noqa: E402
+
+
+def main(argv) -> int:
+    results = read_results(argv[1])
+    exact, tolerance, pressure_end = float(argv[2]), float(argv[3]), float(argv[4])
+    ts = results.timeseries
+    p, V, E = ts["pressure"], ts["volume"], ts["strain_energy"]
+    failures = []
+    for name, values in ts.items():
+        if not np.all(np.isfinite(values)):
+            failures.append(f"column {name} has non-finite values")
+
+    error0 = abs(V[0] - exact) / exact
+    print(f"V(0) = {V[0]:.3f} mm^3 (exact {exact:.3f}): relative error {error0:.3g}")
+    if not error0 <= tolerance:
+        failures.append(f"V(0) relative error {error0:.3g} > {tolerance}")
+    if not abs(p[-1] - pressure_end) <= 1e-12 * pressure_end:
+        failures.append(f"the load stopped at {p[-1]} kPa, not {pressure_end}")
+    if not np.all(np.diff(V) > 0):
+        failures.append(f"the volume does not grow with the pressure: {V}")
+
+    work = CubicSpline(V, p).integrate(V[0], V[-1])  # [kPa mm^3 = uJ]
+    balance = abs(work - E[-1]) / E[-1]
+    print(f"V(end) = {V[-1]:.1f} mm^3 ({V[-1] / 1000:.2f} mL) at {p[-1]} kPa; "
+          f"pressure work {work:.4f} uJ, stored energy {E[-1]:.4f} uJ: balance {balance:.2e}")
+    if not balance < 2e-3:
+        failures.append(f"energy balance off by {balance:.3g} (0.2 % allowed)")
+
+    rho0 = np.hypot(30.0, 0.0)
+    rho1 = np.hypot(ts["p1_y"][-1], ts["p1_z"][-1])
+    print(f"p0 = ({ts['p0_x'][-1]:.4f}, {ts['p0_y'][-1]:.4f}, {ts['p0_z'][-1]:.4f}) mm, "
+          f"p1 = ({ts['p1_x'][-1]:.4f}, {ts['p1_y'][-1]:.4f}, {ts['p1_z'][-1]:.4f}) mm")
+    if not rho1 > rho0:
+        failures.append(f"p1 moved inwards: radius {rho1} < {rho0} mm")
+
+    for failure in failures:
+        print("FAIL:", failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
