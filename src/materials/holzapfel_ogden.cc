@@ -81,10 +81,14 @@ namespace systole::Materials
   std::array<double, 3>
   HolzapfelOgden::logistic_switch(const double x, const double k)
   {
-    // 1/(1 + exp(-k x)) = (1 + tanh(k x / 2)) / 2: no overflow for any x.
-    const double w = 0.5 * (1.0 + std::tanh(0.5 * k * x));
-    const double v = w * (1.0 - w);
-    return {{w, k * v, k * k * v * (1.0 - 2.0 * w)}};
+    // With e = exp(-k |x|) <= 1 (no overflow, full relative accuracy on
+    // both tails): w = 1/(1 + e) for x >= 0, e/(1 + e) for x < 0;
+    // w (1 - w) = e/(1 + e)^2 and 1 - 2w = -+(1 - e)/(1 + e).
+    const double e        = std::exp(-k * std::abs(x));
+    const double w        = x >= 0.0 ? 1.0 / (1.0 + e) : e / (1.0 + e);
+    const double v        = e / ((1.0 + e) * (1.0 + e));
+    const double one_m_2w = (x >= 0.0 ? e - 1.0 : 1.0 - e) / (1.0 + e);
+    return {{w, k * v, k * k * v * one_m_2w}};
   }
 
 

