@@ -1508,13 +1508,23 @@ def land_section(build: Path, workdir: Path, full: bool) -> str:
     def sv(label):
         return [preload[(label, e)]["summary"]["lv_SV_mL"] if preload[(label, e)]["ok"]
                 else float("nan") for e in (6, 10, 14)]
+    def change(label, key):
+        a, b = preload[(label, 6)], preload[(label, 14)]
+        return (b["summary"][key] - a["summary"][key] if a["ok"] and b["ok"]
+                else float("nan"))
     with_sv, without_sv = sv("with"), sv("without")
     monotone = all(b > a for a, b in zip(with_sv, with_sv[1:]))
     gain_with, gain_without = with_sv[2] - with_sv[0], without_sv[2] - without_sv[0]
+    edv_with, edv_without = change("with", "lv_EDV_mL"), change("without", "lv_EDV_mL")
+    esv_with, esv_without = change("with", "lv_ESV_mL"), change("without", "lv_ESV_mL")
     lines += ["", f"Stroke volume from 6 to 14 mmHg: {gain_with:+.2f} mL with the length "
               f"dependence ({'monotonic' if monotone else 'NOT monotonic'}), "
               f"{gain_without:+.2f} mL without it "
-              f"({'more' if gain_with > gain_without else 'NOT more'} with it).", "",
+              f"({'more' if gain_with > gain_without else 'NOT more'} with it). "
+              f"EDV {edv_with:+.2f} mL with, {edv_without:+.2f} mL without; ESV "
+              f"{esv_with:+.2f} mL with, {esv_without:+.2f} mL without; the Starling slope "
+              f"dSV/dEDV {gain_with / edv_with:.3f} with, {gain_without / edv_without:.3f} "
+              "without.", "",
               "| peripheral resistance | ESV [mL] | ESP [mmHg] | EDV [mL] | SV [mL] | peak "
               "[mmHg] |", "|---|---|---|---|---|---|"]
     points = []
