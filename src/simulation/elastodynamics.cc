@@ -254,36 +254,19 @@ namespace systole
           }
       }
 
-    const auto blocks  = problem.n_block_dofs();
-    const auto timings = problem.timings();
-    const auto seconds = [&](const std::string &section) {
-      const auto it = timings.find(section);
-      return it == timings.end() ? 0.0 : it->second;
-    };
-    std::vector<IO::Column> summary = {
-      {"n_dofs", "-", static_cast<double>(problem.n_dofs())},
-      {"n_displacement_dofs", "-", static_cast<double>(blocks[0])},
-      {"time_steps", "-", static_cast<double>(step)},
-      {"step_cuts", "-", static_cast<double>(cuts)},
-      {"newton_iterations", "-", static_cast<double>(total_newton)},
-      {"chord_iterations", "-", static_cast<double>(total_chord)},
-      {"linear_iterations", "-", static_cast<double>(total_linear)},
-      {"linear_iterations_per_solve",
-       "-",
-       total_solves > 0 ? static_cast<double>(total_linear) / total_solves
-                        : 0.0},
-      {"assembly_seconds", "s", seconds("Mechanics / assembly")},
-      {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}};
+    const SolveCounts       counts{step,
+                             cuts,
+                             total_newton,
+                             total_chord,
+                             total_linear,
+                             total_solves};
+    std::vector<IO::Column> summary = model.solve_summary("time_steps", counts);
     postprocess.end_beat(nullptr, summary);
     results.append_summary(summary);
     std::vector<std::pair<std::string, std::string>> texts;
-    auto statistics = model.statistics(texts);
-    statistics.insert(
-      statistics.end(),
-      {{"time_steps", "-", static_cast<double>(step)},
-       {"step_cuts", "-", static_cast<double>(cuts)},
-       {"newton_iterations", "-", static_cast<double>(total_newton)},
-       {"linear_iterations", "-", static_cast<double>(total_linear)}});
+    auto       statistics = model.statistics(texts);
+    const auto counted = MechanicsModel::solve_statistics("time_steps", counts);
+    statistics.insert(statistics.end(), counted.begin(), counted.end());
     results.write_statistics(statistics, texts);
     std::ostringstream o;
     o << step << " time steps (" << cuts << " cuts), " << total_newton

@@ -65,6 +65,43 @@ namespace systole
     return values;
   }
 
+  std::vector<IO::Column>
+  MechanicsModel::solve_summary(const std::string &steps_name,
+                                const SolveCounts &counts) const
+  {
+    const auto blocks  = problem->n_block_dofs();
+    const auto timings = problem->timings();
+    const auto seconds = [&](const std::string &section) {
+      const auto it = timings.find(section);
+      return it == timings.end() ? 0.0 : it->second;
+    };
+    return {
+      {"n_dofs", "-", static_cast<double>(problem->n_dofs())},
+      {"n_displacement_dofs", "-", static_cast<double>(blocks[0])},
+      {"n_pressure_dofs", "-", static_cast<double>(blocks[1])},
+      {steps_name, "-", static_cast<double>(counts.steps)},
+      {"step_cuts", "-", static_cast<double>(counts.cuts)},
+      {"newton_iterations", "-", static_cast<double>(counts.newton)},
+      {"chord_iterations", "-", static_cast<double>(counts.chord)},
+      {"linear_iterations", "-", static_cast<double>(counts.linear)},
+      {"linear_iterations_per_solve",
+       "-",
+       counts.solves > 0 ? static_cast<double>(counts.linear) / counts.solves
+                         : 0.0},
+      {"assembly_seconds", "s", seconds("Mechanics / assembly")},
+      {"linear_solver_seconds", "s", seconds("Mechanics / linear solver")}};
+  }
+
+  std::vector<IO::Column>
+  MechanicsModel::solve_statistics(const std::string &steps_name,
+                                   const SolveCounts &counts)
+  {
+    return {{steps_name, "-", static_cast<double>(counts.steps)},
+            {"step_cuts", "-", static_cast<double>(counts.cuts)},
+            {"newton_iterations", "-", static_cast<double>(counts.newton)},
+            {"linear_iterations", "-", static_cast<double>(counts.linear)}};
+  }
+
   std::string
   MechanicsModel::banner(const RunParameters &run) const
   {

@@ -29,6 +29,16 @@ namespace systole
   /// (Fibres) and the quasi-static problem (Mechanics, Discretization). Shared
   /// by the problems that solve the mechanics (quasi-static load stepping,
   /// heartbeat).
+  /// What a run of mechanics solves counted (a load ramp, a time
+  /// integration).
+  struct SolveCounts
+  {
+    unsigned int steps = 0, cuts = 0;
+    unsigned int newton = 0, chord = 0, linear = 0;
+    /// Newton and chord iterations that solved a linear system.
+    unsigned int solves = 0;
+  };
+
   struct MechanicsModel
   {
     /// @p saved_mesh: load the mesh refinement from this file (a
@@ -52,6 +62,19 @@ namespace systole
     /// times); @p texts gets discretization and linear_solver.
     std::vector<IO::Column>
     statistics(std::vector<std::pair<std::string, std::string>> &texts) const;
+
+    /// The /summary row of a run of solves: the DOFs of both blocks,
+    /// @p steps_name (e.g. load_steps, time_steps) = counts.steps, the step
+    /// cuts, Newton, chord and Krylov iterations, Krylov iterations per
+    /// solve, and this rank's assembly and linear-solver wall times [s].
+    std::vector<IO::Column>
+    solve_summary(const std::string &steps_name,
+                  const SolveCounts &counts) const;
+
+    /// The counts of a run of solves for /statistics (@p steps_name, cuts,
+    /// Newton and Krylov iterations), to append to statistics().
+    static std::vector<IO::Column>
+    solve_statistics(const std::string &steps_name, const SolveCounts &counts);
 
     Geometry::Parameters                            geometry;
     Mechanics::Parameters                           params;
