@@ -10,6 +10,8 @@
 #include "base/units.h"
 #include "circulation/model_factory.h"
 #include "circulation/parameters.h"
+#include "electrophysiology/ionic_factory.h"
+#include "electrophysiology/ionic_model.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "io/checkpoint.h"
@@ -644,6 +646,15 @@ namespace systole
                   "Problem = heartbeat: Active tension / Model = " +
                   tension_model->name() +
                   " is neither Bestel nor calcium-driven (Land)."));
+    AssertThrow(!calcium_driven ||
+                  Electrophysiology::create_ionic_model(prm)->has_calcium(),
+                dealii::ExcMessage(
+                  "Problem = heartbeat: Active tension / Model = " +
+                  tension_model->name() +
+                  " is driven by the intracellular calcium of the cell model, "
+                  "and Electrophysiology / Ionic model = " +
+                  prm.get({"Electrophysiology"}, "Ionic model") +
+                  " has none: set it to ten Tusscher-Panfilov."));
 
     // Resume: the newest valid checkpoint of the run, written for the same
     // problem (every entry outside subsection Output equal).
