@@ -142,6 +142,12 @@ namespace systole::Mechanics
         return negative;
       }
 
+      bool
+      direct() const override
+      {
+        return true;
+      }
+
     private:
       long negative = -1;
 

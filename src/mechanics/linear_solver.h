@@ -122,6 +122,15 @@ namespace systole::Mechanics
       return -1;
     }
 
+    /// Whether solve() is a back substitution with a factorization (much
+    /// cheaper than setup()), not a Krylov solve (as costly as a few
+    /// preconditioner set-ups).
+    virtual bool
+    direct() const
+    {
+      return false;
+    }
+
     /// Whether this solver needs the PressureMatrix in setup().
     virtual bool
     needs_pressure_matrix() const

@@ -224,9 +224,14 @@ namespace systole::Mechanics
       "that is cheaper than a new one: a solve after a converged one starts "
       "with a chord iteration on the last tangent (the Euler predictor of the "
       "new load; for volume-constrained solves, chord iterations while they "
-      "converge fast), and once the residual is below 1e-3 of its largest "
-      "value and fell tenfold in the last iteration, up to three chord "
-      "iterations replace new tangents. false: a new tangent and "
+      "converge fast); with the direct solver, after a Newton update that "
+      "cut the residual tenfold to below 0.1 of its largest value, or a "
+      "chord update that cut it fourfold, the next update is a chord "
+      "iteration too (at most 20 per solve; one that raises the residual is "
+      "undone); with an "
+      "iterative solver, the preconditioner is reused at most three times "
+      "per solve once the residual is below 1e-3 of its largest value and "
+      "fell tenfold in the last iteration. false: a new tangent and "
       "factorization at every iteration (pure Newton, e.g. to see its "
       "quadratic convergence). Units: -.");
     prm.declare_entry(
