@@ -401,13 +401,17 @@ namespace systole::Mechanics
     std::vector<double>       p_values(quadrature.size());
     std::vector<Tensor<1, 3>> face_u(face_quadrature.size());
 
-    // Elastodynamics: the residual becomes (1 - alpha_f) R(u) + alpha_f
-    // R(u_n) + M A(u), A the effective acceleration (problem_impl.h,
-    // Dynamics), and the tangent (1 - alpha_f) K + c M.
-    const bool   dynamic      = dynamics.started && dynamics.time_step > 0.0;
-    const double force_weight = dynamic ? 1.0 - dynamics.alpha_f : 1.0;
+    // Elastodynamics: the residual becomes R(u) + (alpha_f R(u_n) + M
+    // A(u)) / (1 - alpha_f), A the effective acceleration (problem_impl.h,
+    // Dynamics), and the tangent K + c / (1 - alpha_f) M: the generalized-
+    // alpha balance divided by 1 - alpha_f, so that the cavity pressures
+    // enter as in the quasi-static residual (dR/dp_i = -dV_i/du, the border
+    // of the volume-constrained solves) and the tolerances keep their scale.
+    const bool   dynamic = dynamics.started && dynamics.time_step > 0.0;
+    const double inertia_weight =
+      dynamic ? 1.0 / (1.0 - dynamics.alpha_f) : 0.0;
     const double mass_weight =
-      dynamic ? dynamics.effective_mass_coefficient() : 0.0;
+      dynamic ? dynamics.effective_mass_coefficient() * inertia_weight : 0.0;
     std::vector<Tensor<1, 3>> acceleration(quadrature.size());
     if (dynamic)
       {
@@ -670,23 +674,22 @@ namespace systole::Mechanics
 
         if (dynamic)
           {
-            // The inertia: int rho phi_i . A dV and c int rho phi_i . phi_j
-            // dV (the same component), after the averaged forces.
-            cell_system.residual *= force_weight;
-            if (with_matrix)
-              cell_system.matrix *= force_weight;
+            // The inertia: int rho phi_i . A dV / (1 - alpha_f) and c int
+            // rho phi_i . phi_j dV / (1 - alpha_f) (the same component).
             fe_values[layout.displacement].get_function_values(
               dynamics.effective_acceleration,
               acceleration);
             for (const unsigned int q : fe_values.quadrature_point_indices())
               {
-                const double w = params.density * fe_values.JxW(q);
+                const double w          = params.density * fe_values.JxW(q);
+                const double w_residual = w * inertia_weight;
                 for (unsigned int i = 0; i < n; ++i)
                   {
                     const unsigned int ci =
                       fe->system_to_component_index(i).first;
                     const double phi_i = fe_values.shape_value(i, q);
-                    cell_system.residual(i) += w * phi_i * acceleration[q][ci];
+                    cell_system.residual(i) +=
+                      w_residual * phi_i * acceleration[q][ci];
                     if (with_matrix)
                       for (unsigned int j = 0; j < n; ++j)
                         if (fe->system_to_component_index(j).first == ci)
@@ -729,7 +732,7 @@ namespace systole::Mechanics
       pressure_matrix->compress();
     residual.compress(dealii::VectorOperation::add);
     if (dynamic)
-      residual.add(dynamics.alpha_f, dynamics.residual_n);
+      residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);
     if (with_volume_derivative)
       for (auto &b : volume_derivatives)
         b.compress(dealii::VectorOperation::add);

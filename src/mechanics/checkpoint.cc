@@ -33,6 +33,13 @@ namespace systole::Mechanics
                                    {});
     factorized_tension_time      = tension_time;
     factorized_tension_time_step = tension_time_step;
+    if (dynamics.started)
+      {
+        dynamics.factorized_time_step = dynamics.time_step;
+        dynamics.factorized_u_n       = dynamics.u_n;
+        dynamics.factorized_v_n       = dynamics.v_n;
+        dynamics.factorized_a_n       = dynamics.a_n;
+      }
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const auto &data : point_data.get_data(cell))
@@ -57,12 +64,24 @@ namespace systole::Mechanics
   {
     Impl &m = *impl;
     // SolutionTransfer reads every DoF of the owned cells: ghosted copies.
-    const LA::MPI::Vector *sources[3] = {&m.u_saved,
-                                         &m.u_previous,
-                                         &m.factorized_u};
-    m.checkpoint_vectors.resize(3);
+    // In a time integration also the accepted dynamic state (u_n, v_n, a_n,
+    // R(u_n)) and that of the factorized tangent.
+    Dynamics                            &d       = m.dynamics;
+    std::vector<const LA::MPI::Vector *> sources = {&m.u_saved,
+                                                    &m.u_previous,
+                                                    &m.factorized_u};
+    if (d.started)
+      sources.insert(sources.end(),
+                     {&d.u_n,
+                      &d.v_n,
+                      &d.a_n,
+                      &d.residual_n,
+                      &d.factorized_u_n,
+                      &d.factorized_v_n,
+                      &d.factorized_a_n});
+    m.checkpoint_vectors.resize(sources.size());
     std::vector<const LA::MPI::Vector *> in;
-    for (unsigned int i = 0; i < 3; ++i)
+    for (unsigned int i = 0; i < sources.size(); ++i)
       {
         m.checkpoint_vectors[i].reinit(m.owned, m.relevant, m.comm);
         m.checkpoint_vectors[i] = *sources[i];
@@ -100,6 +119,7 @@ namespace systole::Mechanics
     // converged), and whether it is of a bordered system (B0, W0 stored).
     bool     bordered = !m.factorized_volume_derivatives.empty();
     archive &m.last_solve_converged &bordered;
+    archive &d.started &d.time_step &d.factorized_time_step;
   }
 
 
@@ -112,8 +132,14 @@ namespace systole::Mechanics
     archive &m.factorized_tension_time &m.factorized_tension_time_step;
     bool                                bordered = false;
     archive &m.last_solve_converged &bordered;
+    Dynamics                        &d         = m.dynamics;
+    bool                             dynamic   = false;
+    double                           time_step = 0, factorized_time_step = 0;
+    archive &dynamic &time_step     &factorized_time_step;
+    if (dynamic)
+      m.setup_dynamics();
 
-    std::vector<LA::MPI::Vector>   out(3);
+    std::vector<LA::MPI::Vector>   out(dynamic ? 10 : 3);
     std::vector<LA::MPI::Vector *> pointers;
     for (auto &v : out)
       {
@@ -125,6 +151,19 @@ namespace systole::Mechanics
     m.u_saved      = out[0];
     m.u_previous   = out[1];
     m.factorized_u = out[2];
+    if (dynamic)
+      {
+        d.started              = true;
+        d.time_step            = time_step;
+        d.factorized_time_step = factorized_time_step;
+        d.u_n                  = out[3];
+        d.v_n                  = out[4];
+        d.a_n                  = out[5];
+        d.residual_n           = out[6];
+        d.factorized_u_n       = out[7];
+        d.factorized_v_n       = out[8];
+        d.factorized_a_n       = out[9];
+      }
 
     const unsigned int handle = m.tria.register_data_attach(
       [](const CellIterator &, const CellStatus) {
@@ -217,12 +256,24 @@ namespace systole::Mechanics
           std::swap(m.tension_time, m.factorized_tension_time);
           std::swap(m.tension_time_step, m.factorized_tension_time_step);
         };
+        // Likewise the accepted dynamic state and the time step of that
+        // iterate (its mass and rate terms).
+        const auto swap_dynamic_state = [&]() {
+          if (!d.started)
+            return;
+          d.u_n.swap(d.factorized_u_n);
+          d.v_n.swap(d.factorized_v_n);
+          d.a_n.swap(d.factorized_a_n);
+          std::swap(d.time_step, d.factorized_time_step);
+        };
+        swap_dynamic_state();
         swap_model_inputs();
         m.assemble(m.factorized_pressures,
                    m.factorized_active_tension,
                    true,
                    true);
         swap_model_inputs();
+        swap_dynamic_state();
         m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
         m.factorized_volume_derivatives.clear();
         m.factorized_w.clear();

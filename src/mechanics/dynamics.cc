@@ -79,10 +79,9 @@ namespace systole::Mechanics
   } // namespace
 
   void
-  Problem::start_dynamics(const dealii::Vector<double> &pressures,
-                          const double                  active_tension)
+  Problem::Impl::setup_dynamics()
   {
-    Impl     &m = *impl;
+    Impl     &m = *this;
     Dynamics &d = m.dynamics;
     AssertThrow(m.params.density > 0.0,
                 dealii::ExcMessage("Mechanics / Density must be positive for "
@@ -101,7 +100,7 @@ namespace systole::Mechanics
 
     // The consistent mass matrix of the displacement, condensed like the
     // tangent (constant: the reference configuration does not move).
-    if (!d.started)
+    if (d.u_n.size() == 0)
       {
         dealii::DynamicSparsityPattern dsp(m.relevant);
         dealii::DoFTools::make_sparsity_pattern(m.dof_handler,
@@ -144,17 +143,68 @@ namespace systole::Mechanics
         d.residual_n.reinit(m.owned, m.comm);
         d.effective_acceleration.reinit(m.owned, m.relevant, m.comm);
         d.velocity.reinit(m.owned, m.relevant, m.comm);
+        for (auto *v :
+             {&d.factorized_u_n, &d.factorized_v_n, &d.factorized_a_n})
+          v->reinit(m.owned, m.comm);
       }
+  }
 
-    // At rest at the current displacement; the acceleration of the equation
-    // of motion under the given loads, M a_0 = -R(u_0).
+  void
+  Problem::start_dynamics(const dealii::Vector<double> &pressures,
+                          const double                  active_tension)
+  {
+    start_dynamics(pressures, active_tension, 0.0);
+  }
+
+  void
+  Problem::start_dynamics(const dealii::Vector<double> &pressures,
+                          const double                  active_tension,
+                          const double                  elapsed)
+  {
+    Impl     &m = *impl;
+    Dynamics &d = m.dynamics;
+    AssertThrow(elapsed >= 0.0,
+                dealii::ExcMessage("Mechanics: start_dynamics() needs a "
+                                   "positive elapsed time (0: at rest)."));
+    AssertThrow(elapsed == 0.0 || m.n_saves > 0,
+                dealii::ExcMessage("Mechanics: start_dynamics() in motion "
+                                   "needs a save() before."));
+    m.setup_dynamics();
+
+    // At the current displacement, at rest or with the velocity of the
+    // motion from the last save; the acceleration of the equation of motion
+    // under the given loads, M a_0 = -(R(u_0, v_0) + c_M M v_0).
     d.started   = true;
     d.time_step = 0.0;
     d.u_n       = m.u_owned;
     d.v_n       = 0;
-    m.assemble(pressures, active_tension, false);
+    if (elapsed > 0.0)
+      {
+        d.v_n = m.u_owned;
+        d.v_n -= m.u_saved;
+        d.v_n *= 1.0 / elapsed;
+        m.constraints.set_zero(d.v_n);
+      }
+    d.velocity  = d.v_n;
+    d.accepting = elapsed > 0.0; // the rate terms at v_0
+    try
+      {
+        m.assemble(pressures, active_tension, false);
+      }
+    catch (...)
+      {
+        d.accepting = false;
+        throw;
+      }
+    d.accepting  = false;
     d.residual_n = m.residual;
     LA::MPI::Vector rhs(d.residual_n);
+    if (d.mass_damping != 0.0 && elapsed > 0.0)
+      {
+        LA::MPI::Vector damping(d.v_n);
+        d.mass.vmult(damping, d.v_n);
+        rhs.add(d.mass_damping, damping);
+      }
     rhs *= -1.0;
     d.a_n = 0;
     dealii::SolverControl                     control(1000,

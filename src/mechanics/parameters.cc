@@ -140,8 +140,8 @@ namespace systole::Mechanics
       Double(0.0),
       "Dashpot coefficient per reference area of the Robin boundaries (the "
       "traction -beta v, normal or full as Robin type says), in time "
-      "integrations with inertia (Problem = elastodynamics); quasi-static "
-      "solves see no velocity. 1 Pa s/m = 1e-3 kPa ms/mm (Arostica et al. "
+      "integrations with inertia (Problem = elastodynamics, or heartbeat "
+      "with Inertia = true); quasi-static solves see no velocity. 1 Pa s/m = 1e-3 kPa ms/mm (Arostica et al. "
       "2025: 5e3 Pa s/m = 5). Units: kPa ms/mm.");
     prm.declare_entry(
       "Robin supports",
@@ -241,6 +241,18 @@ namespace systole::Mechanics
       "Mass density of the tissue, for the inertia of time-dependent runs "
       "that include it (Problem::set_time_step; the quasi-static problems "
       "ignore it). Units: kg/m^3 (1000 kg/m^3 = 1 mg/mm^3, the code's unit).");
+    prm.declare_entry(
+      "Inertia",
+      "false",
+      Bool(),
+      "Problem = heartbeat: true integrates the mechanics of the cardiac "
+      "cycle with its inertia (Density), Rayleigh mass damping, Viscosity and "
+      "the dashpots of the Robin supports, one generalized-alpha step "
+      "(Spectral radius) per heartbeat step, the cavity pressures the "
+      "multipliers of the volume constraints as in the quasi-static beat; "
+      "false: every step is a quasi-static equilibrium (the rates and the "
+      "density are ignored). Material / Incompressibility = penalty only. "
+      "Problem = elastodynamics always has inertia. Units: -.");
     prm.declare_entry(
       "Spectral radius",
       "0.8",

@@ -343,10 +343,6 @@ namespace systole::Mechanics
                           const double            active_tension,
                           dealii::Vector<double> &pressures)
   {
-    AssertThrow(!(impl->dynamics.started && impl->dynamics.time_step > 0.0),
-                dealii::ExcMessage(
-                  "Mechanics: the volume-constrained solves are quasi-static "
-                  "(the inertia is not implemented for them yet)."));
     AssertThrow(!impl->cavities.empty(),
                 dealii::ExcMessage(
                   "A volume constraint needs a cavity (a Mechanics / Pressure "

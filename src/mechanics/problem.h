@@ -223,15 +223,29 @@ namespace systole::Mechanics
     /// equilibrium). Assembles the mass matrix on the first call. The
     /// generalized-alpha method (Chung and Hulbert 1993, with the spectral
     /// radius Parameters::spectral_radius; second order) then integrates
-    /// M a + C v + R(u) = 0 step by step: set_time_step(), solve() at the
-    /// loads of the step's end, accept_time_step(). Penalty formulation,
-    /// solve() and solve(pressures) only (not the volume-constrained
-    /// solves). Collective.
+    /// M a + C v + R(u) = 0 step by step: set_time_step(), solve() (or
+    /// solve_cavities(): the cavity pressures are the multipliers of the
+    /// volume constraints at the step's end) at the loads of the step's end,
+    /// accept_time_step(). A failed or rejected solve is repeated from the
+    /// accepted state (restore() the displacement; the accepted state
+    /// changes only in accept_time_step()). Penalty formulation only.
+    /// Checkpoints carry the dynamic state. Collective.
     void
     start_dynamics(const dealii::Vector<double> &pressures,
                    const double                  active_tension);
     void
     start_dynamics(const double pressure, const double active_tension);
+
+    /// start_dynamics() in motion: with the velocity v_0 = (u - u_s) /
+    /// @p elapsed [ms] of the motion from the last save() u_s to the current
+    /// displacement u (e.g. a first quasi-static step, whose velocity is then
+    /// consistent with the flow into the cavities), and the acceleration of
+    /// the equation of motion, M a_0 = -(R(u_0, v_0) + C v_0) (the rate
+    /// terms, viscosity and dashpots, at v_0). Collective.
+    void
+    start_dynamics(const dealii::Vector<double> &pressures,
+                   const double                  active_tension,
+                   const double                  elapsed);
 
     /// Part 2: the solves until the next call are time steps of
     /// @p time_step [ms] from the accepted state (0: quasi-static solves
@@ -242,7 +256,9 @@ namespace systole::Mechanics
     /// Part 3: after a converged solve, the displacement becomes the
     /// accepted state (with its velocity and acceleration from Newmark's
     /// formulas); @p pressures and @p active_tension are the loads the step
-    /// was solved with. Collective.
+    /// was solved with. With a tension model, call it before
+    /// accept_tension_step() (the residual of the accepted state uses the
+    /// step's tension). Collective.
     void
     accept_time_step(const dealii::Vector<double> &pressures,
                      const double                  active_tension);

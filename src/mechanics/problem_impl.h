@@ -60,7 +60,10 @@ namespace systole::Mechanics
   /// alpha_m = (2 rho - 1)/(rho + 1), alpha_f = rho/(rho + 1), gamma = 1/2 -
   /// alpha_m + alpha_f, beta = (1 - alpha_m + alpha_f)^2 / 4 (rho the
   /// spectral radius at infinite frequency): second order, unconditionally
-  /// stable, C = c_M M (Rayleigh).
+  /// stable, C = c_M M (Rayleigh). The assembly divides this balance by
+  /// 1 - alpha_f: residual R(u_{n+1}) + (alpha_f R(u_n) + M A) / (1 -
+  /// alpha_f), so that dR/dp_i = -dV_i/du as in the quasi-static solves and
+  /// the bordered (volume-constrained) Newton needs no change.
   struct Dynamics
   {
     bool   started   = false;
@@ -81,6 +84,11 @@ namespace systole::Mechanics
     LA::MPI::Vector velocity;
     /// accept_time_step() assembles R(u_n, v_n): the rate terms use v_n.
     bool accepting = false;
+    /// The accepted state and the time step of the iterate whose tangent
+    /// the linear solver holds (remember_factorized_tension()), so that a
+    /// checkpoint can rebuild that tangent (its mass and rate terms).
+    double          factorized_time_step = 0.0;
+    LA::MPI::Vector factorized_u_n, factorized_v_n, factorized_a_n;
 
     /// a_{n+1} and v_{n+1} of the displacement @p u (owned).
     void
@@ -286,9 +294,17 @@ namespace systole::Mechanics
     double factorized_tension_time = 0, factorized_tension_time_step = 0;
 
     /// Copy the per-point active tension (and the tension model's inputs)
-    /// into factorized_tension (factorized_model_inputs).
+    /// into factorized_tension (factorized_model_inputs), and in a time
+    /// integration the accepted dynamic state and the time step into
+    /// Dynamics::factorized_*.
     void
     remember_factorized_tension();
+
+    /// The coefficients of the generalized-alpha method from the parameters
+    /// and, on the first call, the mass matrix and the vectors of the
+    /// dynamic state (zero). Collective.
+    void
+    setup_dynamics();
 
     /// A checkpoint being written: the ghosted vectors and their transfer
     /// (alive until the triangulation's save()).
