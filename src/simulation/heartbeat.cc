@@ -72,6 +72,7 @@ namespace systole
                           std::vector<std::vector<double>> activation_times,
                           ElectricalActivation            *ep,
                           const double                     contraction_onset,
+                          const bool                       inertia,
                           Logger                          &logger)
         : problem(problem)
         , tension_model(tension_model)
@@ -80,6 +81,7 @@ namespace systole
         , activation_times(std::move(activation_times))
         , ep(ep)
         , contraction_onset(contraction_onset)
+        , inertia(inertia)
         , logger(logger)
       {
         if (calcium_driven)
@@ -104,6 +106,17 @@ namespace systole
       set_time(const double t) override
       {
         time = t;
+        // With inertia every solve after the first accepted step is one
+        // generalized-alpha step from the accepted state (redone steps start
+        // there again).
+        if (dynamics_started)
+          {
+            AssertThrow(t > accepted_time,
+                        dealii::ExcMessage(
+                          "Problem = heartbeat with Mechanics / Inertia: a "
+                          "step must end after the accepted time."));
+            problem.set_time_step(t - accepted_time);
+          }
         if (ep != nullptr)
           {
             const auto start = std::chrono::steady_clock::now();
@@ -157,6 +170,7 @@ namespace systole
                         << std::defaultfloat << std::endl;
         const auto start  = std::chrono::steady_clock::now();
         const auto report = problem.solve_cavities(target, 0.0, p);
+        solved_pressures  = p;
         linear_iterations += report.linear_iterations;
         mechanics_seconds += std::chrono::duration<double>(
                                std::chrono::steady_clock::now() - start)
@@ -167,6 +181,18 @@ namespace systole
       void
       accept() override
       {
+        // The dynamic state first: its residual takes the step's tension
+        // (before the tension model's state moves on). The first step is
+        // quasi-static: the dynamics starts at its end with the velocity of
+        // the step, consistent with the inflow (from rest, the inflow of the
+        // initial state would need an infinite acceleration).
+        if (dynamics_started)
+          problem.accept_time_step(solved_pressures, 0.0);
+        else if (inertia)
+          {
+            problem.start_dynamics(solved_pressures, 0.0, time - accepted_time);
+            dynamics_started = true;
+          }
         if (calcium_driven)
           {
             problem.accept_tension_step();
@@ -188,7 +214,7 @@ namespace systole
       void
       serialize(Archive &archive)
       {
-        archive &accepted_time &tension;
+        archive &accepted_time &tension &dynamics_started;
       }
 
       void
@@ -247,8 +273,14 @@ namespace systole
       /// The calcium at the points at time [µM] (calcium-driven models).
       std::vector<std::vector<double>> calcium;
       const double                     contraction_onset;
-      Logger                          &logger;
-      double                           time = 0, accepted_time = 0;
+      /// Mechanics / Inertia: every solve after the first accepted step is a
+      /// generalized-alpha step.
+      const bool inertia;
+      bool       dynamics_started = false;
+      /// The cavity pressures of the last solve [kPa] (accept_time_step()).
+      Vector  solved_pressures;
+      Logger &logger;
+      double  time = 0, accepted_time = 0;
     };
 
     /// Activation time of every quadrature point of the mechanics [ms].
@@ -369,6 +401,9 @@ namespace systole
         row.push_back(
           {"mechanics_solves", "-", static_cast<double>(s.mechanics_solves)});
         row.push_back({"rejected_steps", "-", static_cast<double>(s.rejected)});
+        if (inertia)
+          row.push_back(
+            {"kinetic_energy", "uJ", problem.kinetic_energy()}); // collective
         if (ep != nullptr)
           {
             // The EP steps taken for this step (EP runs ahead to the end of
@@ -516,6 +551,8 @@ namespace systole
 
       /// Writes a checkpoint of the step with the given index.
       std::function<void(unsigned int)> checkpoint;
+      /// Mechanics / Inertia: a kinetic_energy column [µJ].
+      bool inertia = false;
 
       /// The counters of the rows written (save() and load() of a
       /// checkpoint).
@@ -655,6 +692,22 @@ namespace systole
                   "and Electrophysiology / Ionic model = " +
                   prm.get({"Electrophysiology"}, "Ionic model") +
                   " has none: set it to ten Tusscher-Panfilov."));
+
+    // Mechanics / Inertia: the dynamic mechanics (penalty formulation).
+    const bool inertia = prm.get_bool({"Mechanics"}, "Inertia");
+    AssertThrow(!inertia ||
+                  prm.get({"Material"}, "Incompressibility") == "penalty",
+                dealii::ExcMessage(
+                  "Problem = heartbeat: Mechanics / Inertia = true is "
+                  "implemented for Material / Incompressibility = penalty "
+                  "only (it is " +
+                  prm.get({"Material"}, "Incompressibility") +
+                  "): set Incompressibility = penalty or Inertia = false."));
+    AssertThrow(!inertia || prm.get_double({"Mechanics"}, "Density") > 0.0,
+                dealii::ExcMessage(
+                  "Problem = heartbeat: Mechanics / Inertia = true needs a "
+                  "positive Mechanics / Density (kg/m^3; the tissue's is "
+                  "1000)."));
 
     // Resume: the newest valid checkpoint of the run, written for the same
     // problem (every entry outside subsection Output equal).
@@ -825,6 +878,7 @@ namespace systole
                                    times,
                                    ep.get(),
                                    onset,
+                                   inertia,
                                    logger);
     // The small state of a checkpoint (state.bin): the rows of the results
     // file and the last step first, then the components in a fixed order.
@@ -877,6 +931,7 @@ namespace systole
                   circulation.period,
                   comm);
     HeartbeatStepper     stepper(zero_d, ventricles, settings, y0, p0);
+    writer.inertia = inertia;
 
     if (state_in)
       {
