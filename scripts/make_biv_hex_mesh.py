@@ -34,8 +34,8 @@ cells are a block structure built here, not gmsh's split tetrahedra:
   error lies within 1.5 mm of the RV endocardium, most of it in the anterior and posterior
   thirds). The cap's cells across the chord (`--cap`) touch neither the RV nor its junctions,
   so the defaults spend the cells on N: cap 0.3 N, rows 0.8 N (N = 10: 580 cells, the RV
-  8.4 % below the smooth shape; with the former cap 0.8 N and rows N the same cell count
-  reaches only N = 8 and 12.1 %).
+  8.4 % below the smooth shape; the former cap 0.8 N and rows N left 12.1 % with 630 cells
+  at N = 8).
 
 Every boundary node lies on its exact surface (ellipsoid or base plane; junction nodes on
 both), so the cavity volumes converge to the smooth shape's under refinement (--cells).
@@ -43,7 +43,7 @@ numpy only; writes ASCII gmsh 2.2 (hexahedra, boundary quadrangles with their ph
 surfaces), read by Systole's `Geometry / Type = gmsh`; prints the scaled Jacobians.
 
   python3 scripts/make_biv_hex_mesh.py -o meshes/biv_hex_coarse.msh
-  python3 scripts/make_biv_hex_mesh.py --cells 8 -o meshes/biv_hex_fine.msh
+  python3 scripts/make_biv_hex_mesh.py --cells 12 -o meshes/biv_hex_fine.msh
 """
 
 import argparse
