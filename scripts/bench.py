@@ -749,7 +749,7 @@ def run_biv(ranks: int, build: Path, workdir: Path) -> dict:
 def biv_section(rows: list[dict]) -> str:
     """Cost of one BiV beat on 1 and 2 ranks and the beat's summary of both ventricles."""
     lines = [f"## {BIV_TITLE}",
-             "One beat from the unloaded state, uniform activation, on the 376-cell structured "
+             "One beat from the unloaded state, uniform activation, on the 580-cell structured "
              "BiV, Q1 (the ctest), MUMPS: the linear solver counts one iteration per direct "
              "solve (back substitution), so its column is the number of linear solves. Newton "
              "iterations count the chord iterations too.", "",

@@ -29,6 +29,13 @@ cells are a block structure built here, not gmsh's split tetrahedra:
   equal arc length along their pieces, so the grid lines bend to follow the junctions.
 * Then a pattern search moves nodes to raise the smallest scaled Jacobian (improve(): within
   each node's surfaces or curve; the cavity walls only in cells below `--free-below`).
+* Resolution: the RV free wall over its cavity has N - 2 columns and rows - 1 rows; its flat
+  facets cut the cavity where the free wall turns round towards the junctions (the RV volume
+  error lies within 1.5 mm of the RV endocardium, most of it in the anterior and posterior
+  thirds). The cap's cells across the chord (`--cap`) touch neither the RV nor its junctions,
+  so the defaults spend the cells on N: cap 0.3 N, rows 0.8 N (N = 10: 580 cells, the RV
+  8.4 % below the smooth shape; the former cap 0.8 N and rows N left 12.1 % with 630 cells
+  at N = 8).
 
 Every boundary node lies on its exact surface (ellipsoid or base plane; junction nodes on
 both), so the cavity volumes converge to the smooth shape's under refinement (--cells).
@@ -36,7 +43,7 @@ numpy only; writes ASCII gmsh 2.2 (hexahedra, boundary quadrangles with their ph
 surfaces), read by Systole's `Geometry / Type = gmsh`; prints the scaled Jacobians.
 
   python3 scripts/make_biv_hex_mesh.py -o meshes/biv_hex_coarse.msh
-  python3 scripts/make_biv_hex_mesh.py --cells 8 -o meshes/biv_hex_fine.msh
+  python3 scripts/make_biv_hex_mesh.py --cells 12 -o meshes/biv_hex_fine.msh
 """
 
 import argparse
@@ -188,9 +195,9 @@ def resample_u(curve, n_arm, n_chord, fraction):
 
 def build(N, rows, lv_layers, fraction=0.35, Nx=0):
     """N: cells along the junction's chord (even); rows: ring rows from the cap to the base;
-    Nx: cells of the cap across the chord (default 0.8 N)."""
+    Nx: cells of the cap across the chord (default 0.3 N)."""
     Ny = N
-    Nx = Nx or max(2, round(0.8 * N))
+    Nx = Nx or max(2, round(0.3 * N))
     A = Ny // 2
     # --- the chart: a rectangular cap (Nx x Ny cells, its +x side on the junction's chord)
     # and a ring of 2 (Nx + Ny) columns and `rows` rows up to the base circle.
@@ -503,13 +510,14 @@ def write_msh(path, nodes, cells, parts):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--cells", type=int, default=6,
-                        help="cells along the junction's chord round the RV bottom (even)")
+    parser.add_argument("--cells", type=int, default=10,
+                        help="cells along the junction's chord round the RV bottom (even): "
+                        "N - 2 columns of the RV free wall over its cavity")
     parser.add_argument("--rows", type=int, default=0,
-                        help="ring rows from the apical cap to the base (default: --cells)")
+                        help="ring rows from the apical cap to the base (default: 0.8 x cells)")
     parser.add_argument("--lv-layers", type=int, default=2, help="cells across the LV wall")
     parser.add_argument("--cap", type=int, default=0,
-                        help="cells of the apical cap across the chord (default 0.8 x cells)")
+                        help="cells of the apical cap across the chord (default 0.3 x cells)")
     parser.add_argument("--corner", type=float, default=0.35,
                         help="where the junction's arms end, as a fraction of its length")
     parser.add_argument("--free-below", type=float, default=0.3,
@@ -521,7 +529,7 @@ def main():
     args = parser.parse_args()
     if args.cells % 2:
         parser.error("--cells must be even")
-    rows = args.rows or args.cells
+    rows = args.rows or round(0.8 * args.cells)
     nodes, cells, cavity = build(args.cells, rows, args.lv_layers, args.corner, args.cap)
     cells = orient(nodes, cells)
     if not args.no_improve:

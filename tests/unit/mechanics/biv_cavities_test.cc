@@ -35,9 +35,10 @@ TEST_CASE("The bordered Jacobian of the two BiV cavities is the derivative of "
                                                     degree);
       INFO("Q" << degree << ": row errors at h: " << e1[0] << ", " << e1[1]
                << "; at h/2: " << e2[0] << ", " << e2[1]);
-      // The truncation error of the central difference (measured: Q1
-      // 7.0e-7 -> 1.75e-7, Q2 7.2e-6 -> 1.8e-6), falling with order 2.
-      CHECK(e2[0] < 1e-5);
+      // The truncation error of the central difference (measured on the
+      // 580-cell mesh: Q1 9.1e-7 -> 2.3e-7, Q2 4.6e-5 -> 1.1e-5), falling
+      // with order 2; a wrong Jacobian term leaves an O(1) error.
+      CHECK(e2[0] < 1e-4);
       CHECK(std::log2(e1[0] / e2[0]) == Approx(2.0).margin(0.2));
       // V_i is a cubic polynomial in u along a line: its central difference
       // matches b_i . d to round-off or with order 2.
