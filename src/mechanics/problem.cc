@@ -809,10 +809,11 @@ namespace systole::Mechanics
     unsigned int           n_chord              = 0;
     bool                   last_was_chord       = start_assembled;
     double previous_residual = start_assembled ? report.initial_residual : 0.0;
-    // The iterate before a chord update (the direct solver's), to undo it.
+    // The iterate before the last update (the safeguarded update's start),
+    // to undo a chord update of the direct solver.
     bool                   undo_chord = false;
-    LA::MPI::Vector        u_before_chord;
-    dealii::Vector<double> pressures_before_chord;
+    LA::MPI::Vector        u_start;
+    dealii::Vector<double> pressure_start;
     for (unsigned int it = 0;; ++it)
       {
         reference = std::max(reference, residual[0]);
@@ -882,9 +883,9 @@ namespace systole::Mechanics
         const bool rejected = undo_chord && residual[0] > previous_residual;
         if (rejected)
           {
-            m.u_owned     = u_before_chord;
+            m.u_owned     = u_start;
             m.u           = m.u_owned;
-            pressures     = pressures_before_chord;
+            pressures     = pressure_start;
             tangent_ready = false;
             out << "      (chord iteration undone: |R_u| rose)" << std::endl;
           }
@@ -903,12 +904,7 @@ namespace systole::Mechanics
           try_assemble(residual, true);
         previous_residual = residual[0];
         tangent_ready     = false;
-        if (chord && direct)
-          {
-            u_before_chord         = m.u_owned;
-            pressures_before_chord = pressures;
-            undo_chord             = true;
-          }
+        undo_chord        = chord && direct;
         m.residual *= -1.0;
         dealii::Vector<double> dp(pressures.size());
         if (chord)
@@ -974,9 +970,9 @@ namespace systole::Mechanics
         // residual-norm merit test is no use here: the first iterations of a
         // load step that rotates the body raise |R| by orders of magnitude
         // on their way to the solution.)
-        const LA::MPI::Vector        u_start        = m.u_owned;
-        const dealii::Vector<double> pressure_start = pressures;
-        double                       alpha          = 1.0;
+        u_start        = m.u_owned;
+        pressure_start = pressures;
+        double alpha   = 1.0;
         // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
         // point is expected to be converged, or close enough for a chord
         // iteration, so the tangent there is not needed (nor after a chord
