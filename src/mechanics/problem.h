@@ -124,6 +124,8 @@ namespace systole::Mechanics
   /// a ventricle. Parts that meet off the plane, such as one cavity split in
   /// two, still add up to the whole volume, but dV_i/du then differs from
   /// the load by the motion of their common edge.
+  class NewtonSolver;
+
   class Problem
   {
   public:
@@ -508,5 +510,7 @@ namespace systole::Mechanics
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;
+    /// The nonlinear solver (newton.h) works on the Impl.
+    friend class NewtonSolver;
   };
 } // namespace systole::Mechanics

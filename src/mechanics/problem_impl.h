@@ -1,7 +1,8 @@
 #pragma once
 
 // Internal to src/mechanics: the state of Mechanics::Problem, shared by its
-// translation units (problem.cc, assembly.cc). Not included elsewhere.
+// translation units (problem.cc, assembly.cc, newton.cc, ...). Not included
+// elsewhere.
 
 #include <deal.II/base/quadrature_point_data.h>
 #include <deal.II/base/timer.h>

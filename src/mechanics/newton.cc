@@ -1,0 +1,659 @@
+#include "mechanics/newton.h"
+
+#include "base/errors.h"
+
+#include <algorithm>
+#include <iomanip>
+#include <limits>
+
+namespace systole::Mechanics
+{
+  namespace
+  {
+    /// Solve the small dense system A x = b by Gaussian elimination with
+    /// partial pivoting (@p A and @p b are overwritten; x = b / A for one
+    /// unknown). False if A is singular or a result is not finite.
+    bool
+    solve_small_system(dealii::FullMatrix<double> &A,
+                       dealii::Vector<double>     &b,
+                       dealii::Vector<double>     &x)
+    {
+      const unsigned int k = b.size();
+      for (unsigned int c = 0; c < k; ++c)
+        {
+          unsigned int pivot = c;
+          for (unsigned int r = c + 1; r < k; ++r)
+            if (std::abs(A(r, c)) > std::abs(A(pivot, c)))
+              pivot = r;
+          if (!(std::isfinite(A(pivot, c)) && A(pivot, c) != 0.0))
+            return false;
+          if (pivot != c)
+            {
+              for (unsigned int j = 0; j < k; ++j)
+                std::swap(A(c, j), A(pivot, j));
+              std::swap(b[c], b[pivot]);
+            }
+          for (unsigned int r = c + 1; r < k; ++r)
+            {
+              const double factor = A(r, c) / A(c, c);
+              for (unsigned int j = c; j < k; ++j)
+                A(r, j) -= factor * A(c, j);
+              b[r] -= factor * b[c];
+            }
+        }
+      x.reinit(k);
+      for (unsigned int c = k; c-- > 0;)
+        {
+          double sum = b[c];
+          for (unsigned int j = c + 1; j < k; ++j)
+            sum -= A(c, j) * x[j];
+          x[c] = sum / A(c, c);
+          if (!std::isfinite(x[c]))
+            return false;
+        }
+      return true;
+    }
+
+    /// The update of the bordered system [K -B; B^T -W'] [du; dp] = -[R; g]
+    /// from the back substitutions with one factorization of K: @p du = w_R
+    /// (K w_R = -R) on entry, @p w[j] = K^-1 b_j. Solves the k x k system
+    /// (B^T w - W') dp = -(g + B^T w_R) and adds w dp to @p du. The dot
+    /// products b_i . w use the constrained entries of the distributed w: b
+    /// is condensed (zero there), so they are b^T K^-1 b. False (and @p du
+    /// unchanged) if the Schur complement is singular.
+    bool
+    bordered_update(const std::vector<LA::MPI::Vector> &B,
+                    const std::vector<LA::MPI::Vector> &w,
+                    const dealii::Vector<double>       &g,
+                    const dealii::FullMatrix<double>   &dW_dp,
+                    LA::MPI::Vector                    &du,
+                    dealii::Vector<double>             &dp)
+    {
+      const unsigned int         k = B.size();
+      dealii::FullMatrix<double> schur(k, k);
+      dealii::Vector<double>     rhs(k);
+      for (unsigned int i = 0; i < k; ++i)
+        {
+          rhs[i] = -(g[i] + B[i] * du);
+          for (unsigned int j = 0; j < k; ++j)
+            schur(i, j) = B[i] * w[j] - dW_dp(i, j);
+        }
+      if (!solve_small_system(schur, rhs, dp))
+        return false;
+      for (unsigned int j = 0; j < k; ++j)
+        du.add(dp[j], w[j]);
+      return true;
+    }
+  } // namespace
+
+  NewtonReport
+  Problem::Impl::newton(dealii::Vector<double>      &pressures,
+                        const double                 active_tension,
+                        const Problem::VolumeTarget *target)
+  {
+    return NewtonSolver(*this, pressures, active_tension, target).solve();
+  }
+
+  NewtonSolver::NewtonSolver(Problem::Impl               &problem,
+                             dealii::Vector<double>      &pressures,
+                             const double                 active_tension,
+                             const Problem::VolumeTarget *target)
+    : m(problem)
+    , pressures(pressures)
+    , active_tension(active_tension)
+    , target(target)
+    , bordered(target != nullptr)
+    , mixed(problem.layout.mixed())
+    , k(bordered ? problem.cavities.size() : 0)
+    , out(problem.logger.detail())
+    , du(problem.owned, problem.comm)
+    , w_volume(k)
+    , target_volume(k)
+    , volume_error(k)
+    , target_derivative(k, k)
+    , assembly_start(problem.seconds_in("Mechanics / assembly"))
+    , solver_start(problem.seconds_in("Mechanics / linear solver"))
+    // One assembly pass per iteration: outside the bordered solves (whose
+    // chord iterations reuse the last factorization, which assembling a
+    // tangent discards), the tangent is assembled with the residual at the
+    // start and at every trial point, unless the quadratic rate says the
+    // trial point will be converged.
+    , tangent_ready(!bordered)
+  {
+    for (auto &w : w_volume)
+      w.reinit(m.owned, m.comm);
+  }
+
+  double
+  NewtonSolver::largest_volume_error() const
+  {
+    return k == 0 ? 0.0 : volume_error.linfty_norm();
+  }
+
+  dealii::Vector<double>
+  NewtonSolver::volume_residual() const
+  {
+    dealii::Vector<double> g(k);
+    for (unsigned int i = 0; i < k; ++i)
+      g[i] = volume_error[i] * target_volume[i];
+    return g;
+  }
+
+  void
+  NewtonSolver::print_pressures() const
+  {
+    // "p" for one, "p_1, p_2, ..." else.
+    for (unsigned int i = 0; i < pressures.size(); ++i)
+      out << (i > 0 ? ", " : "") << pressures[i];
+  }
+
+  double
+  NewtonSolver::pressure_load(const std::vector<LA::MPI::Vector> &B) const
+  {
+    // A solve that starts close to equilibrium is not held to a fraction of
+    // its tiny first residual.
+    double square = 0;
+    for (unsigned int i = 0; i < k; ++i)
+      {
+        const double load = std::abs(pressures[i]) * B[i].l2_norm();
+        square += load * load;
+      }
+    return std::sqrt(square);
+  }
+
+  bool
+  NewtonSolver::pressure_converged() const
+  {
+    // The pressure rows are volumes: held to the relative tolerance times
+    // the volume of the body.
+    return !mixed ||
+           residual[1] <= m.params.newton_relative_tolerance * m.body_volume;
+  }
+
+  bool
+  NewtonSolver::converged(const double reference) const
+  {
+    const bool u_ok =
+      residual[0] <= m.params.newton_absolute_tolerance ||
+      residual[0] <= m.params.newton_relative_tolerance * reference;
+    return u_ok && pressure_converged();
+  }
+
+  NewtonReport &
+  NewtonSolver::converged_now()
+  {
+    m.last_solve_converged = true;
+    return report;
+  }
+
+  bool
+  NewtonSolver::assemble(std::array<double, 2> &norms, const bool with_matrix)
+  {
+    try
+      {
+        m.assemble(pressures,
+                   active_tension,
+                   with_matrix,
+                   with_matrix && bordered);
+        norms = block_norms(m.layout, m.residual);
+        if (bordered)
+          {
+            dealii::Vector<double> volumes;
+            {
+              dealii::TimerOutput::Scope scope(m.timer,
+                                               "Mechanics / cavity volume");
+              volumes = m.cavity_volumes_now();
+            }
+            target_volume     = 0;
+            target_derivative = 0;
+            (*target)(pressures, target_volume, target_derivative);
+            AssertThrow(target_volume.size() == k &&
+                          target_derivative.m() == k &&
+                          target_derivative.n() == k,
+                        dealii::ExcMessage(
+                          "Mechanics: the volume target must return " +
+                          std::to_string(k) + " volumes and their " +
+                          std::to_string(k) + " x " + std::to_string(k) +
+                          " derivatives."));
+            for (unsigned int i = 0; i < k; ++i)
+              {
+                AssertThrow(target_volume[i] != 0.0,
+                            dealii::ExcMessage(
+                              "Mechanics: the volume target of the cavity '" +
+                              m.pressure_names[i] +
+                              "' is 0 mm^3 (the volume tolerance is "
+                              "relative to it)."));
+                volume_error[i] =
+                  (volumes[i] - target_volume[i]) / target_volume[i];
+              }
+          }
+      }
+    catch (const ExcInvertedElement &)
+      {
+        return false;
+      }
+    bool finite = std::isfinite(norms[0]) && std::isfinite(norms[1]);
+    for (unsigned int i = 0; i < k; ++i)
+      {
+        finite = finite && std::isfinite(volume_error[i]);
+        for (unsigned int j = 0; j < k; ++j)
+          finite = finite && std::isfinite(target_derivative(i, j));
+      }
+    return finite;
+  }
+
+  bool
+  NewtonSolver::chord_solve()
+  {
+    try
+      {
+        dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
+        m.residual *= -1.0;
+        du = 0;
+        report.linear_iterations += m.linear_solver->solve(du, m.residual);
+        m.constraints.distribute(du);
+        return true;
+      }
+    catch (const dealii::ExceptionBase &)
+      {
+        return false;
+      }
+  }
+
+  void
+  NewtonSolver::bordered_correction(const std::vector<LA::MPI::Vector> &B,
+                                    const std::vector<LA::MPI::Vector> &W,
+                                    dealii::Vector<double>             &dp,
+                                    const unsigned int                  it,
+                                    const double relative)
+  {
+    AssertThrow(
+      bordered_update(B, W, volume_residual(), target_derivative, du, dp),
+      ExcNewtonDidNotConverge(
+        "the bordered system is singular (B^T K^-1 B - dW/dp)",
+        it,
+        relative));
+  }
+
+  NewtonReport
+  NewtonSolver::solve()
+  {
+    dealii::TimerOutput::Scope scope(m.timer, "Mechanics / Newton");
+    // The factorization of the last solve is worth reusing only if that
+    // solve converged (its tangent is that of an iterate near its solution).
+    const bool reuse = m.params.reuse_factorization && m.have_factorization &&
+                       m.last_solve_converged;
+    m.last_solve_converged = false;
+    if (bordered && reuse && m.factorized_volume_derivatives.size() == k &&
+        bordered_chords())
+      return converged_now();
+
+    const bool start_assembled = !bordered && reuse && euler_predictor();
+    if (!start_assembled)
+      {
+        AssertThrow(assemble(residual, tangent_ready),
+                    ExcNewtonDidNotConverge("an element is inverted at the "
+                                            "start of the load step",
+                                            0,
+                                            1.0));
+        report.initial_residual = residual[0];
+      }
+    return iterate(start_assembled);
+  }
+
+  bool
+  NewtonSolver::bordered_chords()
+  {
+    // Chord iterations on the factorization of an earlier solve: residual
+    // only, one back substitution per iteration, the bordered system of that
+    // tangent (its B0 and W0 = K^-1 B0; W and W' of the current pressures);
+    // left as soon as they stop converging fast.
+    const LA::MPI::Vector        u_begin        = m.u_owned;
+    const dealii::Vector<double> pressure_begin = pressures;
+    bool                         ok             = assemble(residual, false);
+    const double                 start_residual = residual[0];
+    constexpr unsigned int       max_chord_iterations = 12;
+    for (unsigned int it = 0; ok; ++it)
+      {
+        reference = std::max({reference,
+                              residual[0],
+                              pressure_load(m.factorized_volume_derivatives)});
+        if (largest_volume_error() <= Problem::Impl::volume_tolerance &&
+            converged(reference))
+          {
+            report.final_residual   = residual[0];
+            report.initial_residual = start_residual;
+            return true;
+          }
+        if (it == max_chord_iterations)
+          break;
+        if (!chord_solve())
+          {
+            ok = false;
+            break;
+          }
+        dealii::Vector<double> dp;
+        if (!bordered_update(m.factorized_volume_derivatives,
+                             m.factorized_w,
+                             volume_residual(),
+                             target_derivative,
+                             du,
+                             dp))
+          {
+            ok = false;
+            break;
+          }
+        m.u_owned.add(1.0, du);
+        m.u = m.u_owned;
+        pressures += dp;
+        ++report.reused_iterations;
+        const double previous = residual[0];
+        ok                    = assemble(residual, false);
+        out << "      chord " << report.reused_iterations
+            << ": |R_u| = " << std::scientific << std::setprecision(3)
+            << residual[0];
+        if (mixed)
+          out << "  |R_p| = " << residual[1];
+        out << "  |dV|/V = " << largest_volume_error() << "  p = ";
+        print_pressures();
+        out << std::defaultfloat << std::endl;
+        // (The first iteration mostly corrects the volume, which |R| does
+        // not measure: judge the rate from the second on.)
+        if (ok && it > 0 && !(residual[0] < 0.3 * previous))
+          break; // slow: continue with full Newton from here
+      }
+    const bool wasted = !ok || !(residual[0] < start_residual);
+    if (wasted)
+      {
+        // Failed or no better: full Newton from the start.
+        m.u_owned = u_begin;
+        m.u       = m.u_owned;
+        pressures = pressure_begin;
+      }
+    reference = 0;
+    out << "      (" << report.reused_iterations
+        << " chord iterations on the old factorization; Newton from "
+        << (wasted ? "the start" : "there") << ")" << std::endl;
+    return false;
+  }
+
+  bool
+  NewtonSolver::euler_predictor()
+  {
+    // Without volume constraints, a solve starts with one chord iteration on
+    // the factorization of the last solve: the Euler predictor of the new
+    // load (the tangent is that of an iterate near the last solution), for a
+    // residual and a back substitution instead of a tangent and a
+    // factorization. Newton continues from it unless it inverts an element
+    // or the residual is not finite.
+    const LA::MPI::Vector u_begin = m.u_owned;
+    bool                  ok      = assemble(residual, false);
+    report.initial_residual       = residual[0];
+    ok                            = ok && chord_solve();
+    if (ok)
+      {
+        m.u_owned.add(1.0, du);
+        m.u                         = m.u_owned;
+        const double start_residual = residual[0];
+        // (With the direct solver the residual only: the next update is a
+        // chord iteration too if this one cut |R| fast, see iterate().)
+        const bool with_tangent = !m.linear_solver->direct();
+        ok                      = assemble(residual, with_tangent);
+        if (ok)
+          {
+            reference = start_residual;
+            du_norm   = block_norms(m.layout, du);
+            ++report.reused_iterations;
+            tangent_ready = with_tangent;
+            out << "      chord 1: |R_u| = " << std::scientific
+                << std::setprecision(3) << residual[0];
+            if (mixed)
+              out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+            out << std::defaultfloat
+                << "  (Euler predictor on the last factorization)" << std::endl;
+            return true;
+          }
+      }
+    m.u_owned = u_begin;
+    m.u       = m.u_owned;
+    return false;
+  }
+
+  void
+  NewtonSolver::log_iteration(const unsigned int           it,
+                              const unsigned int           n_chord,
+                              const bool                   last_was_chord,
+                              const double                 relative,
+                              const std::array<double, 2> &u_norm)
+  {
+    if (last_was_chord)
+      out << "      chord  " << std::setw(2) << n_chord;
+    else
+      out << "      Newton " << std::setw(2) << it - n_chord;
+    out << ": |R_u| = " << std::scientific << std::setprecision(3)
+        << residual[0] << "  |R_u|/|R_u|max = " << relative;
+    if (mixed)
+      out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+    out << "  |du|/|u| = " << du_norm[0] / std::max(u_norm[0], 1e-300);
+    if (mixed)
+      out << "  |dp|/|p| = " << du_norm[1] / std::max(u_norm[1], 1e-300);
+    if (bordered)
+      {
+        out << "  |dV|/V = " << largest_volume_error() << "  p_cavity = ";
+        print_pressures();
+      }
+    out << std::defaultfloat << std::setprecision(2) << "  (assembly "
+        << m.seconds_in("Mechanics / assembly") - assembly_start
+        << " s, solver "
+        << m.seconds_in("Mechanics / linear solver") - solver_start << " s, "
+        << report.linear_iterations << " linear its";
+    const long negative = m.linear_solver->negative_pivots();
+    if (negative >= 0)
+      out << ", " << negative << " negative pivots";
+    out << ")" << std::endl;
+  }
+
+  NewtonReport
+  NewtonSolver::iterate(const bool start_assembled)
+  {
+    // Modified Newton. With the direct solver: after a Newton update that
+    // cut |R| tenfold (the iterate is where the tangent predicts the
+    // residual well), or a chord update that cut it fourfold, the next
+    // update reuses the factorization (a chord iteration: a residual and a
+    // back substitution instead of a tangent and a factorization, some 15
+    // times cheaper at 10^5 DOFs); a slower one is followed by a new
+    // tangent, one that raised |R| is undone first; the first chord after a
+    // Newton update waits until |R| <= 0.1 max|R| (further out a chord from
+    // a tangent at large rotations can throw the iterate far off); at most
+    // max_chord_iterations per solve. With an iterative
+    // solver, whose solves cost as much as a few preconditioner set-ups, the
+    // preconditioner is reused (with the trial point's tangent) only near the
+    // solution: once |R| is below 1e-3 of its largest value and the last
+    // update cut it tenfold, at most three times per solve. Neither counts
+    // against the Newton iteration limit.
+    const bool             direct               = m.linear_solver->direct();
+    constexpr unsigned int max_chord_iterations = 20;
+    unsigned int           n_chord              = 0;
+    bool                   last_was_chord       = start_assembled;
+    double previous_residual = start_assembled ? report.initial_residual : 0.0;
+    // Whether the last update was a chord update of the direct solver, to be
+    // undone if it raised |R|.
+    bool undo_chord = false;
+    for (unsigned int it = 0;; ++it)
+      {
+        reference = std::max(reference, residual[0]);
+        if (it > 0)
+          reference = std::max(reference, pressure_load(m.volume_derivatives));
+        const double relative = residual[0] / std::max(reference, 1e-300);
+        const auto   u_norm   = block_norms(m.layout, m.u_owned);
+        if (it > 0)
+          log_iteration(it, n_chord, last_was_chord, relative, u_norm);
+        // Converged: the residual fell by the relative tolerance, or is at
+        // the absolute floor, or the last update was at round-off level; and
+        // every cavity volume is on its target.
+        const bool volume_ok =
+          largest_volume_error() <= Problem::Impl::volume_tolerance;
+        if (volume_ok && ((residual[0] <= m.params.newton_absolute_tolerance &&
+                           pressure_converged()) ||
+                          (it > 0 && (converged(reference) ||
+                                      du_norm[0] <= 1e-12 * u_norm[0]))))
+          {
+            report.iterations = it - n_chord;
+            report.reused_iterations += n_chord;
+            report.final_residual = residual[0];
+            return converged_now();
+          }
+        AssertThrow(it - n_chord < m.params.max_newton_iterations,
+                    ExcNewtonDidNotConverge(bordered ? "volume-constrained "
+                                                       "step"
+                                                     : "load step",
+                                            it,
+                                            relative));
+
+        // A chord update that raised |R| is undone: Newton from the iterate
+        // before it.
+        const bool rejected = undo_chord && residual[0] > previous_residual;
+        if (rejected)
+          {
+            m.u_owned     = u_start;
+            m.u           = m.u_owned;
+            pressures     = pressure_start;
+            tangent_ready = false;
+            out << "      (chord iteration undone: |R_u| rose)" << std::endl;
+          }
+        undo_chord = false;
+        const bool chord =
+          !rejected && m.params.reuse_factorization && m.have_factorization &&
+          previous_residual > 0.0 &&
+          (direct
+             ? n_chord < max_chord_iterations &&
+                 (last_was_chord
+                    ? residual[0] <= 0.25 * previous_residual
+                    : relative <= 0.1 && residual[0] <= 0.1 * previous_residual)
+             : it > 0 && n_chord < 3 && relative <= 1e-3 &&
+                 residual[0] <= 0.1 * previous_residual);
+        // The tangent (and dV/du) at this iterate, unless the last pass made
+        // it; the residual again.
+        if (!tangent_ready && !chord)
+          assemble(residual, true);
+        previous_residual = residual[0];
+        tangent_ready     = false;
+        undo_chord        = chord && direct;
+        dealii::Vector<double> dp(pressures.size());
+        update(chord, it, relative, dp);
+
+        // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
+        // point is expected to be converged, or close enough for a chord
+        // iteration, so the tangent there is not needed (nor after a chord
+        // iteration, whose factorization the next one reuses).
+        // With chord iterations, the tangent waits for the trial point's
+        // residual, which says whether the next update needs it.
+        const bool trial_tangent =
+          !bordered && !chord && !(m.params.reuse_factorization && direct) &&
+          !(relative * relative <=
+            std::max(m.params.newton_relative_tolerance, 1e-3));
+        const double alpha = step(dp, trial_tangent, it, relative);
+        tangent_ready      = trial_tangent;
+        du_norm            = block_norms(m.layout, du);
+        du_norm[0] *= alpha;
+        du_norm[1] *= alpha;
+        if (chord)
+          ++n_chord;
+        last_was_chord = chord;
+      }
+  }
+
+  void
+  NewtonSolver::update(const bool              chord,
+                       const unsigned int      it,
+                       const double            relative,
+                       dealii::Vector<double> &dp)
+  {
+    // K du = -R; bordered by the volume constraints g = V(u) - W(p):
+    // [K -B; B^T -W'] [du; dp] = -[R; g] with B = [dV_i/du]. k + 1 solves
+    // with one factorization: K w_R = -R, K w_j = b_j; then the k x k Schur
+    // complement (bordered_update).
+    dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
+    m.residual *= -1.0;
+    if (chord)
+      {
+        report.linear_iterations +=
+          m.linear_solve(du, m.residual, it, relative);
+        if (bordered)
+          bordered_correction(m.factorized_volume_derivatives,
+                              m.factorized_w,
+                              dp,
+                              it,
+                              relative);
+        return;
+      }
+    try
+      {
+        m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+        // (Of K alone until the bordered update below stores B0, W0.)
+        m.have_factorization = true;
+        m.factorized_volume_derivatives.clear();
+        m.factorized_w.clear();
+        m.factorized_u              = m.u_owned;
+        m.factorized_pressures      = pressures;
+        m.factorized_active_tension = active_tension;
+        m.remember_factorized_tension();
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        AssertThrow(false,
+                    ExcNewtonDidNotConverge(std::string("linear solver: ") +
+                                              one_line_message(e),
+                                            it,
+                                            relative));
+      }
+    report.linear_iterations += m.linear_solve(du, m.residual, it, relative);
+    if (bordered)
+      {
+        for (unsigned int j = 0; j < k; ++j)
+          report.linear_iterations +=
+            m.linear_solve(w_volume[j], m.volume_derivatives[j], it, relative);
+        bordered_correction(m.volume_derivatives, w_volume, dp, it, relative);
+        m.factorized_volume_derivatives = m.volume_derivatives;
+        m.factorized_w                  = w_volume;
+        m.have_factorization            = true;
+      }
+  }
+
+  double
+  NewtonSolver::step(const dealii::Vector<double> &dp,
+                     const bool                    with_tangent,
+                     const unsigned int            it,
+                     const double                  relative)
+  {
+    // Safeguarded update: halve the step while it inverts an element. (A
+    // residual-norm merit test is no use here: the first iterations of a
+    // load step that rotates the body raise |R| by orders of magnitude on
+    // their way to the solution.)
+    u_start        = m.u_owned;
+    pressure_start = pressures;
+    double alpha   = 1.0;
+    for (unsigned int cut = 0;; ++cut)
+      {
+        m.u_owned = u_start;
+        m.u_owned.add(alpha, du);
+        m.u       = m.u_owned;
+        pressures = pressure_start;
+        pressures.add(alpha, dp);
+        std::array<double, 2> trial;
+        if (assemble(trial, with_tangent))
+          {
+            residual = trial;
+            break;
+          }
+        AssertThrow(cut < 6,
+                    ExcNewtonDidNotConverge("no acceptable step length",
+                                            it,
+                                            relative));
+        alpha *= 0.5;
+      }
+    if (alpha < 1.0)
+      out << "      (step length " << alpha << ")" << std::endl;
+    return alpha;
+  }
+} // namespace systole::Mechanics

@@ -1,0 +1,153 @@
+#pragma once
+
+// Internal to src/mechanics: Newton's method for the mechanics problem, the
+// nonlinear solver of Problem::Impl::newton(), separate from the assembly
+// (assembly.cc) and the linear solvers (linear_solver.cc) it drives. Not
+// included outside src/mechanics.
+
+#include "mechanics/problem_impl.h"
+
+#include <array>
+#include <vector>
+
+namespace systole::Mechanics
+{
+  /// Newton's method for R(u; p) = 0 at fixed cavity pressures, or, with a
+  /// volume target, for (u, p) with the cavity volume constraints
+  /// V_i(u) = W_i(p) (the pressures are then Lagrange multipliers of a
+  /// bordered system outside the field blocks). One object per solve.
+  ///
+  /// A solve has three stages (docs/architecture.md, "Newton"):
+  /// - reuse of the last solve's factorization, if it converged: chord
+  ///   iterations of the bordered system (bordered_chords()), or one Euler
+  ///   predictor step (euler_predictor());
+  /// - modified Newton iterations (iterate()): a new tangent and
+  ///   factorization, or a chord update on the held one while the residual
+  ///   contracts fast (update()), each followed by a safeguarded step that
+  ///   halves while an element inverts (step());
+  /// - convergence on the per-block residual norms (|R_u| against the
+  ///   largest residual of the solve, |R_p| against the body volume) and
+  ///   the cavity volume errors.
+  /// Failures throw ExcNewtonDidNotConverge.
+  class NewtonSolver
+  {
+  public:
+    NewtonSolver(Problem::Impl               &problem,
+                 dealii::Vector<double>      &pressures,
+                 const double                 active_tension,
+                 const Problem::VolumeTarget *target);
+
+    NewtonReport
+    solve();
+
+  private:
+    /// Residual (with_matrix: and tangent and dV/du) at the current u, and
+    /// for a bordered solve the volume errors against W(p); false if an
+    /// element inverted or the residual is not finite (decided on all ranks
+    /// alike).
+    bool
+    assemble(std::array<double, 2> &norms, const bool with_matrix);
+
+    /// du = -K^-1 R on the held factorization (a chord update); false if
+    /// the linear solver fails.
+    bool
+    chord_solve();
+
+    /// Chord iterations of a bordered solve on the factorization of the last
+    /// one, while they contract fast; true if they converged the solve.
+    bool
+    bordered_chords();
+
+    /// Without volume constraints: one chord iteration on the last
+    /// factorization (the Euler predictor of the new load); true if the
+    /// iterate moved there (the residual is then assembled).
+    bool
+    euler_predictor();
+
+    /// The modified Newton iterations from the current iterate.
+    NewtonReport
+    iterate(const bool start_assembled);
+
+    /// The update du (and dp) of iteration @p it: on the held factorization
+    /// (@p chord) or on a new one of the tangent assembled at the iterate.
+    void
+    update(const bool              chord,
+           const unsigned int      it,
+           const double            relative,
+           dealii::Vector<double> &dp);
+
+    /// u += alpha du, p += alpha dp from the iterate, alpha halved while an
+    /// element inverts (at most six times); the residual there (and the
+    /// tangent if @p with_tangent). Returns alpha.
+    double
+    step(const dealii::Vector<double> &dp,
+         const bool                    with_tangent,
+         const unsigned int            it,
+         const double                  relative);
+
+    /// The log line of iteration @p it.
+    void
+    log_iteration(const unsigned int           it,
+                  const unsigned int           n_chord,
+                  const bool                   last_was_chord,
+                  const double                 relative,
+                  const std::array<double, 2> &u_norm);
+
+    double
+    largest_volume_error() const;
+    /// g = V(u) - W(p) [mm^3].
+    dealii::Vector<double>
+    volume_residual() const;
+    /// |sum p_i b_i| for the b_i = @p B (taken as disjoint).
+    double
+    pressure_load(const std::vector<LA::MPI::Vector> &B) const;
+    bool
+    pressure_converged() const;
+    bool
+    converged(const double reference) const;
+    /// The bordered update of du (and dp) with B = dV/du and W = K^-1 B of
+    /// the factorized iterate; an error if the Schur complement is singular.
+    void
+    bordered_correction(const std::vector<LA::MPI::Vector> &B,
+                        const std::vector<LA::MPI::Vector> &W,
+                        dealii::Vector<double>             &dp,
+                        const unsigned int                  it,
+                        const double                        relative);
+    /// Marks the solve converged (its factorization is worth reusing).
+    NewtonReport &
+    converged_now();
+    void
+    print_pressures() const;
+
+    Problem::Impl               &m;
+    dealii::Vector<double>      &pressures;
+    const double                 active_tension;
+    const Problem::VolumeTarget *target;
+    const bool                   bordered;
+    const bool                   mixed;
+    /// Cavities of the volume constraints (0 without).
+    const unsigned int           k;
+    dealii::ConditionalOStream  &out;
+    NewtonReport                 report;
+    LA::MPI::Vector              du;
+    std::vector<LA::MPI::Vector> w_volume;
+    /// Block norms of the residual (u: force [mN]; p: volume [mm^3]) and of
+    /// the last update.
+    std::array<double, 2> residual = {{0.0, 0.0}};
+    std::array<double, 2> du_norm  = {{0.0, 0.0}};
+    /// The volume targets W(p) and dW/dp at the current pressures, and the
+    /// relative volume errors (V_i(u) - W_i) / W_i.
+    dealii::Vector<double>     target_volume, volume_error;
+    dealii::FullMatrix<double> target_derivative;
+    /// Residual scale: the largest displacement residual seen in this solve,
+    /// and for a volume-constrained solve at least the cavity pressure load.
+    double reference = 0;
+    /// Timer totals at the start (the log's per-solve times).
+    double assembly_start, solver_start;
+    /// Whether the tangent at the iterate is assembled.
+    bool tangent_ready;
+    /// The iterate before the last update (the safeguarded update's start).
+    LA::MPI::Vector        u_start;
+    dealii::Vector<double> pressure_start;
+  };
+} // namespace systole::Mechanics
