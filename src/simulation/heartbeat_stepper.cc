@@ -146,6 +146,10 @@ namespace systole
     double       upper = std::numeric_limits<double>::infinity();
     double       cap   = std::numeric_limits<double>::infinity();
     unsigned int cuts  = 0;
+    /// The end of the last rejected attempt from the accepted state
+    /// (infinity after an accepted step; not saved: checkpoints are written
+    /// between steps): a redo ends before it.
+    double rejected_end = std::numeric_limits<double>::infinity();
   };
 
 
@@ -163,6 +167,11 @@ namespace systole
     t_new = std::min({t + std::min(h, cap), breakpoint, upper});
     if (breakpoint - t_new < settings.min_step)
       t_new = breakpoint; // no sliver before a breakpoint
+    // A redo is shorter than the attempt it replaces. (The rule above, or
+    // the minimum step, could otherwise give the rejected attempt again, and
+    // the stepper would repeat it without end.)
+    if (t_new >= rejected_end)
+      t_new = t + 0.5 * (rejected_end - t);
     h_try      = t_new - t;
     step_order = bdf.order();
   }
@@ -220,8 +229,9 @@ namespace systole
       << " ms. See the Newton log (Output / Solver log = on).";
     AssertThrow(cuts <= settings.max_step_cuts && h_try > settings.min_step,
                 dealii::ExcMessage(o.str()));
-    h   = 0.5 * h_try;
-    cap = 0.75 * h_try;
+    rejected_end = t_new;
+    h            = 0.5 * h_try;
+    cap          = 0.75 * h_try;
   }
 
 
@@ -234,8 +244,9 @@ namespace systole
         ventricles.reject();
         ++stats.n_event_rejections;
         ++step_rejected;
-        upper = t_new;
-        h     = std::max(theta * h_try + 0.5 * settings.event_time_tolerance,
+        upper        = t_new;
+        rejected_end = t_new;
+        h = std::max(theta * h_try + 0.5 * settings.event_time_tolerance,
                      settings.min_step);
         return true;
       }
@@ -253,7 +264,8 @@ namespace systole
         ventricles.reject();
         ++stats.n_error_rejections;
         ++step_rejected;
-        h = std::max(ratio * h_try, settings.min_step);
+        rejected_end = t_new;
+        h            = std::max(ratio * h_try, settings.min_step);
         return true;
       }
     return false;
@@ -265,8 +277,9 @@ namespace systole
   {
     bdf.accept();
     ventricles.accept();
-    last_step = h_try;
-    cuts      = 0;
+    last_step    = h_try;
+    cuts         = 0;
+    rejected_end = std::numeric_limits<double>::infinity();
     ++stats.n_steps;
     std::vector<unsigned int> switched;
     for (unsigned int v = 0; v < g.size(); ++v)

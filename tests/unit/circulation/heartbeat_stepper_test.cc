@@ -78,6 +78,48 @@ namespace
     double                        time = 0;
   };
 
+  /// The elastance chambers, but a solve fails (as a Newton failure of the
+  /// 3D ventricles would) when it is a step longer than @p longest ms
+  /// ending after @p from.
+  class FailingVentricles : public ElastanceVentricles
+  {
+  public:
+    FailingVentricles(std::vector<ChamberElastance> chambers,
+                      const double                  from,
+                      const double                  longest)
+      : ElastanceVentricles(std::move(chambers))
+      , from(from)
+      , longest(longest)
+    {}
+    void
+    set_time(const double t) override
+    {
+      ElastanceVentricles::set_time(t);
+      attempt = t;
+    }
+    unsigned int
+    solve(const CavityVolumeTarget &target, Vector &p) override
+    {
+      if (attempt > from && attempt - accepted > longest)
+        {
+          ++failures;
+          throw ExcNewtonDidNotConverge("failing surrogate", 1, 1.0);
+        }
+      return ElastanceVentricles::solve(target, p);
+    }
+    void
+    accept() override
+    {
+      accepted = attempt;
+    }
+
+    unsigned int failures = 0;
+
+  private:
+    const double from, longest;
+    double       attempt = 0, accepted = 0;
+  };
+
   /// Keeps the summary rows.
   struct Summaries : HeartbeatStepper::Observer
   {
@@ -216,4 +258,47 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
       }
   // The blood volume of the closed loop is conserved by the BDF steps.
   CHECK(std::abs(summaries.rows[1].at("total_blood_volume_drift")) < 1e-12);
+}
+
+TEST_CASE("A step redone after a failure is shorter than the failed one, also "
+          "where it would end within the minimum step of a breakpoint",
+          "[circulation][stepper]")
+{
+  // Before the fix, the redo of a rejected step that ended at the beat's end
+  // was stretched back to that end (no sliver before a breakpoint) and
+  // rejected again, without end (this test did not return). Here the solves
+  // fail for steps longer than 0.3 ms in the last 2 ms of the beat, with a
+  // minimum step of 0.25 ms.
+  const ClosedLoop::Parameters elastance;
+  const double                 T       = elastance.period;
+  ClosedLoop::Parameters       coupled = elastance;
+  coupled.left_ventricle_kind          = CavityKind::external;
+  const ClosedLoop  model(coupled);
+  FailingVentricles ventricles({ChamberElastance(elastance.left_ventricle, T)},
+                               T - 2.0,
+                               0.3);
+  Vector            y0;
+  model.initial_state(y0);
+  Vector p0(2);
+  p0[0] = ChamberElastance(elastance.left_ventricle, T)
+            .pressure(0.0, y0[model.cavities()[0].volume_state]);
+  p0[1] = ChamberElastance(elastance.right_ventricle, T)
+            .pressure(0.0, y0[model.cavities()[1].volume_state]);
+  HeartbeatStepper::Settings settings;
+  settings.period                = T;
+  settings.n_max_beats           = 1;
+  settings.periodicity_tolerance = 0;
+  settings.min_step              = 0.25;
+  settings.max_step_cuts         = 4;
+  HeartbeatStepper             stepper(model, ventricles, settings, y0, p0);
+  Summaries                    summaries;
+  HeartbeatStepper::Statistics stats;
+  REQUIRE_NOTHROW(stats = stepper.run(summaries));
+  INFO(stats.n_steps << " steps, " << stats.n_failures << " failed solves");
+  CHECK(stats.n_beats == 1);
+  CHECK(stats.end_time == T);
+  // The surrogate did fail, and every failure was followed by a shorter
+  // attempt (no failed solve repeated: at most a few per step).
+  CHECK(ventricles.failures > 0);
+  CHECK(stats.n_failures == ventricles.failures);
 }
