@@ -261,7 +261,10 @@ namespace systole::Mechanics
       "integration of the inertia (Chung and Hulbert 1993): 1 keeps every "
       "frequency undamped (the trapezoidal rule, energy-conserving for "
       "linear problems), smaller values damp the highest frequencies of the "
-      "mesh; second order for every value. Units: -.");
+      "mesh; second order for every value. In a heartbeat (Inertia = true) "
+      "0.5 damps the ringing of those frequencies at the valve closures, "
+      "which with 0.8 makes the mitral valve chatter (docs/verification.md). "
+      "Units: -.");
     prm.declare_entry(
       "Rayleigh mass damping",
       "0",
