@@ -325,6 +325,26 @@ def p3_axis_note(rows: list[dict]) -> str:
             f"{verdict} the issue's 0.03 mm.")
 
 
+def p3_point_note(rows: list[dict]) -> str:
+    """What the P3 table refined at each apex point shows: the change of that apex from the
+    second finest to the finest level at the point, against the issue's 0.03 mm."""
+    parts = []
+    for point, key in (("0, 0, -17", "endo_apex_z"), ("0, 0, -20", "epi_apex_z")):
+        done = sorted((r for r in rows if r["ok"]
+                       and r["case"].changes["Geometry/Local refinement center"] == point),
+                      key=lambda r: int(r["case"].changes["Geometry/Local refinements"]))
+        if len(done) < 2:
+            continue
+        change = done[-1]["values"][key] - done[-2]["values"][key]
+        parts.append(f"{key} {done[-2]['values'][key]:.3f} -> {done[-1]['values'][key]:.3f} mm "
+                     f"({change:+.3f} mm, {'below' if abs(change) < 0.03 else 'not below'} the "
+                     "issue's 0.03 mm)")
+    if not parts:
+        return ""
+    return ("\n\nRefined at the point itself, from the second finest to the finest level "
+            "there: " + "; ".join(parts) + ".")
+
+
 #: Land problem 1 (C = 2 kPa) with the formulations and solvers of the 'mixed' group.
 MIXED_FORMULATIONS = [
     ("incompressible, direct", {"Material/Incompressibility": "incompressible",
@@ -1776,6 +1796,17 @@ def main() -> int:
                  "Material/Incompressibility": "incompressible"})
            for a, b, r, l in p3i_levels]
 
+    # Refined at each apex point in turn (0.75 mm around it), incompressible: the level of
+    # the cells at the point sets its value (docs/verification.md).
+    p3p = [Case("p3", "land_problem3.prm",
+                f"8x3x1 cells, 1 refinement, {l} more within 0.75 mm of the {name} apex, Q2-P1disc",
+                {**ventricle(8, 3, 1), "Geometry/Local refinements": str(l),
+                 "Geometry/Local refinement center": center,
+                 "Geometry/Local refinement radius": "0.75",
+                 "Material/Incompressibility": "incompressible"})
+           for name, center in (("endocardial", "0, 0, -17"), ("epicardial", "0, 0, -20"))
+           for l in ((3,) if args.quick else (3, 4))]
+
     fibre_cases = [("Land, 8x3x1 cells, 1 refinement", {**LAND_LV, "Global refinements": "1"}),
                    ("Land, 8x3x1 cells, 2 refinements", {**LAND_LV, "Global refinements": "2"}),
                    ("human-size, 16x5x1 cells, 0 refinements", {**HUMAN_LV, "Global refinements": "0"}),
@@ -1815,8 +1846,14 @@ def main() -> int:
              "Incompressible (mixed Q2-P1disc, `Material / Incompressibility = incompressible`, "
              "as in Land et al. 2015), otherwise the cases of the penalty table above: the "
              "cells with a vertex within 1.5 mm of the mid-wall apex are refined again on top "
-             "of the global level. The size of the cells on the axis (global + local "
-             "refinements) sets the apex values."),
+             "of the global level. The level of the cells at the apex points (global + "
+             "local refinements) sets the apex values."),
+            ("Land problem 3: refined at each apex", p3p,
+             ["endo_apex_z", "epi_apex_z", "midwall_apex_z", "midwall_equator_y"],
+             "Incompressible (mixed Q2-P1disc). 8x3x1 cells refined once, then the cells with "
+             "a vertex within 0.75 mm of one apex point, (0, 0, -17) or (0, 0, -20), 3 or 4 "
+             "more times (`Geometry / Local refinement center`): the cells at that point are 4 "
+             "or 5 levels deep, the rest of the axis much coarser."),
         ):
             if args.only and cases[0].problem != args.only:
                 continue
@@ -1824,7 +1861,8 @@ def main() -> int:
             for case in cases:
                 print(f"running {case.problem} {case.label} on {case.ranks} rank(s) ...", flush=True)
                 rows.append(run(case, args.build, workdir))
-            extra = ((p3_axis_note(rows) if cases is p3i else p3_note(rows))
+            extra = ((p3_axis_note(rows) if cases is p3i else
+                      p3_point_note(rows) if cases is p3p else p3_note(rows))
                      if cases[0].problem == "p3" else "")
             p3 = cases[0].problem == "p3"
             sections[title] = f"## {title}\n{note}{extra}\n\n{table(rows, columns, chords=p3)}\n"

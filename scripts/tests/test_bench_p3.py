@@ -1,7 +1,7 @@
 """The note of the apex-refined Land problem 3 table of scripts/bench.py: it compares levels
 of the cells on the axis (global + apex refinements), not the two largest meshes."""
 
-from bench import Case, p3_axis_note
+from bench import Case, p3_axis_note, p3_point_note
 
 
 def row(global_refinements: int, local_refinements: int, dofs: int, endo: float, epi: float):
@@ -31,3 +31,19 @@ def test_failed_runs_and_a_single_level_give_no_note():
     failed = row(2, 2, 400, 0.0, 0.0)
     failed["ok"] = False
     assert p3_axis_note([row(1, 2, 100, -12.0, -15.5), failed]) == ""
+
+
+def point_row(center: str, local_refinements: int, endo: float, epi: float):
+    case = Case("p3", "land_problem3.prm", "x",
+                {"Geometry/Local refinement center": center,
+                 "Geometry/Local refinements": str(local_refinements)})
+    return {"case": case, "ok": True, "dofs": 0,
+            "values": {"endo_apex_z": endo, "epi_apex_z": epi}}
+
+
+def test_the_point_note_compares_each_apex_where_it_is_refined():
+    rows = [point_row("0, 0, -17", 4, -12.34, -15.56), point_row("0, 0, -17", 3, -12.33, -15.56),
+            point_row("0, 0, -20", 3, -12.10, -15.50), point_row("0, 0, -20", 4, -12.10, -15.45)]
+    note = p3_point_note(rows)
+    assert "endo_apex_z -12.330 -> -12.340 mm (-0.010 mm, below" in note
+    assert "epi_apex_z -15.500 -> -15.450 mm (+0.050 mm, not below" in note
