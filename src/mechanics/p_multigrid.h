@@ -18,9 +18,9 @@ namespace systole::Mechanics
   /// - the fine level: the displacement block A itself, smoothed by a few
   ///   Chebyshev iterations with point-block Jacobi (3 x 3 blocks of a node);
   /// - the coarse level: the Galerkin product A_1 = P^T A P on the Q1
-  ///   displacement space of the same mesh, approximately solved by one GAMG
-  ///   V-cycle given the six rigid-body modes of the Q1 space as near-null
-  ///   space.
+  ///   displacement space of the same mesh, solved exactly (MUMPS LU; with
+  ///   <prefix>mg_coarse_pc_type gamg approximately, by one GAMG V-cycle
+  ///   given the six rigid-body modes of the Q1 space as near-null space).
   ///
   /// P is the exact interpolation from FE_Q(1)^3 to FE_Q(k)^3 of every cell
   /// (FiniteElement::get_interpolation_matrix), built once per mesh as a
@@ -41,7 +41,8 @@ namespace systole::Mechanics
   /// PETSc options with the given prefix override the defaults, e.g.
   /// <prefix>mg_levels_ksp_type, <prefix>mg_levels_ksp_max_it,
   /// <prefix>mg_levels_pc_type (fine smoother), <prefix>mg_coarse_pc_type
-  /// (coarse solver), <prefix>mg_coarse_mg_levels_* (GAMG's smoothers).
+  /// (coarse solver: lu by default, or gamg), <prefix>mg_coarse_mg_levels_*
+  /// (GAMG's smoothers).
   class PMultigrid
   {
   public:
