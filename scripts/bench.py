@@ -16,6 +16,7 @@ import argparse
 import math
 import os
 import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -502,6 +503,159 @@ def mixed_section(build: Path, workdir: Path, quick: bool) -> str:
         "endocardial apex -26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm (-28.5 ... "
         "-28.1).\n\n"
         + mixed_table(p2_rows, "formulation, refinements", "endo / epi apex z [mm]") + "\n")
+
+
+#: The "scaling" group: Land problem 2 (C = 10 kPa) with the iterative solver on meshes from
+#: 2.7k to 511k DOFs. (label, coarse cells around, from apex to base, global refinements).
+SCALING_LEVELS = [("16x5, 0", 16, 5, 0), ("16x5, 1", 16, 5, 1), ("16x5, 2", 16, 5, 2),
+                  ("32x10, 2", 32, 10, 2)]
+#: The level the cost ratios refer to (issue 11: "from 16k to >= 500k DOFs").
+SCALING_REFERENCE = "16x5, 1"
+SCALING_C = 10.0
+#: Formulations: (label, entries). Every one with the iterative solver (default
+#: displacement preconditioner, the p-multigrid).
+SCALING_FORMULATIONS = [
+    ("incompressible", {"Material/Incompressibility": "incompressible"}),
+    ("kappa/C = 1e2", {"Material/Incompressibility": "nearly incompressible",
+                       "Material/Volumetric/Bulk modulus": "1000"}),
+    ("kappa/C = 1e4", {"Material/Incompressibility": "nearly incompressible",
+                       "Material/Volumetric/Bulk modulus": "100000"}),
+    ("kappa/C = 1e6", {"Material/Incompressibility": "nearly incompressible",
+                       "Material/Volumetric/Bulk modulus": "10000000"}),
+    ("penalty, kappa/C = 1e2", {"Material/Incompressibility": "penalty"}),
+]
+#: Which formulations run at which level (None: all): the penalty, whose second Newton
+#: iteration of a load step takes hundreds of Krylov iterations (and the second step a cut),
+#: up to 16x5 refined once, the mixed ones up to 129k DOFs, two of them at 511k (the long
+#: runs). --quick: the two coarsest levels.
+SCALING_MIXED = [label for label, _ in SCALING_FORMULATIONS[:4]]
+SCALING_PLAN = {"16x5, 0": None, "16x5, 1": None, "16x5, 2": SCALING_MIXED,
+                "32x10, 2": ["incompressible", "kappa/C = 1e6"]}
+#: The problem: the first two of ten equal load steps of Land problem 2 (2 kPa of 10) with
+#: pure Newton (a new tangent and preconditioner at every iteration), the same at every
+#: level, so that the largest run stays affordable. (The first step alone hides the hard
+#: solve: the second iteration of the second step.)
+SCALING_PROBLEM = {"Pressure": "2", "Load steps": "2",
+                   "Mechanics/Adaptive load steps": "false",
+                   "Mechanics/Reuse factorization": "false",
+                   "Mechanics/Linear solver": "iterative"}
+
+
+def run_scaling(level: tuple, formulation: tuple, build: Path, workdir: Path) -> dict:
+    """One run of the scaling group; also the CPU time of its processes (the children's
+    rusage) and the load average at its end."""
+    label, a, b, r = level
+    changes = {"Global refinements": str(r),
+               "Geometry/Ellipsoid/Cells around circumference": str(a),
+               "Geometry/Ellipsoid/Cells from apex to base": str(b),
+               **SCALING_PROBLEM, **formulation[1]}
+    case = Case("scaling", "land_problem2.prm", f"{label}, {formulation[0]}", changes)
+    print(f"running Land problem 2, {case.label} on {case.ranks} rank(s) ...", flush=True)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    row = run(case, build, workdir)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    row["cpu"] = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    row["load"] = os.getloadavg()
+    row["level"], row["formulation"] = label, formulation[0]
+    return row
+
+
+def scaling_cells(r: dict, reference: dict | None) -> str:
+    """The columns of a scaling row from DOFs on."""
+    s = r["summary"]
+    busy = " *" if r.get("busy") else ""
+    n = max(1.0, s["newton_iterations"])
+    per_it = (s["assembly_seconds"] + s["linear_solver_seconds"]) / n
+    per_dof = 1e6 * per_it / s["n_dofs"]
+    ratio = "-"
+    if reference is not None:
+        rs = reference["summary"]
+        ref = 1e6 * (rs["assembly_seconds"] + rs["linear_solver_seconds"]) / \
+            max(1.0, rs["newton_iterations"]) / rs["n_dofs"]
+        ratio = f"{per_dof / ref:.2f}"
+    cpu_per_dof = 1e6 * r["cpu"] / n / s["n_dofs"]
+    memory_per_dof = 2 * r["memory"] * 2**20 / s["n_dofs"] / 1024
+    return (f"{s['n_dofs']:.0f} ({s['n_displacement_dofs']:.0f} + {s['n_pressure_dofs']:.0f}) "
+            f"| {s['newton_iterations']:.0f} ({s['step_cuts']:.0f}) "
+            f"| {s['linear_iterations_per_solve']:.1f} "
+            f"| {s['assembly_seconds'] / n:.2f}{busy} | {s['linear_solver_seconds'] / n:.2f}{busy} "
+            f"| {per_it:.2f}{busy} | {per_dof:.1f}{busy} | {ratio} | {cpu_per_dof:.1f} "
+            f"| {r['memory']:.0f} | {memory_per_dof:.1f} | {r['load'][0]:.1f} |")
+
+
+SCALING_HEAD = ("| level (coarse cells, refinements) | formulation | DOFs (u + p) "
+                "| Newton iterations (step cuts) | Krylov iterations per solve "
+                "| assembly per Newton iteration [s] | linear solver per Newton iteration [s] "
+                "| (assembly + solver) per Newton iteration [s] "
+                "| per Newton iteration per DOF [µs] | ratio to 16x5, 1 "
+                "| CPU time of the run per Newton iteration per DOF [µs] "
+                "| peak memory per rank [MiB] | 2 x peak memory per rank per DOF [KiB] "
+                "| load average at the end |")
+
+
+def scaling_section(build: Path, workdir: Path, quick: bool) -> str:
+    """Land problem 2 with the iterative solver at 2.7k ... 511k DOFs, mixed and penalty."""
+    rows = []
+    for level in SCALING_LEVELS[:2] if quick else SCALING_LEVELS:
+        for formulation in SCALING_FORMULATIONS:
+            chosen = SCALING_PLAN[level[0]]
+            if chosen is None or formulation[0] in chosen:
+                rows.append(run_scaling(level, formulation, build, workdir))
+    return scaling_text(rows)
+
+
+def scaling_text(rows: list[dict]) -> str:
+    """The scaling section from the rows of run_scaling."""
+    reference = {r["formulation"]: r for r in rows
+                 if r["level"] == SCALING_REFERENCE and r["ok"]}
+    lines = [SCALING_HEAD, "|" + "---|" * (SCALING_HEAD.count("|") - 1)]
+    for formulation, _ in SCALING_FORMULATIONS:
+        for r in rows:
+            if r["formulation"] != formulation:
+                continue
+            if not r["ok"]:
+                lines.append(f"| {r['level']} | {formulation} | failed: {r['error']} |")
+                continue
+            lines.append(f"| {r['level']} | {formulation} | "
+                         + scaling_cells(r, reference.get(formulation)))
+    if any(r.get("busy") for r in rows):
+        lines.append(BUSY_NOTE)
+
+    growth = []
+    for formulation, _ in SCALING_FORMULATIONS:
+        done = [r for r in rows if r["formulation"] == formulation and r["ok"]]
+        if len(done) < 2:
+            continue
+        k = [r["summary"]["linear_iterations_per_solve"] for r in done]
+        n0, n1 = done[0]["summary"]["n_dofs"], done[-1]["summary"]["n_dofs"]
+        growth.append(f"{formulation}: {k[0]:.1f} -> {k[-1]:.1f} Krylov iterations per solve "
+                      f"from {n0:.0f} to {n1:.0f} DOFs ({100 * (k[-1] / k[0] - 1):+.0f} %).")
+    for level, *_ in SCALING_LEVELS:
+        done = [r for r in rows if r["level"] == level and r["ok"]
+                and r["formulation"] != "penalty, kappa/C = 1e2"]
+        if len(done) >= 2:
+            k = [r["summary"]["linear_iterations_per_solve"] for r in done]
+            growth.append(f"At {level} over the mixed formulations: {min(k):.1f} ... {max(k):.1f} "
+                          "per solve.")
+    solver = next((r["solver"] for r in rows if r.get("solver")), "?")
+    title = "Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, 2 ranks)"
+    return (
+        f"## {title}\n"
+        "Written by `scripts/bench --only scaling` (`--quick`: the two coarsest levels). Land "
+        "problem 2 (`parameters/land_problem2.prm`, C = 10 kPa) on the ventricle of 16 x 5 "
+        "coarse cells refined 0, 1, 2 times and of 32 x 10 cells refined twice, 2 ranks, the "
+        "iterative solver (" + solver + "; the penalty: FGMRES with the same p-multigrid on "
+        "K). The problem is the first two of ten equal load steps (2 kPa of the 10 kPa) with pure "
+        "Newton (`Reuse factorization = false`: a new tangent and preconditioner set-up at "
+        "every iteration), the same at every level, so that the largest run stays affordable; "
+        "the per-iteration figures come from its real Newton iterations. Assembly and linear "
+        "solver: rank 0's wall time in those timer sections (`/summary`), over the Newton "
+        "iterations; the ratio is that of the time per Newton iteration per DOF to the 16 x 5 "
+        "level refined once (17.9k DOFs mixed) of the same formulation. The CPU time is that "
+        "of all processes of the run (set-up included), less sensitive to the other work on "
+        "the machine than the wall times; the load average is the 1-minute one when the run "
+        "ended (2 cores: above 2 the wall times are inflated).\n\n"
+        + "\n".join(lines) + "\n\n" + " ".join(growth) + "\n")
 
 
 #: The isotropic laws of the "laws" group, at the small-strain shear modulus of the isotropic
@@ -1737,7 +1891,7 @@ def main() -> int:
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
-                                           "niederer", "land", "inverse", "biv"],
+                                           "niederer", "land", "inverse", "biv", "scaling"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -1923,6 +2077,11 @@ def main() -> int:
         if args.only in (None, "mixed"):
             title = "Mechanics: penalty and mixed formulations, direct and iterative solvers"
             sections[title] = mixed_section(args.build, workdir, args.quick)
+            print(sections[title], flush=True)
+        if args.only in (None, "scaling"):
+            title = ("Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, "
+                     "2 ranks)")
+            sections[title] = scaling_section(args.build, workdir, args.quick)
             print(sections[title], flush=True)
         if args.only in (None, "laws"):
             title = "Land problem 2 with the isotropic laws at the same shear modulus"
