@@ -1941,7 +1941,7 @@ def inverse_section(build: Path, workdir: Path) -> str:
         e, fit = calibration["calibration/edpvr"], calibration["calibration/fit"]
         par, st = calibration["calibration/parameters"], calibration["stats"]
         edp, edv = float(fit["klotz_edp_mmHg"][0]), float(fit["klotz_edv_mL"][0])
-        v0 = edv * (0.6 - 0.006 * edv)
+        v0 = edv * (0.6 - 0.006 * edp)  # Klotz 2006: 0.006 per mmHg of EDP_m
         v30 = v0 + (edv - v0) / (edp / 27.78) ** (1 / 2.76)
         names = [n.decode() if isinstance(n, bytes) else str(n) for n in par["name"]]
         fitted = ", ".join(f"{n} = {v:.4g}" + (" (at a bound)" if b else "")

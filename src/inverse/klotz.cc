@@ -9,15 +9,17 @@ namespace systole::Inverse
 {
   KlotzCurve::KlotzCurve(const double edp_mmHg, const double edv_mL)
   {
-    AssertThrow(edp_mmHg > 0 && edv_mL > 0,
+    AssertThrow(edp_mmHg > 0 && edp_mmHg < 100 && edv_mL > 0,
                 dealii::ExcMessage(
-                  "Klotz's EDPVR needs a positive end-diastolic pressure and "
-                  "volume (got " +
+                  "Klotz's EDPVR needs an end-diastolic pressure in (0, 100) "
+                  "mmHg (V_0 is not positive above) and a positive volume "
+                  "(got " +
                   dealii::Utilities::to_string(edp_mmHg) + " mmHg, " +
                   dealii::Utilities::to_string(edv_mL) +
                   " mL): set Calibration / Klotz end-diastolic pressure and "
                   "volume."));
-    v0  = edv_mL * (0.6 - 0.006 * edv_mL);
+    // Klotz et al. 2006, eq. for V0: 0.006 per mmHg of the measured EDP.
+    v0  = edv_mL * (0.6 - 0.006 * edp_mmHg);
     v30 = v0 + (edv_mL - v0) / std::pow(edp_mmHg / A_n, 1.0 / B_n);
   }
 

@@ -133,9 +133,10 @@ namespace systole
                       "Units: mmHg.");
     prm.declare_entry("Klotz end-diastolic pressure",
                       "10",
-                      Double(0.0),
+                      Double(0.0, 100.0),
                       "Target = Klotz: the measured end-diastolic pressure "
-                      "EDP_m (> 0). Units: mmHg.");
+                      "EDP_m (> 0 and < 100: the curve's V_0 = V_m (0.6 - "
+                      "0.006 EDP_m) must be positive). Units: mmHg.");
     prm.declare_entry(
       "Klotz end-diastolic volume",
       "0",
@@ -294,9 +295,12 @@ namespace systole
       }
     p.klotz_edp_mmHg = prm.get_double(s, "Klotz end-diastolic pressure");
     p.klotz_edv_mL   = prm.get_double(s, "Klotz end-diastolic volume");
-    AssertThrow(p.target != "Klotz" || p.klotz_edp_mmHg > 0,
+    AssertThrow(p.target != "Klotz" ||
+                  (p.klotz_edp_mmHg > 0 && p.klotz_edp_mmHg < 100),
                 dealii::ExcMessage(
-                  section + "Klotz end-diastolic pressure must be > 0 mmHg."));
+                  section + "Klotz end-diastolic pressure must be > 0 and < "
+                            "100 mmHg (Klotz's V_0 = V_m (0.6 - 0.006 EDP_m) "
+                            "is not positive above)."));
     if (p.target == "synthetic")
       {
         p.synthetic_values =

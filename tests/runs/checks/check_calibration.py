@@ -12,7 +12,8 @@ and /statistics counts the forward solves. --recovered TOL: every fitted NAME wi
 --interval: every TRUE inside the reported 95 % interval. --max-sd REL: every
 standard deviation below REL times TRUE (the interval says something). --klotz TOL: the target volumes are
 Klotz et al. 2006's curve through the stored (EDP, EDV) pair, computed here from the formulas
-(A_n = 27.78 mmHg, B_n = 2.76), and the fitted volumes lie within TOL (relative) of it.
+(V0 = EDV (0.6 - 0.006 EDP), A_n = 27.78 mmHg, B_n = 2.76), and the fitted volumes lie within
+TOL (relative) of it.
 --unloaded MESH (Calibration / Reference = unloaded): the unloaded mesh's cavity volume,
 computed here from MESH (closed by the base plane), is the reported unloaded volume (to
 1e-6) and below every fitted volume, and the reference reloads to the image's vertices within
@@ -106,7 +107,7 @@ def main(argv) -> int:
 
     if klotz is not None:
         edp, edv = fit["klotz_edp_mmHg"][0], fit["klotz_edv_mL"][0]
-        v0 = edv * (0.6 - 0.006 * edv)
+        v0 = edv * (0.6 - 0.006 * edp)  # Klotz 2006: 0.006 per mmHg of EDP_m
         v30 = v0 + (edv - v0) / (edp / 27.78) ** (1 / 2.76)
         curve = v0 + (v30 - v0) * (edpvr["pressure_mmHg"] / 27.78) ** (1 / 2.76)
         if np.max(np.abs(curve / edpvr["target_volume_mL"] - 1)) > 1e-10:
