@@ -1944,11 +1944,17 @@ def inverse_section(build: Path, workdir: Path) -> str:
         v0 = edv * (0.6 - 0.006 * edp)  # Klotz 2006: 0.006 per mmHg of EDP_m
         v30 = v0 + (edv - v0) / (edp / 27.78) ** (1 / 2.76)
         names = [n.decode() if isinstance(n, bytes) else str(n) for n in par["name"]]
-        fitted = ", ".join(f"{n} = {v:.4g}" + (" (at a bound)" if b else "")
-                           for n, v, b in zip(names, par["fitted"], par["at_bound"]))
+        fitted = ", ".join(f"{n} = {v:.4g} ± {s:.2g}" + (" (at a bound)" if b else "")
+                           for n, v, s, b in zip(names, par["fitted"],
+                                                 par["standard_deviation"], par["at_bound"]))
+        reason = fit["reason"][0]
+        reason = reason.decode() if isinstance(reason, bytes) else str(reason)
         lines += ["", f"Klotz's curve through ({edp:g} mmHg, {edv:.3f} mL, the image's cavity), "
-                  f"recomputed here: V0 = {v0:.3f} mL, V30 = {v30:.3f} mL. Fitted: {fitted}; "
-                  f"relative residual norm {float(fit['residual_norm'][0]):.4f}; unloaded "
+                  f"recomputed here: V0 = {v0:.3f} mL, V30 = {v30:.3f} mL. Fitted (± one "
+                  f"standard deviation): {fitted}; relative residual norm "
+                  f"{float(fit['residual_norm'][0]):.4f}; TAO's reason {reason} after "
+                  f"{float(fit['tao_iterations'][0]):.0f} iterations and "
+                  f"{float(fit['evaluations'][0]):.0f} evaluations; unloaded "
                   f"cavity {st['unloaded_volume_mL']:.2f} mL (reload error "
                   f"{st['reload_max_error_mm']:.2g} mm).\n",
                   "| p [mmHg] | Klotz [mL] | fitted [mL] | error | initial values [mL] |",
