@@ -284,7 +284,9 @@ namespace systole::Circulation
     cavity_info         = {
               {"lv", params.left_ventricle_kind, lv_volume, mitral, aortic},
               {"rv", params.right_ventricle_kind, rv_volume, tricuspid, pulmonary}};
-    valve_info  = {{"mitral"}, {"aortic"}, {"tricuspid"}, {"pulmonary"}};
+    valve_info = {{"mitral"}, {"aortic"}, {"tricuspid"}, {"pulmonary"}};
+    // One loop: LA -> LV -> systemic -> RA -> RV -> pulmonary -> LA.
+    in_series   = true;
     output_info = {{"la_pressure", pressure},
                    {"lv_pressure", pressure},
                    {"ra_pressure", pressure},

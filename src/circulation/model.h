@@ -147,6 +147,17 @@ namespace systole::Circulation
       return valve_info.size();
     }
 
+    /// True if every cavity lies on the one loop of a closed circulation
+    /// (in series): the blood one ejects reaches the next, so at a periodic
+    /// state all of them eject the same volume per beat (the beat summary's
+    /// SV_difference, ModelBeatRecorder). False for a single cavity behind
+    /// an open afterload (a Windkessel).
+    bool
+    cavities_in_series() const
+    {
+      return in_series;
+    }
+
     /// The state at time 0 (resized to n_states()).
     virtual void
     initial_state(dealii::Vector<double> &y) const = 0;
@@ -208,5 +219,7 @@ namespace systole::Circulation
     std::vector<CavityInfo> cavity_info;
     std::vector<ValveInfo>  valve_info;
     std::vector<OutputInfo> output_info;
+    /// See cavities_in_series(); set by a closed-loop model.
+    bool in_series = false;
   };
 } // namespace systole::Circulation

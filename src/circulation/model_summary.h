@@ -78,8 +78,18 @@ namespace systole::Circulation
   ///   name_mean_mmHg (time average, trapezoidal);
   /// - total_blood_volume_mL at the beat's end, and its largest relative
   ///   change within the beat (total_blood_volume_drift);
-  /// - periodicity: the largest relative change of a cavity's EDV since the
-  ///   previous beat (NaN in the first).
+  /// - EDV_change: the largest relative change of a cavity's EDV since the
+  ///   previous beat (NaN in the first);
+  /// - SV_difference: for cavities in series (Model::cavities_in_series(),
+  ///   the closed loop's two ventricles), the spread of their stroke volumes
+  ///   relative to their mean, (max SV - min SV) / mean SV: the blood moved
+  ///   per beat between the parts of the loop, zero at a periodic state (NaN
+  ///   for a single cavity or cavities not in series);
+  /// - periodicity: what the periodic-state stop compares with its
+  ///   tolerance: EDV_change, and, when two or more of the cavities in series
+  ///   are external (both ventricles in 3D), the larger of EDV_change and the
+  ///   relative stroke-volume spread of the external cavities (NaN in the
+  ///   first beat). With one 3D ventricle (and a 0D one) it is EDV_change.
   /// Extremes are taken over the samples, so their accuracy is that of the
   /// output interval (valve events are samples too, so EDV and ESV, which
   /// lie at valve closures, are accurate to the tolerance).
@@ -117,7 +127,8 @@ namespace systole::Circulation
     std::vector<SummaryColumn>
     finish(const double end_time);
 
-    /// The periodicity of the last finished beat (NaN for the first).
+    /// The periodicity of the last finished beat (NaN for the first): the
+    /// summary column "periodicity".
     double
     periodicity() const
     {

@@ -93,10 +93,13 @@ namespace systole::Circulation
       "Periodicity tolerance",
       "0.01",
       Double(0.0, 1.0),
-      "The run stops after a beat (from the second on) whose end-diastolic "
-      "volume differs from that of the previous beat by less than this "
-      "fraction (Problem = circulation: the largest change of any "
-      "ventricle); 0 runs all beats. Units: -.");
+      "The run stops after a beat (from the second on) in which every "
+      "ventricle's end-diastolic volume (0D or 3D) differs from that of the "
+      "previous beat by less than this fraction and, when both ventricles "
+      "of the closed loop are 3D (Problem = heartbeat on a biventricular "
+      "mesh), their stroke volumes differ by less than this fraction of "
+      "their mean (the /summary columns EDV_change, SV_difference and "
+      "periodicity); 0 runs all beats. Units: -.");
     prm.declare_entry("Relative tolerance",
                       "1e-4",
                       Double(0.0, 1.0),

@@ -85,8 +85,7 @@ namespace systole
   std::string
   beat_log_line(const Circulation::Model                      &model,
                 const unsigned int                             beat,
-                const std::vector<Circulation::SummaryColumn> &summary,
-                const double                                   periodicity)
+                const std::vector<Circulation::SummaryColumn> &summary)
   {
     std::ostringstream o;
     o << std::fixed << std::setprecision(1) << "Beat " << beat << ":";
@@ -100,7 +99,10 @@ namespace systole
           << summary_value(summary, n + "peak_pressure_mmHg") << " mmHg;";
       }
     o << " EDV change " << std::defaultfloat << std::setprecision(2)
-      << 100 * periodicity << " %";
+      << 100 * summary_value(summary, "EDV_change") << " %";
+    const double sv_difference = summary_value(summary, "SV_difference");
+    if (!std::isnan(sv_difference))
+      o << ", stroke volumes " << 100 * sv_difference << " % apart";
     return o.str();
   }
 } // namespace systole

@@ -42,12 +42,13 @@ namespace systole
                       const dealii::Vector<double> &cavity_pressures);
 
   /// "Beat k: lv EDV .. mL, ESV .. mL, EF .. %, peak .. mmHg; ... EDV change
-  /// .. %" from a summary row of Circulation::ModelBeatRecorder.
+  /// .. %[, stroke volumes .. % apart]" from a summary row of
+  /// Circulation::ModelBeatRecorder (the stroke volumes for cavities in
+  /// series).
   std::string
   beat_log_line(const Circulation::Model                      &model,
                 const unsigned int                             beat,
-                const std::vector<Circulation::SummaryColumn> &summary,
-                const double                                   periodicity);
+                const std::vector<Circulation::SummaryColumn> &summary);
 
   /// The value of column @p name in @p row (NaN if absent).
   double

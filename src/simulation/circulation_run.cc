@@ -165,8 +165,7 @@ namespace systole
         results.append_summary(row);
         ++n_beats;
 
-        logger.line(
-          beat_log_line(*model, beat, summary, recorder.periodicity()));
+        logger.line(beat_log_line(*model, beat, summary));
 
         if (beat >= 1 && circulation.periodicity_tolerance > 0 &&
             recorder.periodicity() < circulation.periodicity_tolerance)

@@ -504,13 +504,9 @@ namespace systole
         postprocess.end_beat(&times_in_beat, row);
         results.append_summary(row);
         std::ostringstream o;
-        o << beat_log_line(model,
-                           beat,
-                           summary,
-                           summary_value(summary, "periodicity"))
-          << "; " << steps_in_beat << " steps, " << total_solves
-          << " mechanics solves, " << total_iterations << " Newton iterations"
-          << activation.str();
+        o << beat_log_line(model, beat, summary) << "; " << steps_in_beat
+          << " steps, " << total_solves << " mechanics solves, "
+          << total_iterations << " Newton iterations" << activation.str();
         logger.line(o.str());
         total_iterations = total_solves = total_rejected = steps_in_beat = 0;
       }

@@ -206,9 +206,12 @@ namespace systole
                      const dealii::Vector<double> &p0);
     ~HeartbeatStepper();
 
-    /// Beats from t = 0 until periodic (the largest relative change of a
-    /// cavity's EDV from the last beat below the tolerance, from the second
-    /// beat on), n_max_beats, or the observer's stop. Call once; after
+    /// Beats from t = 0 until periodic (the summary's periodicity below the
+    /// tolerance, from the second beat on: the largest relative change of a
+    /// cavity's EDV from the last beat and, with both ventricles of a closed
+    /// loop external, the relative difference of their stroke volumes; see
+    /// Circulation::ModelBeatRecorder), n_max_beats, or the observer's
+    /// stop. Call once; after
     /// load(), run() continues from the loaded state (without reporting it
     /// again).
     Statistics

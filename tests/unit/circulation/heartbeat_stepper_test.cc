@@ -302,3 +302,91 @@ TEST_CASE("A step redone after a failure is shorter than the failed one, also "
   CHECK(ventricles.failures > 0);
   CHECK(stats.n_failures == ventricles.failures);
 }
+
+TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
+          "waits for equal stroke volumes",
+          "[circulation][stepper]")
+{
+  // The periodic state of the 0D closed loop (30 beats of ARKode) with 15 mL
+  // moved from the pulmonary to the systemic veins: the EDVs change by
+  // 0.7 % from the first beat to the second, while the RV ejects 4 - 5 %
+  // more than the LV (the blood flows back to the pulmonary pool, the
+  // difference falls by about a third per beat).
+  const ClosedLoop::Parameters elastance;
+  const double                 T         = elastance.period;
+  const double                 tolerance = 0.02;
+  const ClosedLoop             zero_d(elastance);
+  Vector                       y0;
+  zero_d.initial_state(y0);
+  {
+    Integrator integrator(zero_d, Integrator::Settings(), 0.0, y0);
+    integrator.advance(30 * T);
+    y0 = integrator.state();
+  }
+  const double moved = Units::mL_to_mm3(15.0);
+  y0[ClosedLoop::pulmonary_venous_pressure] -=
+    moved / elastance.pulmonary_veins.compliance;
+  y0[ClosedLoop::systemic_venous_pressure] +=
+    moved / elastance.systemic_veins.compliance;
+
+  const auto run = [&](const bool both) {
+    ClosedLoop::Parameters coupled = elastance;
+    coupled.left_ventricle_kind    = CavityKind::external;
+    if (both)
+      coupled.right_ventricle_kind = CavityKind::external;
+    const ClosedLoop              model(coupled);
+    std::vector<ChamberElastance> chambers = {
+      ChamberElastance(elastance.left_ventricle, T)};
+    if (both)
+      chambers.emplace_back(elastance.right_ventricle, T);
+    ElastanceVentricles ventricles(chambers);
+    Vector              p0(2);
+    p0[0] = ChamberElastance(elastance.left_ventricle, T)
+              .pressure(0.0, y0[model.cavities()[0].volume_state]);
+    p0[1] = ChamberElastance(elastance.right_ventricle, T)
+              .pressure(0.0, y0[model.cavities()[1].volume_state]);
+    HeartbeatStepper::Settings settings;
+    settings.period                = T;
+    settings.n_max_beats           = 10;
+    settings.periodicity_tolerance = tolerance;
+    HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
+    Summaries        summaries;
+    const auto       stats = stepper.run(summaries);
+    CHECK(stats.periodic);
+    CHECK(stats.n_beats == summaries.rows.size());
+    return summaries.rows;
+  };
+
+  for (const bool both : {false, true})
+    {
+      INFO((both ? "both ventricles coupled" : "the left ventricle coupled"));
+      const auto rows = run(both);
+      REQUIRE(rows.size() >= 2);
+      // The moved blood: the RV ejects more than the LV.
+      CHECK(rows[0].at("rv_SV_mL") > rows[0].at("lv_SV_mL"));
+      // It stops at the first beat from the second on that meets the
+      // criterion, and not before.
+      const auto met = [&](const std::map<std::string, double> &row) {
+        return row.at("EDV_change") < tolerance &&
+               (!both || row.at("SV_difference") < tolerance);
+      };
+      CHECK(met(rows.back()));
+      for (unsigned int beat = 1; beat + 1 < rows.size(); ++beat)
+        CHECK_FALSE(met(rows[beat]));
+      for (unsigned int beat = 1; beat < rows.size(); ++beat)
+        CHECK(rows[beat].at("periodicity") ==
+              (both ? std::max(rows[beat].at("EDV_change"),
+                               rows[beat].at("SV_difference"))
+                    : rows[beat].at("EDV_change")));
+      // The EDVs alone stop after beat 1; with both ventricles coupled the
+      // stroke volumes, still apart there, make the run go on.
+      CHECK(rows[1].at("EDV_change") < tolerance);
+      if (both)
+        {
+          CHECK(rows[1].at("SV_difference") >= tolerance);
+          CHECK(rows.size() > 2);
+        }
+      else
+        CHECK(rows.size() == 2);
+    }
+}

@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -80,7 +81,8 @@ TEST_CASE("A rectangular PV loop gives the hand-computed model beat summary",
   // fill to 120 mL; the valve events at the corners, each with the sample
   // there, in the order the circulation run adds them (sample, then event).
   const WindkesselModel model = external_lv_windkessel();
-  ModelBeatRecorder     recorder(model, {true, false}); // filling at t = 0
+  CHECK_FALSE(model.cavities_in_series());
+  ModelBeatRecorder recorder(model, {true, false}); // filling at t = 0
   // The state at each corner: t [ms], V [mL], p [mmHg], p_ar [mmHg].
   struct Corner
   {
@@ -140,6 +142,9 @@ TEST_CASE("A rectangular PV loop gives the hand-computed model beat summary",
         Approx(((120.0 + 1.5 * 75.0) - (50.0 + 1.5 * 90.0)) /
                (120.0 + 1.5 * 75.0)));
   CHECK(std::isnan(c["periodicity"]));
+  CHECK(std::isnan(c["EDV_change"]));
+  // One cavity: no stroke volumes to compare.
+  CHECK(std::isnan(c["SV_difference"]));
   CHECK(std::isnan(recorder.periodicity()));
 
   SECTION("a beat without events stays in the phase the last one ended in")
@@ -160,7 +165,76 @@ TEST_CASE("A rectangular PV loop gives the hand-computed model beat summary",
     // No closure: EDV is the largest volume of the beat.
     CHECK(e["lv_EDV_mL"] == Approx(120.0));
     CHECK(e["periodicity"] == Approx(0.0).margin(1e-15));
+    CHECK(e["EDV_change"] == Approx(0.0).margin(1e-15));
+    CHECK(std::isnan(e["SV_difference"]));
   }
+}
+
+TEST_CASE("The periodicity of a closed loop with both ventricles in 3D also "
+          "asks for equal stroke volumes",
+          "[circulation]")
+{
+  // Three beats of the closed loop with hand-made volumes (no valve events:
+  // EDV and ESV are the largest and smallest volume of the beat), LV and RV
+  // [mL] at t = 0, 400, 800 ms, ...:
+  // beat 0: (120, 120) -> (50, 57) -> (120, 120): SVs 70 and 63;
+  // beat 1: the same again: the EDVs have not changed, the SVs still differ;
+  // beat 2: -> (50, 50) -> (123, 120): SVs 73 and 70, LV EDV + 2.5 %.
+  const bool             rv_3d = GENERATE(true, false);
+  ClosedLoop::Parameters parameters;
+  parameters.left_ventricle_kind = CavityKind::external;
+  if (rv_3d)
+    parameters.right_ventricle_kind = CavityKind::external;
+  const ClosedLoop model(parameters);
+  REQUIRE(model.cavities_in_series());
+  INFO((rv_3d ? "both ventricles 3D" : "the LV 3D, the RV 0D"));
+
+  ModelBeatRecorder recorder(model, {false, false, false, false});
+  Vector            y, p(2), outputs;
+  model.initial_state(y);
+  const auto sample = [&](const double t, const double lv, const double rv) {
+    y[model.cavities()[0].volume_state] = Units::mL_to_mm3(lv);
+    y[model.cavities()[1].volume_state] = Units::mL_to_mm3(rv);
+    model.evaluate_outputs(t, y, p, outputs);
+    recorder.add(t, y, p, outputs);
+  };
+  const std::vector<std::array<double, 2>>   minima = {{{50, 57}},
+                                                       {{50, 57}},
+                                                       {{50, 50}}};
+  const std::vector<std::array<double, 2>>   maxima = {{{120, 120}},
+                                                       {{120, 120}},
+                                                       {{123, 120}}};
+  std::vector<std::map<std::string, double>> rows;
+  sample(0.0, 120, 120);
+  for (unsigned int beat = 0; beat < 3; ++beat)
+    {
+      recorder.start(beat, 800.0 * beat);
+      sample(800.0 * beat + 400, minima[beat][0], minima[beat][1]);
+      sample(800.0 * (beat + 1), maxima[beat][0], maxima[beat][1]);
+      rows.push_back(by_name(recorder.finish(800.0 * (beat + 1))));
+      if (beat > 0)
+        CHECK(recorder.periodicity() == Approx(rows.back()["periodicity"]));
+    }
+
+  // (max - min) / mean of the two stroke volumes, 3D or not.
+  CHECK(rows[0]["SV_difference"] == Approx(7.0 / 66.5));
+  CHECK(rows[1]["SV_difference"] == Approx(7.0 / 66.5));
+  CHECK(rows[2]["SV_difference"] == Approx(3.0 / 71.5));
+  CHECK(rows[1]["EDV_change"] == Approx(0.0).margin(1e-15));
+  CHECK(rows[2]["EDV_change"] == Approx(3.0 / 120.0));
+  CHECK(std::isnan(rows[0]["periodicity"]));
+  if (rv_3d)
+    {
+      // The EDVs alone would call beat 1 periodic.
+      CHECK(rows[1]["periodicity"] == Approx(7.0 / 66.5));
+      CHECK(rows[2]["periodicity"] == Approx(3.0 / 71.5));
+    }
+  else
+    {
+      // One 3D ventricle: the EDVs only, as before.
+      CHECK(rows[1]["periodicity"] == Approx(0.0).margin(1e-15));
+      CHECK(rows[2]["periodicity"] == Approx(3.0 / 120.0));
+    }
 }
 
 TEST_CASE("Each cavity of a model gets its own phase durations",
