@@ -41,6 +41,10 @@ namespace systole::Mechanics
       std::vector<bool>                   on_cavity;
       /// The Schur-complement preconditioner on the pressure DoFs of the cell.
       dealii::FullMatrix<double> pressure_matrix;
+      /// The augmented Lagrangian's weight W = int (1/kappa + 1/mu) psi psi
+      /// of the cell, its inverse, and gamma B^T W^-1 (displacement rows,
+      /// pressure columns).
+      dealii::FullMatrix<double> pressure_weight, inverse_weight, coupling;
     };
 
     /// Per shape function: block, component, the gradient of its only
@@ -186,13 +190,37 @@ namespace systole::Mechanics
           }
     }
 
+    /// Weight of the Schur preconditioner -w int psi psi at a point of
+    /// shear stiffness mu (1/mu given) with the augmented Lagrangian gamma.
+    /// The Schur complement of T K is S' = -C - (1 - gamma theta) B
+    /// A_gamma^-1 B^T with C = M / kappa, A_gamma = A + gamma' B^T M^-1 B,
+    /// theta = mu / (kappa + mu), gamma' = gamma / (1/kappa + 1/mu). Taking
+    /// B A^-1 B^T ~ M / mu (a Stokes-like A) and the Sherman-Morrison identity
+    /// (B A_gamma^-1 B^T)^-1 = (B A^-1 B^T)^-1 + gamma' M^-1 gives w = 1/kappa
+    /// + (1 - gamma theta) / (mu + gamma'); gamma = 0: 1/kappa + 1/mu. Where
+    /// B A^-1 B^T is far larger than M / mu (the dilations the isochoric A
+    /// does not resist), S' stays near -(1/kappa + (1 - gamma theta) /
+    /// gamma') M, so the approximation is within about 1 + 1/gamma.
+    double
+    schur_weight(const double inverse_kappa,
+                 const double inverse_mu,
+                 const double gamma)
+    {
+      const double theta =
+        inverse_kappa / (inverse_kappa + inverse_mu); // mu / (kappa + mu)
+      const double gamma_prime = gamma / (inverse_kappa + inverse_mu);
+      return inverse_kappa + std::max(0.0, 1.0 - gamma * theta) /
+                               (1.0 / inverse_mu + gamma_prime);
+    }
+
     /// Pressure rows and columns of the mixed formulations at one point
     /// (energy -p (J - 1) - p^2 / (2 kappa)):
     /// R_p,a = -psi_a (J - 1 + p / kappa), K_up = K_pu^T = -J F^{-T} : grad
     /// phi_u psi_p, K_pp = -psi psi / kappa; the displacement rows' share is
     /// in the stress -p J C^{-1} of add_stress_point(). The Schur
-    /// preconditioner adds -(1/kappa + 1/mu) psi psi, mu the shear stiffness
-    /// of the point.
+    /// preconditioner adds -w psi psi (schur_weight(), mu the shear stiffness
+    /// of the point), the augmented Lagrangian's weight (1/kappa + 1/mu) psi
+    /// psi.
     void
     add_pressure_point(const dealii::FEValues<3> &values,
                        const unsigned int         q,
@@ -200,6 +228,7 @@ namespace systole::Mechanics
                        const double               p,
                        const double               inverse_kappa,
                        const double               inverse_mu,
+                       const double               gamma,
                        const bool                 with_matrix,
                        const bool                 with_pressure_matrix,
                        ShapeScratch              &s,
@@ -230,11 +259,56 @@ namespace systole::Mechanics
             cell.matrix(a, b) -= s.psi[a] * s.psi[b] * inverse_kappa * JxW;
         }
       if (with_pressure_matrix)
-        for (unsigned int i = 0; i < s.p_dofs.size(); ++i)
-          for (unsigned int j = 0; j < s.p_dofs.size(); ++j)
-            cell.pressure_matrix(i, j) -= (inverse_kappa + inverse_mu) *
-                                          s.psi[s.p_dofs[i]] *
-                                          s.psi[s.p_dofs[j]] * JxW;
+        {
+          const double w = schur_weight(inverse_kappa, inverse_mu, gamma);
+          for (unsigned int i = 0; i < s.p_dofs.size(); ++i)
+            for (unsigned int j = 0; j < s.p_dofs.size(); ++j)
+              {
+                const double psi_psi =
+                  s.psi[s.p_dofs[i]] * s.psi[s.p_dofs[j]] * JxW;
+                cell.pressure_matrix(i, j) -= w * psi_psi;
+                if (gamma > 0.0)
+                  cell.pressure_weight(i, j) +=
+                    (inverse_kappa + inverse_mu) * psi_psi;
+              }
+        }
+    }
+
+    /// The augmented Lagrangian of one cell (T K with T = [I, G; 0, I], G =
+    /// gamma B^T W^-1, W = pressure_weight): K_uu += G K_pu, K_up += G K_pp;
+    /// coupling = G_e. Exact cell by cell because a discontinuous pressure
+    /// makes W block-diagonal by cells.
+    void
+    add_augmented_lagrangian(const double        gamma,
+                             const ShapeScratch &s,
+                             CellSystem         &cell)
+    {
+      const unsigned int n_p = s.p_dofs.size(), n_u = s.u_dofs.size();
+      cell.inverse_weight.invert(cell.pressure_weight);
+      for (unsigned int i = 0; i < n_u; ++i)
+        for (unsigned int k = 0; k < n_p; ++k)
+          {
+            double g = 0;
+            for (unsigned int j = 0; j < n_p; ++j)
+              g += cell.matrix(s.p_dofs[j], s.u_dofs[i]) *
+                   cell.inverse_weight(j, k);
+            cell.coupling(i, k) = gamma * g;
+          }
+      for (unsigned int i = 0; i < n_u; ++i)
+        {
+          const unsigned int a = s.u_dofs[i];
+          for (unsigned int k = 0; k < n_p; ++k)
+            {
+              const double g = cell.coupling(i, k);
+              if (g == 0.0)
+                continue;
+              const unsigned int pk = s.p_dofs[k];
+              for (const unsigned int b : s.u_dofs)
+                cell.matrix(a, b) += g * cell.matrix(pk, b);
+              for (const unsigned int b : s.p_dofs)
+                cell.matrix(a, b) += g * cell.matrix(pk, b);
+            }
+        }
     }
 
     /// Spring-dashpot (Robin) support on one face: R_a += phi_a (alpha u_c +
@@ -387,6 +461,21 @@ namespace systole::Mechanics
     ShapeScratch       scratch(*fe);
     cell_system.pressure_matrix.reinit(scratch.p_dofs.size(),
                                        scratch.p_dofs.size());
+    // The augmented Lagrangian of the iterative solver (augmentation: G).
+    const double gamma = with_pressure_matrix && augmentation != nullptr
+                           ? augmented_lagrangian
+                           : 0.0;
+    if (gamma > 0.0)
+      {
+        cell_system.pressure_weight.reinit(scratch.p_dofs.size(),
+                                           scratch.p_dofs.size());
+        cell_system.inverse_weight.reinit(scratch.p_dofs.size(),
+                                          scratch.p_dofs.size());
+        cell_system.coupling.reinit(scratch.u_dofs.size(),
+                                    scratch.p_dofs.size());
+      }
+    std::vector<dealii::types::global_dof_index> displacement_dofs(
+      scratch.u_dofs.size());
     AssertThrow(!with_volume_derivative || !cavities.empty(),
                 dealii::ExcMessage("This problem has no cavity."));
     AssertThrow(pressures.size() == pressure_ids.size(),
@@ -448,6 +537,8 @@ namespace systole::Mechanics
       }
     if (with_pressure_matrix)
       pressure_matrix->zero();
+    if (gamma > 0.0)
+      *augmentation = 0;
     residual = 0;
     if (with_volume_derivative)
       for (auto &b : volume_derivatives)
@@ -470,7 +561,9 @@ namespace systole::Mechanics
         cell_system.matrix          = 0;
         cell_system.residual        = 0;
         cell_system.pressure_matrix = 0;
-        const auto data             = point_data.get_data(cell);
+        if (gamma > 0.0)
+          cell_system.pressure_weight = 0;
+        const auto data = point_data.get_data(cell);
 
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
@@ -569,6 +662,7 @@ namespace systole::Mechanics
                                  p_values[q],
                                  inverse_bulk_modulus,
                                  inverse_mu,
+                                 gamma,
                                  with_matrix,
                                  with_pressure_matrix,
                                  scratch,
@@ -607,6 +701,10 @@ namespace systole::Mechanics
           continue;
         if (with_matrix)
           finish_displacement_block(scratch, cell_system);
+        // (Before the boundary terms: the pressure rows hold B and K_pp
+        // alone.)
+        if (gamma > 0.0)
+          add_augmented_lagrangian(gamma, scratch, cell_system);
 
         // Boundary terms.
         for (unsigned int i = 0; i < cavities.size(); ++i)
@@ -724,12 +822,23 @@ namespace systole::Mechanics
               pressure_dofs[i] = dofs[scratch.p_dofs[i]];
             pressure_matrix->add(pressure_dofs, cell_system.pressure_matrix);
           }
+        if (gamma > 0.0)
+          {
+            for (unsigned int i = 0; i < scratch.u_dofs.size(); ++i)
+              displacement_dofs[i] = dofs[scratch.u_dofs[i]];
+            constraints.distribute_local_to_global(cell_system.coupling,
+                                                   displacement_dofs,
+                                                   pressure_dofs,
+                                                   *augmentation);
+          }
       }
 
     if (with_matrix)
       tangent.compress(dealii::VectorOperation::add);
     if (with_pressure_matrix)
       pressure_matrix->compress();
+    if (gamma > 0.0)
+      augmentation->compress(dealii::VectorOperation::add);
     residual.compress(dealii::VectorOperation::add);
     if (dynamic)
       residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);

@@ -274,7 +274,9 @@ namespace systole::Mechanics
                    true);
         swap_model_inputs();
         swap_dynamic_state();
-        m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+        m.linear_solver->setup(m.tangent,
+                               m.pressure_matrix.get(),
+                               m.augmentation.get());
         m.factorized_volume_derivatives.clear();
         m.factorized_w.clear();
         if (bordered)

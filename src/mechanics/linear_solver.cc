@@ -48,8 +48,12 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K, const PressureMatrix *) override
+      setup(const LA::MPI::SparseMatrix &K,
+            const PressureMatrix *,
+            const LA::MPI::SparseMatrix *augmentation) override
       {
+        AssertThrow(augmentation == nullptr,
+                    dealii::ExcInternalError("augmented direct solve"));
         // The sparsity pattern never changes: after the first factorization
         // MUMPS reuses its analysis (ordering, symbolic factorization) and
         // factorizes numerically only. If that fails (pivoting needs more
@@ -211,8 +215,12 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K, const PressureMatrix *) override
+      setup(const LA::MPI::SparseMatrix &K,
+            const PressureMatrix *,
+            const LA::MPI::SparseMatrix *augmentation) override
       {
+        AssertThrow(augmentation == nullptr,
+                    dealii::ExcInternalError("augmented penalty solve"));
         Mat                A = K;
         std::array<Vec, 6> vectors;
         for (unsigned int i = 0; i < 6; ++i)
@@ -377,11 +385,13 @@ namespace systole::Mechanics
 
       void
       setup(const LA::MPI::SparseMatrix &K,
-            const PressureMatrix        *schur) override
+            const PressureMatrix        *schur,
+            const LA::MPI::SparseMatrix *augmentation) override
       {
         AssertThrow(schur != nullptr,
                     dealii::ExcInternalError("no pressure matrix"));
-        Mat A = K;
+        this->augmentation = augmentation;
+        Mat A              = K;
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
         // (The options first: they would reset the Schur preconditioner to
         // PETSc's default, the pressure block of K, zero when
@@ -403,7 +413,16 @@ namespace systole::Mechanics
       solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) override
       {
         x = 0;
-        check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
+        if (augmentation != nullptr)
+          {
+            // T b = b + G b (G reads the pressure part, writes the
+            // displacement part).
+            augmented = b;
+            augmentation->vmult_add(augmented, b);
+            check_petsc(KSPSolve(ksp, augmented, x), "KSPSolve");
+          }
+        else
+          check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
         return checked_iterations(ksp, "FGMRES + block preconditioner");
       }
 
@@ -428,8 +447,11 @@ namespace systole::Mechanics
       /// Why GAMG although p-multigrid was asked for ("" otherwise).
       std::string fallback;
       bool        configured = false;
-      KSP         ksp        = nullptr;
-      IS          is_u = nullptr, is_p = nullptr;
+      /// G of the augmented Lagrangian (null: none), and T b.
+      const LA::MPI::SparseMatrix *augmentation = nullptr;
+      LA::MPI::Vector              augmented;
+      KSP                          ksp  = nullptr;
+      IS                           is_u = nullptr, is_p = nullptr;
     };
   } // namespace
 

@@ -98,11 +98,14 @@ namespace systole::Mechanics
 
     /// Prepare solves with @p K (the direct solver factorizes it; the
     /// iterative ones build their preconditioner; the mixed iterative one
-    /// needs @p schur). Both must stay alive and unchanged until the next
-    /// setup().
+    /// needs @p schur). With @p augmentation G (the mixed iterative solver's
+    /// augmented Lagrangian), @p K is T K_0 with T = [I, G; 0, I], and
+    /// solve() applies T to its right-hand side: it solves K_0 x = b. All
+    /// must stay alive and unchanged until the next setup().
     virtual void
     setup(const LA::MPI::SparseMatrix &K,
-          const PressureMatrix        *schur = nullptr) = 0;
+          const PressureMatrix        *schur        = nullptr,
+          const LA::MPI::SparseMatrix *augmentation = nullptr) = 0;
 
     /// Solve K x = b with the K of the last setup(); returns the number of
     /// iterations (1 for the direct solver). Several right-hand sides share

@@ -589,7 +589,9 @@ namespace systole::Mechanics
       }
     try
       {
-        m.linear_solver->setup(m.tangent, m.pressure_matrix.get());
+        m.linear_solver->setup(m.tangent,
+                               m.pressure_matrix.get(),
+                               m.augmentation.get());
         // (Of K alone until the bordered update below stores B0, W0.)
         m.have_factorization = true;
         m.factorized_volume_derivatives.clear();

@@ -322,6 +322,22 @@ namespace systole::Mechanics
       "so). PETSc options with the prefix -mechanics_fieldsplit_u_pmg_ "
       "(penalty: -mechanics_pmg_) override the smoother and the coarse "
       "solver. Units: -.");
+    prm.declare_entry(
+      "Augmented Lagrangian factor",
+      "1",
+      Double(0.0, 100.0),
+      "The iterative solver of the mixed formulations with a discontinuous "
+      "pressure solves the system multiplied by T = [I, gamma B^T W^-1; 0, "
+      "I] (an augmented Lagrangian: the same solution; B the pressure rows "
+      "of the tangent, W the pressure mass matrix weighted by 1/kappa + "
+      "1/mu, block-diagonal by cells): its displacement block A + gamma B^T "
+      "W^-1 B then resists a change of volume as a bulk modulus of about "
+      "gamma mu would, where the isochoric law alone does not (A is "
+      "singular on dilations), and the scaled pressure mass matrix becomes a "
+      "mesh-independent approximation of its Schur complement. This is "
+      "gamma; 0 solves the plain saddle-point system. Ignored by the direct "
+      "solver, the penalty formulation and the continuous pressure. Must be "
+      "below (kappa + mu) / mu. Units: -.");
     prm.declare_entry("Tracked points",
                       "",
                       Anything(),
@@ -377,6 +393,7 @@ namespace systole::Mechanics
       prm.get(m, "Displacement preconditioner") == "amg"
         ? DisplacementPreconditioner::amg
         : DisplacementPreconditioner::p_multigrid;
+    p.augmented_lagrangian  = prm.get_double(m, "Augmented Lagrangian factor");
     p.tracked_points        = parse_points(prm.get(m, "Tracked points"));
     p.density               = 1e-3 * prm.get_double(m, "Density");
     p.spectral_radius       = prm.get_double(m, "Spectral radius");

@@ -157,6 +157,13 @@ namespace systole::Mechanics
     /// Preconditioner of the displacement (block) of the iterative solver.
     DisplacementPreconditioner displacement_preconditioner =
       DisplacementPreconditioner::p_multigrid;
+    /// Augmented-Lagrangian factor gamma [-] of the iterative solver of the
+    /// mixed formulations with a discontinuous pressure: it solves T K x =
+    /// T b, T = [I, gamma B^T W^-1; 0, I] (W the pressure mass matrix
+    /// weighted by 1/kappa + 1/mu), whose displacement block A + gamma B^T
+    /// W^-1 B holds the volume as a bulk modulus of about gamma mu would
+    /// (0: the plain saddle-point system).
+    double augmented_lagrangian = 1.0;
 
     std::vector<TrackedPoint> tracked_points;
 

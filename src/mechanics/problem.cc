@@ -281,6 +281,63 @@ namespace systole::Mechanics
         params.pressure_element == PressureElement::discontinuous
           ? m.fe->base_element(1).n_dofs_per_cell()
           : 64);
+    // The augmented Lagrangian: G couples the displacement DoFs of a cell to
+    // its (discontinuous) pressure DoFs.
+    if (m.pressure_matrix != nullptr &&
+        params.pressure_element == PressureElement::discontinuous &&
+        params.augmented_lagrangian > 0.0)
+      {
+        const double mu = 10.0 * m.reference_shear_stiffness;
+        AssertThrow(
+          m.inverse_bulk_modulus * params.augmented_lagrangian * mu <
+            1.0 + m.inverse_bulk_modulus * mu,
+          dealii::ExcMessage(
+            "Mechanics / Augmented Lagrangian factor (" +
+            dealii::Utilities::to_string(params.augmented_lagrangian) +
+            ") must be below (kappa + mu) / mu = " +
+            dealii::Utilities::to_string(1.0 / (m.inverse_bulk_modulus * mu) +
+                                         1.0) +
+            " (Material / Volumetric / Bulk modulus against the law's shear "
+            "stiffness): lower it, or set it to 0."));
+        m.augmented_lagrangian = params.augmented_lagrangian;
+        dealii::DynamicSparsityPattern coupling_pattern(m.relevant);
+        const auto                    &fe = *m.fe;
+        std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
+          u_dofs, p_dofs;
+        for (const auto &cell : m.dof_handler.active_cell_iterators())
+          if (cell->is_locally_owned())
+            {
+              cell->get_dof_indices(dofs);
+              u_dofs.clear();
+              p_dofs.clear();
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                (fe.system_to_component_index(i).first < 3 ? u_dofs : p_dofs)
+                  .push_back(dofs[i]);
+              m.constraints.add_entries_local_to_global(u_dofs,
+                                                        p_dofs,
+                                                        coupling_pattern,
+                                                        false);
+            }
+        dealii::SparsityTools::distribute_sparsity_pattern(coupling_pattern,
+                                                           m.owned,
+                                                           m.comm,
+                                                           m.relevant);
+        m.augmentation = std::make_unique<LA::MPI::SparseMatrix>();
+        m.augmentation->reinit(m.owned, m.owned, coupling_pattern, m.comm);
+      }
+  }
+
+  void
+  Problem::Impl::tangent_vmult(LA::MPI::Vector       &dst,
+                               const LA::MPI::Vector &src) const
+  {
+    tangent.vmult(dst, src);
+    if (augmentation != nullptr)
+      {
+        LA::MPI::Vector correction(owned, comm);
+        augmentation->vmult(correction, dst);
+        dst -= correction;
+      }
   }
 
   Problem::~Problem() = default;
@@ -430,7 +487,7 @@ namespace systole::Mechanics
       d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
     d.compress(dealii::VectorOperation::insert);
     m.constraints.set_zero(d);
-    m.tangent.vmult(Kd, d);
+    m.tangent_vmult(Kd, d);
 
     const LA::MPI::Vector u0          = m.u_owned;
     const auto            residual_at = [&](const double step) {
@@ -476,7 +533,7 @@ namespace systole::Mechanics
         0.3 * std::max(std::abs(pressures[i]), 1.0) * (i % 2 == 0 ? 1.0 : -0.7);
     // First block row: K d - B dp (R depends on p through -p_i b_i); second:
     // B^T d.
-    m.tangent.vmult(Jd, d);
+    m.tangent_vmult(Jd, d);
     dealii::Vector<double> volume_row(k);
     for (unsigned int i = 0; i < k; ++i)
       {

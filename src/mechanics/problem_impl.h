@@ -226,7 +226,21 @@ namespace systole::Mechanics
     LA::MPI::SparseMatrix tangent;
     /// The Schur-complement preconditioner of the mixed iterative solver.
     std::unique_ptr<PressureMatrix> pressure_matrix;
-    LA::MPI::Vector                 residual; ///< owned
+    /// The augmented Lagrangian of the mixed iterative solver with a
+    /// discontinuous pressure (null otherwise): G = gamma B^T W^-1
+    /// (displacement rows, pressure columns), with which the tangent holds
+    /// T K, T = [I, G; 0, I] (the linear solver applies T to its right-hand
+    /// sides; tangent_vmult() undoes it).
+    std::unique_ptr<LA::MPI::SparseMatrix> augmentation;
+    /// gamma of the augmented Lagrangian (Mechanics / Augmented Lagrangian
+    /// factor; 0 when there is no augmentation).
+    double augmented_lagrangian = 0.0;
+
+    /// dst = K src with the tangent as last assembled (T K when augmented:
+    /// then K src = T^-1 (T K src) = (T K src) - G (T K src)).
+    void
+    tangent_vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;
+    LA::MPI::Vector residual; ///< owned
     /// Owned: dV_i/du of every cavity, condensed.
     std::vector<LA::MPI::Vector> volume_derivatives;
     LA::MPI::Vector              u_owned; ///< owned

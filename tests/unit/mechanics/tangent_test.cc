@@ -153,6 +153,35 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
                 Approx(2.0).margin(0.2));
         }
   }
+
+  SECTION("Land ventricle, Q2-P1disc with the iterative solver: the "
+          "assembled T K of the augmented Lagrangian and its G agree (the "
+          "hook undoes T with G)")
+  {
+    Geometry::Parameters geometry; // the Land ventricle
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto names = Geometry::create_mesh(geometry, tria);
+    for (const auto incompressibility :
+         {Mechanics::Incompressibility::nearly_incompressible,
+          Mechanics::Incompressibility::incompressible})
+      {
+        Mechanics::Parameters params;
+        params.incompressibility    = incompressibility;
+        params.fixed_boundaries     = {"base"};
+        params.pressure_boundary    = "endocardium";
+        params.robin_boundaries     = {"epicardium"};
+        params.robin_stiffness      = 0.5;
+        params.linear_solver        = "iterative";
+        params.augmented_lagrangian = 3.0;
+        Mechanics::Problem
+          problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
+        problem.set_displacement(Wobble(0.8));
+        problem.set_pressure_field(4.0);
+        INFO(problem.discretization_name());
+        CHECK(observed_order(problem, 3.0, 20.0, 1e-3) ==
+              Approx(2.0).margin(0.2));
+      }
+  }
 }
 
 
