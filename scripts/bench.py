@@ -1725,12 +1725,46 @@ LAND_COARSE = ROOT / "tests" / "runs" / "lv_heartbeat_ttp_land_coarse.prm"
 LAND_FULL = ROOT / "parameters" / "lv_heartbeat_ttp_land.prm"
 #: Land without length dependence: h(lambda) = 1 and Ca50 independent of the stretch.
 NO_LENGTH_DEPENDENCE = {"Active tension/Land/beta0": "0", "Active tension/Land/beta1": "0"}
+#: The preloads (atrial pressures [mmHg]) and afterloads (peripheral resistances [mmHg s/mL])
+#: of the sweeps; the base files leave both at their defaults, 10 and 1.
+LAND_PRELOADS = (6, 10, 14)
+LAND_AFTERLOADS = (0.7, 1.0, 1.4)
+
+
+def land_cases(full: bool) -> dict[str, dict[str, str]]:
+    """The runs of the land group by name: the preload sweep with and without the length
+    dependence, and the afterload sweep without its x1 run, which is the preload run at 10
+    mmHg with the length dependence (the same parameters)."""
+    prm = LAND_FULL if full else LAND_COARSE
+    text = prm.read_text()
+    assert "Atrial pressure" not in text and "Peripheral resistance" not in text, (
+        f"{prm.name} sets the atrial pressure or the peripheral resistance: the afterload x1 "
+        "run is no longer the preload run at 10 mmHg")
+    # The coarse one with the full one's reference tension and mitral valve resistance.
+    base = {} if full else {"Active tension/Land/Reference tension": "200",
+                            "Circulation/Mitral valve resistance": "0.0075"}
+    cases = {}
+    for label, extra in (("with", {}), ("without", NO_LENGTH_DEPENDENCE)):
+        for edp in LAND_PRELOADS:
+            cases[f"land_preload_{label}_{edp}"] = {**base, **extra,
+                                                     "Circulation/Atrial pressure": str(edp)}
+    for factor in LAND_AFTERLOADS:
+        if factor != 1.0:
+            cases[f"land_afterload_{factor:g}"] = {
+                **base, "Circulation/Atrial pressure": "10",
+                "Circulation/Peripheral resistance": f"{factor:g}"}
+    return cases
+
+
+def land_afterload_name(factor: float) -> str:
+    """The run of the afterload factor (x1: the preload run at 10 mmHg with the length
+    dependence)."""
+    return "land_preload_with_10" if factor == 1.0 else f"land_afterload_{factor:g}"
 
 
 def run_land_heartbeat(name: str, prm: Path, changes: dict[str, str], beats: int, ranks: int,
                        build: Path, workdir: Path) -> dict:
-    """One heartbeat of `prm` with `changes` for `beats` beats: its last beat's summary, the
-    pressure at the aortic valve's closure (end-systolic), and the cost."""
+    """One heartbeat of `prm` with `changes` for `beats` beats: land_row of its results."""
     changes = {**changes, "Circulation/Number of beats": str(beats),
                "Output/Run name": name, "Output/Field output interval": "0",
                "Output/Checkpoint interval": "0"}
@@ -1740,6 +1774,15 @@ def run_land_heartbeat(name: str, prm: Path, changes: dict[str, str], beats: int
     if ranks > 1:
         command = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(ranks)] + command
     out, busy = run_watched(command, workdir, ranks)
+    return land_row(name, workdir, out, busy, ranks)
+
+
+def land_row(name: str, workdir: Path, out: subprocess.CompletedProcess, busy: bool,
+             ranks: int, beat: int = -1) -> dict:
+    """The numbers of one land run from its results file: the summary of its beat `beat` (a
+    row index of /summary; the last one by default), the
+    pressures at the aortic valve's opening and closure (end-systolic), the LV pressure and
+    the mean active tension when the beat starts, and the cost."""
     row = {"name": name, "ok": out.returncode == 0, "busy": busy, "ranks": ranks}
     h5 = workdir / "results" / name / "results.h5"
     if out.returncode != 0:
@@ -1747,13 +1790,22 @@ def run_land_heartbeat(name: str, prm: Path, changes: dict[str, str], beats: int
     import h5py  # the valve events (/events) are not part of systole_post's Results
 
     results = read_results(h5)
-    summary, stats = results.summary, results.statistics
+    summary, stats, ts = results.summary, results.statistics, results.timeseries
     with h5py.File(h5, "r") as f:
         events = {k: f["events"][k][()] for k in f["events"]}
-    row["summary"] = {k: float(v[-1]) for k, v in summary.items()}
-    last = events["beat"] == summary["beat"][-1]
-    closes = last & (events["valve"] == 1) & (events["opens"] == 0)
+    row["summary"] = {k: float(v[beat]) for k, v in summary.items()}
+    aortic = (events["beat"] == summary["beat"][beat]) & (events["valve"] == 1)
+    closes, opens = aortic & (events["opens"] == 0), aortic & (events["opens"] == 1)
     row["esp"] = float(events["lv_pressure_mmHg"][closes][0]) if np.any(closes) else float("nan")
+    row["opening_pressure"] = (float(events["lv_pressure_mmHg"][opens][0]) if np.any(opens)
+                               else float("nan"))
+    # The end of the previous filling, when the beat starts (its stimulus): the LV pressure
+    # (below the atrial pressure, the filling was still going on; EDP, the pressure at the
+    # mitral valve's closure, is the atrial pressure whatever the filling reached) and the
+    # mean active tension over the quadrature points (the diastolic residue).
+    start = summary["start_time"][beat]
+    row["start_pressure"] = float(np.interp(start, ts["time"], ts["lv_pressure_mmHg"]))
+    row["start_tension"] = float(np.interp(start, ts["time"], ts["mean_active_tension"]))
     row["wall"] = stats["wall_time"]
     row["dofs"] = int(stats["n_dofs"])
     row["beats"] = int(stats["beats"])
@@ -1765,65 +1817,78 @@ def run_land_heartbeat(name: str, prm: Path, changes: dict[str, str], beats: int
     return row
 
 
-def land_section(build: Path, workdir: Path, full: bool) -> str:
+def land_section(build: Path, workdir: Path, full: bool, jobs: int = 1) -> str:
     """Frank-Starling (preload sweep with and without Land's length dependence) and the ESPVR
-    (afterload sweep) of the heartbeat with ten Tusscher-Panfilov and Land, 2 beats each."""
+    (afterload sweep) of the heartbeat with ten Tusscher-Panfilov and Land, 2 beats each;
+    `jobs` runs at a time (2 ranks each with one, 1 rank each with more)."""
+    from concurrent.futures import ThreadPoolExecutor
+
     prm = LAND_FULL if full else LAND_COARSE
-    # The coarse one with the full one's reference tension.
-    base = {} if full else {"Active tension/Land/Reference tension": "200"}
-    ranks = 2
-    preload = {}
-    for label, extra in (("with", {}), ("without", NO_LENGTH_DEPENDENCE)):
-        for edp in (6, 10, 14):
-            name = f"land_preload_{label}_{edp}"
-            print(f"running {name} ...", flush=True)
-            preload[(label, edp)] = run_land_heartbeat(
-                name, prm, {**base, **extra, "Circulation/Atrial pressure": str(edp)}, 2, ranks,
-                build,
-                workdir)
-    afterload = {}
-    for factor in (0.7, 1.0, 1.4):
-        name = f"land_afterload_{factor}"
-        print(f"running {name} ...", flush=True)
-        afterload[factor] = run_land_heartbeat(
-            name, prm, {**base, "Circulation/Peripheral resistance": f"{factor:g}"}, 2, ranks,
-            build, workdir)
+    ranks = 2 if jobs == 1 else 1
+
+    def one(item: tuple[str, dict[str, str]]) -> tuple[str, dict]:
+        name, changes = item
+        print(f"running {name} on {ranks} rank(s) ...", flush=True)
+        return name, run_land_heartbeat(name, prm, changes, 2, ranks, build, workdir)
+
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        rows = dict(pool.map(one, land_cases(full).items()))
+    return land_text(rows, full, jobs)
+
+
+def land_text(rows: dict[str, dict], full: bool, jobs: int = 1) -> str:
+    """The land section from the rows of land_section by run name."""
+    prm = LAND_FULL if full else LAND_COARSE
+    preload = {(label, edp): rows[f"land_preload_{label}_{edp}"]
+               for label in ("with", "without") for edp in LAND_PRELOADS}
+    afterload = {factor: rows[land_afterload_name(factor)] for factor in LAND_AFTERLOADS}
+    ranks = next(iter(rows.values()))["ranks"]
 
     def cells(r: dict) -> str:
         if not r["ok"]:
-            return f"failed: {r['error']} | | |"
+            return f"failed: {r['error']} | | | | |"
         s = r["summary"]
-        return f"{s['lv_EDP_mmHg']:.2f} | {s['lv_EDV_mL']:.1f} | {s['lv_SV_mL']:.2f}"
+        return (f"{r['start_pressure']:.2f} | {s['lv_EDP_mmHg']:.2f} | {s['lv_EDV_mL']:.1f} | "
+                f"{s['lv_SV_mL']:.2f} | {r['start_tension']:.3f}")
 
-    first = next((r for r in [*preload.values(), *afterload.values()] if r["ok"]), None)
+    first = next((r for r in rows.values() if r["ok"]), None)
     size = (f"{first['dofs']} mechanics DOFs, {first['ep_nodes']} EP nodes, " if first else "")
+    how = f"{ranks} ranks" if jobs == 1 else f"{ranks} rank each, {jobs} runs at a time"
     lines = [f"## Excitation-contraction coupling: Frank-Starling and the ESPVR "
              f"({'parameters/lv_heartbeat_ttp_land.prm' if full else 'the coarse ventricle'})",
              "The heartbeat with ten Tusscher-Panfilov 2006 (epicardial) calcium driving the Land "
              "et al. 2017 tension, coupled two-way with the mechanics "
-             f"({prm.relative_to(ROOT)}{'' if full else ' with T_ref = 200 kPa'}; {size}{ranks} ranks; 2 beats each from the unloaded "
-             "state, the second one reported; `scripts/bench --only land`"
+             f"({prm.relative_to(ROOT)}{'' if full else ' with T_ref = 200 kPa and the mitral valve resistance 0.0075 mmHg s/mL'}; {size}{how}; "
+             "2 beats each from the unloaded state, the second one reported; `scripts/bench "
+             f"--only land{' --full' if full else ''}`"
              f"{'' if full else ' (--full: parameters/lv_heartbeat_ttp_land.prm)'}). "
              "Preload: the 3-element Windkessel's atrial (filling) pressure 6, 10, 14 mmHg, with "
              "the paper's length dependence and without it (beta0 = beta1 = 0: h(lambda) = 1, "
-             "Ca50 independent of the stretch). Afterload: the peripheral resistance x0.7, x1, "
-             "x1.4; the end-systolic point is the LV pressure and volume at the aortic valve's "
-             "closure.", "",
-             "| atrial pressure [mmHg] | with length dependence: EDP [mmHg] | EDV [mL] | SV [mL] "
-             "| without: EDP [mmHg] | EDV [mL] | SV [mL] |", "|---|---|---|---|---|---|---|"]
-    for edp in (6, 10, 14):
+             "Ca50 independent of the stretch); p_0: the LV pressure when the reported beat "
+             "starts (its stimulus), i.e. where the filling got to (EDP, the pressure at the "
+             "mitral valve's closure, equals the atrial pressure by the valve law); T_0: the "
+             "mean active tension over the mechanics' quadrature points then (the diastolic "
+             "residue). "
+             "Afterload: the peripheral resistance x0.7, x1 (the run at 10 mmHg with the length "
+             "dependence), x1.4; the end-systolic point is the LV pressure and volume at the "
+             "aortic valve's closure.", "",
+             "| atrial pressure [mmHg] | with length dependence: p_0 [mmHg] | EDP [mmHg] | EDV "
+             "[mL] | SV [mL] | T_0 [kPa] | without: p_0 [mmHg] | EDP [mmHg] | EDV [mL] | SV [mL] "
+             "| T_0 [kPa] |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for edp in LAND_PRELOADS:
         lines.append(f"| {edp} | {cells(preload[('with', edp)])} | "
                      f"{cells(preload[('without', edp)])} |")
-    def sv(label):
-        return [preload[(label, e)]["summary"]["lv_SV_mL"] if preload[(label, e)]["ok"]
-                else float("nan") for e in (6, 10, 14)]
-    def change(label, key):
-        a, b = preload[(label, 6)], preload[(label, 14)]
-        return (b["summary"][key] - a["summary"][key] if a["ok"] and b["ok"]
-                else float("nan"))
-    with_sv, without_sv = sv("with"), sv("without")
+
+    def value(label: str, edp: int, key: str) -> float:
+        r = preload[(label, edp)]
+        return r["summary"][key] if r["ok"] else float("nan")
+
+    def change(label: str, key: str) -> float:
+        return value(label, LAND_PRELOADS[-1], key) - value(label, LAND_PRELOADS[0], key)
+
+    with_sv = [value("with", e, "lv_SV_mL") for e in LAND_PRELOADS]
     monotone = all(b > a for a, b in zip(with_sv, with_sv[1:]))
-    gain_with, gain_without = with_sv[2] - with_sv[0], without_sv[2] - without_sv[0]
+    gain_with, gain_without = change("with", "lv_SV_mL"), change("without", "lv_SV_mL")
     edv_with, edv_without = change("with", "lv_EDV_mL"), change("without", "lv_EDV_mL")
     esv_with, esv_without = change("with", "lv_ESV_mL"), change("without", "lv_ESV_mL")
     lines += ["", f"Stroke volume from 6 to 14 mmHg: {gain_with:+.2f} mL with the length "
@@ -1853,12 +1918,14 @@ def land_section(build: Path, workdir: Path, full: bool) -> str:
         r2 = 1 - np.sum((p - fit) ** 2) / np.sum((p - np.mean(p)) ** 2)
         lines += ["", f"ESPVR: P_es = {slope:.3f} (V_es - {-intercept / slope:.1f} mL) mmHg "
                   f"(elastance {slope:.3f} mmHg/mL), R^2 = {r2:.4f}."]
-    walls = [r for r in [*preload.values(), *afterload.values()] if r["ok"]]
+    walls = [r for r in rows.values() if r["ok"]]
     if walls:
         per_beat = [r["wall"] / r["beats"] for r in walls]
-        lines += ["", f"Wall time per beat on {ranks} ranks: {min(per_beat):.1f} to "
+        busy = any(r["busy"] for r in walls)
+        lines += ["", f"Wall time per beat ({how}): {min(per_beat):.1f} to "
                   f"{max(per_beat):.1f} s ({sum(r['newton'] for r in walls) / sum(r['steps'] for r in walls):.2f} "
-                  "Newton iterations per step); the machine is shared, so times vary."]
+                  "Newton iterations per step)"
+                  f"{'; other work loaded the machine, so the times are inflated' if busy else ''}."]
     return "\n".join(lines) + "\n"
 
 
@@ -1991,6 +2058,8 @@ def main() -> int:
     parser.add_argument("--full", action="store_true",
                         help="land: sweep parameters/lv_heartbeat_ttp_land.prm (hours) in place "
                         "of the coarse ventricle")
+    parser.add_argument("--jobs", type=int, default=1,
+                        help="land: runs at a time (1: 2 ranks each; more: 1 rank each)")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
     parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
@@ -2165,7 +2234,7 @@ def main() -> int:
         if args.only in (None, "land"):
             title = ("Excitation-contraction coupling: Frank-Starling and the ESPVR "
                      f"({'parameters/lv_heartbeat_ttp_land.prm' if args.full else 'the coarse ventricle'})")
-            sections[title] = land_section(args.build, workdir, args.full)
+            sections[title] = land_section(args.build, workdir, args.full, args.jobs)
             print(sections[title], flush=True)
         if args.only in (None, "niederer"):
             title = "Electrophysiology: the Niederer et al. 2011 benchmark"
