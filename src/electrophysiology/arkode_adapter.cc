@@ -4,11 +4,14 @@
 #include <deal.II/sundials/n_vector.h>
 
 #include <arkode/arkode_arkstep.h>
+#include <arkode/arkode_butcher.h>
 #include <sundials/sundials_linearsolver.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <vector>
 
 // deal.II 9.4's ARKode wrapper calls std::function objects that return int
 // (0 ok, > 0 recoverable, < 0 fatal) from inside SUNDIALS' C code, where an
@@ -40,6 +43,54 @@ namespace systole::Electrophysiology
                   dealii::ExcMessage(std::string("ARKode: ") + function +
                                      " failed with flag " +
                                      std::to_string(flag) + "."));
+    }
+
+
+    /// |R(z)| of the explicit Runge-Kutta method of @p table at real z.
+    double
+    stability_function(const ARKodeButcherTable table, const double z)
+    {
+      // y' = lambda y from y = 1: stage values Y_i = 1 + z sum_j a_ij Y_j
+      // (explicit: j < i), R = 1 + z sum_i b_i Y_i.
+      std::vector<double> Y(table->stages);
+      double              R = 1;
+      for (int i = 0; i < table->stages; ++i)
+        {
+          Y[i] = 1;
+          for (int j = 0; j < i; ++j)
+            Y[i] += z * table->A[i][j] * Y[j];
+          R += z * table->b[i] * Y[i];
+        }
+      return std::abs(R);
+    }
+
+
+    /// beta of the explicit method of @p table: [-beta, 0] is the part of
+    /// the negative real axis around 0 where |R(z)| <= 1.
+    double
+    real_stability_interval(const ARKodeButcherTable table)
+    {
+      AssertThrow(table != nullptr, dealii::ExcInternalError());
+      double inside = 0, outside = 0;
+      for (double z = -0.01; z > -100; z -= 0.01)
+        if (stability_function(table, z) > 1 + 1e-12)
+          {
+            outside = z;
+            break;
+          }
+        else
+          inside = z;
+      AssertThrow(outside < 0,
+                  dealii::ExcMessage("ImexIntegrator: the explicit method is "
+                                     "stable on [-100, 0]; not an explicit "
+                                     "Runge-Kutta table?"));
+      while (inside - outside > 1e-10)
+        {
+          const double middle = 0.5 * (inside + outside);
+          (stability_function(table, middle) > 1 + 1e-12 ? outside : inside) =
+            middle;
+        }
+      return -inside;
     }
   } // namespace
 
@@ -116,6 +167,11 @@ namespace systole::Electrophysiology
     static int
     postprocess_step(realtype time, N_Vector y, void *user_data);
 
+    /// ARKode's explicit stability function (ARKExpStabFn): the largest
+    /// stable step beta / rho at @p y, or -1 (no bound) when rho = 0.
+    static int
+    explicit_stability(N_Vector y, realtype t, realtype *h_stable, void *data);
+
     Settings                settings;
     Callbacks               callbacks;
     MPI_Comm                comm;
@@ -130,6 +186,15 @@ namespace systole::Electrophysiology
     std::string        arkode_message; ///< last ARKode error message
 
     unsigned long steps = 0, explicit_evaluations = 0, implicit_evaluations = 0;
+    /// Steps set by the stability bound before the last create().
+    unsigned long stability_limited = 0;
+    /// beta of the explicit table: of ARKode's default table of the order
+    /// until the first step, then of the table in use.
+    double beta                 = 0;
+    bool   beta_of_table_in_use = false;
+    /// The first step after create() (ARKode's initial step is not subject
+    /// to the stability function): Settings::max_step, or less (evolve()).
+    double initial_step = 0;
   };
 
 
@@ -215,6 +280,15 @@ namespace systole::Electrophysiology
           check(ARKStepSetPostprocessStepFn(arkode_memory, &postprocess_step),
                 "ARKStepSetPostprocessStepFn");
         }
+      if (callbacks.explicit_stiffness && settings.adaptive)
+        {
+          check(ARKStepSetStabilityFn(arkode_memory, &explicit_stability, this),
+                "ARKStepSetStabilityFn");
+          check(ARKStepSetCFLFraction(arkode_memory, stability_fraction),
+                "ARKStepSetCFLFraction");
+          check(ARKStepSetInitStep(arkode_memory, initial_step),
+                "ARKStepSetInitStep");
+        }
       configure(arkode_memory);
       started = true;
       // The wrapper calls output_step once right after this set-up, at the
@@ -271,6 +345,32 @@ namespace systole::Electrophysiology
   }
 
 
+  int
+  ImexIntegrator::Impl::explicit_stability(N_Vector y,
+                                           realtype,
+                                           realtype *h_stable,
+                                           void     *data)
+  {
+    Impl &self = *static_cast<Impl *>(data);
+    return self.guarded([&]() {
+      if (!self.beta_of_table_in_use)
+        {
+          // ARKode picks its tables at the first step.
+          ARKodeButcherTable implicit_table = nullptr, explicit_table = nullptr;
+          check(ARKStepGetCurrentButcherTables(self.ode->get_arkode_memory(),
+                                               &implicit_table,
+                                               &explicit_table),
+                "ARKStepGetCurrentButcherTables");
+          self.beta                 = real_stability_interval(explicit_table);
+          self.beta_of_table_in_use = true;
+        }
+      const double rho = self.callbacks.explicit_stiffness(
+        *dealii::SUNDIALS::internal::unwrap_nvector_const<Vector>(y));
+      *h_stable = rho > 0 ? self.beta / rho : -1.0;
+    });
+  }
+
+
   void
   ImexIntegrator::Impl::configure(void *arkode_memory) const
   {
@@ -295,6 +395,10 @@ namespace systole::Electrophysiology
     check(ARKStepGetNumSteps(ode->get_arkode_memory(), &n),
           "ARKStepGetNumSteps");
     steps += n;
+    check(ARKStepGetNumExpSteps(ode->get_arkode_memory(), &n),
+          "ARKStepGetNumExpSteps");
+    if (callbacks.explicit_stiffness && settings.adaptive)
+      stability_limited += n;
   }
 
 
@@ -306,6 +410,18 @@ namespace systole::Electrophysiology
   {
     AssertThrow(settings.order >= 3 && settings.order <= 5,
                 dealii::ExcMessage("ARKode order must be 3, 4 or 5."));
+    if (callbacks.explicit_stiffness && settings.adaptive)
+      {
+        // ARKStep's default IMEX table of the order, for the first step
+        // (its stability function takes the table in use after it).
+        const int id = settings.order == 3   ? ARKSTEP_DEFAULT_ARK_ETABLE_3
+                       : settings.order == 4 ? ARKSTEP_DEFAULT_ARK_ETABLE_4
+                                             : ARKSTEP_DEFAULT_ARK_ETABLE_5;
+        ARKodeButcherTable table =
+          ARKodeButcherTable_LoadERK(static_cast<ARKODE_ERKTableID>(id));
+        impl->beta = real_stability_interval(table);
+        ARKodeButcherTable_Free(table);
+      }
     impl->create();
   }
 
@@ -325,6 +441,15 @@ namespace systole::Electrophysiology
     m.fatal       = nullptr;
     m.recoverable = nullptr;
     m.arkode_message.clear();
+    if (!m.started && m.settings.adaptive && m.callbacks.explicit_stiffness)
+      {
+        // ARKode starts (after create()) with this step, which its
+        // stability function does not see: keep it within the bound too.
+        const double rho = m.callbacks.explicit_stiffness(y);
+        m.initial_step   = std::min(m.settings.max_step,
+                                  rho > 0 ? stability_fraction * m.beta / rho
+                                            : m.settings.max_step);
+      }
     // Throws (from output_step) when ARKode stops short of t_end; a
     // recoverable failure that ARKode cured by a smaller step is no error.
     m.ode->solve_ode_incrementally(y, t_end);
@@ -370,5 +495,24 @@ namespace systole::Electrophysiology
   ImexIntegrator::n_implicit_evaluations() const
   {
     return impl->implicit_evaluations;
+  }
+
+
+  unsigned long
+  ImexIntegrator::n_stability_limited_steps() const
+  {
+    long int n = 0;
+    if (impl->started && impl->callbacks.explicit_stiffness &&
+        impl->settings.adaptive)
+      check(ARKStepGetNumExpSteps(impl->ode->get_arkode_memory(), &n),
+            "ARKStepGetNumExpSteps");
+    return impl->stability_limited + n;
+  }
+
+
+  double
+  ImexIntegrator::explicit_stability_interval() const
+  {
+    return impl->beta;
   }
 } // namespace systole::Electrophysiology

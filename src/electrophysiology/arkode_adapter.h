@@ -65,7 +65,22 @@ namespace systole::Electrophysiology
       /// hook, ARKStepSetPostprocessStepFn). Must not fail.
       std::function<void(const double t, const double h, LA::MPI::Vector &y)>
         after_step;
+      /// Optional, adaptive steps: the stiffness rho [1/ms] of the explicit
+      /// part at @p y, the largest -lambda over the negative real
+      /// eigenvalues lambda of its Jacobian (0 if none). Collective. Every
+      /// step is then kept within the explicit method's stability interval
+      /// on the negative real axis, h <= stability_fraction * beta / rho
+      /// (ARKode's explicit stability function, and the initial step after
+      /// construction or reset()): the error estimate alone
+      /// does not keep it there when a few components are stiffer than the
+      /// rest, since its RMS norm over all components dilutes an instability
+      /// that is local to them (docs/architecture.md, Electrophysiology).
+      std::function<double(const LA::MPI::Vector &y)> explicit_stiffness;
     };
+
+    /// Fraction of the explicit stability bound beta / rho that a step may
+    /// take (ARKStepSetCFLFraction).
+    static constexpr double stability_fraction = 0.9;
 
     /// @param[in] t0 initial time [ms]
     ImexIntegrator(const Settings  &settings,
@@ -99,6 +114,19 @@ namespace systole::Electrophysiology
     n_explicit_evaluations() const;
     unsigned long
     n_implicit_evaluations() const;
+
+    /// Steps whose size the explicit stability bound set (rather than the
+    /// error estimate) since construction (over resets); 0 without
+    /// Callbacks::explicit_stiffness.
+    unsigned long
+    n_stability_limited_steps() const;
+
+    /// beta of the explicit method: [-beta, 0] is the interval of the
+    /// negative real axis within its stability region, |R(z)| <= 1 (of the
+    /// table in use once ARKode has stepped, of ARKStep's default table of
+    /// the order before; 0 without Callbacks::explicit_stiffness).
+    double
+    explicit_stability_interval() const;
 
   private:
     struct Impl;

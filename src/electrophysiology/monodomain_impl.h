@@ -99,6 +99,10 @@ namespace systole::Electrophysiology
     solve_stage(const double           gamma,
                 const LA::MPI::Vector &b,
                 LA::MPI::Vector       &x);
+    /// The stiffness of the explicit part at @p y: the largest dI_ion/dv
+    /// over the nodes [1/ms] (0 if none is positive). Collective.
+    double
+    explicit_stiffness(const LA::MPI::Vector &y) const;
     /// One step (one ImexIntegrator::evolve) from t to @p t_next, with the
     /// stimuli switched as at the step's midpoint; samples the activation
     /// (@p v_new is scratch space).

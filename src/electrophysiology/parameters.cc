@@ -130,7 +130,9 @@ namespace systole::Electrophysiology
       "Adaptive time step",
       d.adaptive ? "true" : "false",
       Bool(),
-      "Adapt the ARKode step to the tolerances below (bounded by Time step); "
+      "Adapt the ARKode step to the tolerances below, bounded by Time step "
+      "and by the stability of the explicit ionic currents (0.9 of the "
+      "largest stable step at the stiffest node; docs/architecture.md); "
       "false: fixed steps of Time step. Units: -.");
     prm.declare_entry("Relative tolerance",
                       to_string(d.relative_tolerance),

@@ -2,7 +2,7 @@
 """Check an electrophysiology results file: activation summary and time series.
 
     check_activation.py RESULTS.h5 [NAME=VALUE:TOL ...] [--increasing A,B,...]
-                        [--serial SERIAL.h5]
+                        [--plateau T0:DIP] [--serial SERIAL.h5]
 
 - every time-series value is finite, the activated fraction lies in [0, 1] and never
   decreases, and the whole volume ends activated;
@@ -10,6 +10,12 @@
   e.g. from the refinement table of docs/verification.md);
 - --increasing: the listed /summary columns increase strictly in that order (activation
   times of points ever farther from the stimulus);
+- --plateau T0:DIP: in the fields (every node, at every field output), from T0 [ms] on
+  (when every node has activated and is on its plateau) no node's potential dips by more
+  than DIP [mV] below both its samples before and after; on the plateau the potential
+  falls slowly and smoothly, so a dip is a numerical oscillation of the node (an
+  unstable explicit step of its ionic current), which a dip below the activation
+  threshold would count as a second upstroke;
 - --serial: every time-series and /summary column equals the serial run's to 1e-8
   relative (to the column's scale) plus 1e-10, except the iteration counts of the
   iterative solver, which depend on the partition.
@@ -32,6 +38,28 @@ def read(path):
         return table(f, "timeseries"), table(f, "summary")
 
 
+def plateau_dips(path, start, allowed, failures):
+    with h5py.File(path, "r") as f:
+        fields = f["fields"]
+        steps = sorted(fields, key=lambda name: int(name.split("_")[-1]))
+        times = np.array([float(np.ravel(fields[s].attrs["time"])[0]) for s in steps])
+        keep = [s for s, t in zip(steps, times) if t >= start]
+        if len(keep) < 3:
+            failures.append(f"--plateau: fewer than 3 field outputs from {start} ms on")
+            return
+        v = np.array([fields[s]["transmembrane_potential"][()].ravel() for s in keep])
+        nodes = f["mesh/nodes"][()]
+    dip = np.minimum(v[:-2], v[2:]) - v[1:-1]
+    worst = np.unravel_index(np.argmax(dip), dip.shape)
+    largest = dip[worst]
+    at = times[len(times) - len(keep) + 1 + worst[0]]
+    print(f"largest plateau dip from {start} ms on: {largest:.3f} mV at {at:.1f} ms, "
+          f"node at {np.round(nodes[worst[1]], 3).tolist()}")
+    if not largest <= allowed:
+        failures.append(f"the potential dips by {largest:.3g} mV on the plateau "
+                        f"(at {at:.1f} ms; allowed {allowed} mV)")
+
+
 def compare(name, values, reference, failures):
     if len(values) != len(reference):
         failures.append(f"{name}: {len(values)} rows, serial run {len(reference)}")
@@ -51,6 +79,11 @@ def main(argv) -> int:
     if "--serial" in args:
         i = args.index("--serial")
         serial = args[i + 1]
+        del args[i : i + 2]
+    plateau = None
+    if "--plateau" in args:
+        i = args.index("--plateau")
+        plateau = [float(x) for x in args[i + 1].split(":")]
         del args[i : i + 2]
     if "--increasing" in args:
         i = args.index("--increasing")
@@ -78,6 +111,8 @@ def main(argv) -> int:
     print("increasing: " + ", ".join(f"{n} {t:.3f}" for n, t in zip(increasing, times)))
     if any(not b > a for a, b in zip(times, times[1:])):
         failures.append("activation times do not increase along " + ", ".join(increasing))
+    if plateau is not None:
+        plateau_dips(args[0], plateau[0], plateau[1], failures)
     if serial is not None:
         serial_ts, serial_summary = read(serial)
         for group, ours, theirs in (("time series", ts, serial_ts),
