@@ -1555,10 +1555,17 @@ NIEDERER_FENICSX_BEAT = {
 }
 
 
-def niederer_levels(quick: bool) -> list[tuple[float, float]]:
-    """The (h [mm], dt [ms]) pairs run: the benchmark's grid as far as 2 cores allow."""
-    levels = [(0.5, 0.05), (0.5, 0.01), (0.5, 0.005), (0.2, 0.05), (0.2, 0.01)]
-    return levels[:4] if quick else levels + [(0.2, 0.005), (0.1, 0.05)]
+def niederer_levels(quick: bool) -> list[tuple[float, float, str]]:
+    """The (h [mm], dt [ms], mass matrix) triples run: the benchmark's grid as far as 2 cores
+    allow, with the lumped mass and, at dt = 0.05 ms (and 0.01 ms at h = 0.2 mm), the
+    consistent one."""
+    lumped = [(0.5, 0.05), (0.5, 0.01), (0.5, 0.005), (0.2, 0.05), (0.2, 0.01), (0.2, 0.005),
+              (0.1, 0.05)]
+    consistent = [(0.5, 0.05), (0.2, 0.05), (0.2, 0.01), (0.1, 0.05)]
+    if quick:
+        lumped, consistent = lumped[:4], consistent[:2]
+    return [(h, dt, "lumped") for h, dt in lumped] + \
+        [(h, dt, "consistent") for h, dt in consistent]
 
 
 def niederer_section(build: Path, workdir: Path, quick: bool) -> str:
@@ -1566,19 +1573,22 @@ def niederer_section(build: Path, workdir: Path, quick: bool) -> str:
     at the benchmark's resolutions, activation times at P1 ... P9 beside those of an
     independent code, and the EP cost of ten Tusscher-Panfilov against Mitchell-Schaeffer."""
     rows = []
-    for h, dt in niederer_levels(quick):
+    for h, dt, mass in niederer_levels(quick):
         cells = f"{round(20 / h)}, {round(7 / h)}, {round(3 / h)}"
-        label = f"h = {h} mm, dt = {dt} ms"
+        label = f"h = {h} mm, dt = {dt} ms, {mass} mass"
         print(f"running the Niederer benchmark (ten Tusscher-Panfilov), {label} ...", flush=True)
-        row = run_ep(label, {"Cells": cells, "Electrophysiology/Time step": str(dt)},
+        row = run_ep(label, {"Cells": cells, "Electrophysiology/Time step": str(dt),
+                             "Electrophysiology/Mass matrix": mass},
                      2, build, workdir, tag="ttp", base="niederer_ttp.prm")
         row["key"] = (h, dt)
+        row["mass"] = mass
         rows.append(row)
     # The cost of the cell model: the same slab and steps with Mitchell-Schaeffer.
     print("running the Niederer slab with Mitchell-Schaeffer, h = 0.5 mm, dt = 0.05 ms ...",
           flush=True)
     ms = run_ep("h = 0.5 mm, dt = 0.05 ms", {"Ionic model": "Mitchell-Schaeffer",
-                                              "Activation threshold": "-30"},
+                                              "Activation threshold": "-30",
+                                              "Electrophysiology/Mass matrix": "lumped"},
                 2, build, workdir, tag="ms", base="niederer_ttp.prm")
     return niederer_text(rows, ms)
 
@@ -1605,7 +1615,8 @@ def niederer_text(rows: list[dict], ms: dict) -> str:
     if any(r.get("busy") for r in rows):
         lines.append(BUSY_NOTE)
     cost = ""
-    ttp = next((r for r in rows if r["ok"] and r["key"] == (0.5, 0.05)), None)
+    ttp = next((r for r in rows if r["ok"] and r["key"] == (0.5, 0.05)
+                and r.get("mass", "lumped") == "lumped"), None)
     if ttp and ms and ms["ok"]:
         busy = " (a run was marked busy: the ratio is less certain)" if (
             ttp.get("busy") or ms.get("busy")) else ""
@@ -1617,7 +1628,9 @@ def niederer_text(rows: list[dict], ms: dict) -> str:
             "`parameters/niederer_ttp.prm`: the benchmark as defined (20 x 7 x 3 mm, fibres "
             "along x, epicardial ten Tusscher-Panfilov 2006 cells, sigma_l = 0.1334, sigma_t = "
             "0.0176 mS/mm, chi = 140 /mm, C_m = 0.01 µF/mm², 1.5 mm corner cube at 50 µA/mm³ "
-            "for 2 ms), Q1 with the Gauss-Lobatto lumped mass, IMEX ARKode (SUNDIALS' "
+            "for 2 ms), Q1 with the Gauss-Lobatto lumped mass or the consistent one "
+            "(`Electrophysiology / Mass matrix`; the ionic currents at the nodes either way), "
+            "IMEX ARKode (SUNDIALS' "
             "ARK324L2SA, order 3) with fixed steps dt and Rush-Larsen gates. Activation time: first upward crossing of 0 mV [ms] at "
             "the benchmark's points P1 = (0, 0, 0) (stimulated corner), P2 = (0, 7, 0), P3 = "
             "(20, 0, 0), P4 = (20, 7, 0), P5 = (0, 0, 3), P6 = (0, 7, 3), P7 = (20, 0, 3), "

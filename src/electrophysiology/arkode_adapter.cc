@@ -383,6 +383,10 @@ namespace systole::Electrophysiology
       check(ARKStepSetFixedStep(arkode_memory, t_end - t),
             "ARKStepSetFixedStep");
     check(ARKStepSetStopTime(arkode_memory, t_end), "ARKStepSetStopTime");
+    check(ARKStepSetDeduceImplicitRhs(arkode_memory,
+                                      settings.deduce_implicit_rhs ? SUNTRUE
+                                                                   : SUNFALSE),
+          "ARKStepSetDeduceImplicitRhs");
   }
 
 

@@ -43,6 +43,11 @@ namespace systole::Electrophysiology
       double       relative_tolerance = 1e-4;  ///< adaptive steps [-]
       double       absolute_tolerance = 1e-5;  ///< adaptive steps
       double       max_step           = 0.1;   ///< adaptive steps [ms]
+      /// ARKode deduces f_I at the end of an implicit stage from the stage
+      /// solve, (z - a)/(h A_ii), instead of calling implicit_rhs again (the
+      /// solve's tolerance then bounds the error of f_I): for an implicit
+      /// part that costs a solve itself (a consistent mass).
+      bool deduce_implicit_rhs = false;
     };
 
     struct Callbacks

@@ -61,6 +61,39 @@ namespace systole::Electrophysiology
 
 
   void
+  Monodomain::Impl::assemble_consistent_mass()
+  {
+    const dealii::QGauss<3>                      gauss(fe.degree + 1);
+    dealii::FEValues<3>                          fe_values(mapping,
+                                  fe,
+                                  gauss,
+                                  dealii::update_values |
+                                    dealii::update_JxW_values);
+    const unsigned int                           n = fe.n_dofs_per_cell();
+    dealii::FullMatrix<double>                   local(n, n);
+    std::vector<dealii::types::global_dof_index> indices(n);
+    mass = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          local = 0;
+          for (unsigned int q = 0; q < gauss.size(); ++q)
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                local(i, j) += fe_values.shape_value(i, q) *
+                               fe_values.shape_value(j, q) * fe_values.JxW(q);
+          cell->get_dof_indices(indices);
+          mass.add(indices, local);
+        }
+    mass.compress(dealii::VectorOperation::add);
+    mass_jacobi = std::make_unique<dealii::PETScWrappers::PreconditionJacobi>();
+    mass_jacobi->initialize(mass);
+    MinvKv_work.reinit(owned, comm);
+  }
+
+
+  void
   Monodomain::Impl::evaluate_fibres(const Fibres::FibreField &fibres)
   {
     dealii::FEValues<3>             fe_values(mapping,

@@ -97,6 +97,11 @@ namespace systole::Electrophysiology
     m.calcium_uM.reinit(m.owned, m.relevant, m.comm);
 
     m.assemble_lumped_mass();
+    if (params.consistent_mass)
+      {
+        m.mass.reinit(m.owned, m.owned, dsp, m.comm);
+        m.assemble_consistent_mass();
+      }
     m.evaluate_fibres(fibres);
     m.assemble_stiffness(nullptr);
     m.locate_stimuli(names);
@@ -117,7 +122,8 @@ namespace systole::Electrophysiology
       << params.diffusivity_t()
       << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
       << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
-      << params.time_step << " ms, CG + " << params.preconditioner;
+      << params.time_step << " ms, CG + " << params.preconditioner << ", "
+      << (params.consistent_mass ? "consistent" : "lumped") << " mass";
     logger.line(o.str());
   }
 

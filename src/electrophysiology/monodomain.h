@@ -48,7 +48,10 @@ namespace systole::Electrophysiology
     unsigned long linear_solves     = 0; ///< implicit stage systems solved
     unsigned long linear_iterations = 0; ///< CG iterations, summed
     unsigned long amg_setups        = 0; ///< BoomerAMG set-ups
-    double        seconds           = 0; ///< wall time spent in advance() [s]
+    /// Solves with the consistent mass (one per evaluation of the diffusion
+    /// term) and their CG iterations, summed; 0 with the lumped mass.
+    unsigned long mass_solves = 0, mass_iterations = 0;
+    double        seconds = 0; ///< wall time spent in advance() [s]
   };
 
   /// EP values at a set of points.
@@ -73,13 +76,15 @@ namespace systole::Electrophysiology
   /// D = σ/(χ C_m) [mm²/ms].
   ///
   /// Discretization: continuous Q1 or Q2 elements on the given mesh (its own
-  /// DoFHandler), a lumped (Gauss-Lobatto) mass M_L, the ionic model
-  /// evaluated at the nodes (so the ODE system is M_L dv/dt = −K v + M_L
-  /// f(v, s)). The state of ARKode holds v and the model's state variables at
-  /// every node (interleaved per node); the IMEX ARK method treats −M_L⁻¹K v
-  /// implicitly (linear, time independent) and the ionic currents, the state
-  /// ODEs and the stimulus explicitly. Stage systems (M_L + γK) x = M_L b are
-  /// solved by CG + BoomerAMG; the preconditioner is rebuilt only when γ
+  /// DoFHandler), a lumped (Gauss-Lobatto) mass M = M_L or (Mass matrix =
+  /// consistent) the consistent one, the ionic model evaluated at the nodes
+  /// (so the ODE system is M dv/dt = −K v + M f(v, s)). The state of ARKode
+  /// holds v and the model's state variables at every node (interleaved per
+  /// node); the IMEX ARK method treats −M⁻¹K v implicitly (linear, time
+  /// independent; a CG + Jacobi solve with a consistent M) and the ionic
+  /// currents, the state ODEs and the stimulus explicitly. Stage systems
+  /// (M + γK) x = M b are solved by CG + BoomerAMG; the preconditioner is
+  /// rebuilt only when γ
   /// changes by more than 20 % (never with fixed steps). Activation times
   /// are sampled every Parameters::time_step (ActivationTracker).
   ///

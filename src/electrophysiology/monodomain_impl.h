@@ -76,6 +76,14 @@ namespace systole::Electrophysiology
     /// Lumped (Gauss-Lobatto) mass of the owned nodes and their positions.
     void
     assemble_lumped_mass();
+    /// The consistent mass matrix M_ij = ∫ φ_i φ_j (Gauss points) and its
+    /// Jacobi preconditioner (Mass matrix = consistent).
+    void
+    assemble_consistent_mass();
+    /// x = M^-1 b with the mass of the stage systems (the lumped or the
+    /// consistent one; CG + Jacobi for the latter, from the guess in @p x).
+    void
+    solve_mass(const LA::MPI::Vector &b, LA::MPI::Vector &x);
     /// Fibre directions at the points of diffusion_quadrature, per owned
     /// cell.
     void
@@ -143,9 +151,15 @@ namespace systole::Electrophysiology
     std::vector<std::vector<dealii::Tensor<1, 3>>> fibre_directions;
 
     LA::MPI::SparseMatrix stiffness;  ///< K
-    LA::MPI::SparseMatrix stage;      ///< M_L + gamma_stage K
-    LA::MPI::SparseMatrix amg_matrix; ///< M_L + gamma_amg K
-    double                gamma_stage = -1, gamma_amg = -1;
+    LA::MPI::SparseMatrix stage;      ///< M + gamma_stage K
+    LA::MPI::SparseMatrix amg_matrix; ///< M + gamma_amg K
+    /// The consistent mass (Mass matrix = consistent; empty otherwise: M is
+    /// then M_L) and its Jacobi preconditioner.
+    LA::MPI::SparseMatrix                                      mass;
+    std::unique_ptr<dealii::PETScWrappers::PreconditionJacobi> mass_jacobi;
+    /// M^-1 K v of the last implicit_rhs(): the guess of the next one.
+    LA::MPI::Vector MinvKv_work;
+    double          gamma_stage = -1, gamma_amg = -1;
     /// BoomerAMG of amg_matrix, or Jacobi of stage.
     std::unique_ptr<dealii::PETScWrappers::PreconditionBase> preconditioner;
 

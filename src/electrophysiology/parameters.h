@@ -48,6 +48,9 @@ namespace systole::Electrophysiology
     double       absolute_tolerance = 1e-5;  ///< adaptive steps [model units]
     double       linear_tolerance   = 1e-8;  ///< CG relative residual [-]
     std::string  preconditioner     = "AMG"; ///< of CG: "AMG" or "Jacobi"
+    /// Mass matrix of the potential: false: lumped (Gauss-Lobatto, diagonal);
+    /// true: consistent (Gauss), with the ionic current still at the nodes.
+    bool consistent_mass = false;
 
     double activation_threshold_mV = -30.0; ///< upstroke threshold [mV]
 

@@ -159,6 +159,10 @@ namespace systole
             ? double(stats.linear_iterations) / stats.linear_solves
             : 0.0)
       << " CG iterations per solve, " << stats.amg_setups << " AMG set-up(s)";
+    if (stats.mass_solves > 0)
+      o << "; " << stats.mass_solves << " consistent-mass solves, "
+        << double(stats.mass_iterations) / stats.mass_solves
+        << " CG iterations per solve";
     logger.line(o.str());
     results.write_statistics(
       {{"n_dofs", "-", static_cast<double>(ep.n_dofs())},
@@ -170,7 +174,9 @@ namespace systole
        {"ep_steps", "-", static_cast<double>(stats.steps)},
        {"linear_solves", "-", static_cast<double>(stats.linear_solves)},
        {"linear_iterations", "-", static_cast<double>(stats.linear_iterations)},
-       {"amg_setups", "-", static_cast<double>(stats.amg_setups)}});
+       {"amg_setups", "-", static_cast<double>(stats.amg_setups)},
+       {"mass_solves", "-", static_cast<double>(stats.mass_solves)},
+       {"mass_iterations", "-", static_cast<double>(stats.mass_iterations)}});
     logger.line("Wrote " + results.path());
   }
 } // namespace systole
