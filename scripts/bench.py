@@ -1555,25 +1555,28 @@ NIEDERER_FENICSX_BEAT = {
 }
 
 
-def niederer_levels(quick: bool) -> list[tuple[float, float, str]]:
+def niederer_levels(quick: bool, full: bool = False) -> list[tuple[float, float, str]]:
     """The (h [mm], dt [ms], mass matrix) triples run: the benchmark's grid as far as 2 cores
-    allow, with the lumped mass and, at dt = 0.05 ms (and 0.01 ms at h = 0.2 mm), the
-    consistent one."""
+    allow, with the lumped mass and the consistent one; `full` adds the consistent mass at
+    h = 0.1 mm with dt = 0.01 and 0.005 ms (the benchmark's finest; many hours on 2 cores)."""
     lumped = [(0.5, 0.05), (0.5, 0.01), (0.5, 0.005), (0.2, 0.05), (0.2, 0.01), (0.2, 0.005),
               (0.1, 0.05)]
-    consistent = [(0.5, 0.05), (0.2, 0.05), (0.2, 0.01), (0.1, 0.05)]
+    consistent = [(0.5, 0.05), (0.2, 0.05), (0.5, 0.01), (0.5, 0.005), (0.2, 0.01),
+                  (0.2, 0.005), (0.1, 0.05)]
     if quick:
         lumped, consistent = lumped[:4], consistent[:2]
+    elif full:
+        consistent += [(0.1, 0.01), (0.1, 0.005)]
     return [(h, dt, "lumped") for h, dt in lumped] + \
         [(h, dt, "consistent") for h, dt in consistent]
 
 
-def niederer_section(build: Path, workdir: Path, quick: bool) -> str:
+def niederer_section(build: Path, workdir: Path, quick: bool, full: bool = False) -> str:
     """The Niederer et al. 2011 benchmark with its own cell model (parameters/niederer_ttp.prm)
     at the benchmark's resolutions, activation times at P1 ... P9 beside those of an
     independent code, and the EP cost of ten Tusscher-Panfilov against Mitchell-Schaeffer."""
     rows = []
-    for h, dt, mass in niederer_levels(quick):
+    for h, dt, mass in niederer_levels(quick, full):
         cells = f"{round(20 / h)}, {round(7 / h)}, {round(3 / h)}"
         label = f"h = {h} mm, dt = {dt} ms, {mass} mass"
         print(f"running the Niederer benchmark (ten Tusscher-Panfilov), {label} ...", flush=True)
@@ -2070,7 +2073,8 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="skip the finest levels")
     parser.add_argument("--full", action="store_true",
                         help="land: sweep parameters/lv_heartbeat_ttp_land.prm (hours) in place "
-                        "of the coarse ventricle")
+                        "of the coarse ventricle; niederer: also h = 0.1 mm with dt = 0.01 and "
+                        "0.005 ms (many hours)")
     parser.add_argument("--jobs", type=int, default=1,
                         help="land: runs at a time (1: 2 ranks each; more: 1 rank each)")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
@@ -2251,7 +2255,7 @@ def main() -> int:
             print(sections[title], flush=True)
         if args.only in (None, "niederer"):
             title = "Electrophysiology: the Niederer et al. 2011 benchmark"
-            sections[title] = niederer_section(args.build, workdir, args.quick)
+            sections[title] = niederer_section(args.build, workdir, args.quick, args.full)
             print(sections[title], flush=True)
         if args.only in (None, "inverse"):
             title = "Cost of unloading and calibration (2 ranks)"

@@ -28,7 +28,10 @@ def test_rows_of_both_masses_and_the_cost_of_the_lumped_one():
 
 
 def test_the_quick_levels_run_both_masses_and_every_level_has_a_reference():
-    quick, full = niederer_levels(True), niederer_levels(False)
+    quick, default = niederer_levels(True), niederer_levels(False)
+    full = niederer_levels(False, True)
     assert {m for _, _, m in quick} == {"lumped", "consistent"}
-    assert set(quick) < set(full)
+    assert set(quick) < set(default) < set(full)
+    # --full reaches the benchmark's finest resolution.
+    assert (0.1, 0.005, "consistent") in full
     assert all((h, dt) in NIEDERER_FENICSX_BEAT for h, dt, _ in full)
