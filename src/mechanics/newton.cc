@@ -552,7 +552,8 @@ namespace systole::Mechanics
           !bordered && !chord && !(m.params.reuse_factorization && direct) &&
           !(relative * relative <=
             std::max(m.params.newton_relative_tolerance, 1e-3));
-        const double alpha = step(dp, trial_tangent, it, relative);
+        const double alpha =
+          step(dp, trial_tangent, it, relative, it == 0 && !chord);
         tangent_ready      = trial_tangent;
         du_norm            = block_norms(m.layout, du);
         du_norm[0] *= alpha;
@@ -626,16 +627,32 @@ namespace systole::Mechanics
   NewtonSolver::step(const dealii::Vector<double> &dp,
                      const bool                    with_tangent,
                      const unsigned int            it,
-                     const double                  relative)
+                     const double                  relative,
+                     const bool                    guarded)
   {
     // Safeguarded update: halve the step while it inverts an element. (A
-    // residual-norm merit test is no use here: the first iterations of a
-    // load step that rotates the body raise |R| by orders of magnitude on
-    // their way to the solution.)
-    u_start        = m.u_owned;
-    pressure_start = pressures;
-    double alpha   = 1.0;
-    for (unsigned int cut = 0;; ++cut)
+    // residual-norm merit test is no use in general: the first iterations
+    // of a load step that rotates the body raise |R| by orders of magnitude
+    // on their way to the solution.)
+    // Guarded (the first Newton update of a solve, from the converged state
+    // of a nearby load): a step that raises |R_u| more than tenfold has
+    // overshot what the tangent predicts. Land problem 2's second load step
+    // went from |R_u| 36 to 788 there, to an iterate whose tangent is
+    // indefinite (more negative LDL^T pivots than pressure DoFs): two more
+    // Newton iterations, and the iterative solver's hardest solve, whose
+    // Krylov count grew with the mesh (28, 53, 78 from 2.7k to 129k DOFs).
+    // Halved, it stays in the stable region. Up to three halvings; if none
+    // keeps the bound, the full step after all.
+    constexpr double       growth_limit   = 10.0;
+    constexpr unsigned int max_backtracks = 3;
+    const double           start          = residual[0];
+    u_start                               = m.u_owned;
+    pressure_start                        = pressures;
+    double       alpha                    = 1.0;
+    unsigned int backtracks               = 0;
+    bool         full_after_all           = false;
+    double       growth                   = 0.0;
+    for (unsigned int cut = 0;;)
       {
         m.u_owned = u_start;
         m.u_owned.add(alpha, du);
@@ -645,6 +662,21 @@ namespace systole::Mechanics
         std::array<double, 2> trial;
         if (assemble(trial, with_tangent))
           {
+            if (guarded && !full_after_all && start > 0.0 &&
+                trial[0] > growth_limit * start)
+              {
+                if (backtracks == 0)
+                  growth = trial[0] / start;
+                if (backtracks < max_backtracks)
+                  {
+                    ++backtracks;
+                    alpha *= 0.5;
+                    continue;
+                  }
+                full_after_all = true;
+                alpha          = 1.0;
+                continue;
+              }
             residual = trial;
             break;
           }
@@ -652,9 +684,20 @@ namespace systole::Mechanics
                     ExcNewtonDidNotConverge("no acceptable step length",
                                             it,
                                             relative));
+        ++cut;
         alpha *= 0.5;
       }
-    if (alpha < 1.0)
+    if (backtracks > 0)
+      {
+        out << "      (the full step raised |R_u| " << std::setprecision(3)
+            << growth << "-fold: ";
+        if (full_after_all)
+          out << "no shorter one keeps it within 10-fold, full step)";
+        else
+          out << "step length " << alpha << ")";
+        out << std::endl;
+      }
+    else if (alpha < 1.0)
       out << "      (step length " << alpha << ")" << std::endl;
     return alpha;
   }

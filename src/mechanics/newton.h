@@ -77,13 +77,16 @@ namespace systole::Mechanics
            dealii::Vector<double> &dp);
 
     /// u += alpha du, p += alpha dp from the iterate, alpha halved while an
-    /// element inverts (at most six times); the residual there (and the
-    /// tangent if @p with_tangent). Returns alpha.
+    /// element inverts (at most six times) and, if @p guarded (the first
+    /// Newton update of a solve), while it raises |R_u| more than tenfold
+    /// (at most three times; then the full step); the residual there (and
+    /// the tangent if @p with_tangent). Returns alpha.
     double
     step(const dealii::Vector<double> &dp,
          const bool                    with_tangent,
          const unsigned int            it,
-         const double                  relative);
+         const double                  relative,
+         const bool                    guarded);
 
     /// The log line of iteration @p it.
     void

@@ -1,0 +1,37 @@
+"""The Krylov growth lines of the scaling group of scripts/bench.py: over all levels of a
+formulation and within each coarse mesh's family of refinements, ordered by DOFs."""
+
+from bench import scaling_growth
+
+
+def row(level: str, formulation: str, dofs: int, per_solve: float, ok: bool = True):
+    return {"level": level, "formulation": formulation, "ok": ok,
+            "summary": {"n_dofs": dofs, "linear_iterations_per_solve": per_solve}}
+
+
+def test_growth_over_all_levels_and_per_family():
+    rows = [row("16x5, 0", "incompressible", 2713, 20.0),
+            row("32x10, 0", "incompressible", 10537, 15.0),
+            row("16x5, 2", "incompressible", 128731, 30.0),
+            row("32x10, 2", "incompressible", 511387, 18.0),
+            row("16x5, 1", "incompressible", 17903, 25.0)]
+    lines = scaling_growth(rows)
+    assert lines == [
+        "incompressible: 20.0 -> 18.0 Krylov iterations per solve from 2713 to 511387 DOFs "
+        "(-10 %).",
+        "incompressible on 16x5: 20.0 -> 30.0 Krylov iterations per solve from 2713 to "
+        "128731 DOFs (+50 %).",
+        "incompressible on 32x10: 15.0 -> 18.0 Krylov iterations per solve from 10537 to "
+        "511387 DOFs (+20 %).",
+    ]
+
+
+def test_one_family_and_failed_runs():
+    rows = [row("16x5, 0", "kappa/C = 1e2", 2713, 20.0),
+            row("16x5, 1", "kappa/C = 1e2", 17903, 22.0),
+            row("16x5, 2", "kappa/C = 1e2", 128731, 99.0, ok=False),
+            row("16x5, 0", "kappa/C = 1e4", 2713, 20.0)]
+    # One family: no separate family line; a failed run and a single level count for nothing.
+    assert scaling_growth(rows) == [
+        "kappa/C = 1e2: 20.0 -> 22.0 Krylov iterations per solve from 2713 to 17903 DOFs "
+        "(+10 %)."]
