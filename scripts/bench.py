@@ -139,6 +139,28 @@ def run(case: Case, build: Path, workdir: Path) -> dict:
     return row
 
 
+#: Land problem 2's band (Land et al. 2015, the spread of the published codes) [mm].
+P2_BAND = {"endo_apex_z": (-26.9, -26.4), "epi_apex_z": (-28.5, -28.1)}
+
+
+def p2_band_note(rows: list[dict]) -> str:
+    """Which finished runs lie outside Land problem 2's band, and how far the two largest
+    meshes' apexes differ."""
+    done = sorted((r for r in rows if r["ok"]), key=lambda r: r["dofs"])
+    if not done:
+        return ""
+    outside = [f"{r['case'].label} ({r['dofs']} DOFs): {k} {r['values'][k]:.3f} mm"
+               for r in done for k, (low, high) in P2_BAND.items()
+               if not low <= r["values"][k] <= high]
+    text = (" Every level lies inside the band." if not outside else
+            " Outside the band: " + "; ".join(outside) + ".")
+    if len(done) >= 2:
+        a, b = done[-2], done[-1]
+        moves = ", ".join(f"{k} {b['values'][k] - a['values'][k]:+.4f} mm" for k in P2_BAND)
+        text += f" From {a['dofs']} to {b['dofs']} DOFs: {moves}."
+    return text
+
+
 def table(rows: list[dict], columns: list[str], chords: bool = False) -> str:
     """Markdown table of finished runs (chords: also the chord iterations per step)."""
     head = "| resolution | ranks | DOFs | " + " | ".join(columns) + \
@@ -2095,7 +2117,7 @@ def main() -> int:
     parser.add_argument("--jobs", type=int, default=1,
                         help="land: runs at a time (1: 2 ranks each; more: 1 rank each)")
     parser.add_argument("--output", type=Path, default=ROOT / "docs" / "verification.md")
-    parser.add_argument("--only", choices=["p1", "p2", "p3", "fibres", "heartbeat", "ep",
+    parser.add_argument("--only", choices=["p1", "p2", "p2-mixed", "p3", "fibres", "heartbeat", "ep",
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
                                            "niederer", "land", "inverse", "biv", "scaling",
@@ -2126,6 +2148,15 @@ def main() -> int:
           for r in levels]
     p2 += [Case("p2", "land_problem2.prm", "16x5x1 cells, 0 refinement(s), Q2", ventricle(16, 5, 0))]
     p2 += [Case("p2", "land_problem2.prm", "8x3x1 cells, 1 refinement, Q2", ventricle(8, 3, 1), 1)]
+
+    # Problem 2 incompressible (mixed Q2-P1disc) in 10 equal load steps on both mesh families
+    # of the scaling group, up to 511k DOFs (the iterative solver there: 'auto').
+    p2i_levels = [(16, 5, 0), (16, 5, 1), (32, 10, 0), (32, 10, 1)] + (
+        [] if args.quick else [(16, 5, 2), (32, 10, 2)])
+    p2i = [Case("p2-mixed", "land_problem2.prm", f"{a}x{b}x1 cells, {r} refinement(s), Q2-P1disc",
+                {**ventricle(a, b, r), "Material/Incompressibility": "incompressible",
+                 "Load steps": "10", "Mechanics/Adaptive load steps": "false"})
+           for a, b, r in p2i_levels]
 
     # Problem 3: refine the coarse mesh (cells around x from apex to base) and globally.
     p3_levels = [(8, 3, 0), (16, 5, 0), (8, 3, 1), (16, 5, 1)] + ([] if args.quick else [(8, 3, 2)])
@@ -2187,6 +2218,13 @@ def main() -> int:
             ("Land problem 2 (inflation)", p2, ["endo_apex_z", "epi_apex_z"],
              "Reference: endocardial apex -26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm "
              "(-28.5 ... -28.1). Bulk modulus 1000 kPa."),
+            ("Land problem 2: incompressible, up to 511k DOFs", p2i,
+             ["endo_apex_z", "epi_apex_z"],
+             "Incompressible (mixed Q2-P1disc, the isochoric part of the Guccione law), 10 "
+             "equal load steps, on the two mesh families of the scaling group (16 x 5 and "
+             "32 x 10 coarse cells, refined 0-2 times), 2 ranks, the `auto` linear solver "
+             "(direct up to 200 000 DOFs, iterative above). Reference: endocardial apex "
+             "-26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm (-28.5 ... -28.1)."),
             ("Land problem 3 (inflation and active contraction)", p3,
              ["endo_apex_z", "epi_apex_z", "midwall_apex_z", "midwall_equator_x",
               "midwall_equator_y", "midwall_equator_z"],
@@ -2225,7 +2263,8 @@ def main() -> int:
                 rows.append(run(case, args.build, workdir))
             extra = ((p3_axis_note(rows) if cases is p3i else
                       p3_point_note(rows) if cases is p3p else p3_note(rows))
-                     if cases[0].problem == "p3" else "")
+                     if cases[0].problem == "p3" else
+                     p2_band_note(rows) if cases is p2i else "")
             p3 = cases[0].problem == "p3"
             sections[title] = f"## {title}\n{note}{extra}\n\n{table(rows, columns, chords=p3)}\n"
             print(sections[title], flush=True)

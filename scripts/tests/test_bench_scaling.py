@@ -35,3 +35,24 @@ def test_one_family_and_failed_runs():
     assert scaling_growth(rows) == [
         "kappa/C = 1e2: 20.0 -> 22.0 Krylov iterations per solve from 2713 to 17903 DOFs "
         "(+10 %)."]
+
+
+def p2_row(dofs: int, endo: float, epi: float, ok: bool = True):
+    from bench import Case
+    return {"case": Case("p2-mixed", "land_problem2.prm", f"{dofs} DOFs mesh", {}), "ok": ok,
+            "dofs": dofs, "values": {"endo_apex_z": endo, "epi_apex_z": epi}}
+
+
+def test_p2_band_note_names_the_levels_outside_and_compares_the_two_largest():
+    from bench import p2_band_note
+    rows = [p2_row(17903, -26.63, -28.31), p2_row(2713, -26.607, -28.640),
+            p2_row(511387, -26.62, -28.29), p2_row(9, 0.0, 0.0, ok=False)]
+    note = p2_band_note(rows)
+    assert "Outside the band: 2713 DOFs mesh (2713 DOFs): epi_apex_z -28.640 mm." in note
+    assert "From 17903 to 511387 DOFs: endo_apex_z +0.0100 mm, epi_apex_z +0.0200 mm." in note
+
+
+def test_p2_band_note_inside():
+    from bench import p2_band_note
+    assert p2_band_note([p2_row(17903, -26.63, -28.31)]) == \
+        " Every level lies inside the band."
