@@ -554,8 +554,8 @@ namespace systole::Mechanics
             std::max(m.params.newton_relative_tolerance, 1e-3));
         const double alpha =
           step(dp, trial_tangent, it, relative, it == 0 && !chord);
-        tangent_ready      = trial_tangent;
-        du_norm            = block_norms(m.layout, du);
+        tangent_ready = trial_tangent;
+        du_norm       = block_norms(m.layout, du);
         du_norm[0] *= alpha;
         du_norm[1] *= alpha;
         if (chord)
