@@ -692,7 +692,8 @@ namespace systole::Mechanics
         out << "      (the full step raised |R_u| " << std::setprecision(3)
             << growth << "-fold: ";
         if (full_after_all)
-          out << "no shorter one keeps it within 10-fold, full step)";
+          out << "no shorter one keeps it within " << growth_limit
+              << "-fold, full step)";
         else
           out << "step length " << alpha << ")";
         out << std::endl;
