@@ -5,6 +5,7 @@
 // (assembly.cc) and the linear solvers (linear_solver.cc) it drives. Not
 // included outside src/mechanics.
 
+#include "mechanics/anderson.h"
 #include "mechanics/problem_impl.h"
 
 #include <array>
@@ -152,5 +153,10 @@ namespace systole::Mechanics
     /// The iterate before the last update (the safeguarded update's start).
     LA::MPI::Vector        u_start;
     dealii::Vector<double> pressure_start;
+    /// Anderson acceleration of the chord iterations on one factorization.
+    AndersonAcceleration anderson;
+    /// |du| of the last update before its acceleration (the natural
+    /// monotonicity test of the accelerated chords).
+    double last_update_length = 0.0;
   };
 } // namespace systole::Mechanics

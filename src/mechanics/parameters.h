@@ -144,6 +144,10 @@ namespace systole::Mechanics
     /// Chord iterations on the last factorized tangent where they are
     /// cheaper than a new one (the entry "Reuse factorization").
     bool reuse_factorization = true;
+    /// Differences kept by the Anderson acceleration of the chord iterations
+    /// of the direct solver (0: plain chord iterations; the entry "Chord
+    /// acceleration depth").
+    unsigned int chord_acceleration_depth = 0;
 
     /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
     /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES

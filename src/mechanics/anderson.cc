@@ -1,0 +1,134 @@
+#include "mechanics/anderson.h"
+
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <cmath>
+#include <vector>
+
+namespace systole::Mechanics
+{
+  AndersonAcceleration::AndersonAcceleration(const unsigned int depth,
+                                             const double       max_growth)
+    : depth(depth)
+    , max_growth(max_growth)
+  {}
+
+  void
+  AndersonAcceleration::reset()
+  {
+    dF.clear();
+    dX.clear();
+    have_f       = false;
+    have_step    = false;
+    last_columns = 0;
+  }
+
+  void
+  AndersonAcceleration::record_step(const LA::MPI::Vector &step)
+  {
+    last_step = step;
+    have_step = true;
+  }
+
+  void
+  AndersonAcceleration::accelerate(LA::MPI::Vector &f)
+  {
+    last_columns = 0;
+    if (have_f && have_step)
+      {
+        LA::MPI::Vector df = f;
+        df -= last_f;
+        dF.push_back(df);
+        dX.push_back(last_step);
+        if (dF.size() > depth)
+          {
+            dF.pop_front();
+            dX.pop_front();
+          }
+      }
+    last_f    = f;
+    have_f    = true;
+    have_step = false;
+    if (dF.empty() || depth == 0)
+      return;
+
+    // Least squares min |f - dF gamma| by modified Gram-Schmidt QR of dF.
+    // A column (nearly) in the span of the later ones is dropped with the
+    // older ones: the oldest differences go first (they describe the map
+    // furthest from the iterate).
+    for (;;)
+      {
+        const unsigned int           m = dF.size();
+        std::vector<LA::MPI::Vector> Q;
+        dealii::FullMatrix<double>   R(m, m);
+        bool                         dependent = false;
+        // Newest column first, so that a dependent column is an old one.
+        for (unsigned int c = 0; c < m && !dependent; ++c)
+          {
+            LA::MPI::Vector q     = dF[m - 1 - c];
+            const double    norm0 = q.l2_norm();
+            for (unsigned int j = 0; j < c; ++j)
+              {
+                R(j, c) = Q[j] * q;
+                q.add(-R(j, c), Q[j]);
+              }
+            R(c, c) = q.l2_norm();
+            if (!(R(c, c) > 1e-10 * norm0) || !std::isfinite(R(c, c)))
+              {
+                // Drop this column and every older one.
+                const unsigned int drop = m - c;
+                for (unsigned int d = 0; d < drop; ++d)
+                  {
+                    dF.pop_front();
+                    dX.pop_front();
+                  }
+                dependent = true;
+                break;
+              }
+            q /= R(c, c);
+            Q.push_back(q);
+          }
+        if (dependent)
+          {
+            if (dF.empty())
+              return;
+            continue;
+          }
+        // R gamma' = Q^T f (gamma' in the newest-first column order).
+        const double           plain = f.l2_norm();
+        dealii::Vector<double> gamma(m);
+        for (unsigned int c = 0; c < m; ++c)
+          gamma[c] = Q[c] * f;
+        for (unsigned int c = m; c-- > 0;)
+          {
+            for (unsigned int j = c + 1; j < m; ++j)
+              gamma[c] -= R(c, j) * gamma[j];
+            gamma[c] /= R(c, c);
+          }
+        LA::MPI::Vector accelerated = f;
+        for (unsigned int c = 0; c < m; ++c)
+          {
+            const unsigned int i = m - 1 - c;
+            accelerated.add(-gamma[c], dX[i]);
+            accelerated.add(-gamma[c], dF[i]);
+          }
+        // A step far longer than the plain one extrapolates along a mode
+        // the plain iteration barely contracts (secant ratio 1 - 1/growth or
+        // worse): on a nonlinear map, far from its fixed point, that
+        // extrapolation overshoots. The plain update then, with a fresh
+        // history.
+        const double length = accelerated.l2_norm();
+        if (!(length <= max_growth * plain))
+          {
+            dF.clear();
+            dX.clear();
+            ++rejections;
+            return;
+          }
+        f            = accelerated;
+        last_columns = m;
+        return;
+      }
+  }
+} // namespace systole::Mechanics

@@ -1,0 +1,70 @@
+#pragma once
+
+// Internal to src/mechanics: Anderson acceleration of a fixed-point
+// iteration, used on the chord iterations of the Newton solver (newton.cc).
+
+#include "base/linear_algebra.h"
+
+#include <deque>
+
+namespace systole::Mechanics
+{
+  /// Anderson acceleration (Walker and Ni 2011, "type II") of the
+  /// fixed-point iteration x_{k+1} = x_k + f(x_k): with the differences of
+  /// the last @p depth updates, dF = [f_i - f_{i-1}], and of the iterates,
+  /// dX = [x_i - x_{i-1}], the accelerated update is
+  ///   f_k - (dX + dF) gamma,  gamma = argmin |f_k - dF gamma|_2.
+  /// On a linear iteration with n unknowns and depth >= n it reaches the
+  /// fixed point in at most n + 1 updates (it is then GMRES on the
+  /// preconditioned system). For the chord iterations f = -K0^-1 R(x) with a
+  /// held factorization K0: the error modes that K0 misses contract slowly
+  /// (a ratio near 0.4 per iteration on a factorization from the last load
+  /// step), and the least-squares step removes them.
+  class AndersonAcceleration
+  {
+  public:
+    /// @p max_growth: an accelerated update longer than this multiple of
+    /// the plain one is not taken (the plain one is, and the history
+    /// restarts).
+    explicit AndersonAcceleration(const unsigned int depth,
+                                  const double       max_growth = 3.0);
+
+    /// Forget the history (a new map: new factorization or load).
+    void
+    reset();
+
+    /// @p f: the plain update at the current iterate; replaced by the
+    /// accelerated one. The first update after reset() stays as it is.
+    void
+    accelerate(LA::MPI::Vector &f);
+
+    /// The step x_{k+1} - x_k actually taken (a multiple of the update that
+    /// accelerate() returned, if the step was shortened).
+    void
+    record_step(const LA::MPI::Vector &step);
+
+    /// Columns in the least-squares problem of the last accelerate().
+    unsigned int
+    columns() const
+    {
+      return last_columns;
+    }
+
+    /// Accelerated updates not taken for their length (max_growth).
+    unsigned int
+    rejected() const
+    {
+      return rejections;
+    }
+
+  private:
+    const unsigned int          depth;
+    const double                max_growth;
+    std::deque<LA::MPI::Vector> dF, dX;
+    LA::MPI::Vector             last_f, last_step;
+    bool                        have_f       = false;
+    bool                        have_step    = false;
+    unsigned int                last_columns = 0;
+    unsigned int                rejections   = 0;
+  };
+} // namespace systole::Mechanics
