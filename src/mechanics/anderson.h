@@ -19,7 +19,8 @@ namespace systole::Mechanics
   /// preconditioned system). For the chord iterations f = -K0^-1 R(x) with a
   /// held factorization K0: the error modes that K0 misses contract slowly
   /// (a ratio near 0.4 per iteration on a factorization from the last load
-  /// step), and the least-squares step removes them.
+  /// step), and the least-squares step damps them (on Land problem 2 half
+  /// the chord iterations to the tolerance).
   class AndersonAcceleration
   {
   public:
