@@ -19,14 +19,15 @@ namespace systole::Mechanics
   {
     dF.clear();
     dX.clear();
-    have_f       = false;
-    have_step    = false;
-    last_columns = 0;
+    have_f    = false;
+    have_step = false;
   }
 
   void
   AndersonAcceleration::record_step(const LA::MPI::Vector &step)
   {
+    if (depth == 0)
+      return;
     last_step = step;
     have_step = true;
   }
@@ -34,7 +35,8 @@ namespace systole::Mechanics
   void
   AndersonAcceleration::accelerate(LA::MPI::Vector &f)
   {
-    last_columns = 0;
+    if (depth == 0)
+      return;
     if (have_f && have_step)
       {
         LA::MPI::Vector df = f;
@@ -50,7 +52,7 @@ namespace systole::Mechanics
     last_f    = f;
     have_f    = true;
     have_step = false;
-    if (dF.empty() || depth == 0)
+    if (dF.empty())
       return;
 
     // Least squares min |f - dF gamma| by modified Gram-Schmidt QR of dF.
@@ -110,8 +112,7 @@ namespace systole::Mechanics
         for (unsigned int c = 0; c < m; ++c)
           {
             const unsigned int i = m - 1 - c;
-            accelerated.add(-gamma[c], dX[i]);
-            accelerated.add(-gamma[c], dF[i]);
+            accelerated.add(-gamma[c], dX[i], -gamma[c], dF[i]);
           }
         // A step far longer than the plain one extrapolates along a mode
         // the plain iteration barely contracts (secant ratio 1 - 1/growth or
@@ -123,11 +124,9 @@ namespace systole::Mechanics
           {
             dF.clear();
             dX.clear();
-            ++rejections;
             return;
           }
-        f            = accelerated;
-        last_columns = m;
+        f = accelerated;
         return;
       }
   }

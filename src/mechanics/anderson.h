@@ -30,6 +30,7 @@ namespace systole::Mechanics
     explicit AndersonAcceleration(const unsigned int depth,
                                   const double       max_growth = 3.0);
 
+    /// (Depth 0: every call is a no-op.)
     /// Forget the history (a new map: new factorization or load).
     void
     reset();
@@ -44,28 +45,12 @@ namespace systole::Mechanics
     void
     record_step(const LA::MPI::Vector &step);
 
-    /// Columns in the least-squares problem of the last accelerate().
-    unsigned int
-    columns() const
-    {
-      return last_columns;
-    }
-
-    /// Accelerated updates not taken for their length (max_growth).
-    unsigned int
-    rejected() const
-    {
-      return rejections;
-    }
-
   private:
     const unsigned int          depth;
     const double                max_growth;
     std::deque<LA::MPI::Vector> dF, dX;
     LA::MPI::Vector             last_f, last_step;
-    bool                        have_f       = false;
-    bool                        have_step    = false;
-    unsigned int                last_columns = 0;
-    unsigned int                rejections   = 0;
+    bool                        have_f    = false;
+    bool                        have_step = false;
   };
 } // namespace systole::Mechanics

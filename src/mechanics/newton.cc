@@ -393,11 +393,13 @@ namespace systole::Mechanics
     ok                            = ok && chord_solve();
     if (ok)
       {
-        // (The first update of the chord iterations that may continue it.)
+        // (The first update of the accelerated chord iterations that may
+        // continue it; no-ops at depth 0.)
         anderson.reset();
         anderson.accelerate(du);
         anderson.record_step(du);
-        last_update_length = du.l2_norm();
+        if (m.params.chord_acceleration_depth > 0)
+          last_update_length = du.l2_norm();
         m.u_owned.add(1.0, du);
         m.u                         = m.u_owned;
         const double start_residual = residual[0];
@@ -486,8 +488,8 @@ namespace systole::Mechanics
     // undone if it raised |R|.
     bool undo_chord = false;
     // Anderson-accelerated chord iterations (direct solver, fixed cavity
-    // pressures; Chord acceleration depth > 0). The acceleration removes
-    // much of the slow contraction of a chord on an older tangent, so:
+    // pressures; Chord acceleration depth > 0). The acceleration damps the
+    // slow contraction of a chord on an older tangent, so:
     // chords continue while each cuts |R_u| twofold (not fourfold); they
     // follow a Newton update that cut |R_u| 2.5-fold to below 0.4 of its
     // largest value (not tenfold to below 0.1); and the Euler predictor is
@@ -592,7 +594,7 @@ namespace systole::Mechanics
                 assemble(residual, true);
                 update(false, it, relative, dp);
               }
-            last_update_length = du.l2_norm();
+            last_update_length = chord ? length : du.l2_norm();
             // The history holds the updates of one factorization: a Newton
             // update starts a new one.
             if (!chord)
