@@ -615,6 +615,8 @@ namespace systole::Mechanics
             std::max(m.params.newton_relative_tolerance, 1e-3));
         const double alpha =
           step(dp, trial_tangent, it, relative, !newton_done && !chord);
+        if (alpha < 1.0)
+          ++report.damped_updates;
         newton_done   = newton_done || !chord;
         tangent_ready = trial_tangent;
         if (accelerated)

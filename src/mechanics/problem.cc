@@ -251,6 +251,13 @@ namespace systole::Mechanics
       solver = m.dof_handler.n_dofs() <= params.direct_solver_limit
                  ? "direct"
                  : "iterative";
+    // Accelerated chords pay where factorizations dominate the cost.
+    if (params.chord_acceleration_auto)
+      m.params.chord_acceleration_depth =
+        solver == "direct" &&
+            m.dof_handler.n_dofs() >= Parameters::auto_acceleration_dofs
+          ? 5
+          : 0;
     // The tangent is symmetric when every load derives from a potential: the
     // hyperelastic energy, the springs, and the pressures on cavities (each
     // load is the exact derivative of the discrete cavity volume while the
@@ -876,7 +883,12 @@ namespace systole::Mechanics
   std::string
   Problem::linear_solver_name() const
   {
-    return impl->linear_solver->name();
+    const unsigned int depth = impl->params.chord_acceleration_depth;
+    return impl->linear_solver->name() +
+           (impl->linear_solver->direct() && depth > 0
+              ? ", Anderson-accelerated chords (depth " +
+                  std::to_string(depth) + ")"
+              : "");
   }
 
   std::string

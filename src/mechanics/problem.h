@@ -65,6 +65,28 @@ namespace systole::Mechanics
     double       initial_residual  = 0; ///< |R| before the first update
     double       final_residual    = 0; ///< |R| at convergence
     unsigned int linear_iterations = 0; ///< summed over the Newton iterations
+    /// Updates the safeguard shortened (step length < 1: the full update
+    /// inverted an element or, the first Newton update, raised |R_u| more
+    /// than tenfold).
+    unsigned int damped_updates = 0;
+
+    /// Whether the step was easy for Newton, so that an adaptive load or
+    /// time step may grow: at most 4 iterations with a new tangent and no
+    /// shortened update. (The count alone misreads the accelerated chords:
+    /// they replace Newton iterations also where the predictor was poor.)
+    bool
+    easy() const
+    {
+      return iterations <= 4 && damped_updates == 0;
+    }
+
+    /// Whether the step was hard, so that the next one should be shorter:
+    /// 8 or more iterations with a new tangent.
+    bool
+    hard() const
+    {
+      return iterations >= 8;
+    }
   };
 
   using FibreFunction = Fibres::FibreField;

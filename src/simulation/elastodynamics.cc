@@ -244,7 +244,7 @@ namespace systole
         total_solves += report.iterations + report.reused_iterations;
         write_row(report, dt);
         // Back towards the nominal step after an easy one.
-        if (sub_step < nominal && report.iterations <= 4)
+        if (sub_step < nominal && report.easy())
           sub_step = std::min(2.0 * sub_step, nominal);
         if (interrupted(comm))
           {

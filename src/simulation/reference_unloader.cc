@@ -256,9 +256,9 @@ namespace systole
             ++report.load_steps;
             fraction       = target;
             last_increment = increment;
-            if (params.adaptive_load_steps && r.iterations <= 4)
+            if (params.adaptive_load_steps && r.easy())
               increment *= 1.5;
-            else if (params.adaptive_load_steps && r.iterations >= 8)
+            else if (params.adaptive_load_steps && r.hard())
               increment *= 0.5;
           }
         catch (const ExcNewtonDidNotConverge &e)
