@@ -502,6 +502,7 @@ namespace systole::Mechanics
     const double chord_ratio      = accelerated ? 0.5 : 0.25;
     const double newton_cut       = accelerated ? 0.4 : 0.1;
     bool         predictor_chords = start_assembled && accelerated;
+    report.accelerated            = accelerated;
     // Whether a Newton update (new tangent) was made in this solve: the
     // first one is guarded (step()).
     bool newton_done = false;

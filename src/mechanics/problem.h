@@ -69,15 +69,19 @@ namespace systole::Mechanics
     /// inverted an element or, the first Newton update, raised |R_u| more
     /// than tenfold).
     unsigned int damped_updates = 0;
+    /// Whether the chord iterations were Anderson-accelerated.
+    bool accelerated = false;
 
     /// Whether the step was easy for Newton, so that an adaptive load or
-    /// time step may grow: at most 4 iterations with a new tangent and no
-    /// shortened update. (The count alone misreads the accelerated chords:
-    /// they replace Newton iterations also where the predictor was poor.)
+    /// time step may grow: at most 4 iterations with a new tangent and,
+    /// with accelerated chords, no shortened update. (The accelerated chords
+    /// replace Newton iterations also where the predictor was poor, so their
+    /// Newton count alone reads a hard step as easy; for plain Newton it is
+    /// the measure the load steps were tuned with.)
     bool
     easy() const
     {
-      return iterations <= 4 && damped_updates == 0;
+      return iterations <= 4 && !(accelerated && damped_updates > 0);
     }
 
     /// Whether the step was hard, so that the next one should be shorter:
