@@ -150,10 +150,11 @@ namespace systole
             ++step;
             write_row(fraction, report);
             // Adapt the increment to how hard Newton worked: grow it after
-            // an easy step (at most 4 iterations, no shortened update),
-            // shrink it after a hard one (8 or more), so that the steps
-            // follow the nonlinearity of the response (the exponential laws
-            // are soft first, stiff later).
+            // an easy step (NewtonReport::easy(): at most 4 iterations; after
+            // accelerated chords also no shortened update), shrink it after a
+            // hard one (8 or more), so that the steps follow the nonlinearity
+            // of the response (the exponential laws are soft first, stiff
+            // later).
             if (params.adaptive_load_steps && report.easy())
               increment *= 1.5;
             else if (params.adaptive_load_steps && report.hard())
