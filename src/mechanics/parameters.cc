@@ -250,11 +250,12 @@ namespace systole::Mechanics
       "half as long as the update before it is not taken, and one that "
       "cut the residual less than twofold is undone (Newton from the "
       "iterate). Fewer factorizations (Land problem 2, 10 equal load steps, "
-      "129k DOFs: 8 instead of 13, 66-78 s instead of 89-93 s on 2 ranks), "
+      "129k DOFs: 8 instead of 13, 66-78 s instead of 89-98 s on 2 ranks), "
       "more chord iterations, so it pays where factorizations dominate. "
       "0: plain chord iterations with the rules of Reuse factorization; "
-      "auto: 5 with at least 50000 DOFs, 0 below (17.9k DOFs: 5.2-6.2 s "
-      "accelerated, 5.8 s plain). An integer 0-50 or auto. Units: -.");
+      "auto: 5 with at least 50000 DOFs, 0 below (17.9k DOFs: 5.1-6.2 s "
+      "accelerated, 5.8-6.2 s plain: within the noise). An integer 0-50 or "
+      "auto. Units: -.");
     prm.declare_entry(
       "Density",
       "1000",

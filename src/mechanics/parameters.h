@@ -153,8 +153,10 @@ namespace systole::Mechanics
     /// into chord_acceleration_depth when the problem is set up.
     bool chord_acceleration_auto = true;
     /// Where auto starts accelerating. Land problem 2, 10 equal steps, 2
-    /// ranks: 2.7k DOFs 0.9 s plain, 1.1 s accelerated; 17.9k 5.8 s and
-    /// 5.2-6.2 s; 129k 89-93 s and 66-78 s (the factorizations dominate).
+    /// ranks, plain against accelerated: 129k DOFs 89-98 s and 66-78 s (the
+    /// factorizations dominate); 17.9k 5.8-6.2 s and 5.1-6.2 s, 2.7k 0.9 s
+    /// and 0.7-1.1 s (within the noise; below, the plain path keeps 1 and 2
+    /// ranks equal to round-off).
     static constexpr unsigned int auto_acceleration_dofs = 50000;
 
     /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
