@@ -2153,9 +2153,10 @@ def main() -> int:
     # of the scaling group, up to 511k DOFs (the iterative solver there: 'auto').
     p2i_levels = [(16, 5, 0), (16, 5, 1), (32, 10, 0), (32, 10, 1)] + (
         [] if args.quick else [(16, 5, 2), (32, 10, 2)])
+    mixed10 = {"Material/Incompressibility": "incompressible", "Load steps": "10",
+               "Mechanics/Adaptive load steps": "false"}
     p2i = [Case("p2-mixed", "land_problem2.prm", f"{a}x{b}x1 cells, {r} refinement(s), Q2-P1disc",
-                {**ventricle(a, b, r), "Material/Incompressibility": "incompressible",
-                 "Load steps": "10", "Mechanics/Adaptive load steps": "false"})
+                {**ventricle(a, b, r), **mixed10})
            for a, b, r in p2i_levels]
     # The chord iterations the other way from the default ('auto': Anderson-accelerated,
     # depth 5, from 50 000 DOFs with the direct solver): accelerated below, plain above, on the
@@ -2163,15 +2164,13 @@ def main() -> int:
     def chords(depth: str, label: str, levels: list) -> list:
         return [Case("p2-mixed", "land_problem2.prm",
                      f"{a}x{b}x1 cells, {r} refinement(s), Q2-P1disc, {label}",
-                     {**ventricle(a, b, r), "Material/Incompressibility": "incompressible",
-                      "Load steps": "10", "Mechanics/Adaptive load steps": "false",
+                     {**ventricle(a, b, r), **mixed10,
                       "Mechanics/Chord acceleration depth": depth})
                 for a, b, r in levels]
     # The coarsest mesh (one cell through the wall) with a continuous pressure (Taylor-Hood
     # Q2-Q1) and with two cells through the wall: how far the element and the wall resolution
     # move its epicardial apex.
-    coarse = {**ventricle(16, 5, 0), "Material/Incompressibility": "incompressible",
-              "Load steps": "10", "Mechanics/Adaptive load steps": "false"}
+    coarse = {**ventricle(16, 5, 0), **mixed10}
     p2i += [Case("p2-mixed", "land_problem2.prm", "16x5x1 cells, 0 refinement(s), Q2-Q1",
                  {**coarse, "Discretization/Pressure element": "continuous"}),
             Case("p2-mixed", "land_problem2.prm", "16x5x2 cells, 0 refinement(s), Q2-P1disc",

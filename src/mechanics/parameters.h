@@ -158,6 +158,8 @@ namespace systole::Mechanics
     /// and 0.7-1.1 s (within the noise; below, the plain path keeps 1 and 2
     /// ranks equal to round-off).
     static constexpr unsigned int auto_acceleration_dofs = 50000;
+    /// The depth auto takes there (8 factorizations instead of 13 at 129k).
+    static constexpr unsigned int auto_acceleration_depth = 5;
 
     /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
     /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES

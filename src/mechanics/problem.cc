@@ -256,7 +256,7 @@ namespace systole::Mechanics
       m.params.chord_acceleration_depth =
         solver == "direct" &&
             m.dof_handler.n_dofs() >= Parameters::auto_acceleration_dofs
-          ? 5
+          ? Parameters::auto_acceleration_depth
           : 0;
     // The tangent is symmetric when every load derives from a potential: the
     // hyperelastic energy, the springs, and the pressures on cavities (each
