@@ -56,3 +56,21 @@ def test_p2_band_note_inside():
     from bench import p2_band_note
     assert p2_band_note([p2_row(17903, -26.63, -28.31)]) == \
         " Every level lies inside the band."
+
+
+def test_p2_band_note_per_element():
+    from bench import Case, p2_band_note
+
+    def labelled(label: str, dofs: int, endo: float, epi: float):
+        return {"case": Case("p2-mixed", "land_problem2.prm", label, {}), "ok": True,
+                "dofs": dofs, "values": {"endo_apex_z": endo, "epi_apex_z": epi}}
+    rows = [labelled("coarse, Q2-P1disc", 2713, -26.607, -28.640),
+            labelled("coarse, Q2-Q1", 2603, -26.705, -28.461),
+            labelled("coarse, Q2-P1disc, accelerated chords", 2713, -26.0, -28.0),
+            labelled("fine, Q2-Q1", 17000, -26.65, -28.32)]
+    assert p2_band_note(rows, "Q2-P1disc") == \
+        " Q2-P1disc: Outside the band: coarse, Q2-P1disc (2713 DOFs): epi_apex_z -28.640 mm."
+    assert p2_band_note(rows, "Q2-Q1") == (
+        " Q2-Q1: Every level lies inside the band. From 2603 to 17000 DOFs: "
+        "endo_apex_z +0.0550 mm, epi_apex_z +0.1410 mm.")
+    assert p2_band_note(rows, "Q1-P0") == ""
