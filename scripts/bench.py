@@ -2178,9 +2178,9 @@ def main() -> int:
                  {**ventricle(8, 3, 0), **mixed10}),
             Case("p2-mixed", "land_problem2.prm", "16x5x2 cells, 0 refinement(s), Q2-P1disc",
                  {**ventricle(16, 5, 0), **mixed10, "Geometry/Ellipsoid/Cells through wall": "2"})]
-    # The same study with the continuous pressure (Taylor-Hood Q2-Q1), and the 24-cell
-    # ventricle (the iterative solver on the finest level has no augmented Lagrangian: it is
-    # Q2-P1disc's only).
+    # The same study with the continuous pressure (Taylor-Hood Q2-Q1), from the 24-cell
+    # ventricle on (on the finest level the iterative solver, without the augmented
+    # Lagrangian: that is Q2-P1disc's only).
     p2th_levels = [(8, 3, 0), (16, 5, 0), (16, 5, 1), (32, 10, 0), (32, 10, 1)] + (
         [] if args.quick else [(16, 5, 2), (32, 10, 2)])
     p2i += [Case("p2-mixed", "land_problem2.prm", f"{a}x{b}x1 cells, {r} refinement(s), Q2-Q1",
@@ -2259,7 +2259,7 @@ def main() -> int:
              "accelerated with depth 5 from 50 000 DOFs, plain below); 'accelerated chords': "
              "depth 5, 'plain chords': depth 0. The rows 'Q2-Q1' are the same study with the "
              "continuous pressure (Taylor-Hood, `Discretization / Pressure element = "
-             "continuous`; at 465k DOFs the iterative solver without the augmented "
+             "continuous`; at 467k DOFs the iterative solver without the augmented "
              "Lagrangian, which is Q2-P1disc's only). Reference: "
              "endocardial apex "
              "-26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm (-28.5 ... -28.1)."),
