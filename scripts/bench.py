@@ -569,6 +569,20 @@ SCALING_PROBLEM = {"Pressure": "2", "Load steps": "2",
                    "Mechanics/Linear solver": "iterative"}
 
 
+#: The "scaling-th" group: the same problem with the Taylor-Hood element (Discretization /
+#: Pressure element = continuous), whose iterative solver has no augmented Lagrangian. The
+#: levels of the scaling group and 32 x 11 refined twice, the first above 500k DOFs with Q2-Q1
+#: (32 x 10 refined twice has 467k).
+SCALING_TH = {"Discretization/Pressure element": "continuous"}
+SCALING_TH_FORMULATIONS = [(f"{label}, Q2-Q1", {**entries, **SCALING_TH})
+                           for label, entries in SCALING_FORMULATIONS
+                           if label in ("incompressible", "kappa/C = 1e2", "kappa/C = 1e6")]
+SCALING_TH_LEVELS = SCALING_LEVELS + [("32x11, 2", 32, 11, 2)]
+SCALING_TH_PLAN = {"32x10, 2": ["incompressible, Q2-Q1"], "32x11, 2": ["incompressible, Q2-Q1"]}
+SCALING_TH_TITLE = ("Mechanics: the iterative solver with the Taylor-Hood element (Land problem 2, "
+                    "2 ranks)")
+
+
 def run_scaling(level: tuple, formulation: tuple, build: Path, workdir: Path) -> dict:
     """One run of the scaling group; also the CPU time of its processes (the children's
     rusage) and the load average at its end."""
@@ -632,12 +646,23 @@ def scaling_section(build: Path, workdir: Path, quick: bool) -> str:
     return scaling_text(rows)
 
 
-def scaling_growth(rows: list[dict]) -> list[str]:
+def scaling_th_section(build: Path, workdir: Path, quick: bool) -> str:
+    """The scaling group's problem with the Taylor-Hood element, 2.6k ... 525k DOFs."""
+    rows = []
+    for level in SCALING_TH_LEVELS[:2] if quick else SCALING_TH_LEVELS:
+        for formulation in SCALING_TH_FORMULATIONS:
+            chosen = SCALING_TH_PLAN.get(level[0])
+            if chosen is None or formulation[0] in chosen:
+                rows.append(run_scaling(level, formulation, build, workdir))
+    return scaling_text(rows, th=True)
+
+
+def scaling_growth(rows: list[dict], formulations: list | None = None) -> list[str]:
     """Per formulation, the growth of the Krylov iterations per solve from the coarsest to
     the finest level run, over all levels and within each coarse mesh (a family of global
     refinements of one mesh: the label's part before the comma)."""
     growth = []
-    for formulation, _ in SCALING_FORMULATIONS:
+    for formulation, _ in formulations or SCALING_FORMULATIONS:
         done = [r for r in rows if r["formulation"] == formulation and r["ok"]]
         done.sort(key=lambda r: r["summary"]["n_dofs"])
         families = {}
@@ -656,12 +681,13 @@ def scaling_growth(rows: list[dict]) -> list[str]:
     return growth
 
 
-def scaling_text(rows: list[dict]) -> str:
-    """The scaling section from the rows of run_scaling."""
+def scaling_text(rows: list[dict], th: bool = False) -> str:
+    """The scaling section from the rows of run_scaling (th: the scaling-th group's)."""
+    formulations = SCALING_TH_FORMULATIONS if th else SCALING_FORMULATIONS
     reference = {r["formulation"]: r for r in rows
                  if r["level"] == SCALING_REFERENCE and r["ok"]}
     lines = [SCALING_HEAD, "|" + "---|" * (SCALING_HEAD.count("|") - 1)]
-    for formulation, _ in SCALING_FORMULATIONS:
+    for formulation, _ in formulations:
         for r in rows:
             if r["formulation"] != formulation:
                 continue
@@ -673,8 +699,8 @@ def scaling_text(rows: list[dict]) -> str:
     if any(r.get("busy") for r in rows):
         lines.append(BUSY_NOTE)
 
-    growth = scaling_growth(rows)
-    for level, *_ in SCALING_LEVELS:
+    growth = scaling_growth(rows, formulations)
+    for level, *_ in SCALING_TH_LEVELS if th else SCALING_LEVELS:
         done = [r for r in rows if r["level"] == level and r["ok"]
                 and r["formulation"] != "penalty, kappa/C = 1e2"]
         if len(done) >= 2:
@@ -682,20 +708,28 @@ def scaling_text(rows: list[dict]) -> str:
             growth.append(f"At {level} over the mixed formulations: {min(k):.1f} ... {max(k):.1f} "
                           "per solve.")
     solver = next((r["solver"] for r in rows if r.get("solver")), "?")
-    title = "Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, 2 ranks)"
+    title = SCALING_TH_TITLE if th else (
+        "Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, 2 ranks)")
+    group = "scaling-th" if th else "scaling"
+    th_text = ("The Taylor-Hood element (`Discretization / Pressure element = continuous`, "
+               "Q2-Q1), whose iterative solver has no augmented Lagrangian, on the levels "
+               "of the scaling group above and on 32 x 11 cells refined twice (the first "
+               "level above 500k DOFs with Q2-Q1). " if th else "")
     return (
         f"## {title}\n"
-        "Written by `scripts/bench --only scaling` (`--quick`: the two coarsest levels). Land "
+        f"Written by `scripts/bench --only {group}` (`--quick`: the two coarsest levels). "
+        + th_text + "Land "
         "problem 2 (`parameters/land_problem2.prm`, C = 10 kPa) on the ventricle of 16 x 5 "
         "coarse cells and of 32 x 10 cells, each refined 0, 1, 2 times, 2 ranks, the "
-        "iterative solver (" + solver + "; the penalty: FGMRES with the same p-multigrid on "
-        "K). The problem is the first two of ten equal load steps (2 kPa of the 10 kPa) with pure "
+        "iterative solver (" + solver + ("" if th else "; the penalty: FGMRES with the same "
+                                         "p-multigrid on K") + "). The problem is the first two of ten equal load steps (2 kPa of the 10 kPa) with pure "
         "Newton (`Reuse factorization = false`: a new tangent and preconditioner set-up at "
         "every iteration), the same at every level, so that the largest run stays affordable; "
         "the per-iteration figures come from its real Newton iterations. Assembly and linear "
         "solver: rank 0's wall time in those timer sections (`/summary`), over the Newton "
         "iterations; the ratio is that of the time per Newton iteration per DOF to the 16 x 5 "
-        "level refined once (17.9k DOFs mixed) of the same formulation. The CPU time is that "
+        f"level refined once ({'16.7k DOFs' if th else '17.9k DOFs mixed'}) of the same "
+        "formulation. The CPU time is that "
         "of all processes of the run (set-up included), less sensitive to the other work on "
         "the machine than the wall times; the load average is the 1-minute one when the run "
         "ended (2 cores: above 2 the wall times are inflated).\n\n"
@@ -2126,7 +2160,7 @@ def main() -> int:
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
                                            "niederer", "land", "inverse", "biv", "scaling",
-                                           "arostica"],
+                                           "scaling-th", "arostica"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -2369,6 +2403,9 @@ def main() -> int:
                      "2 ranks)")
             sections[title] = scaling_section(args.build, workdir, args.quick)
             print(sections[title], flush=True)
+        if args.only in (None, "scaling-th"):
+            sections[SCALING_TH_TITLE] = scaling_th_section(args.build, workdir, args.quick)
+            print(sections[SCALING_TH_TITLE], flush=True)
         if args.only in (None, "arostica"):
             sections[AROSTICA_TITLE] = arostica_section(args.build, workdir, args.quick)
             print(sections[AROSTICA_TITLE], flush=True)

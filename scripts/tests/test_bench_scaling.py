@@ -74,3 +74,24 @@ def test_p2_band_note_per_element():
         " Q2-Q1: Every level lies inside the band. From 2603 to 17000 DOFs: "
         "endo_apex_z +0.0550 mm, epi_apex_z +0.1410 mm.")
     assert p2_band_note(rows, "Q1-P0") == ""
+
+
+def test_taylor_hood_section_reads_its_own_formulations():
+    from bench import SCALING_TH_TITLE, scaling_text
+
+    def full(level: str, formulation: str, dofs: int, per_solve: float):
+        r = row(level, formulation, dofs, per_solve)
+        r["summary"].update({"newton_iterations": 9, "assembly_seconds": 0.1,
+                             "linear_solver_seconds": 0.2, "n_displacement_dofs": dofs - 100,
+                             "n_pressure_dofs": 100, "step_cuts": 0})
+        r.update({"cpu": 1.0, "memory": 200.0, "load": (0.5, 0.5, 0.5)})
+        return r
+    rows = [full("16x5, 0", "incompressible, Q2-Q1", 2603, 27.1),
+            full("32x11, 2", "incompressible, Q2-Q1", 524512, 34.9)]
+    text = scaling_text(rows, th=True)
+    assert text.startswith(f"## {SCALING_TH_TITLE}\n")
+    assert "| 32x11, 2 | incompressible, Q2-Q1 | 524512 (524412 + 100) | 9 (0) | 34.9 |" in text
+    assert ("incompressible, Q2-Q1: 27.1 -> 34.9 Krylov iterations per solve from 2603 to "
+            "524512 DOFs (+29 %).") in text
+    # The scaling group's own section lists none of these rows.
+    assert "Q2-Q1" not in scaling_text(rows).split("\n\n")[1]
