@@ -579,6 +579,7 @@ SCALING_TH_FORMULATIONS = [(f"{label}, Q2-Q1", {**entries, **SCALING_TH})
                            if label in ("incompressible", "kappa/C = 1e2", "kappa/C = 1e6")]
 SCALING_TH_LEVELS = SCALING_LEVELS + [("32x11, 2", 32, 11, 2)]
 SCALING_TH_PLAN = {"32x10, 2": ["incompressible, Q2-Q1"], "32x11, 2": ["incompressible, Q2-Q1"]}
+SCALING_TITLE = "Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, 2 ranks)"
 SCALING_TH_TITLE = ("Mechanics: the iterative solver with the Taylor-Hood element (Land problem 2, "
                     "2 ranks)")
 
@@ -690,26 +691,19 @@ SCALING_HEAD = ("| level (coarse cells, refinements) | formulation | DOFs (u + p
                 "| load average at the end |")
 
 
-def scaling_section(build: Path, workdir: Path, quick: bool) -> str:
-    """Land problem 2 with the iterative solver at 2.7k ... 511k DOFs, mixed and penalty."""
+def scaling_section(build: Path, workdir: Path, quick: bool, th: bool = False) -> str:
+    """Land problem 2 with the iterative solver at 2.7k ... 511k DOFs, mixed and penalty
+    (th: the scaling-th group, the Taylor-Hood element at 2.6k ... 525k DOFs)."""
+    levels = SCALING_TH_LEVELS if th else SCALING_LEVELS
+    formulations = SCALING_TH_FORMULATIONS if th else SCALING_FORMULATIONS
+    plan = SCALING_TH_PLAN if th else SCALING_PLAN
     rows = []
-    for level in SCALING_LEVELS[:2] if quick else SCALING_LEVELS:
-        for formulation in SCALING_FORMULATIONS:
-            chosen = SCALING_PLAN[level[0]]
+    for level in levels[:2] if quick else levels:
+        for formulation in formulations:
+            chosen = plan.get(level[0])
             if chosen is None or formulation[0] in chosen:
                 rows.append(run_scaling(level, formulation, build, workdir))
-    return scaling_text(rows)
-
-
-def scaling_th_section(build: Path, workdir: Path, quick: bool) -> str:
-    """The scaling group's problem with the Taylor-Hood element, 2.6k ... 525k DOFs."""
-    rows = []
-    for level in SCALING_TH_LEVELS[:2] if quick else SCALING_TH_LEVELS:
-        for formulation in SCALING_TH_FORMULATIONS:
-            chosen = SCALING_TH_PLAN.get(level[0])
-            if chosen is None or formulation[0] in chosen:
-                rows.append(run_scaling(level, formulation, build, workdir))
-    return scaling_text(rows, th=True)
+    return scaling_text(rows, th)
 
 
 def scaling_growth(rows: list[dict], formulations: list | None = None) -> list[str]:
@@ -763,8 +757,7 @@ def scaling_text(rows: list[dict], th: bool = False) -> str:
             growth.append(f"At {level} over the mixed formulations: {min(k):.1f} ... {max(k):.1f} "
                           "per solve.")
     solver = next((r["solver"] for r in rows if r.get("solver")), "?")
-    title = SCALING_TH_TITLE if th else (
-        "Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, 2 ranks)")
+    title = SCALING_TH_TITLE if th else SCALING_TITLE
     group = "scaling-th" if th else "scaling"
     th_text = ("The Taylor-Hood element (`Discretization / Pressure element = continuous`, "
                "Q2-Q1), whose iterative solver has no augmented Lagrangian, on the levels "
@@ -776,10 +769,11 @@ def scaling_text(rows: list[dict], th: bool = False) -> str:
         + th_text + "Land "
         "problem 2 (`parameters/land_problem2.prm`, C = 10 kPa) on the ventricle of 16 x 5 "
         "coarse cells and of 32 x 10 cells, each refined 0, 1, 2 times, 2 ranks, the "
-        "iterative solver (" + solver + ("" if th else "; the penalty: FGMRES with the same "
-                                         "p-multigrid on K") + "). The problem is the first two of ten equal load steps (2 kPa of the 10 kPa) with pure "
-        "Newton (`Reuse factorization = false`: a new tangent and preconditioner set-up at "
-        "every iteration), the same at every level, so that the largest run stays affordable; "
+        "iterative solver (" + solver
+        + ("" if th else "; the penalty: FGMRES with the same p-multigrid on K")
+        + "). The problem is the first two of ten equal load steps (2 kPa of the 10 kPa) "
+        "with pure Newton (`Reuse factorization = false`: a new tangent and preconditioner "
+        "set-up at every iteration), the same at every level, so that the largest run stays affordable; "
         "the per-iteration figures come from its real Newton iterations. Assembly and linear "
         "solver: rank 0's wall time in those timer sections (`/summary`), over the Newton "
         "iterations; the ratio is that of the time per Newton iteration per DOF to the 16 x 5 "
@@ -2453,14 +2447,11 @@ def main() -> int:
             title = "Mechanics: penalty and mixed formulations, direct and iterative solvers"
             sections[title] = mixed_section(args.build, workdir, args.quick)
             print(sections[title], flush=True)
-        if args.only in (None, "scaling"):
-            title = ("Mechanics: the iterative solver from 2.7k to 511k DOFs (Land problem 2, "
-                     "2 ranks)")
-            sections[title] = scaling_section(args.build, workdir, args.quick)
-            print(sections[title], flush=True)
-        if args.only in (None, "scaling-th"):
-            sections[SCALING_TH_TITLE] = scaling_th_section(args.build, workdir, args.quick)
-            print(sections[SCALING_TH_TITLE], flush=True)
+        for group, title in (("scaling", SCALING_TITLE), ("scaling-th", SCALING_TH_TITLE)):
+            if args.only in (None, group):
+                sections[title] = scaling_section(args.build, workdir, args.quick,
+                                                  th=group == "scaling-th")
+                print(sections[title], flush=True)
         if args.only in (None, "large"):
             sections[LARGE_TITLE] = large_section(args.build, workdir)
             print(sections[LARGE_TITLE], flush=True)
