@@ -1,4 +1,5 @@
 #include <deal.II/base/exceptions.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
@@ -63,8 +64,10 @@ namespace systole::Geometry
 
     in.clear();
     in.seekg(0);
-    dealii::GridIn<3> grid_in;
-    grid_in.attach_triangulation(tria);
+    // Read into a serial mesh first: a tetrahedral mesh cannot enter p4est.
+    dealii::Triangulation<3, 3> serial;
+    dealii::GridIn<3>           grid_in;
+    grid_in.attach_triangulation(serial);
     try
       {
         grid_in.read_msh(in);
@@ -74,17 +77,25 @@ namespace systole::Geometry
         std::ostringstream info;
         e.print_info(info);
         AssertThrow(false,
-                    dealii::ExcMessage(
-                      "The gmsh mesh '" + file +
-                      "' could not be read: " + info.str() +
-                      " Systole reads all-hexahedral ASCII .msh files."));
+                    dealii::ExcMessage("The gmsh mesh '" + file +
+                                       "' could not be read: " + info.str()));
       }
+    const bool hex = serial.all_reference_cells_are_hyper_cube();
+    AssertThrow(hex || serial.all_reference_cells_are_simplex(),
+                dealii::ExcMessage(
+                  "The gmsh mesh '" + file +
+                  "' mixes cell shapes; Systole needs all hexahedra or all "
+                  "tetrahedra."));
+    const bool p4est =
+      dynamic_cast<dealii::parallel::distributed::Triangulation<3, 3> *>(
+        &tria) != nullptr;
     AssertThrow(
-      tria.all_reference_cells_are_hyper_cube(),
+      hex || !p4est,
       dealii::ExcMessage(
         "The gmsh mesh '" + file +
-        "' has non-hexahedral cells; Systole needs an all-hex mesh "
-        "(e.g. gmsh -3 -format msh22 with Mesh.SubdivisionAlgorithm = 2)."));
+        "' is tetrahedral, and this problem type runs on hexahedral meshes "
+        "only so far (tetrahedral meshes run Problem = mechanics)."));
+    tria.copy_triangulation(serial);
     if (scale != 1.0)
       dealii::GridTools::scale(scale, tria);
     return names;

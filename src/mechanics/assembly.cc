@@ -437,10 +437,11 @@ namespace systole::Mechanics
     // in the penalty formulation the volumetric penalty may use one point
     // less per direction (selective reduced integration, "Volumetric
     // integration = reduced"), which relieves its locking.
-    const dealii::QGauss<3> quadrature(n_q_1d);
-    const dealii::QGauss<3> volumetric_quadrature(
-      reduced_volumetric ? n_q_1d - 1 : n_q_1d);
-    const dealii::QGauss<2> face_quadrature(n_q_face_1d);
+    const dealii::Quadrature<3> quadrature = cell_quadrature(n_q_1d);
+    const dealii::Quadrature<3> volumetric_quadrature =
+      cell_quadrature(reduced_volumetric ? n_q_1d - 1 : n_q_1d);
+    const dealii::Quadrature<2> face_quadrature =
+      this->face_quadrature(n_q_face_1d);
     const auto cell_flags = dealii::update_values | dealii::update_gradients |
                             dealii::update_JxW_values;
     dealii::FEValues<3>     fe_values(mapping, *fe, quadrature, cell_flags);

@@ -7,6 +7,7 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include "geometry/cell_kind.h"
 #include "mechanics/surface_terms.h"
 
 namespace systole::Mechanics
@@ -23,7 +24,9 @@ namespace systole::Mechanics
                        const LA::MPI::Vector          &u,
                        const unsigned int              n_points) const
   {
-    const dealii::QGauss<2>                  quadrature(n_points);
+    const dealii::Quadrature<2> quadrature =
+      Geometry::CellKind(dof_handler.get_triangulation())
+        .face_quadrature(n_points);
     dealii::FEFaceValues<3>                  fe_face(mapping,
                                     dof_handler.get_fe(),
                                     quadrature,
@@ -71,7 +74,9 @@ namespace systole::Mechanics
                            const unsigned int              n_points,
                            LA::MPI::Vector                &dV_du) const
   {
-    const dealii::QGauss<2>                  quadrature(n_points);
+    const dealii::Quadrature<2> quadrature =
+      Geometry::CellKind(dof_handler.get_triangulation())
+        .face_quadrature(n_points);
     dealii::FEFaceValues<3>                  fe_face(mapping,
                                     dof_handler.get_fe(),
                                     quadrature,

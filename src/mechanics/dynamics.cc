@@ -59,11 +59,10 @@ namespace systole::Mechanics
     for_each_cell(const dealii::Mapping<3>       &mapping,
                   const dealii::FiniteElement<3> &fe,
                   const dealii::DoFHandler<3>    &dof_handler,
-                  const unsigned int              n_q_1d,
+                  const dealii::Quadrature<3>    &quadrature,
                   const Function                 &f)
     {
-      const dealii::QGauss<3> quadrature(n_q_1d);
-      dealii::FEValues<3>     fe_values(mapping,
+      dealii::FEValues<3> fe_values(mapping,
                                     fe,
                                     quadrature,
                                     dealii::update_values |
@@ -120,7 +119,7 @@ namespace systole::Mechanics
           m.mapping,
           *m.fe,
           m.dof_handler,
-          m.n_q_1d,
+          m.cell_quadrature(m.n_q_1d),
           [&](const auto &cell, const auto &fe_values) {
             cell_mass = 0;
             for (const unsigned int q : fe_values.quadrature_point_indices())
@@ -286,13 +285,13 @@ namespace systole::Mechanics
     LA::MPI::Vector v(m.owned, m.relevant, m.comm);
     v = m.dynamics.v_n;
     std::vector<dealii::Tensor<1, 3>> values(
-      dealii::Utilities::fixed_power<3>(m.n_q_1d));
+      m.cell_quadrature(m.n_q_1d).size());
     double energy = 0.0;
     for_each_cell(
       m.mapping,
       *m.fe,
       m.dof_handler,
-      m.n_q_1d,
+      m.cell_quadrature(m.n_q_1d),
       [&](const auto &, const auto &fe_values) {
         values.resize(fe_values.n_quadrature_points);
         fe_values[m.layout.displacement].get_function_values(v, values);
@@ -306,8 +305,9 @@ namespace systole::Mechanics
   double
   Problem::support_energy() const
   {
-    const Impl                       &m = *impl;
-    const dealii::QGauss<2>           face_quadrature(m.n_q_face_1d);
+    const Impl                 &m = *impl;
+    const dealii::Quadrature<2> face_quadrature =
+      m.face_quadrature(m.n_q_face_1d);
     dealii::FEFaceValues<3>           fe_face(m.mapping,
                                     *m.fe,
                                     face_quadrature,
@@ -353,10 +353,11 @@ namespace systole::Mechanics
                                    "part."));
     LA::MPI::Vector u(m.owned, m.relevant, m.comm),
       v(m.owned, m.relevant, m.comm);
-    u = d.u_n;
-    v = d.v_n;
-    const dealii::QGauss<3>           quadrature(m.n_q_1d);
-    const dealii::QGauss<2>           face_quadrature(m.n_q_face_1d);
+    u                                      = d.u_n;
+    v                                      = d.v_n;
+    const dealii::Quadrature<3> quadrature = m.cell_quadrature(m.n_q_1d);
+    const dealii::Quadrature<2> face_quadrature =
+      m.face_quadrature(m.n_q_face_1d);
     dealii::FEValues<3>               fe_values(m.mapping,
                                   *m.fe,
                                   quadrature,
@@ -460,13 +461,13 @@ namespace systole::Mechanics
   {
     const Impl                       &m = *impl;
     std::vector<dealii::Tensor<2, 3>> grad_u(
-      dealii::Utilities::fixed_power<3>(m.n_q_1d));
+      m.cell_quadrature(m.n_q_1d).size());
     double energy = 0.0;
     for_each_cell(
       m.mapping,
       *m.fe,
       m.dof_handler,
-      m.n_q_1d,
+      m.cell_quadrature(m.n_q_1d),
       [&](const auto &cell, const auto &fe_values) {
         grad_u.resize(fe_values.n_quadrature_points);
         fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);
@@ -491,7 +492,7 @@ namespace systole::Mechanics
         m.mapping,
         *m.fe,
         m.dof_handler,
-        m.n_q_1d - 1,
+        m.cell_quadrature(m.n_q_1d - 1),
         [&](const auto &, const auto &fe_values) {
           grad_u.resize(fe_values.n_quadrature_points);
           fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);

@@ -2,19 +2,28 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/fe/fe_dgp.h>
-#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 
 #include <map>
 
 namespace systole::Mechanics
 {
-  FieldLayout::FieldLayout(const unsigned int degree, const Parameters &params)
+  FieldLayout::FieldLayout(const unsigned int        degree,
+                           const Parameters         &params,
+                           const Geometry::CellKind &cells)
     : degree(degree)
     , has_pressure(params.mixed())
     , params(params)
+    , cells(cells)
   {
+    // P2-P1disc is not inf-sup stable on tetrahedra (Boffi, Brezzi, Fortin
+    // 2013, 8.6): only Taylor-Hood is offered there.
+    AssertThrow(!has_pressure || !cells.simplex() ||
+                  params.pressure_element == PressureElement::continuous,
+                dealii::ExcMessage(
+                  "Discretization / Pressure element = discontinuous is not "
+                  "inf-sup stable on tetrahedra: set Pressure element = "
+                  "continuous (Taylor-Hood P2-P1) for this mesh."));
     AssertThrow(!has_pressure ||
                   params.pressure_element == PressureElement::discontinuous ||
                   degree >= 2,
@@ -28,27 +37,24 @@ namespace systole::Mechanics
   std::unique_ptr<dealii::FiniteElement<3, 3>>
   FieldLayout::make_fe() const
   {
+    const auto u = cells.lagrange(degree);
     if (!has_pressure)
-      return std::make_unique<dealii::FESystem<3>>(dealii::FE_Q<3>(degree), 3);
-    if (params.pressure_element == PressureElement::continuous)
-      return std::make_unique<dealii::FESystem<3>>(dealii::FE_Q<3>(degree),
-                                                   3,
-                                                   dealii::FE_Q<3>(degree - 1),
-                                                   1);
-    return std::make_unique<dealii::FESystem<3>>(dealii::FE_Q<3>(degree),
-                                                 3,
-                                                 dealii::FE_DGP<3>(degree - 1),
-                                                 1);
+      return std::make_unique<dealii::FESystem<3>>(*u, 3);
+    const auto p = params.pressure_element == PressureElement::continuous
+                     ? cells.lagrange(degree - 1)
+                     : cells.discontinuous(degree - 1);
+    return std::make_unique<dealii::FESystem<3>>(*u, 3, *p, 1);
   }
 
   std::string
   FieldLayout::name() const
   {
-    const std::string u = "Q" + std::to_string(degree);
+    const std::string Q = cells.simplex() ? "P" : "Q";
+    const std::string u = Q + std::to_string(degree);
     if (!has_pressure)
       return u + " (displacement, volumetric penalty)";
     const std::string p = params.pressure_element == PressureElement::continuous
-                            ? "Q" + std::to_string(degree - 1)
+                            ? Q + std::to_string(degree - 1)
                             : "P" + std::to_string(degree - 1) + "disc";
     return u + "-" + p + " (u-p, " +
            (params.incompressibility == Incompressibility::incompressible

@@ -3,6 +3,7 @@
 #include <deal.II/base/index_set.h>
 #include <deal.II/fe/fe_values_extractors.h>
 
+#include "geometry/cell_kind.h"
 #include "mechanics/parameters.h"
 
 #include <memory>
@@ -38,7 +39,18 @@ namespace systole::Mechanics
     /// @param[in] params formulation and pressure element; throws naming the
     ///            entry when the combination is not available (Taylor-Hood
     ///            with k = 1)
-    FieldLayout(const unsigned int degree, const Parameters &params);
+    /// @param[in] cells the cell shape of the mesh (Q_k on hexahedra, P_k
+    ///            on tetrahedra, where only Taylor-Hood is stable)
+    FieldLayout(const unsigned int        degree,
+                const Parameters         &params,
+                const Geometry::CellKind &cells);
+
+    /// The cell shape the fields live on.
+    const Geometry::CellKind &
+    cell_kind() const
+    {
+      return cells;
+    }
 
     /// Whether there is a pressure field.
     bool
@@ -93,10 +105,11 @@ namespace systole::Mechanics
     const dealii::FEValuesExtractors::Scalar pressure{3};
 
   private:
-    unsigned int     degree;
-    bool             has_pressure;
-    Parameters       params;
-    dealii::IndexSet owned_u, owned_p;
-    bool             interleaved = false;
+    unsigned int       degree;
+    bool               has_pressure;
+    Parameters         params;
+    Geometry::CellKind cells;
+    dealii::IndexSet   owned_u, owned_p;
+    bool               interleaved = false;
   };
 } // namespace systole::Mechanics

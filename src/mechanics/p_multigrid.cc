@@ -179,7 +179,8 @@ namespace systole::Mechanics
 
     // The coarse space: Q1^3 on the same mesh (deal.II numbers the DoFs of a
     // vertex consecutively, so its owned DoFs are node triples).
-    const dealii::FE_Q<3>     q1(1);
+    const auto                q1_storage = layout.cell_kind().lagrange(1);
+    const auto               &q1         = *q1_storage;
     const dealii::FESystem<3> fe_q1(q1, 3);
     dealii::DoFHandler<3>     dof_q1(dof_handler.get_triangulation());
     dof_q1.distribute_dofs(fe_q1);

@@ -16,9 +16,9 @@ namespace systole::Mechanics
   void
   Problem::point_states(std::vector<std::vector<PointState>> &states) const
   {
-    const Impl                       &m     = *impl;
-    const bool                        mixed = m.layout.mixed();
-    const dealii::QGauss<3>           quadrature(m.n_q_1d);
+    const Impl                       &m          = *impl;
+    const bool                        mixed      = m.layout.mixed();
+    const dealii::Quadrature<3>       quadrature = m.cell_quadrature(m.n_q_1d);
     dealii::FEValues<3>               fe_values(m.mapping,
                                   *m.fe,
                                   quadrature,
@@ -114,10 +114,10 @@ namespace systole::Mechanics
   double
   Problem::deformed_area(const std::string &part) const
   {
-    const Impl                       &m  = *impl;
-    const dealii::types::boundary_id  id = m.boundary_names.id(part);
-    const dealii::QGauss<2>           quadrature(m.n_q_face_1d);
-    dealii::FEFaceValues<3>           fe_face(m.mapping,
+    const Impl                      &m     = *impl;
+    const dealii::types::boundary_id id    = m.boundary_names.id(part);
+    const dealii::Quadrature<2> quadrature = m.face_quadrature(m.n_q_face_1d);
+    dealii::FEFaceValues<3>     fe_face(m.mapping,
                                     *m.fe,
                                     quadrature,
                                     dealii::update_gradients |

@@ -24,14 +24,15 @@
 namespace systole::Mechanics
 {
 
-  Problem::Impl::Impl(const Parameters &params,
-                      dealii::parallel::distributed::Triangulation<3, 3> &tria,
-                      const Geometry::BoundaryNames                      &names,
-                      const unsigned int              degree,
-                      const unsigned int              mapping_degree,
-                      const Materials::PassiveLaw    &passive_law,
-                      const Materials::VolumetricLaw &volumetric_law,
-                      Logger                         &logger)
+  Problem::Impl::Impl(
+    const Parameters                                     &params,
+    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const Geometry::BoundaryNames                        &names,
+    const unsigned int                                    degree,
+    const unsigned int                                    mapping_degree,
+    const Materials::PassiveLaw                          &passive_law,
+    const Materials::VolumetricLaw                       &volumetric_law,
+    Logger                                               &logger)
     : params(params)
     , tria(tria)
     , comm(tria.get_communicator())
@@ -42,21 +43,22 @@ namespace systole::Mechanics
           : std::nullopt)
     , passive_law(isochoric_law ? *isochoric_law : passive_law)
     , volumetric_law(volumetric_law)
-    , layout(degree, params)
+    , layout(degree, params, Geometry::CellKind(tria))
     , fe(layout.make_fe())
-    , mapping(mapping_degree)
+    , mapping_storage(layout.cell_kind().mapping(tria, mapping_degree))
+    , mapping(*mapping_storage)
     , dof_handler(tria)
     , n_q_1d(degree + 1)
     // The cavity volume, the pressure load and their derivatives are
     // polynomials of degree 3p - 1 per face coordinate (p the larger of the
     // two degrees): p + 1 Gauss points integrate them exactly for p <= 2.
-    , n_q_face_1d(std::max(degree, mapping_degree) + 1)
+    , n_q_face_1d(
+        std::max(degree, layout.cell_kind().mapping_degree(mapping_degree)) + 1)
     , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
     , timer(timer_sink,
             dealii::TimerOutput::never,
             dealii::TimerOutput::wall_times)
   {
-    mapping.initialize(dealii::MappingQ<3>(mapping_degree), tria);
     if (params.incompressibility == Incompressibility::nearly_incompressible)
       {
         const double kappa = volumetric_law.bulk_modulus();
@@ -87,10 +89,10 @@ namespace systole::Mechanics
     reference_shear_stiffness *= 0.1;
   }
 
-  Problem::Problem(const Parameters                                   &params,
-                   dealii::parallel::distributed::Triangulation<3, 3> &tria,
-                   const Geometry::BoundaryNames                      &names,
-                   const unsigned int                                  degree,
+  Problem::Problem(const Parameters                                     &params,
+                   dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+                   const Geometry::BoundaryNames                        &names,
+                   const unsigned int                                    degree,
                    const unsigned int              mapping_degree,
                    const Materials::PassiveLaw    &passive_law,
                    const Materials::VolumetricLaw &volumetric_law,
@@ -206,7 +208,7 @@ namespace systole::Mechanics
     m.u.reinit(m.owned, m.relevant, m.comm);
 
     // Fibre frames at the quadrature points of the locally owned cells.
-    const dealii::QGauss<3>         quadrature(m.n_q_1d);
+    const dealii::Quadrature<3>     quadrature = m.cell_quadrature(m.n_q_1d);
     dealii::FEValues<3>             fe_values(m.mapping,
                                   *m.fe,
                                   quadrature,
@@ -226,12 +228,12 @@ namespace systole::Mechanics
             }
         }
     {
-      const dealii::QGauss<3> rule(m.n_q_1d);
-      dealii::FEValues<3>     fe_jxw(m.mapping,
+      const dealii::Quadrature<3> rule = m.cell_quadrature(m.n_q_1d);
+      dealii::FEValues<3>         fe_jxw(m.mapping,
                                  *m.fe,
                                  rule,
                                  dealii::update_JxW_values);
-      double                  volume = 0;
+      double                      volume = 0;
       for (const auto &cell : m.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -829,8 +831,12 @@ namespace systole::Mechanics
         dealii::Tensor<1, 3> value;
         if (holder == rank)
           {
+            // The search tolerance lets the point lie just outside its
+            // cell: pull it in (a tetrahedron's point is within 1e-10).
             const dealii::Quadrature<3> at(
-              dealii::GeometryInfo<3>::project_to_unit_cell(found.second));
+              found.first->reference_cell().is_hyper_cube()
+                ? dealii::GeometryInfo<3>::project_to_unit_cell(found.second)
+                : found.second);
             dealii::FEValues<3> fe_values(m.mapping,
                                           *m.fe,
                                           at,

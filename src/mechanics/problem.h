@@ -5,6 +5,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/distributed/tria_base.h>
 
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
@@ -176,15 +177,15 @@ namespace systole::Mechanics
     /// @param[in] mapping_degree degree of the geometry mapping
     /// @param[in] fibres fibre field (evaluated once at the quadrature
     ///            points of every locally owned cell)
-    Problem(const Parameters                                   &params,
-            dealii::parallel::distributed::Triangulation<3, 3> &tria,
-            const Geometry::BoundaryNames                      &names,
-            const unsigned int                                  degree,
-            const unsigned int                                  mapping_degree,
-            const Materials::PassiveLaw                        &passive_law,
-            const Materials::VolumetricLaw                     &volumetric_law,
-            const FibreFunction                                &fibres,
-            Logger                                             &logger);
+    Problem(const Parameters                                     &params,
+            dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+            const Geometry::BoundaryNames                        &names,
+            const unsigned int                                    degree,
+            const unsigned int              mapping_degree,
+            const Materials::PassiveLaw    &passive_law,
+            const Materials::VolumetricLaw &volumetric_law,
+            const FibreFunction            &fibres,
+            Logger                         &logger);
     ~Problem();
 
     /// Solve for equilibrium under @p pressure [kPa] on every pressure part

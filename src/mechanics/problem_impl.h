@@ -10,7 +10,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
-#include <deal.II/fe/mapping_q_cache.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
@@ -125,14 +125,14 @@ namespace systole::Mechanics
 
   struct Problem::Impl
   {
-    Impl(const Parameters                                   &params,
-         dealii::parallel::distributed::Triangulation<3, 3> &tria,
-         const Geometry::BoundaryNames                      &names,
-         const unsigned int                                  degree,
-         const unsigned int                                  mapping_degree,
-         const Materials::PassiveLaw                        &passive_law,
-         const Materials::VolumetricLaw                     &volumetric_law,
-         Logger                                             &logger);
+    Impl(const Parameters                                     &params,
+         dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+         const Geometry::BoundaryNames                        &names,
+         const unsigned int                                    degree,
+         const unsigned int                                    mapping_degree,
+         const Materials::PassiveLaw                          &passive_law,
+         const Materials::VolumetricLaw                       &volumetric_law,
+         Logger                                               &logger);
 
     /// Residual (and, if @p with_matrix, tangent) at the current u for the
     /// given loads (@p pressures: one per pressure part). Returns the l2 norm
@@ -174,10 +174,10 @@ namespace systole::Mechanics
                  const unsigned int     iteration,
                  const double           relative);
 
-    Parameters                                          params;
-    dealii::parallel::distributed::Triangulation<3, 3> &tria;
-    MPI_Comm                                            comm;
-    Logger                                             &logger;
+    Parameters                                            params;
+    dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+    MPI_Comm                                              comm;
+    Logger                                               &logger;
     /// The law as given (penalty) or its isochoric part (mixed formulations).
     std::optional<Materials::IsochoricPart> isochoric_law;
     const Materials::PassiveLaw            &passive_law;
@@ -195,14 +195,28 @@ namespace systole::Mechanics
     double body_volume = 0.0;
     /// Global number of pressure DoFs.
     long n_pressure_dofs = 0;
-    /// The curved geometry: MappingQ of the manifolds, its support points
-    /// computed once (the manifold evaluations would otherwise dominate
-    /// every assembly).
-    dealii::MappingQCache<3> mapping;
-    dealii::DoFHandler<3>    dof_handler;
-    unsigned int             n_q_1d; ///< Gauss points per direction (cells)
+    /// The geometry (Geometry::CellKind::mapping(): on hexahedra a
+    /// MappingQCache of the manifolds, its support points computed once, as
+    /// the manifold evaluations would otherwise dominate every assembly; on
+    /// tetrahedra affine).
+    std::unique_ptr<dealii::Mapping<3, 3>> mapping_storage;
+    const dealii::Mapping<3, 3>           &mapping;
+    dealii::DoFHandler<3>                  dof_handler;
+    unsigned int n_q_1d;             ///< Gauss points per direction (cells)
     unsigned int n_q_face_1d;        ///< Gauss points per direction (faces)
     bool         reduced_volumetric; ///< volumetric term with n_q_1d - 1 points
+
+    /// The quadrature rules of cells and faces (CellKind of the mesh).
+    dealii::Quadrature<3>
+    cell_quadrature(const unsigned int n_points_1d) const
+    {
+      return layout.cell_kind().cell_quadrature(n_points_1d);
+    }
+    dealii::Quadrature<2>
+    face_quadrature(const unsigned int n_points_1d) const
+    {
+      return layout.cell_kind().face_quadrature(n_points_1d);
+    }
 
     dealii::IndexSet                  owned, relevant;
     dealii::AffineConstraints<double> constraints; ///< homogeneous

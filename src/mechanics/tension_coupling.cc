@@ -113,8 +113,8 @@ namespace systole::Mechanics
   {
     Impl &m = *this;
     {
-      const dealii::QGauss<3>           quadrature(m.n_q_1d);
-      dealii::FEValues<3>               fe_values(m.mapping,
+      const dealii::Quadrature<3> quadrature = m.cell_quadrature(m.n_q_1d);
+      dealii::FEValues<3>         fe_values(m.mapping,
                                     *m.fe,
                                     quadrature,
                                     dealii::update_gradients);

@@ -814,15 +814,16 @@ namespace systole
     // (A calcium-driven tension always runs the electrophysiology.)
     if (calcium_driven || bestel_params.activation_map == "electrophysiology")
       {
-        ep = std::make_unique<ElectricalActivation>(prm,
-                                                    run,
-                                                    model.geometry,
-                                                    tria,
-                                                    problem,
-                                                    circulation.period,
-                                                    logger,
-                                                    comm,
-                                                    checkpoint);
+        ep = std::make_unique<ElectricalActivation>(
+          prm,
+          run,
+          model.geometry,
+          Geometry::hexahedral(tria, "The electrophysiology"),
+          problem,
+          circulation.period,
+          logger,
+          comm,
+          checkpoint);
         logger.line(ep->description());
         earliest = ep->earliest_stimulus();
       }

@@ -24,9 +24,10 @@ namespace systole
     , passive(passive_law ? std::move(passive_law)
                           : Materials::create_passive_law(prm))
     , volumetric(Materials::create_volumetric_law(prm))
-    , tria(comm)
+    , mesh(Geometry::create_distributed_mesh(geometry, comm, saved_mesh))
+    , tria(*mesh.tria)
+    , names(mesh.names)
   {
-    names   = Geometry::create_mesh(geometry, tria, saved_mesh);
     problem = std::make_unique<Mechanics::Problem>(
       params,
       tria,

@@ -1,9 +1,10 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/distributed/tria.h>
+#include <deal.II/distributed/tria_base.h>
 
 #include "geometry/boundary_names.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "materials/passive_law.h"
@@ -76,12 +77,15 @@ namespace systole
     static std::vector<IO::Column>
     solve_statistics(const std::string &steps_name, const SolveCounts &counts);
 
-    Geometry::Parameters                            geometry;
-    Mechanics::Parameters                           params;
-    std::unique_ptr<Materials::PassiveLaw>          passive;
-    Materials::VolumetricLaw                        volumetric;
-    dealii::parallel::distributed::Triangulation<3> tria;
-    Geometry::BoundaryNames                         names;
-    std::unique_ptr<Mechanics::Problem>             problem;
+    Geometry::Parameters                   geometry;
+    Mechanics::Parameters                  params;
+    std::unique_ptr<Materials::PassiveLaw> passive;
+    Materials::VolumetricLaw               volumetric;
+    /// The mesh: hexahedra on p4est, tetrahedra fully distributed
+    /// (Geometry::create_distributed_mesh()).
+    Geometry::DistributedMesh                          mesh;
+    dealii::parallel::DistributedTriangulationBase<3> &tria;
+    const Geometry::BoundaryNames                     &names;
+    std::unique_ptr<Mechanics::Problem>                problem;
   };
 } // namespace systole

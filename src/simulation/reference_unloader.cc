@@ -33,8 +33,8 @@ namespace systole
   {
   public:
     /// From the vertices of @p problem (its mesh's current positions).
-    VertexTable(const Mechanics::Problem                        &problem,
-                dealii::parallel::distributed::Triangulation<3> &tria)
+    VertexTable(const Mechanics::Problem &problem,
+                dealii::Triangulation<3> &tria)
     {
       const auto gathered = gather(problem, tria.get_communicator());
       for (std::size_t i = 0; i < gathered.size(); i += 6)
@@ -88,7 +88,7 @@ namespace systole
     /// Move every vertex of @p tria that the table knows to its position
     /// in X (all levels: the vertices are shared).
     void
-    move(dealii::parallel::distributed::Triangulation<3> &tria) const
+    move(dealii::Triangulation<3> &tria) const
     {
       for (const auto &cell : tria.cell_iterators())
         for (const unsigned int v : cell->vertex_indices())

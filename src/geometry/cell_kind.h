@@ -1,0 +1,87 @@
+#pragma once
+
+#include <deal.II/base/quadrature.h>
+
+#include <memory>
+#include <string>
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class Triangulation;
+  template <int dim, int spacedim>
+  class FiniteElement;
+  template <int dim, int spacedim>
+  class Mapping;
+} // namespace dealii
+
+namespace systole::Geometry
+{
+  /// The cell shape of a mesh (all hexahedra or all tetrahedra) and the one
+  /// place that picks the finite elements, quadratures and mappings that fit
+  /// it, so that physics code never asks which cell type it has.
+  ///
+  /// | what                  | hexahedra              | tetrahedra |
+  /// |-----------------------|------------------------|------------------------|
+  /// | continuous degree k   | FE_Q(k)                | FE_SimplexP(k) | |
+  /// discontinuous k       | FE_DGP(k)              | FE_SimplexDGP(k)       |
+  /// | cell rule, n points   | QGauss(n) (n^3 points) | QGaussSimplex(n) | |
+  /// face rule             | QGauss<2>(n)           | QGaussSimplex<2>(n)    |
+  /// | mapping of degree m   | MappingQCache(m)       |
+  /// MappingFE(FE_SimplexP(1)) |
+  ///
+  /// Both rules with n points per direction integrate polynomials of degree
+  /// 2n - 1 exactly. Tetrahedral meshes carry flat facets (no manifolds), so
+  /// their mapping is affine whatever degree is asked for.
+  class CellKind
+  {
+  public:
+    /// The kind of @p tria (collective over its communicator for a parallel
+    /// triangulation). Throws if the mesh mixes cell shapes.
+    explicit CellKind(const dealii::Triangulation<3, 3> &tria);
+
+    /// Tetrahedra (true) or hexahedra (false).
+    bool
+    simplex() const
+    {
+      return is_simplex;
+    }
+
+    /// "hexahedra" or "tetrahedra".
+    std::string
+    name() const;
+
+    /// Continuous Lagrange element of degree @p degree (scalar).
+    std::unique_ptr<dealii::FiniteElement<3, 3>>
+    lagrange(const unsigned int degree) const;
+
+    /// Discontinuous complete polynomials of degree @p degree (scalar).
+    std::unique_ptr<dealii::FiniteElement<3, 3>>
+    discontinuous(const unsigned int degree) const;
+
+    /// Gauss rule on a cell, exact to degree 2 @p n_points_1d - 1.
+    dealii::Quadrature<3>
+    cell_quadrature(const unsigned int n_points_1d) const;
+
+    /// Gauss rule on a face, exact to degree 2 @p n_points_1d - 1.
+    dealii::Quadrature<2>
+    face_quadrature(const unsigned int n_points_1d) const;
+
+    /// The mapping of @p tria (hexahedra: a MappingQCache of degree
+    /// @p degree that follows the manifolds, support points computed once;
+    /// tetrahedra: affine).
+    std::unique_ptr<dealii::Mapping<3, 3>>
+    mapping(const dealii::Triangulation<3, 3> &tria,
+            const unsigned int                 degree) const;
+
+    /// The degree mapping() gives for @p degree.
+    unsigned int
+    mapping_degree(const unsigned int degree) const
+    {
+      return is_simplex ? 1 : degree;
+    }
+
+  private:
+    bool is_simplex = false;
+  };
+} // namespace systole::Geometry
