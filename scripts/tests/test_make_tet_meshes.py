@@ -5,6 +5,7 @@ surfaces, and cavity volumes by the divergence theorem against the smooth shapes
 import json
 import math
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -140,6 +141,17 @@ def test_same_bytes_when_rerun(meshes, tmp_path):
     assert tet.main(["--out", str(tmp_path), "--only", "lv", "--lv-psize", str(LV_PSIZE)]) == 0
     assert (tmp_path / tet.LV_FILE).read_bytes() == (meshes / tet.LV_FILE).read_bytes()
     assert not (tmp_path / tet.BIV_FILE).exists()
+
+
+def test_shipped_lv_mesh_is_the_scripts(meshes):
+    """meshes/lv_ellipsoid_tet.msh is what the script writes at its size, with the package
+    versions recorded in its JSON (other versions may mesh differently)."""
+    shipped = Path(__file__).resolve().parents[2] / "meshes" / tet.LV_FILE
+    info = json.loads(shipped.with_suffix(".json").read_text())
+    if info["written_by"] != tet.package_versions():
+        pytest.skip(f"shipped with {info['written_by']}, installed {tet.package_versions()}")
+    assert info["psize_mm"] == LV_PSIZE
+    assert shipped.read_bytes() == (meshes / tet.LV_FILE).read_bytes()
 
 
 @pytest.mark.parametrize("name, parts", [(tet.LV_FILE, {"base": "BASE", "endocardium": "ENDO",
