@@ -190,7 +190,12 @@ namespace systole::Mechanics
     // cell (the same on every cell: the map is the reference-cell one).
     dealii::FullMatrix<double> interpolation(fine_base.n_dofs_per_cell(),
                                              q1.n_dofs_per_cell());
-    fine_base.get_interpolation_matrix(q1, interpolation);
+    // Nodal interpolation: coarse shape functions at the fine support points
+    // (what FE_Q::get_interpolation_matrix() gives; FE_SimplexP has none).
+    const auto &fine_points = fine_base.get_unit_support_points();
+    for (unsigned int k = 0; k < fine_points.size(); ++k)
+      for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
+        interpolation(k, l) = q1.shape_value(l, fine_points[k]);
     const unsigned int n_vertex_dofs = fine_base.get_first_line_index();
 
     // Rows: the owned displacement DoFs [u0, u0 + n_u) of this rank are rows
