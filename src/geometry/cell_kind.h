@@ -74,6 +74,15 @@ namespace systole::Geometry
     mapping(const dealii::Triangulation<3, 3> &tria,
             const unsigned int                 degree) const;
 
+    /// Subdivisions of an output patch (DataOut::build_patches) for fields
+    /// of degree @p degree: @p degree on hexahedra; 1 on tetrahedra (linear
+    /// patches, the vertex values: the results file takes 4-node tetrahedra).
+    unsigned int
+    output_subdivisions(const unsigned int degree) const
+    {
+      return is_simplex ? 1 : degree;
+    }
+
     /// The degree mapping() gives for @p degree.
     unsigned int
     mapping_degree(const unsigned int degree) const

@@ -2,6 +2,7 @@
 
 #include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/distributed/tria.h>
+#include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 #include <deal.II/grid/tria_description.h>
@@ -40,6 +41,24 @@ namespace systole::Geometry
                           const MPI_Comm     comm,
                           const std::string &saved_mesh)
   {
+    if (params.tetrahedra && params.type != Parameters::Type::gmsh)
+      {
+        AssertThrow(saved_mesh.empty(),
+                    dealii::ExcMessage(
+                      "A checkpoint of a run on a tetrahedral mesh cannot "
+                      "be resumed yet: rerun it from the start."));
+        AssertThrow(params.local_refinements == 0,
+                    dealii::ExcMessage(
+                      "Geometry / Cell shape = tetrahedra needs Geometry / "
+                      "Local refinements = 0 (no hanging nodes on "
+                      "tetrahedra)."));
+        dealii::Triangulation<3, 3> hexahedra;
+        BoundaryNames               names = create_mesh(params, hexahedra);
+        dealii::Triangulation<3, 3> serial;
+        dealii::GridGenerator::convert_hypercube_to_simplex_mesh(hexahedra,
+                                                                 serial);
+        return fully_distributed(serial, std::move(names), comm);
+      }
     if (params.type == Parameters::Type::gmsh)
       {
         // Read once serially to learn the cell shape.

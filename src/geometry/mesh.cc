@@ -76,6 +76,16 @@ namespace systole::Geometry
                         "3",
                         Double(0.0),
                         "Radius of the locally refined region. Units: mm.");
+      prm.declare_entry(
+        "Cell shape",
+        "hexahedra",
+        dealii::Patterns::Selection("hexahedra|tetrahedra"),
+        "Cells of a generated mesh (ellipsoid, box, arostica): 'hexahedra', or "
+        "'tetrahedra': after the global refinements every hexahedron is split "
+        "into 24 tetrahedra (GridGenerator::convert_hypercube_to_simplex_mesh; "
+        "flat facets through the vertices of the curved hexahedral mesh) and "
+        "the mesh is fully distributed. A mesh file keeps its own cells. "
+        "Units: -.");
 
       prm.enter_subsection("Ellipsoid");
       {
@@ -182,6 +192,7 @@ namespace systole::Geometry
     p.local_refinements  = prm.get_integer({"Geometry"}, "Local refinements");
     p.local_refinement_radius =
       prm.get_double({"Geometry"}, "Local refinement radius");
+    p.tetrahedra = prm.get({"Geometry"}, "Cell shape") == "tetrahedra";
     const std::string center = prm.get({"Geometry"}, "Local refinement center");
     if (!center.empty())
       p.local_refinement_center =
@@ -452,11 +463,17 @@ namespace systole::Geometry
           for (const auto &face : cell->face_iterators())
             if (face->at_boundary() && face->boundary_id() == id)
               {
-                // Two triangle halves of the quad give its vector area.
-                const auto a = face->vertex(0), b = face->vertex(1),
-                           c = face->vertex(3), d = face->vertex(2);
+                // The vector area: half the cross product of the diagonals
+                // of a quad (vertices 0, 1, 3, 2 in cyclic order), of two
+                // edges of a triangle.
+                const auto                 a = face->vertex(0);
+                const auto                 b = face->vertex(1);
+                const bool                 triangle = face->n_vertices() == 3;
                 const dealii::Tensor<1, 3> vector_area =
-                  0.5 * dealii::cross_product_3d(c - a, d - b);
+                  triangle ? 0.5 * dealii::cross_product_3d(b - a,
+                                                            face->vertex(2) - a) :
+                             0.5 * dealii::cross_product_3d(face->vertex(3) - a,
+                                                            face->vertex(2) - b);
                 const double area = vector_area.norm();
                 const auto   mid  = face->center();
                 sums[0] += area;

@@ -36,6 +36,8 @@ namespace systole::Geometry
     unsigned int                    local_refinements = 0;
     std::optional<dealii::Point<3>> local_refinement_center;       ///< [mm]
     double                          local_refinement_radius = 3.0; ///< [mm]
+    /// A generated mesh split into tetrahedra (Cell shape = tetrahedra).
+    bool tetrahedra = false;
 
     LVShape     lv_shape;
     LVMeshCells lv_cells;

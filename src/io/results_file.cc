@@ -8,6 +8,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -297,7 +298,16 @@ namespace systole::IO
       /// size.
       std::string mesh           = "mesh";
       hsize_t     n_global_nodes = 0, n_global_cells = 0;
+      /// 8 (hexahedra) or 4 (tetrahedra, linear output patches).
+      hsize_t nodes_per_cell = 8;
     };
+
+    /// The XDMF topology of cells with @p nodes_per_cell nodes.
+    const char *
+    xdmf_topology(const hsize_t nodes_per_cell)
+    {
+      return nodes_per_cell == 4 ? "Tetrahedron" : "Hexahedron";
+    }
   } // namespace
 
   struct ResultsFile::Impl
@@ -311,6 +321,7 @@ namespace systole::IO
     Table                  summary{"summary", -1, {}, {}, 0};
     Table                  events{"events", -1, {}, {}, 0};
     hsize_t                n_global_nodes = 0, n_global_cells = 0;
+    hsize_t                nodes_per_cell = 8;
     std::string            mesh_group = "mesh"; ///< of the next field output
     std::vector<FieldStep> field_steps;
 
@@ -341,10 +352,11 @@ namespace systole::IO
             << "          <DataItem Dimensions=\"" << s.n_global_nodes
             << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
             << ":/" << s.mesh << "/nodes</DataItem>\n        </Geometry>\n"
-            << "        <Topology TopologyType=\"Hexahedron\" NumberOfElements=\""
+            << "        <Topology TopologyType=\""
+            << xdmf_topology(s.nodes_per_cell) << "\" NumberOfElements=\""
             << s.n_global_cells << "\">\n          <DataItem Dimensions=\""
-            << s.n_global_cells
-            << " 8\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
+            << s.n_global_cells << " " << s.nodes_per_cell
+            << "\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
             << ":/" << s.mesh << "/cells</DataItem>\n        </Topology>\n";
           for (const auto &[name, components] : s.sets)
             x << "        <Attribute Name=\"" << name << "\" AttributeType=\""
@@ -570,7 +582,7 @@ namespace systole::IO
       H5Sget_simple_extent_dims(space, dims, nullptr);
       H5Sclose(space);
       H5Dclose(dataset);
-      return dims[0];
+      return std::array<hsize_t, 2>{{dims[0], dims[1]}};
     };
     if (H5Lexists(impl->file, "fields", H5P_DEFAULT) > 0)
       {
@@ -599,8 +611,10 @@ namespace systole::IO
                 H5Aclose(mesh);
                 record.mesh = value.c_str();
               }
-            record.n_global_nodes = n_rows_of(record.mesh + "/nodes");
-            record.n_global_cells = n_rows_of(record.mesh + "/cells");
+            record.n_global_nodes = n_rows_of(record.mesh + "/nodes")[0];
+            const auto cells      = n_rows_of(record.mesh + "/cells");
+            record.n_global_cells = cells[0];
+            record.nodes_per_cell = cells[1];
             if (record.step <= last_step)
               for (const auto &set : link_names(group))
                 {
@@ -642,6 +656,7 @@ namespace systole::IO
             impl->mesh_group     = impl->field_steps.back().mesh;
             impl->n_global_nodes = impl->field_steps.back().n_global_nodes;
             impl->n_global_cells = impl->field_steps.back().n_global_cells;
+            impl->nodes_per_cell = impl->field_steps.back().nodes_per_cell;
           }
         impl->write_xdmf();
       }
@@ -854,6 +869,16 @@ namespace systole::IO
         filter.fill_node_data(nodes);
         std::vector<unsigned int> cells;
         filter.fill_cell_data(node_offset, cells);
+        // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
+        // rank (a rank without cells has none to say).
+        impl->nodes_per_cell = dealii::Utilities::MPI::max(
+          n_local_cells > 0 ? cells.size() / n_local_cells : 0, impl->comm);
+        AssertThrow(impl->nodes_per_cell == 8 || impl->nodes_per_cell == 4,
+                    dealii::ExcMessage(
+                      "Field output: cells of " +
+                      std::to_string(impl->nodes_per_cell) +
+                      " nodes (the results file takes hexahedra and linear "
+                      "tetrahedra)."));
         const hid_t group = checked(H5Gcreate2(impl->file,
                                                impl->mesh_group.c_str(),
                                                H5P_DEFAULT,
@@ -877,7 +902,7 @@ namespace systole::IO
                           n_local_cells,
                           cell_offset,
                           n_global_cells,
-                          8);
+                          impl->nodes_per_cell);
         H5Gclose(group);
         impl->n_global_nodes = n_global_nodes;
         impl->n_global_cells = n_global_cells;
@@ -905,7 +930,8 @@ namespace systole::IO
                      {},
                      impl->mesh_group,
                      impl->n_global_nodes,
-                     impl->n_global_cells};
+                     impl->n_global_cells,
+                     impl->nodes_per_cell};
     for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
       {
         const std::string  set_name   = filter.get_data_set_name(i);

@@ -159,4 +159,10 @@ namespace systole::Mechanics
   {
     return impl->tria;
   }
+
+  const Geometry::CellKind &
+  Problem::cell_kind() const
+  {
+    return impl->layout.cell_kind();
+  }
 } // namespace systole::Mechanics

@@ -9,6 +9,7 @@
 
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
+#include "geometry/cell_kind.h"
 #include "mechanics/parameters.h"
 
 #include <array>
@@ -528,6 +529,11 @@ namespace systole::Mechanics
     /// The mesh.
     const dealii::Triangulation<3, 3> &
     triangulation() const;
+
+    /// The cell shape of the mesh and the elements, rules and output patches
+    /// that go with it.
+    const Geometry::CellKind &
+    cell_kind() const;
 
     /// Verification hook (mixed formulations): set every pressure DoF i to
     /// amplitude sin(1 + 0.7 i) [kPa], a non-trivial pressure field.

@@ -4,7 +4,6 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/la_parallel_vector.h>
@@ -227,7 +226,8 @@ namespace systole::Postprocess
             v.reinit(owned, relevant, comm);
           weights.reinit(owned, relevant, comm);
         }
-      const dealii::QGauss<3> quadrature(problem.n_quadrature_points_1d());
+      const dealii::Quadrature<3> quadrature =
+        problem.cell_kind().cell_quadrature(problem.n_quadrature_points_1d());
       dealii::FEValues<3>     fe_values(problem.mapping(),
                                     fe,
                                     quadrature,
@@ -285,7 +285,10 @@ namespace systole::Postprocess
     StepData                                              data;
     bool                                                  evaluated = false;
 
-    const dealii::FE_Q<3>                                           fe{1};
+    /// Nodal fields: continuous linear elements of the mesh's cell shape.
+    const std::unique_ptr<dealii::FiniteElement<3, 3>> fe_storage =
+      problem.cell_kind().lagrange(1);
+    const dealii::FiniteElement<3, 3>                              &fe = *fe_storage;
     std::optional<dealii::DoFHandler<3>>                            dof_handler;
     dealii::AffineConstraints<double>                               constraints;
     std::vector<dealii::LinearAlgebra::distributed::Vector<double>> nodal;

@@ -614,7 +614,8 @@ namespace systole
         if (ep != nullptr)
           ep->attach_output(data_out);
         postprocess.attach_output(data_out);
-        data_out.build_patches(problem.mapping(), 2);
+        data_out.build_patches(problem.mapping(),
+                               problem.cell_kind().output_subdivisions(2));
         results.write_fields(data_out, step, last_time);
         last_field_step = step;
       }
