@@ -297,6 +297,8 @@ namespace systole::IO
       /// size.
       std::string mesh           = "mesh";
       hsize_t     n_global_nodes = 0, n_global_cells = 0;
+      /// 8 (hexahedra) or 4 (tetrahedra).
+      unsigned int nodes_per_cell = 8;
     };
   } // namespace
 
@@ -311,6 +313,7 @@ namespace systole::IO
     Table                  summary{"summary", -1, {}, {}, 0};
     Table                  events{"events", -1, {}, {}, 0};
     hsize_t                n_global_nodes = 0, n_global_cells = 0;
+    unsigned int           nodes_per_cell = 8;
     std::string            mesh_group = "mesh"; ///< of the next field output
     std::vector<FieldStep> field_steps;
 
@@ -341,10 +344,12 @@ namespace systole::IO
             << "          <DataItem Dimensions=\"" << s.n_global_nodes
             << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
             << ":/" << s.mesh << "/nodes</DataItem>\n        </Geometry>\n"
-            << "        <Topology TopologyType=\"Hexahedron\" NumberOfElements=\""
-            << s.n_global_cells << "\">\n          <DataItem Dimensions=\""
-            << s.n_global_cells
-            << " 8\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
+            << "        <Topology TopologyType=\""
+            << (s.nodes_per_cell == 4 ? "Tetrahedron" : "Hexahedron")
+            << "\" NumberOfElements=\"" << s.n_global_cells
+            << "\">\n          <DataItem Dimensions=\"" << s.n_global_cells
+            << " " << s.nodes_per_cell
+            << "\" NumberType=\"UInt\" Precision=\"4\" Format=\"HDF\">" << h5
             << ":/" << s.mesh << "/cells</DataItem>\n        </Topology>\n";
           for (const auto &[name, components] : s.sets)
             x << "        <Attribute Name=\"" << name << "\" AttributeType=\""
@@ -854,6 +859,13 @@ namespace systole::IO
         filter.fill_node_data(nodes);
         std::vector<unsigned int> cells;
         filter.fill_cell_data(node_offset, cells);
+        // Hexahedra or tetrahedra (a mesh has one cell shape).
+        impl->nodes_per_cell =
+          dealii::Utilities::MPI::max(n_local_cells > 0
+                                        ? static_cast<unsigned int>(
+                                            cells.size() / n_local_cells)
+                                        : 0u,
+                                      impl->comm);
         const hid_t group = checked(H5Gcreate2(impl->file,
                                                impl->mesh_group.c_str(),
                                                H5P_DEFAULT,
@@ -877,7 +889,7 @@ namespace systole::IO
                           n_local_cells,
                           cell_offset,
                           n_global_cells,
-                          8);
+                          impl->nodes_per_cell);
         H5Gclose(group);
         impl->n_global_nodes = n_global_nodes;
         impl->n_global_cells = n_global_cells;
@@ -905,7 +917,8 @@ namespace systole::IO
                      {},
                      impl->mesh_group,
                      impl->n_global_nodes,
-                     impl->n_global_cells};
+                     impl->n_global_cells,
+                     impl->nodes_per_cell};
     for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
       {
         const std::string  set_name   = filter.get_data_set_name(i);
