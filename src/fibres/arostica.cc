@@ -45,10 +45,10 @@ namespace systole::Fibres
     if (logger != nullptr)
       {
         std::ostringstream o;
-        o << std::fixed << std::setprecision(2) << "Arostica fibres: Q"
-          << params.degree << ", " << fields->n_dofs()
-          << " DOFs, CG iterations (0: MUMPS) " << fields->iterations()[0]
-          << "; " << seconds << " s";
+        o << std::fixed << std::setprecision(2)
+          << "Arostica fibres: " << fields->element_name() << ", "
+          << fields->n_dofs() << " DOFs, CG iterations (0: MUMPS) "
+          << fields->iterations()[0] << "; " << seconds << " s";
         logger->line(o.str());
       }
   }

@@ -340,8 +340,9 @@ namespace systole::Fibres
 
     std::ostringstream o;
     const auto        &it = fields->iterations();
-    o << std::fixed << std::setprecision(2) << "Biventricular fibres: Q"
-      << params.degree << ", " << fields->n_dofs()
+    o << std::fixed << std::setprecision(2)
+      << "Biventricular fibres: " << fields->element_name() << ", "
+      << fields->n_dofs()
       << " DOFs per solve; CG iterations (0: MUMPS) transmural " << it[epi]
       << ", LV " << it[lv] << ", RV " << it[rv] << ", apicobasal " << it[psi]
       << "; " << seconds << " s; apex at " << describe(apex) << " mm";

@@ -78,14 +78,15 @@ namespace systole::Fibres
   };
 
   /// The Laplace-Dirichlet rule-based fibres of Bayer et al. 2012 (Ann.
-  /// Biomed. Eng. 40:2243) for two ventricles, on any mesh with the boundary
-  /// parts lv_endocardium, rv_endocardium, epicardium and base.
+  /// Biomed. Eng. 40:2243) for two ventricles, on any mesh (hexahedral or
+  /// tetrahedral) with the boundary parts lv_endocardium, rv_endocardium,
+  /// epicardium and base, from those parts alone.
   ///
-  /// Four solves (Q2, LaplaceFields): phi_epi, phi_lv, phi_rv (Laplace, the
-  /// Dirichlet values of BiventricularCoordinates, zero flux on the base) and
-  /// the apicobasal psi = 1 - u / max u with -Laplace u = 1, u = 0 on the base
-  /// (as RuleBased's default). At a point, with d the septal depth and
-  /// e = phi_epi:
+  /// Four solves (Q2 or P2, LaplaceFields): phi_epi, phi_lv, phi_rv (Laplace,
+  /// the Dirichlet values of BiventricularCoordinates, zero flux on the base)
+  /// and the apicobasal psi = 1 - u / max u with -Laplace u = 1, u = 0 on the
+  /// base (as RuleBased's default). At a point, with d the septal depth and e =
+  /// phi_epi:
   ///  - Q_endo = bislerp(Q_lv, Q_rv, d) (Bayer's septal rule), with
   ///    Q_lv = wall_basis(-grad phi_lv, grad psi, alpha_s(d), beta_s(d)) and
   ///    Q_rv = wall_basis(+grad phi_rv, ...): both oriented from the LV into

@@ -2,12 +2,14 @@
 
 #include <deal.II/base/geometry_info.h>
 #include <deal.II/base/mpi.h>
-#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/quadrature.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/reference_cell.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
@@ -20,46 +22,142 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include "base/linear_algebra.h"
+#include "geometry/cell_kind.h"
 
+#include <array>
+#include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace systole::Fibres
 {
+  namespace
+  {
+    double
+    seconds_since(const std::chrono::steady_clock::time_point start)
+    {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                           start)
+        .count();
+    }
+
+    std::string
+    describe(const dealii::Point<3> &p)
+    {
+      std::ostringstream o;
+      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
+        << ")";
+      return o.str();
+    }
+
+    /// The point of the reference cell @p reference nearest to @p p, for
+    /// points a little outside it.
+    dealii::Point<3>
+    project_to_reference_cell(const dealii::ReferenceCell &reference,
+                              const dealii::Point<3>      &p)
+    {
+      if (reference == dealii::ReferenceCells::Hexahedron)
+        return dealii::GeometryInfo<3>::project_to_unit_cell(p);
+      AssertThrow(reference == dealii::ReferenceCells::Tetrahedron,
+                  dealii::ExcMessage("Rule-based fibres: cells must be "
+                                     "hexahedra or tetrahedra."));
+      // Barycentric coordinates (1 - x - y - z, x, y, z): clamping the
+      // negative ones and rescaling is not the exact nearest point, but it
+      // moves a point that lies a little outside by about that little.
+      std::array<double, 4> lambda = {
+        {1.0 - p[0] - p[1] - p[2], p[0], p[1], p[2]}};
+      double sum = 0;
+      for (double &l : lambda)
+        {
+          l = std::max(0.0, l);
+          sum += l;
+        }
+      if (!(sum > 0))
+        return dealii::Point<3>(0.25, 0.25, 0.25);
+      return dealii::Point<3>(lambda[1] / sum,
+                              lambda[2] / sum,
+                              lambda[3] / sum);
+    }
+
+    /// A lattice of reference points of @p reference (5 x 5 x 5 on the unit
+    /// cube, the points with i + j + k <= 4 on the unit tetrahedron).
+    dealii::Quadrature<3>
+    reference_lattice(const dealii::ReferenceCell &reference)
+    {
+      const bool                    simplex = reference.is_simplex();
+      std::vector<dealii::Point<3>> points;
+      for (unsigned int k = 0; k <= 4; ++k)
+        for (unsigned int j = 0; j <= 4; ++j)
+          for (unsigned int i = 0; i <= 4; ++i)
+            if (!simplex || i + j + k <= 4)
+              points.emplace_back(i / 4.0, j / 4.0, k / 4.0);
+      return dealii::Quadrature<3>(points);
+    }
+  } // namespace
+
   struct LaplaceFields::Impl
   {
     Impl(const dealii::Triangulation<3, 3> &tria, const unsigned int degree)
       : tria(tria)
       , comm(tria.get_communicator())
-      , fe(degree)
-      , mapping(2)
+      , kind(tria)
+      , fe(kind.lagrange(degree))
+      // Degree 2 follows curved manifolds (the generated ellipsoid); on
+      // hexahedral meshes without one (gmsh) it is the trilinear map, on
+      // tetrahedra the affine one.
+      , mapping(kind.mapping(tria, 2))
+      , quadrature(kind.cell_quadrature(degree + 1))
       , dof_handler(tria)
-      , evaluator(mapping, fe, dealii::update_values | dealii::update_gradients)
+      , evaluator(*mapping,
+                  *fe,
+                  dealii::update_values | dealii::update_gradients)
     {}
 
-    const dealii::Triangulation<3, 3> &tria;
-    MPI_Comm                           comm;
-    dealii::FE_Q<3>                    fe;
-    dealii::MappingQ<3>                mapping;
-    dealii::DoFHandler<3>              dof_handler;
-    dealii::IndexSet                   owned, relevant;
-    std::vector<LA::MPI::Vector>       fields; // with ghost values
-    std::vector<unsigned int>          iterations;
-    unsigned int                       n_tangled = 0;
+    const dealii::Triangulation<3, 3>              &tria;
+    MPI_Comm                                        comm;
+    const Geometry::CellKind                        kind;
+    const std::unique_ptr<dealii::FiniteElement<3>> fe;
+    const std::unique_ptr<dealii::Mapping<3>>       mapping;
+    const dealii::Quadrature<3>                     quadrature;
+    dealii::DoFHandler<3>                           dof_handler;
+    dealii::IndexSet                                owned, relevant;
+    std::vector<LA::MPI::Vector>                    fields; // with ghost values
+    std::vector<unsigned int>                       iterations;
+    std::vector<bool>                               direct;
+    std::vector<double>                             seconds;
+    double                                          setup_seconds = 0;
+    unsigned int                                    n_tangled     = 0;
 
-    mutable dealii::FEPointEvaluation<1, 3> evaluator;
-    mutable std::vector<dealii::Point<3>>   unit_points;
-    mutable dealii::Vector<double>          local;
+    // Scratch of evaluate() (the object is used from one thread).
+    mutable dealii::FEPointEvaluation<1, 3>      evaluator;
+    mutable std::vector<dealii::Point<3>>        unit_points;
+    mutable dealii::Vector<double>               local;
+    mutable std::unique_ptr<dealii::FEValues<3>> lattice_values;
+
+    struct SolveResult
+    {
+      unsigned int iterations = 0;     ///< of CG
+      bool         direct     = false; ///< CG failed, solved by MUMPS
+    };
 
     /// -Laplace u = source with @p constraints into @p solution (owned).
-    unsigned int
+    SolveResult
     solve(const dealii::AffineConstraints<double> &constraints,
           const double                             source,
           LA::MPI::Vector                         &solution,
           const std::string                       &what) const;
+
+    /// The reference point of the lattice (reference_lattice) whose image
+    /// is nearest to @p x, for points the inverse mapping cannot place.
+    dealii::Point<3>
+    nearest_lattice_point(
+      const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+      const dealii::Point<3>                                  &x) const;
   };
 
-  unsigned int
+  LaplaceFields::Impl::SolveResult
   LaplaceFields::Impl::solve(
     const dealii::AffineConstraints<double> &constraints,
     const double                             source,
@@ -80,14 +178,13 @@ namespace systole::Fibres
     LA::MPI::Vector rhs(owned, comm);
     solution.reinit(owned, comm);
 
-    const dealii::QGauss<3>                      quadrature(fe.degree + 1);
-    dealii::FEValues<3>                          fe_values(mapping,
-                                  fe,
+    dealii::FEValues<3>                          fe_values(*mapping,
+                                  *fe,
                                   quadrature,
                                   dealii::update_values |
                                     dealii::update_gradients |
                                     dealii::update_JxW_values);
-    const unsigned int                           n = fe.n_dofs_per_cell();
+    const unsigned int                           n = fe->n_dofs_per_cell();
     dealii::FullMatrix<double>                   cell_matrix(n, n);
     dealii::Vector<double>                       cell_rhs(n);
     std::vector<dealii::types::global_dof_index> dofs(n);
@@ -125,11 +222,11 @@ namespace systole::Fibres
     amg_data.symmetric_operator = true;
     amg_data.strong_threshold   = 0.5;
     const LA::MPI::PreconditionAMG amg(matrix, amg_data);
-    unsigned int                   iterations = 0;
+    SolveResult                    result;
     try
       {
         cg.solve(matrix, solution, rhs, amg);
-        iterations = control.last_step();
+        result.iterations = control.last_step();
       }
     catch (const std::exception &)
       {
@@ -149,9 +246,37 @@ namespace systole::Fibres
                           " solve failed with CG + AMG and with MUMPS (" +
                           e.what() + "). Is the mesh valid?"));
           }
+        result.direct = true;
       }
     constraints.distribute(solution);
-    return iterations;
+    return result;
+  }
+
+  dealii::Point<3>
+  LaplaceFields::Impl::nearest_lattice_point(
+    const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+    const dealii::Point<3>                                  &x) const
+  {
+    if (!lattice_values)
+      lattice_values =
+        std::make_unique<dealii::FEValues<3>>(*mapping,
+                                              *fe,
+                                              reference_lattice(
+                                                cell->reference_cell()),
+                                              dealii::update_quadrature_points);
+    lattice_values->reinit(cell);
+    unsigned int best = 0;
+    for (const unsigned int q : lattice_values->quadrature_point_indices())
+      if (lattice_values->quadrature_point(q).distance(x) <
+          lattice_values->quadrature_point(best).distance(x))
+        best = q;
+    AssertThrow(lattice_values->quadrature_point(best).distance(x) <
+                  cell->diameter(),
+                dealii::ExcMessage("Rule-based fibres: the point " +
+                                   describe(x) +
+                                   " is not inside the cell it was given "
+                                   "with."));
+    return lattice_values->get_quadrature().point(best);
   }
 
   LaplaceFields::LaplaceFields(const dealii::Triangulation<3, 3> &tria,
@@ -159,18 +284,18 @@ namespace systole::Fibres
                                const std::vector<LaplaceProblem> &problems)
     : impl(std::make_unique<Impl>(tria, degree))
   {
-    Impl &m = *impl;
-    m.dof_handler.distribute_dofs(m.fe);
+    Impl      &m     = *impl;
+    const auto start = std::chrono::steady_clock::now();
+    m.dof_handler.distribute_dofs(*m.fe);
     m.owned = m.dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
 
     {
-      const dealii::QGauss<3> quadrature(m.fe.degree + 1);
-      dealii::FEValues<3>     fe_values(m.mapping,
-                                    m.fe,
-                                    quadrature,
+      dealii::FEValues<3> fe_values(*m.mapping,
+                                    *m.fe,
+                                    m.quadrature,
                                     dealii::update_JxW_values);
-      unsigned int            n = 0;
+      unsigned int        n = 0;
       for (const auto &cell : tria.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -188,23 +313,53 @@ namespace systole::Fibres
     dealii::AffineConstraints<double> hanging(m.relevant);
     dealii::DoFTools::make_hanging_node_constraints(m.dof_handler, hanging);
     hanging.close();
+    m.setup_seconds = seconds_since(start);
     for (const LaplaceProblem &problem : problems)
       {
+        const auto solve_start = std::chrono::steady_clock::now();
         dealii::AffineConstraints<double> constraints(m.relevant);
         constraints.merge(hanging);
         for (const auto &[id, value] : problem.dirichlet)
           dealii::VectorTools::interpolate_boundary_values(
-            m.mapping,
+            *m.mapping,
             m.dof_handler,
             id,
             dealii::Functions::ConstantFunction<3>(value),
             constraints);
+        for (const auto &[point, value] : problem.vertex_values)
+          {
+            // On every rank that sees the vertex (it may be a ghost's).
+            const double tolerance = 1e-10 * dealii::GridTools::diameter(tria);
+            unsigned int found     = 0;
+            for (const auto &cell : m.dof_handler.active_cell_iterators())
+              if (!cell->is_artificial())
+                for (const unsigned int v : cell->vertex_indices())
+                  if (cell->vertex(v).distance(point) < tolerance)
+                    {
+                      const auto dof = cell->vertex_dof_index(v, 0);
+                      if (!constraints.is_constrained(dof))
+                        {
+                          constraints.add_line(dof);
+                          constraints.set_inhomogeneity(dof, value);
+                        }
+                      found = 1;
+                    }
+            AssertThrow(dealii::Utilities::MPI::max(found, m.comm) == 1,
+                        dealii::ExcMessage(
+                          "Rule-based fibres: the " + problem.name +
+                          " problem has a value at " + describe(point) +
+                          ", which is no vertex of the "
+                          "mesh."));
+          }
         constraints.close();
         LA::MPI::Vector solution;
-        m.iterations.push_back(
-          m.solve(constraints, problem.source, solution, problem.name));
+        const auto      result =
+          m.solve(constraints, problem.source, solution, problem.name);
+        m.iterations.push_back(result.iterations);
+        m.direct.push_back(result.direct);
         m.fields.emplace_back(m.owned, m.relevant, m.comm);
         m.fields.back() = solution;
+        m.seconds.push_back(seconds_since(solve_start));
       }
   }
 
@@ -244,7 +399,7 @@ namespace systole::Fibres
         best = candidate;
 
     std::array<double, 4>                        found = {{0.0, 0.0, 0.0, 0.0}};
-    std::vector<dealii::types::global_dof_index> dofs(m.fe.n_dofs_per_cell());
+    std::vector<dealii::types::global_dof_index> dofs(m.fe->n_dofs_per_cell());
     if (m.owned.is_element(best.second))
       for (const auto &cell : m.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned() && found[0] == 0.0)
@@ -253,9 +408,9 @@ namespace systole::Fibres
             for (unsigned int i = 0; i < dofs.size(); ++i)
               if (dofs[i] == best.second)
                 {
-                  const auto x = m.mapping.transform_unit_to_real_cell(
+                  const auto x = m.mapping->transform_unit_to_real_cell(
                     cell,
-                    m.fe.get_unit_support_points()[i]);
+                    m.fe->get_unit_support_points()[i]);
                   found = {{1.0, x[0], x[1], x[2]}};
                   break;
                 }
@@ -281,36 +436,48 @@ namespace systole::Fibres
                                                                cell->level(),
                                                                cell->index(),
                                                                &m.dof_handler);
+    // Reference coordinates in this cell. The caller's mapping may differ
+    // from ours (another degree): a point can then lie a little outside the
+    // cell in our geometry, and is projected onto it.
     m.unit_points.resize(points.size());
-    m.mapping.transform_points_real_to_unit_cell(
+    m.mapping->transform_points_real_to_unit_cell(
       cell,
       dealii::make_array_view(points),
       dealii::make_array_view(m.unit_points));
+    const dealii::ReferenceCell reference = cell->reference_cell();
     for (unsigned int i = 0; i < points.size(); ++i)
       {
         if (!std::isfinite(m.unit_points[i][0]))
           {
+            // A vertex needs no inversion (and one of a tangled cell, where
+            // the Jacobian vanishes, has none).
             bool vertex = false;
             for (const unsigned int v : cell->vertex_indices())
               if (cell->vertex(v).distance(points[i]) <=
                   1e-12 * cell->diameter())
                 {
-                  m.unit_points[i] =
-                    dealii::GeometryInfo<3>::unit_cell_vertex(v);
-                  vertex = true;
+                  m.unit_points[i] = reference.vertex<3>(v);
+                  vertex           = true;
                 }
             if (!vertex)
-              m.unit_points[i] =
-                m.mapping.transform_real_to_unit_cell(cell, points[i]);
+              try
+                {
+                  m.unit_points[i] =
+                    m.mapping->transform_real_to_unit_cell(cell, points[i]);
+                }
+              catch (const dealii::Mapping<3>::ExcTransformationFailed &)
+                {
+                  m.unit_points[i] = m.nearest_lattice_point(cell, points[i]);
+                }
           }
         m.unit_points[i] =
-          dealii::GeometryInfo<3>::project_to_unit_cell(m.unit_points[i]);
+          project_to_reference_cell(reference, m.unit_points[i]);
       }
     m.evaluator.reinit(cell, dealii::make_array_view(m.unit_points));
     const auto flags =
       dealii::EvaluationFlags::values | dealii::EvaluationFlags::gradients;
     values.resize(m.fields.size());
-    m.local.reinit(m.fe.n_dofs_per_cell());
+    m.local.reinit(m.fe->n_dofs_per_cell());
     for (unsigned int k = 0; k < m.fields.size(); ++k)
       {
         dof_cell->get_dof_values(m.fields[k], m.local);
@@ -320,6 +487,13 @@ namespace systole::Fibres
           values[k][i] = {m.evaluator.get_value(i),
                           m.evaluator.get_gradient(i)};
       }
+  }
+
+  std::string
+  LaplaceFields::element_name() const
+  {
+    return (impl->kind.simplex() ? "P" : "Q") +
+           std::to_string(impl->fe->degree);
   }
 
   unsigned long long
@@ -332,6 +506,24 @@ namespace systole::Fibres
   LaplaceFields::iterations() const
   {
     return impl->iterations;
+  }
+
+  const std::vector<bool> &
+  LaplaceFields::direct() const
+  {
+    return impl->direct;
+  }
+
+  const std::vector<double> &
+  LaplaceFields::solve_seconds() const
+  {
+    return impl->seconds;
+  }
+
+  double
+  LaplaceFields::setup_seconds() const
+  {
+    return impl->setup_seconds;
   }
 
   unsigned int

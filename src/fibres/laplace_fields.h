@@ -7,17 +7,24 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace systole::Fibres
 {
   /// One scalar problem -Laplace u = source on the mesh, with Dirichlet values
-  /// on some boundary parts and zero flux on the others.
+  /// on some boundary parts (and, optionally, at single mesh vertices) and
+  /// zero flux on the others.
   struct LaplaceProblem
   {
     std::string                                  name; ///< for messages
     std::map<dealii::types::boundary_id, double> dirichlet;
     double                                       source = 0.0;
+    /// Dirichlet values at mesh vertices (e.g. Bayer's psi = 0 at the apex):
+    /// the vertex within 1e-10 of the mesh diameter of each point [mm]. A
+    /// point condition is singular in 3D (the gradient near it is poorly
+    /// resolved).
+    std::vector<std::pair<dealii::Point<3>, double>> vertex_values = {};
   };
 
   /// The value and gradient of one field at one point.
@@ -27,11 +34,20 @@ namespace systole::Fibres
     dealii::Tensor<1, 3> gradient;
   };
 
-  /// Several scalar Laplace/Poisson problems on one mesh, solved with Q<degree>
-  /// elements (MappingQ2, PETSc CG preconditioned by BoomerAMG, MUMPS if CG
-  /// breaks down on a tangled mesh), and their values and gradients at points
-  /// of the locally owned cells: the coordinates of the rule-based fibre
-  /// generators (biventricular.h). Keeps @p tria by reference. Collective.
+  /// Several scalar Laplace/Poisson problems on one mesh, and their values
+  /// and gradients at points of the locally owned cells: the coordinates of
+  /// the rule-based fibre generators (rule_based.h, biventricular.h,
+  /// arostica.h). The one Laplace solver of src/fibres/.
+  ///
+  /// Works on hexahedral and tetrahedral meshes alike: Geometry::CellKind
+  /// picks the continuous Lagrange element of degree @p degree (Q_k or P_k),
+  /// the Gauss rule with degree + 1 points per direction and the mapping of
+  /// degree 2 (MappingQCache following the manifolds on hexahedra, affine on
+  /// the flat-faceted tetrahedra). Each problem is solved with PETSc CG
+  /// preconditioned by BoomerAMG, or by MUMPS if CG breaks down (an
+  /// indefinite matrix: tangled cells). Keeps @p tria by reference: it must
+  /// not outlive the mesh, and the mesh must not be refined meanwhile.
+  /// Collective.
   class LaplaceFields
   {
   public:
@@ -53,19 +69,37 @@ namespace systole::Fibres
     maximum(const unsigned int k) const;
 
     /// Values and gradients of every field at the real points @p points of
-    /// the locally owned cell @p cell: values[k][i] is field k at point i.
-    /// Points slightly outside the cell (another mapping) are projected onto
-    /// it.
+    /// the locally owned (or ghost) cell @p cell: values[k][i] is field k at
+    /// point i. Points a little outside the cell (another mapping) are
+    /// projected onto the reference cell (hexahedra: each coordinate clamped
+    /// to [0, 1]; tetrahedra: negative barycentric coordinates set to 0 and
+    /// the others rescaled to sum 1); points the inverse mapping cannot
+    /// place (in a tangled cell) take the nearest of a lattice of reference
+    /// points (5 x 5 x 5 on a hexahedron, the 35 with i + j + k <= 4 on a
+    /// tetrahedron). Throws if a point is farther than the cell's diameter
+    /// from it.
     void
     evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
              const std::vector<dealii::Point<3>>                     &points,
              std::vector<std::vector<FieldValue>> &values) const;
 
+    /// "Q2", "P1", ...: the element, for reports.
+    std::string
+    element_name() const;
     unsigned long long
     n_dofs() const;
     /// CG iterations of each solve (0 where MUMPS solved).
     const std::vector<unsigned int> &
     iterations() const;
+    /// Whether each solve needed MUMPS (CG + AMG broke down).
+    const std::vector<bool> &
+    direct() const;
+    /// Wall time of each solve (assembly, AMG set-up and solve) [s].
+    const std::vector<double> &
+    solve_seconds() const;
+    /// Wall time of the DoF distribution and the tangled-cell count [s].
+    double
+    setup_seconds() const;
     /// Cells with a non-positive Jacobian at a Gauss point.
     unsigned int
     n_tangled_cells() const;

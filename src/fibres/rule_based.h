@@ -52,6 +52,7 @@ namespace systole::Fibres
   /// What the two solves cost (for the log and the inspection table).
   struct WallCoordinatesReport
   {
+    std::string        element               = "Q2"; ///< or "P2", "Q1", ...
     unsigned int       degree                = 2;
     unsigned long long n_dofs                = 0;
     unsigned int       transmural_iterations = 0; ///< of CG
@@ -76,15 +77,18 @@ namespace systole::Fibres
   /// frame built from their gradients (the first half of the rule of Bayer et
   /// al. 2012, Ann. Biomed. Eng. 40:2243).
   ///
-  /// On the mesh @p tria (serial or distributed) with boundary parts
-  /// "endocardium", "epicardium" and "base", solves with Q<degree> elements
-  /// (MappingQ2, PETSc CG preconditioned by BoomerAMG)
+  /// On the mesh @p tria (serial or distributed, hexahedra or tetrahedra)
+  /// with boundary parts "endocardium", "epicardium" and "base", solves with
+  /// LaplaceFields (Q_k or P_k elements as Geometry::CellKind picks them,
+  /// PETSc CG preconditioned by BoomerAMG)
   /// @f[ \Delta\phi = 0,\quad \phi|_{endo} = 0,\quad \phi|_{epi} = 1 @f]
   /// with zero flux on the base, and the apicobasal problem of
-  /// ApicobasalField. Both solutions are kept with ghost values, so frames
-  /// can be evaluated on every locally owned cell. The object keeps @p tria
-  /// by reference (its DoFHandler subscribes to it): it must not outlive the
-  /// mesh, and the mesh must not be refined meanwhile. Collective.
+  /// ApicobasalField. Nothing else of the mesh is used: no ellipsoidal
+  /// coordinates, no axis. Both solutions are kept with ghost values, so
+  /// frames can be evaluated on every locally owned cell. The object keeps
+  /// @p tria by reference (its DoFHandler subscribes to it): it must not
+  /// outlive the mesh, and the mesh must not be refined meanwhile.
+  /// Collective.
   ///
   /// The frame (WallFrame) takes the wall normal from grad phi first and
   /// projects grad psi onto the wall, not Bayer's order (e_l = grad psi
@@ -115,7 +119,7 @@ namespace systole::Fibres
     /// (or ghost) cell @p cell of the mesh given to the constructor. Points a
     /// little outside (e.g. from another mapping) are projected onto it;
     /// points the inverse mapping cannot place (in a tangled cell) take the
-    /// nearest of a 5 x 5 x 5 grid of reference points.
+    /// nearest of a lattice of reference points (LaplaceFields::evaluate()).
     void
     evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
              const std::vector<dealii::Point<3>>                     &points,
@@ -130,16 +134,34 @@ namespace systole::Fibres
   };
 
   /// The Laplace-Dirichlet rule-based fibres (Bayer et al. 2012) on any LV
-  /// mesh: in the wall frame (e_t, e_l, e_c) of WallCoordinates,
+  /// mesh, hexahedral or tetrahedral, from its boundary parts alone: in the
+  /// wall frame (e_t, e_l, e_c) of WallCoordinates,
   /// @f[ f = \sin\alpha\, e_l + \cos\alpha\, e_c,\qquad
   ///     \alpha(\phi) = \alpha_{endo} + (\alpha_{epi} - \alpha_{endo})\,\phi,
   /// @f]
   /// the sheet s is the wall normal e_t rotated by beta about f, and
-  /// n = f x s. These are the conventions of AnalyticHelix (e_l plays e_u,
-  /// e_c plays e_v, e_t the outward normal e_v x e_u), so on the generated
-  /// ellipsoid both rules agree up to the difference between phi and the
-  /// geometric transmural coordinate t. Bayer's sheet rotation (about the
-  /// rotated e_l) is replaced by this one, which is the analytic rule's.
+  /// n = f x s.
+  ///
+  /// Conventions (those of AnalyticHelix, with e_l for e_u, e_c for e_v and
+  /// e_t for the outward normal e_v x e_u, so on the generated ellipsoid
+  /// both rules agree up to the difference between phi and the geometric
+  /// transmural coordinate t):
+  ///  - e_t = grad phi / |grad phi| points from the endocardium to the
+  ///    epicardium (out of the cavity);
+  ///  - the longitudinal e_l points from the apex to the base (grad psi,
+  ///    psi = 0 at the apex, 1 on the base, projected onto the wall);
+  ///  - the circumferential e_c = e_l x e_t turns counterclockwise about the
+  ///    long axis seen from the base (looking towards the apex);
+  ///  - the helix angle alpha = atan2(f . e_l, f . e_c) (helix_angle()) is
+  ///    positive where the fibre rises towards the base as it turns along
+  ///    e_c: alpha > 0 is a right-handed helix (the endocardium's, +60
+  ///    degrees by default), alpha < 0 a left-handed one (the epicardium's,
+  ///    -60); f is taken with f . e_c > 0 (|alpha| < 90 degrees);
+  ///  - s = cos(beta) e_t + sin(beta) (f x e_t): beta = 0 puts the sheet
+  ///    along the outward wall normal; n = f x s completes a right-handed
+  ///    frame.
+  /// Bayer's sheet rotation (about the rotated e_l) is replaced by this one,
+  /// which is the analytic rule's.
   class RuleBased
   {
   public:

@@ -58,6 +58,12 @@ namespace systole::Geometry
   dealii::Quadrature<3>
   CellKind::cell_quadrature(const unsigned int n_points_1d) const
   {
+    // deal.II 9.4's QGaussSimplex knows 1 to 4 points per direction and is
+    // silently empty beyond.
+    AssertThrow(!is_simplex || (n_points_1d >= 1 && n_points_1d <= 4),
+                dealii::ExcMessage("A Gauss rule on tetrahedra has 1 to 4 "
+                                   "points per direction (asked for " +
+                                   std::to_string(n_points_1d) + ")."));
     if (is_simplex)
       return dealii::QGaussSimplex<3>(n_points_1d);
     return dealii::QGauss<3>(n_points_1d);
@@ -66,6 +72,10 @@ namespace systole::Geometry
   dealii::Quadrature<2>
   CellKind::face_quadrature(const unsigned int n_points_1d) const
   {
+    AssertThrow(!is_simplex || (n_points_1d >= 1 && n_points_1d <= 4),
+                dealii::ExcMessage("A Gauss rule on triangles has 1 to 4 "
+                                   "points per direction (asked for " +
+                                   std::to_string(n_points_1d) + ")."));
     if (is_simplex)
       return dealii::QGaussSimplex<2>(n_points_1d);
     return dealii::QGauss<2>(n_points_1d);

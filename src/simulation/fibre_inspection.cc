@@ -6,10 +6,10 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_dgq.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/numerics/data_component_interpretation.h>
 #include <deal.II/numerics/data_out.h>
 
@@ -18,6 +18,8 @@
 #include "fibres/biventricular.h"
 #include "fibres/fibre_field.h"
 #include "fibres/rule_based.h"
+#include "geometry/cell_kind.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "simulation/parameters.h"
@@ -100,10 +102,15 @@ namespace systole
       Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto fibres = Fibres::Parameters::parse(prm, run.parameter_directory);
 
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    // Hexahedra on p4est, tetrahedra fully distributed.
+    const Geometry::DistributedMesh mesh =
+      Geometry::create_distributed_mesh(geometry, comm);
+    const dealii::parallel::DistributedTriangulationBase<3> &tria  = *mesh.tria;
+    const Geometry::BoundaryNames                           &names = mesh.names;
+    const Geometry::CellKind                                 kind(tria);
     logger.line(IO::code_version() + ": fibres '" + fibres.generator + "' on " +
-                std::to_string(tria.n_global_active_cells()) + " cells");
+                std::to_string(tria.n_global_active_cells()) + " " +
+                kind.name());
     const Fibres::FibreField field =
       Fibres::create_fibre_field(fibres,
                                  geometry.lv_shape,
@@ -156,17 +163,19 @@ namespace systole
       return angle;
     };
 
-    const dealii::MappingQ<3>       mapping(run.mapping_degree);
+    const auto mapping = kind.mapping(tria, run.mapping_degree);
     std::vector<Fibres::FibreBasis> bases;
     std::vector<Fibres::WallFrame>  frames;
 
     // The profile, at the Gauss points of every cell.
     Profile profile;
     {
-      const dealii::FE_Q<3> fe(1);
-      dealii::FEValues<3>   fe_values(mapping,
-                                    fe,
-                                    dealii::QGauss<3>(5),
+      const auto          fe = kind.lagrange(1);
+      dealii::FEValues<3> fe_values(*mapping,
+                                    *fe,
+                                    // QGaussSimplex has at most 4.
+                                    kind.cell_quadrature(kind.simplex() ? 4
+                                                                        : 5),
                                     dealii::update_quadrature_points |
                                       dealii::update_JxW_values);
       if (wall)
@@ -185,8 +194,9 @@ namespace systole
       profile.reduce(comm);
     }
 
-    // Fields at the vertices of every cell, as a discontinuous Q1 field:
-    // FE_DGQ(1)'s support points are the vertices, in the cell's order.
+    // Fields at the vertices of every cell, as a discontinuous linear field:
+    // the support points of FE_DGQ(1) (hexahedra) and FE_SimplexDGP(1)
+    // (tetrahedra) are the vertices, in the cell's order.
     const std::vector<std::string> vectors = {"fibre", "sheet", "sheet_normal"};
     std::vector<std::string>       field_names;
     for (const auto &name : vectors)
@@ -203,19 +213,23 @@ namespace systole
           interpretation.push_back(
             dealii::DataComponentInterpretation::component_is_scalar);
         }
-    const dealii::FESystem<3> fe(dealii::FE_DGQ<3>(1), field_names.size());
-    dealii::DoFHandler<3>     dof_handler(tria);
+    const dealii::FESystem<3> fe =
+      kind.simplex()
+        ? dealii::FESystem<3>(dealii::FE_SimplexDGP<3>(1), field_names.size())
+        : dealii::FESystem<3>(dealii::FE_DGQ<3>(1), field_names.size());
+    dealii::DoFHandler<3> dof_handler(tria);
     dof_handler.distribute_dofs(fe);
     const dealii::IndexSet owned = dof_handler.locally_owned_dofs();
     dealii::IndexSet       relevant;
     dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
     LA::MPI::Vector                              values(owned, comm);
     std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    std::vector<dealii::Point<3>>                vertices(8);
+    std::vector<dealii::Point<3>>                vertices;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          for (unsigned int v = 0; v < 8; ++v)
+          vertices.resize(cell->n_vertices());
+          for (const unsigned int v : cell->vertex_indices())
             vertices[v] = cell->vertex(v);
           field(cell, vertices, bases);
           if (wall)
@@ -293,7 +307,7 @@ namespace systole
                              field_names,
                              dealii::DataOut<3>::type_dof_data,
                              interpretation);
-    data_out.build_patches(mapping, 1);
+    data_out.build_patches(*mapping, 1);
     results.write_fields(data_out, 0, 0.0);
     if (lv_wall)
       {

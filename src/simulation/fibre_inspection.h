@@ -16,14 +16,15 @@ namespace systole
   /// `<Output/Directory>/<run name>/results.h5` (+ fields.xdmf for ParaView):
   /// - /fields/step_000000: the unit vectors fibre, sheet, sheet_normal at the
   ///   vertices of every cell (each cell's own values: a discontinuous Q1
-  ///   field), and, on LV and BiV meshes, transmural (phi), apicobasal (psi)
-  ///   and helix_angle [degree];
+  ///   or P1 field), and, on LV and BiV meshes, transmural (phi), apicobasal
+  ///   (psi) and helix_angle [degree];
   /// - /summary: the helix-angle profile through the wall, one row per bin of
   ///   the transmural coordinate phi (n_helix_profile_bins equal bins of
   ///   [0, 1]): depth_lower, depth_upper, depth (bin centre), helix_mean
   ///   (volume-weighted), helix_min, helix_max [degree], n_points (NaN
-  ///   angles for an empty bin), sampled at the 5 x 5 x 5 Gauss points of
-  ///   every cell;
+  ///   angles for an empty bin), sampled at the Gauss points of every cell
+  ///   (5 x 5 x 5 on a hexahedron, QGaussSimplex(4) on a
+  ///   tetrahedron);
   /// - /timeseries: one row (step, time, n_cells, n_points).
   ///
   /// The helix angle is measured in the wall frame of the rule-based
