@@ -8,6 +8,8 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include "geometry/mesh_file.h"
+
 #include <filesystem>
 
 namespace systole::Geometry

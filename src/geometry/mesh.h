@@ -5,7 +5,6 @@
 
 #include "geometry/boundary_names.h"
 #include "geometry/ellipsoid.h"
-#include "geometry/mesh_file.h"
 
 #include <array>
 #include <optional>

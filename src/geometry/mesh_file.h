@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace dealii
@@ -19,11 +18,6 @@ namespace dealii
 
 namespace systole::Geometry
 {
-  /// The name table of a mesh file: pairs (Systole's part name, the file's
-  /// name or integer tag of a set of boundary faces), in the order given.
-  /// E.g. {{"base", "BASE"}, {"endocardium", "6"}}.
-  using BoundaryNameTable = std::vector<std::pair<std::string, std::string>>;
-
   /// Parse a name table written "part: file name; part: tag; ..." (e.g.
   /// "base: BASE; endocardium: ENDO; epicardium: 7"). Blanks around names are
   /// dropped; an empty @p text is the empty table. Throws, naming @p entry (the
