@@ -1,6 +1,7 @@
 #include "geometry/mesh_file.h"
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
@@ -17,6 +18,8 @@
 #include <vtkDataArray.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -402,6 +405,34 @@ namespace systole::Geometry
   // ---------------------------------------------------------------------------
   // VTK
 
+  namespace
+  {
+    /// The unstructured grid of a .vtu file; VTK's errors and warnings in
+    /// the message of the exception.
+    vtkSmartPointer<vtkUnstructuredGrid>
+    read_vtu_grid(const std::string &file)
+    {
+      check_readable(file);
+      std::string                          vtk_messages;
+      vtkNew<vtkCallbackCommand>           on_message;
+      vtkNew<vtkXMLUnstructuredGridReader> reader;
+      on_message->SetCallback(collect_vtk_message);
+      on_message->SetClientData(&vtk_messages);
+      reader->AddObserver(vtkCommand::ErrorEvent, on_message);
+      reader->AddObserver(vtkCommand::WarningEvent, on_message);
+      reader->SetFileName(file.c_str());
+      reader->Update();
+      vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+      AssertThrow(
+        reader->GetErrorCode() == 0 && vtk_messages.empty() && grid != nullptr,
+        dealii::ExcMessage(
+          "Mesh file '" + file +
+          "': VTK could not read it as an XML unstructured grid (.vtu)" +
+          (vtk_messages.empty() ? std::string(".") : ": " + vtk_messages)));
+      return grid;
+    }
+  } // namespace
+
   MeshData
   read_vtu_data(const std::string &file, const std::string &face_tag_array)
   {
@@ -409,23 +440,7 @@ namespace systole::Geometry
     MeshData mesh;
     mesh.file = file;
 
-    std::string                          vtk_messages;
-    vtkNew<vtkCallbackCommand>           on_message;
-    vtkNew<vtkXMLUnstructuredGridReader> reader;
-    on_message->SetCallback(collect_vtk_message);
-    on_message->SetClientData(&vtk_messages);
-    reader->AddObserver(vtkCommand::ErrorEvent, on_message);
-    reader->AddObserver(vtkCommand::WarningEvent, on_message);
-    reader->SetFileName(file.c_str());
-    reader->Update();
-    vtkUnstructuredGrid *grid = reader->GetOutput();
-    AssertThrow(
-      reader->GetErrorCode() == 0 && vtk_messages.empty() && grid != nullptr,
-      dealii::ExcMessage(
-        "Mesh file '" + file +
-        "': VTK could not read it as an XML "
-        "unstructured grid (.vtu)" +
-        (vtk_messages.empty() ? std::string(".") : ": " + vtk_messages)));
+    const vtkSmartPointer<vtkUnstructuredGrid> grid = read_vtu_grid(file);
 
     const vtkIdType n_points = grid->GetNumberOfPoints();
     mesh.vertices.resize(n_points);
@@ -551,6 +566,84 @@ namespace systole::Geometry
         "write the 'triangle' cells with the tag as cell data), or use the "
         "gmsh .msh file with its physical surfaces."));
     return mesh;
+  }
+
+  std::vector<dealii::Tensor<1, 3>>
+  read_vtu_cell_vectors(const std::string &file, const std::string &array)
+  {
+    const vtkSmartPointer<vtkUnstructuredGrid> grid = read_vtu_grid(file);
+    vtkDataArray *cell_array  = grid->GetCellData()->GetArray(array.c_str());
+    vtkDataArray *point_array = grid->GetPointData()->GetArray(array.c_str());
+    if (cell_array == nullptr && point_array == nullptr)
+      {
+        std::string arrays;
+        for (vtkFieldData *data :
+             {static_cast<vtkFieldData *>(grid->GetCellData()),
+              static_cast<vtkFieldData *>(grid->GetPointData())})
+          for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+            if (data->GetArrayName(a) != nullptr)
+              arrays += std::string(arrays.empty() ? "" : ", ") + "'" +
+                        data->GetArrayName(a) + "'";
+        fail("Mesh file '" + file + "' has no cell or point array '" + array +
+             "' (its arrays: " + (arrays.empty() ? "none" : arrays) + ").");
+      }
+    vtkDataArray *data = cell_array != nullptr ? cell_array : point_array;
+    AssertThrow(data->GetNumberOfComponents() == 3,
+                dealii::ExcMessage(
+                  "Mesh file '" + file + "': the array '" + array + "' has " +
+                  std::to_string(data->GetNumberOfComponents()) +
+                  " components; a vector has 3."));
+
+    const auto vector_of = [&](const vtkIdType i) {
+      double v[3];
+      data->GetTuple(i, v);
+      return dealii::Tensor<1, 3>({v[0], v[1], v[2]});
+    };
+    std::vector<dealii::Tensor<1, 3>> vectors;
+    vtkNew<vtkIdList>                 points;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+      {
+        const int type = grid->GetCellType(c);
+        if (type != VTK_TETRA && type != VTK_HEXAHEDRON)
+          continue;
+        grid->GetCellPoints(c, points);
+        dealii::Tensor<1, 3> v;
+        if (cell_array != nullptr)
+          v = vector_of(c);
+        else
+          {
+            // The dominant direction of the vertices' vectors: the sign of a
+            // fibre direction carries no meaning, so average a a^T, not a.
+            dealii::SymmetricTensor<2, 3> sum;
+            for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+              {
+                const auto a = vector_of(points->GetId(i));
+                sum += dealii::symmetrize(dealii::outer_product(a, a));
+              }
+            const auto first = vector_of(points->GetId(0));
+            v = dealii::eigenvectors(sum)[0].second * std::sqrt(sum.norm());
+            if (v * first < 0)
+              v = -v;
+          }
+        if (v.norm() == 0 || !std::isfinite(v.norm()))
+          {
+            dealii::Point<3> centre;
+            for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+              {
+                double x[3];
+                grid->GetPoint(points->GetId(i), x);
+                centre += dealii::Point<3>(x[0], x[1], x[2]) /
+                          static_cast<double>(points->GetNumberOfIds());
+              }
+            fail("Mesh file '" + file + "': the vector array '" + array +
+                 "' is zero or not finite " +
+                 (cell_array != nullptr ? "on" : "at the vertices of") +
+                 " cell " + std::to_string(c) + " at " + format_point(centre) +
+                 "; every cell needs a direction.");
+          }
+        vectors.push_back(v / v.norm());
+      }
+    return vectors;
   }
 
   // ---------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/grid/reference_cell.h>
 
 #include "geometry/boundary_names.h"
@@ -96,6 +97,19 @@ namespace systole::Geometry
   /// which faces are which): asking for a face tag array there is an error.
   MeshData
   read_vtu_data(const std::string &file, const std::string &face_tag_array);
+
+  /// Per-cell unit vectors (e.g. fibre directions) from the 3-component array
+  /// @p array of the .vtu file @p file, one per volume cell in the order of
+  /// the cells that read_mesh_file() makes of the same file (its coarse cells:
+  /// cell->index() on level 0). A cell array gives each cell its vector; a
+  /// point array (used only if there is no cell array of that name) gives
+  /// each cell the dominant direction of its vertices' vectors (the
+  /// eigenvector of the largest eigenvalue of the sum of a a^T, so vertex
+  /// vectors of opposite sign do not cancel), signed like the vector at the
+  /// cell's first vertex. All normalised; a zero vector is an error naming
+  /// the cell and its centre. Units: -.
+  std::vector<dealii::Tensor<1, 3>>
+  read_vtu_cell_vectors(const std::string &file, const std::string &array);
 
   /// Build @p tria (empty; serial, or parallel::distributed for hexahedra) from
   /// @p mesh: every boundary face (a face of one cell) that is a face of the

@@ -13,8 +13,10 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
+#include <vtkDoubleArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -604,6 +606,17 @@ TEST_CASE("Mixed, quadratic and face-less meshes are clear errors",
   }
   CHECK_THAT(read_error(file.name),
              Catch::Contains("mixes 1 tetrahedra and 1 hexahedra"));
+  {
+    std::ofstream out(file.name);
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n"
+           "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0.5 0 0\n6 0.5 0.5 0\n"
+           "7 0 0.5 0\n8 0 0 0.5\n9 0 0.5 0.5\n10 0.5 0 0.5\n$EndNodes\n"
+           "$Elements\n1\n1 11 2 1 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+  }
+  CHECK_THAT(read_error(file.name),
+             Catch::Contains("has 1 ") &&
+               Catch::Contains("(gmsh element type 11)") &&
+               Catch::Contains("Mesh.ElementOrder = 1"));
 
   // A .vtu with volume cells only cannot tag faces.
   const FileMesh            mesh = unit_cube(false, 1);
@@ -720,6 +733,34 @@ TEST_CASE("Surfaces of boundary parts: closed, open, holed and non-manifold",
                                             1);
              }),
              Catch::Contains("has 0 rim loops"));
+
+  // Two squares of a side that touch at one vertex: the rim is pinched.
+  FileMesh pinched = unit_cube(true, 2);
+  for (unsigned int f = 0; f < pinched.faces.size(); ++f)
+    {
+      Point<3> c;
+      for (const unsigned int v : pinched.faces[f])
+        c += pinched.vertices[v] / 4.0;
+      if (pinched.face_tags[f] == 1 && (c[1] - 0.5) * (c[2] - 0.5) > 0)
+        pinched.face_tags[f] = 7;
+    }
+  pinched.names[7] = "pinch";
+  write_msh22(pinched, file.name);
+  dealii::Triangulation<3> pinched_tria;
+  const auto pinched_names = Geometry::read_gmsh(file.name, 1.0, pinched_tria);
+  const auto pinch =
+    Geometry::surface_topology(pinched_tria, pinched_names.id("pinch"));
+  CHECK(pinch.n_faces == 2);
+  CHECK(pinch.n_rim_edges == 8);
+  CHECK(pinch.n_rim_junctions == 1);
+  CHECK_THAT(error_of([&]() {
+               Geometry::check_part_surface(pinched_tria,
+                                            pinched_names,
+                                            "pinch",
+                                            1);
+             }),
+             Catch::Contains("is pinched") &&
+               Catch::Contains("the first at (0, 0.5, 0.5) has 4 rim edges"));
 
   // Two cubes that share one edge: the edge is in four faces of the part.
   FileMesh pair;
@@ -838,4 +879,77 @@ TEST_CASE("Every shipped gmsh mesh reads as deal.II's own reader reads it",
         for (const auto &name : names.names())
           CHECK(faces.count(names.id(name)) == 1);
       }
+}
+
+TEST_CASE("Per-cell vectors of a .vtu file come in the mesh's cell order",
+          "[geometry][mesh_file]")
+{
+  const FileMesh mesh = unit_cube(false, 2);
+  // A cell array: a direction that varies with the cell's centre; a point
+  // array: one direction with the sign flipped at every other vertex.
+  const auto field = [](const Point<3> &x) {
+    return dealii::Tensor<1, 3>({1.0, 2.0 * x[0] - x[1], 0.5 + x[2]});
+  };
+  const dealii::Tensor<1, 3>  direction({1.0 / 3, 2.0 / 3, 2.0 / 3});
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints>           points;
+  vtkNew<vtkDoubleArray>      cell_vectors, point_vectors;
+  cell_vectors->SetName("fibres");
+  cell_vectors->SetNumberOfComponents(3);
+  point_vectors->SetName("directions");
+  point_vectors->SetNumberOfComponents(3);
+  for (unsigned int v = 0; v < mesh.vertices.size(); ++v)
+    {
+      points->InsertNextPoint(mesh.vertices[v][0],
+                              mesh.vertices[v][1],
+                              mesh.vertices[v][2]);
+      const dealii::Tensor<1, 3> d = (v % 2 == 0 ? 1.0 : -1.0) * direction;
+      point_vectors->InsertNextTuple3(d[0], d[1], d[2]);
+    }
+  grid->SetPoints(points);
+  // A boundary triangle first: its tuple must be skipped.
+  std::vector<vtkIdType> face(mesh.faces[0].begin(), mesh.faces[0].end());
+  grid->InsertNextCell(VTK_TRIANGLE, 3, face.data());
+  cell_vectors->InsertNextTuple3(0, 0, 0);
+  for (const auto &cell : mesh.cells)
+    {
+      std::vector<vtkIdType> ids(cell.begin(), cell.end());
+      grid->InsertNextCell(VTK_TETRA, 4, ids.data());
+      Point<3> centre;
+      for (const unsigned int v : cell)
+        centre += mesh.vertices[v] / 4.0;
+      const auto f = field(centre);
+      cell_vectors->InsertNextTuple3(f[0], f[1], f[2]);
+    }
+  grid->GetCellData()->AddArray(cell_vectors);
+  grid->GetPointData()->AddArray(point_vectors);
+  ScratchFile                          file("vectors.vtu");
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  writer->SetFileName(file.name.c_str());
+  writer->SetInputData(grid);
+  REQUIRE(writer->Write() == 1);
+
+  dealii::Triangulation<3> tria;
+  Geometry::read_mesh_file(file.name, {}, tria);
+  const auto fibres = Geometry::read_vtu_cell_vectors(file.name, "fibres");
+  REQUIRE(fibres.size() == tria.n_cells(0));
+  for (const auto &cell : tria.cell_iterators_on_level(0))
+    {
+      const auto f = field(cell->center());
+      CHECK((fibres[cell->index()] - f / f.norm()).norm() < 1e-12);
+    }
+
+  const auto directions =
+    Geometry::read_vtu_cell_vectors(file.name, "directions");
+  REQUIRE(directions.size() == tria.n_cells(0));
+  for (const auto &cell : tria.cell_iterators_on_level(0))
+    {
+      const double sign = cell->vertex_index(0) % 2 == 0 ? 1.0 : -1.0;
+      CHECK((directions[cell->index()] - sign * direction).norm() < 1e-12);
+    }
+
+  CHECK_THAT(error_of(
+               [&]() { Geometry::read_vtu_cell_vectors(file.name, "sheets"); }),
+             Catch::Contains("no cell or point array 'sheets'") &&
+               Catch::Contains("'fibres', 'directions'"));
 }
