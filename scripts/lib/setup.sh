@@ -14,7 +14,8 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SYSTOLE_ROOT}
 # variant, because every MPI rank already has its core. chromium: the headless browser that
 # renders scripts/report.py's page in the pytest (scripts/tests/test_report.py). gmsh and its
 # Python module: scripts/make_biv_mesh.py regenerates meshes/biv_coarse.msh (the tests read
-# the shipped file and need neither).
+# the shipped file and need neither). The gmsh C++ API (gmsh.h, libgmsh: reading .msh files)
+# comes with libdeal.ii-dev, which depends on libgmsh-dev.
 SYSTOLE_PACKAGES=(
   libdeal.ii-dev libsundials-dev libhdf5-mpi-dev libeigen3-dev libvtk9-dev libopenblas0-serial
   catch2 cmake ninja-build ccache mold clang-format-14 g++ git

@@ -4,10 +4,16 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace systole::Geometry
 {
+  /// The name table of a mesh file: pairs (Systole's part name, the file's
+  /// name or integer tag of a set of boundary faces), in the order given.
+  /// E.g. {{"base", "BASE"}, {"endocardium", "6"}} (see read_mesh_file()).
+  using BoundaryNameTable = std::vector<std::pair<std::string, std::string>>;
+
   /// Names of the boundary parts of a mesh and the boundary ids they carry,
   /// e.g. "endocardium", "epicardium", "base" for a ventricle, "x_min" ...
   /// "z_max" for a box. Components ask for the parts they need by name, so a

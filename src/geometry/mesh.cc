@@ -8,6 +8,8 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include "geometry/mesh_file.h"
+
 #include <filesystem>
 
 namespace systole::Geometry
@@ -40,8 +42,10 @@ namespace systole::Geometry
         dealii::Patterns::Selection("arostica|ellipsoid|box|gmsh"),
         "Which mesh to use: 'ellipsoid', the idealized truncated-ellipsoid left "
         "ventricle (subsection Ellipsoid); 'box', a brick of hexahedra "
-        "(subsection Box); 'gmsh', a hexahedral mesh read from a .msh file "
-        "(subsection Gmsh); 'arostica', the monoventricular geometry of "
+        "(subsection Box); 'gmsh', a mesh read from a file (subsection Gmsh): "
+        "a gmsh .msh or a VTK .vtu file, all hexahedra or (for the serial "
+        "tools only: the simulations need hexahedra) all tetrahedra; "
+        "'arostica', the monoventricular geometry of "
         "Arostica et al. 2025 in the benchmark's frame (long axis x, apex at "
         "-x, mm): endocardium r_s = 25, r_l = 90 cut at x = 26.47, epicardium "
         "r_s = 35, r_l = 97 cut at x = 24.25, the base the ruled surface "
@@ -163,15 +167,45 @@ namespace systole::Geometry
           "Mesh file",
           "../meshes/lv_coarse.msh",
           dealii::Patterns::FileName(),
-          "Hexahedral gmsh mesh (.msh, format 2 or 4, ASCII). A relative path "
-          "is relative to the folder of this parameter file. Physical surface "
-          "names become boundary part names (endocardium, epicardium, base, ...).");
+          "The mesh, chosen by extension: a gmsh file (.msh, format 2.2 or "
+          "4.1, ASCII or binary; linear tetrahedra or hexahedra, with the "
+          "boundary faces as triangles or quadrilaterals in physical surfaces) "
+          "or a VTK XML unstructured grid (.vtu; VTK_TETRA or VTK_HEXAHEDRON "
+          "cells, the boundary faces as VTK_TRIANGLE or VTK_QUAD cells tagged "
+          "by 'Face tag array'). All cells of one kind. A relative path is "
+          "relative to the folder of this parameter file. The mesh is checked: "
+          "inverted or flat cells, duplicate or unused nodes stop the run. "
+          "Boundary ids are the file's face tags; boundary faces without a "
+          "used tag get id 0, or the smallest id no used tag has. Default: the "
+          "shipped hexahedral ventricle.");
         prm.declare_entry(
           "Scale",
           "1",
           Double(0.0),
           "Factor from the file's length unit to mm (e.g. 10 for cm). Units: mm "
           "per file unit.");
+        prm.declare_entry(
+          "Boundary names",
+          "",
+          dealii::Patterns::Anything(),
+          "Which faces of the file are which boundary parts: 'part: file name "
+          "or tag' entries separated by ';', e.g. 'base: BASE; endocardium: "
+          "ENDO; epicardium: 7'. A file name is a gmsh physical surface name; "
+          "a tag is the integer of a gmsh physical surface or a value of the "
+          "Face tag array of a .vtu file (a physical name is looked up first). "
+          "Only the parts listed are set; an entry that names no boundary face "
+          "is an error. Empty: every face tag becomes a part named by its "
+          "physical name, or by its number where it has none (.vtu files: "
+          "\"5\"). Units: -. Default: empty.");
+        prm.declare_entry(
+          "Face tag array",
+          "",
+          dealii::Patterns::Anything(),
+          "For .vtu files only: the name of the integer cell-data array that "
+          "tags the triangle or quadrilateral cells of the file (its boundary "
+          "faces). A file with volume cells only cannot tag faces this way. "
+          "Empty: the file's faces are not read and every boundary face has "
+          "id 0. Units: -. Default: empty.");
       }
       prm.leave_subsection();
     }
@@ -249,6 +283,10 @@ namespace systole::Geometry
       file = std::filesystem::path(prm_directory) / file;
     p.mesh_file  = file.lexically_normal().string();
     p.mesh_scale = prm.get_double(g, "Scale");
+    p.boundary_names =
+      parse_boundary_name_table(prm.get(g, "Boundary names"),
+                                "Geometry / Gmsh / Boundary names");
+    p.face_tag_array = prm.get(g, "Face tag array");
     if (p.type == Type::gmsh)
       AssertThrow(std::filesystem::is_regular_file(p.mesh_file),
                   dealii::ExcMessage(
@@ -293,8 +331,14 @@ namespace systole::Geometry
             break;
           }
         case Parameters::Type::gmsh:
-          names = read_gmsh(params.mesh_file, params.mesh_scale, tria);
-          break;
+          {
+            MeshFileOptions options;
+            options.scale          = params.mesh_scale;
+            options.boundary_names = params.boundary_names;
+            options.face_tag_array = params.face_tag_array;
+            names = read_mesh_file(params.mesh_file, options, tria);
+            break;
+          }
       }
     if (!saved_mesh.empty())
       {
@@ -534,9 +578,14 @@ namespace systole::Geometry
               break;
             }
     found = dealii::Utilities::MPI::max(found, tria.get_communicator());
+    std::string parts;
+    for (const auto &part : names.names())
+      parts += (parts.empty() ? "" : ", ") + part;
     AssertThrow(found > 0,
                 dealii::ExcMessage(names.source() + " names boundary part '" +
                                    name + "' (id " + std::to_string(id) +
-                                   ") but no boundary face carries it."));
+                                   ") but no boundary face carries it (its "
+                                   "parts: " +
+                                   parts + ")."));
   }
 } // namespace systole::Geometry

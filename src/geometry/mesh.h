@@ -48,7 +48,11 @@ namespace systole::Geometry
 
     std::string
       mesh_file; ///< absolute, resolved against the parameter file's folder
-    double mesh_scale = 1.0;
+    double mesh_scale = 1.0; ///< [mm per file unit]
+    /// Systole's part names -> the file's names or tags; empty: the file's.
+    BoundaryNameTable boundary_names;
+    /// .vtu: the cell-data array that tags the boundary faces.
+    std::string face_tag_array;
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -73,14 +77,6 @@ namespace systole::Geometry
   create_mesh(const Parameters            &params,
               dealii::Triangulation<3, 3> &tria,
               const std::string           &saved_mesh = "");
-
-  /// Read a gmsh .msh file (format 2 or 4, ASCII). Physical surface tags become
-  /// boundary ids and physical surface names become boundary names. Lengths are
-  /// multiplied by @p scale.
-  BoundaryNames
-  read_gmsh(const std::string           &file,
-            const double                 scale,
-            dealii::Triangulation<3, 3> &tria);
 
   /// The plane of a planar boundary part (the base): a point on it and its unit
   /// normal.
@@ -113,7 +109,8 @@ namespace systole::Geometry
              const std::string                 &base = "base");
 
   /// Throw unless at least one face of the mesh (on any rank) carries boundary
-  /// part @p name.
+  /// part @p name. The message names the part, the mesh (its file) and the
+  /// parts it has.
   void
   require_boundary(const dealii::Triangulation<3, 3> &tria,
                    const BoundaryNames               &names,

@@ -1,6 +1,7 @@
 #include "support/mechanics_fixture.h"
 
 #include "geometry/mesh.h"
+#include "geometry/mesh_file.h"
 
 #include <cmath>
 

@@ -1,0 +1,452 @@
+#include "geometry/mesh_checks.h"
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/grid/tria.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace systole::Geometry
+{
+  namespace
+  {
+    std::string
+    format_number(const double value)
+    {
+      std::ostringstream o;
+      o << std::setprecision(6) << value;
+      return o.str();
+    }
+
+    std::string
+    format_point(const dealii::Point<3> &p)
+    {
+      return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " +
+             format_number(p[2]) + ")";
+    }
+
+    std::string
+    list_points(const MeshData &mesh, const std::vector<unsigned int> &cell)
+    {
+      std::string list;
+      for (const unsigned int v : cell)
+        list += (list.empty() ? "" : ", ") + format_point(mesh.vertices[v]);
+      return list;
+    }
+
+    double
+    longest_edge(const MeshData &mesh, const std::vector<unsigned int> &cell)
+    {
+      double longest = 0;
+      for (unsigned int i = 0; i < cell.size(); ++i)
+        for (unsigned int j = i + 1; j < cell.size(); ++j)
+          longest =
+            std::max(longest,
+                     mesh.vertices[cell[i]].distance(mesh.vertices[cell[j]]));
+      return longest;
+    }
+
+    double
+    determinant(const dealii::Tensor<1, 3> &a,
+                const dealii::Tensor<1, 3> &b,
+                const dealii::Tensor<1, 3> &c)
+    {
+      return a * dealii::cross_product_3d(b, c);
+    }
+  } // namespace
+
+  void
+  check_mesh_data(const MeshData &mesh)
+  {
+    check_vertex_references(mesh);
+    check_unused_vertices(mesh);
+    check_duplicate_vertices(mesh);
+    check_cell_orientation(mesh);
+  }
+
+  void
+  check_vertex_references(const MeshData &mesh)
+  {
+    const unsigned int n =
+      mesh.cell_type == dealii::ReferenceCells::Tetrahedron ? 4 : 8;
+    AssertThrow(mesh.cell_ids.size() == mesh.cells.size() &&
+                  mesh.vertex_ids.size() == mesh.vertices.size(),
+                dealii::ExcMessage("Mesh file '" + mesh.file +
+                                   "': inconsistent mesh data (ids)."));
+    for (std::size_t c = 0; c < mesh.cells.size(); ++c)
+      {
+        const auto &cell = mesh.cells[c];
+        AssertThrow(cell.size() == n,
+                    dealii::ExcMessage(
+                      "Mesh file '" + mesh.file + "': element " +
+                      std::to_string(mesh.cell_ids[c]) + " has " +
+                      std::to_string(cell.size()) + " vertices, not " +
+                      std::to_string(n) + "."));
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            AssertThrow(cell[i] < mesh.vertices.size(),
+                        dealii::ExcMessage(
+                          "Mesh file '" + mesh.file + "': element " +
+                          std::to_string(mesh.cell_ids[c]) +
+                          " refers to vertex " + std::to_string(cell[i]) +
+                          ", but the file has " +
+                          std::to_string(mesh.vertices.size()) + " vertices."));
+            for (unsigned int j = 0; j < i; ++j)
+              AssertThrow(cell[i] != cell[j],
+                          dealii::ExcMessage(
+                            "Mesh file '" + mesh.file + "': element " +
+                            std::to_string(mesh.cell_ids[c]) + " uses node " +
+                            std::to_string(mesh.vertex_ids[cell[i]]) + " at " +
+                            format_point(mesh.vertices[cell[i]]) +
+                            " twice (a collapsed cell). Re-mesh."));
+          }
+      }
+  }
+
+  void
+  check_unused_vertices(const MeshData &mesh)
+  {
+    std::vector<bool> used(mesh.vertices.size(), false);
+    for (const auto &cell : mesh.cells)
+      for (const unsigned int v : cell)
+        used[v] = true;
+    const std::size_t n_unused = std::count(used.begin(), used.end(), false);
+    if (n_unused == 0)
+      return;
+    const std::size_t first =
+      std::find(used.begin(), used.end(), false) - used.begin();
+    AssertThrow(
+      false,
+      dealii::ExcMessage(
+        "Mesh file '" + mesh.file + "': " + std::to_string(n_unused) +
+        " of its " + std::to_string(mesh.vertices.size()) +
+        " nodes belong to no " +
+        (mesh.cell_type == dealii::ReferenceCells::Tetrahedron ? "tetrahedron"
+                                                               : "hexahedron") +
+        "; the first, node " + std::to_string(mesh.vertex_ids[first]) +
+        ", at " + format_point(mesh.vertices[first]) +
+        ". Remove the unused nodes (gmsh: save only the physical "
+        "groups' elements and renumber; ParaView: Clean to Grid)."));
+  }
+
+  void
+  check_duplicate_vertices(const MeshData &mesh,
+                           const double    relative_tolerance)
+  {
+    if (mesh.vertices.empty())
+      return;
+    dealii::Point<3> lower = mesh.vertices[0], upper = mesh.vertices[0];
+    for (const auto &x : mesh.vertices)
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          lower[d] = std::min(lower[d], x[d]);
+          upper[d] = std::max(upper[d], x[d]);
+        }
+    const double tolerance = relative_tolerance * lower.distance(upper);
+
+    std::vector<unsigned int> order(mesh.vertices.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(),
+              order.end(),
+              [&](const unsigned int a, const unsigned int b) {
+                return mesh.vertices[a][0] < mesh.vertices[b][0];
+              });
+    std::size_t                           n_pairs = 0;
+    std::pair<unsigned int, unsigned int> first   = {
+        std::numeric_limits<unsigned int>::max(),
+        std::numeric_limits<unsigned int>::max()};
+    for (std::size_t i = 0; i < order.size(); ++i)
+      for (std::size_t j = i + 1;
+           j < order.size() &&
+           mesh.vertices[order[j]][0] - mesh.vertices[order[i]][0] <= tolerance;
+           ++j)
+        if (mesh.vertices[order[i]].distance(mesh.vertices[order[j]]) <=
+            tolerance)
+          {
+            ++n_pairs;
+            const std::pair<unsigned int, unsigned int> pair(
+              std::min(order[i], order[j]),
+              std::max(order[i], order[j]));
+            if (pair < first)
+              first = pair;
+          }
+    if (n_pairs == 0)
+      return;
+    AssertThrow(false,
+                dealii::ExcMessage(
+                  "Mesh file '" + mesh.file + "': " + std::to_string(n_pairs) +
+                  " pairs of nodes coincide (within " +
+                  format_number(relative_tolerance) +
+                  " of the mesh diameter); the first, nodes " +
+                  std::to_string(mesh.vertex_ids[first.first]) + " and " +
+                  std::to_string(mesh.vertex_ids[first.second]) + ", at " +
+                  format_point(mesh.vertices[first.first]) +
+                  ". The cells on either side are not connected: merge "
+                  "duplicate nodes (gmsh: Coherence Mesh; ParaView: Clean to "
+                  "Grid; meshio: remove duplicate points)."));
+  }
+
+  void
+  check_cell_orientation(const MeshData &mesh, const double relative_tolerance)
+  {
+    const bool   tets  = mesh.cell_type == dealii::ReferenceCells::Tetrahedron;
+    std::size_t  n_bad = 0, first = 0;
+    unsigned int first_vertex = 0;
+    double       first_value  = 0;
+    for (std::size_t c = 0; c < mesh.cells.size(); ++c)
+      {
+        const auto  &cell      = mesh.cells[c];
+        const auto  &x         = mesh.vertices;
+        const double L         = longest_edge(mesh, cell);
+        const double tolerance = relative_tolerance * L * L * L;
+        if (tets)
+          {
+            const double volume = determinant(x[cell[1]] - x[cell[0]],
+                                              x[cell[2]] - x[cell[0]],
+                                              x[cell[3]] - x[cell[0]]) /
+                                  6.0;
+            if (volume <= tolerance && n_bad++ == 0)
+              {
+                first       = c;
+                first_value = volume;
+              }
+          }
+        else
+          for (unsigned int v = 0; v < 8; ++v)
+            {
+              // Along reference direction d: from the vertex with bit d
+              // cleared to the one with it set (lexicographic numbering).
+              std::array<dealii::Tensor<1, 3>, 3> e;
+              for (unsigned int d = 0; d < 3; ++d)
+                e[d] = x[cell[v | (1u << d)]] - x[cell[v & ~(1u << d)]];
+              const double J = determinant(e[0], e[1], e[2]);
+              if (J <= tolerance)
+                {
+                  if (n_bad++ == 0)
+                    {
+                      first        = c;
+                      first_vertex = v;
+                      first_value  = J;
+                    }
+                  break;
+                }
+            }
+      }
+    if (n_bad == 0)
+      return;
+    const auto &cell = mesh.cells[first];
+    if (tets)
+      {
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "Mesh file '" + mesh.file +
+                      "': " + std::to_string(n_bad) + " of its " +
+                      std::to_string(mesh.cells.size()) +
+                      " tetrahedra are inverted or flat (signed volume <= " +
+                      format_number(relative_tolerance) +
+                      " x longest edge^3); the first, element " +
+                      std::to_string(mesh.cell_ids[first]) +
+                      ", has signed volume " + format_number(first_value) +
+                      " and vertices " + list_points(mesh, cell) +
+                      ". Re-mesh, or if all are inverted write the vertices in "
+                      "gmsh's order (0, 1, 2 counter-clockwise seen from 3)."));
+      }
+    else
+      {
+        AssertThrow(
+          false,
+          dealii::ExcMessage(
+            "Mesh file '" + mesh.file + "': " + std::to_string(n_bad) +
+            " of its " + std::to_string(mesh.cells.size()) +
+            " hexahedra have a non-positive Jacobian at a vertex "
+            "(<= " +
+            format_number(relative_tolerance) +
+            " x longest edge^3); the first, element " +
+            std::to_string(mesh.cell_ids[first]) + ", has " +
+            format_number(first_value) + " at its vertex " +
+            format_point(mesh.vertices[cell[first_vertex]]) +
+            ". Re-mesh (smaller elements where the surface is curved, "
+            "or optimise the mesh) or fix the vertex order (gmsh's: "
+            "bottom face counter-clockwise seen from the top)."));
+      }
+  }
+
+  // ---------------------------------------------------------------------------
+  // Surfaces of boundary parts
+
+  namespace
+  {
+    /// SurfaceTopology plus where its first offenders are.
+    struct SurfaceReport
+    {
+      SurfaceTopology  topology;
+      dealii::Point<3> non_manifold_edge[2];
+      dealii::Point<3> junction;
+      unsigned int     junction_degree = 0;
+      /// The smallest rim loop: its number of edges and one of its vertices.
+      unsigned int     smallest_loop_edges = 0;
+      dealii::Point<3> smallest_loop_vertex;
+    };
+
+    SurfaceReport
+    surface_report(const dealii::Triangulation<3, 3> &tria,
+                   const dealii::types::boundary_id   id)
+    {
+      SurfaceReport report;
+      auto         &t = report.topology;
+      // Per line of the coarse mesh: in how many faces of the part it lies.
+      std::unordered_map<unsigned int, unsigned int> n_faces_of_line;
+      std::unordered_map<unsigned int,
+                         typename dealii::Triangulation<3, 3>::line_iterator>
+        lines;
+      for (const auto &cell : tria.cell_iterators_on_level(0))
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == id)
+            {
+              ++t.n_faces;
+              for (unsigned int l = 0; l < face->n_lines(); ++l)
+                {
+                  const auto line = face->line(l);
+                  ++n_faces_of_line[line->index()];
+                  lines.emplace(line->index(), line);
+                }
+            }
+      t.n_edges = n_faces_of_line.size();
+
+      // Rim edges, and the rim's vertices with their rim edges.
+      std::map<unsigned int, std::vector<unsigned int>> rim_neighbours;
+      std::map<unsigned int, dealii::Point<3>>          vertex_of;
+      std::vector<unsigned int>                         sorted_lines;
+      for (const auto &[index, count] : n_faces_of_line)
+        sorted_lines.push_back(index);
+      std::sort(sorted_lines.begin(), sorted_lines.end());
+      for (const unsigned int index : sorted_lines)
+        {
+          const unsigned int count = n_faces_of_line[index];
+          const auto        &line  = lines.at(index);
+          if (count > 2 && t.n_non_manifold_edges++ == 0)
+            {
+              report.non_manifold_edge[0] = line->vertex(0);
+              report.non_manifold_edge[1] = line->vertex(1);
+            }
+          if (count == 1)
+            {
+              ++t.n_rim_edges;
+              const unsigned int a = line->vertex_index(0),
+                                 b = line->vertex_index(1);
+              rim_neighbours[a].push_back(b);
+              rim_neighbours[b].push_back(a);
+              vertex_of[a] = line->vertex(0);
+              vertex_of[b] = line->vertex(1);
+            }
+        }
+      for (const auto &[v, neighbours] : rim_neighbours)
+        if (neighbours.size() != 2 && t.n_rim_junctions++ == 0)
+          {
+            report.junction        = vertex_of[v];
+            report.junction_degree = neighbours.size();
+          }
+
+      // Connected components of the rim.
+      std::map<unsigned int, bool> seen;
+      for (const auto &[start, neighbours] : rim_neighbours)
+        {
+          if (seen[start])
+            continue;
+          ++t.n_rim_loops;
+          unsigned int              n_vertices = 0;
+          std::vector<unsigned int> stack      = {start};
+          seen[start]                          = true;
+          while (!stack.empty())
+            {
+              const unsigned int v = stack.back();
+              stack.pop_back();
+              ++n_vertices;
+              for (const unsigned int w : rim_neighbours[v])
+                if (!seen[w])
+                  {
+                    seen[w] = true;
+                    stack.push_back(w);
+                  }
+            }
+          if (report.smallest_loop_edges == 0 ||
+              n_vertices < report.smallest_loop_edges)
+            {
+              // A closed loop has as many edges as vertices.
+              report.smallest_loop_edges  = n_vertices;
+              report.smallest_loop_vertex = vertex_of[start];
+            }
+        }
+      return report;
+    }
+  } // namespace
+
+  SurfaceTopology
+  surface_topology(const dealii::Triangulation<3, 3> &tria,
+                   const dealii::types::boundary_id   id)
+  {
+    return surface_report(tria, id).topology;
+  }
+
+  void
+  check_part_surface(const dealii::Triangulation<3, 3> &tria,
+                     const BoundaryNames               &names,
+                     const std::string                 &part,
+                     const unsigned int                 n_rim_loops)
+  {
+    const auto          id     = names.id(part);
+    const SurfaceReport report = surface_report(tria, id);
+    const auto         &t      = report.topology;
+    const std::string   what =
+      "Boundary part '" + part + "' of " + names.source();
+    AssertThrow(t.n_faces > 0,
+                dealii::ExcMessage(what + " has no faces (boundary id " +
+                                   std::to_string(id) + ")."));
+    AssertThrow(t.n_non_manifold_edges == 0,
+                dealii::ExcMessage(
+                  what + " is not a manifold surface: " +
+                  std::to_string(t.n_non_manifold_edges) +
+                  " of its edges lie in more than two of its faces; the "
+                  "first joins " +
+                  format_point(report.non_manifold_edge[0]) + " and " +
+                  format_point(report.non_manifold_edge[1]) +
+                  ". Tag each sheet of the surface as its own part, or fix the "
+                  "mesh (duplicate or folded faces)."));
+    AssertThrow(
+      t.n_rim_junctions == 0,
+      dealii::ExcMessage(
+        what + " is pinched: at " + std::to_string(t.n_rim_junctions) +
+        " vertices of its rim (the edges in one of its faces) the rim "
+        "does not pass through exactly once; the first at " +
+        format_point(report.junction) + " has " +
+        std::to_string(report.junction_degree) +
+        " rim edges. Fix the surface so its rim is a set of separate "
+        "closed loops."));
+    const std::string smallest =
+      t.n_rim_loops == 0
+        ? std::string("")
+        : "; the smallest has " + std::to_string(report.smallest_loop_edges) +
+            " edges, through " + format_point(report.smallest_loop_vertex);
+    AssertThrow(t.n_rim_loops == n_rim_loops,
+                dealii::ExcMessage(
+                  what + " has " + std::to_string(t.n_rim_loops) +
+                  " rim loops (closed curves of edges in one of its faces), "
+                  "not " +
+                  std::to_string(n_rim_loops) + " (" +
+                  (n_rim_loops == 0   ? "a closed surface"
+                   : n_rim_loops == 1 ? "a surface open at one ring"
+                                      : "the expected open rings") +
+                  ")" + smallest +
+                  ". A hole or a gap in the surface (or faces of it tagged as "
+                  "another part) adds a loop, a closed surface has none: fix "
+                  "the mesh or its tags."));
+  }
+} // namespace systole::Geometry

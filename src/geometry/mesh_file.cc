@@ -1,0 +1,988 @@
+#include "geometry/mesh_file.h"
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/grid/tria_description.h>
+
+#include "geometry/mesh_checks.h"
+
+#include <gmsh.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkCellTypes.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkIdList.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace systole::Geometry
+{
+  namespace
+  {
+    void
+    fail(const std::string &message)
+    {
+      AssertThrow(false, dealii::ExcMessage(message));
+    }
+
+    std::string
+    format_point(const dealii::Point<3> &p)
+    {
+      std::ostringstream o;
+      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
+        << ")";
+      return o.str();
+    }
+
+    std::string
+    trim(const std::string &text)
+    {
+      const auto first = text.find_first_not_of(" \t\n\r");
+      if (first == std::string::npos)
+        return "";
+      const auto last = text.find_last_not_of(" \t\n\r");
+      return text.substr(first, last - first + 1);
+    }
+
+    /// The extension of @p file in lower case, with the dot (".msh").
+    std::string
+    extension(const std::string &file)
+    {
+      std::string ext = std::filesystem::path(file).extension().string();
+      std::transform(ext.begin(), ext.end(), ext.begin(), [](const char c) {
+        return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      });
+      return ext;
+    }
+
+    void
+    check_readable(const std::string &file)
+    {
+      AssertThrow(std::filesystem::is_regular_file(file) &&
+                    std::ifstream(file).good(),
+                  dealii::ExcMessage("Mesh file '" + file +
+                                     "': cannot open it (no such file or no "
+                                     "permission to read)."));
+    }
+
+    /// @p text as an integer if it is one (optional sign, digits only).
+    bool
+    parse_integer(const std::string &text, int &value)
+    {
+      if (text.empty())
+        return false;
+      std::size_t used = 0;
+      try
+        {
+          const long long v = std::stoll(text, &used);
+          if (used != text.size() || v < std::numeric_limits<int>::min() ||
+              v > std::numeric_limits<int>::max())
+            return false;
+          value = static_cast<int>(v);
+          return true;
+        }
+      catch (const std::exception &)
+        {
+          return false;
+        }
+    }
+
+    /// "5 BASE, 6 ENDO, 9" for messages.
+    std::string
+    list_face_tags(const MeshData &mesh)
+    {
+      std::set<int> tags;
+      for (const auto &face : mesh.faces)
+        tags.insert(face.tag);
+      for (const auto &[tag, name] : mesh.tag_names)
+        tags.insert(tag);
+      std::string list;
+      for (const int tag : tags)
+        {
+          list += (list.empty() ? "" : ", ") + std::to_string(tag);
+          const auto name = mesh.tag_names.find(tag);
+          if (name != mesh.tag_names.end())
+            list += " " + name->second;
+        }
+      return list.empty() ? "none" : list;
+    }
+
+    /// gmsh's vertex order of a hexahedron (counter-clockwise bottom, then
+    /// top; also VTK's) to deal.II's lexicographic one.
+    constexpr std::array<unsigned int, 8> hex_to_lexicographic = {
+      {0, 1, 3, 2, 4, 5, 7, 6}};
+
+    unsigned int gmsh_sessions = 0;
+
+    /// Collects VTK error and warning messages instead of printing them.
+    void
+    collect_vtk_message(vtkObject *,
+                        unsigned long,
+                        void *client_data,
+                        void *call_data)
+    {
+      auto *messages = static_cast<std::string *>(client_data);
+      if (call_data != nullptr)
+        {
+          std::string text(static_cast<const char *>(call_data));
+          while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+            text.pop_back();
+          *messages += (messages->empty() ? "" : "; ") + text;
+        }
+    }
+  } // namespace
+
+  std::string
+  MeshData::cell_kind() const
+  {
+    return cell_type == dealii::ReferenceCells::Tetrahedron ? "tetrahedra"
+                                                            : "hexahedra";
+  }
+
+  BoundaryNameTable
+  parse_boundary_name_table(const std::string &text, const std::string &entry)
+  {
+    BoundaryNameTable     table;
+    std::set<std::string> parts;
+    for (const std::string &item :
+         dealii::Utilities::split_string_list(text, ';'))
+      {
+        if (trim(item).empty())
+          continue;
+        const auto colon = item.find(':');
+        AssertThrow(colon != std::string::npos,
+                    dealii::ExcMessage(
+                      entry + ": '" + trim(item) +
+                      "' is not of the form 'part: file name or tag' (entries "
+                      "are separated by ';', e.g. 'base: BASE; endocardium: "
+                      "6')."));
+        const std::string part = trim(item.substr(0, colon));
+        const std::string name = trim(item.substr(colon + 1));
+        AssertThrow(!part.empty() && !name.empty(),
+                    dealii::ExcMessage(entry + ": '" + trim(item) +
+                                       "' has an empty part or file name."));
+        AssertThrow(parts.insert(part).second,
+                    dealii::ExcMessage(entry + ": part '" + part +
+                                       "' is named twice."));
+        table.emplace_back(part, name);
+      }
+    return table;
+  }
+
+  // ---------------------------------------------------------------------------
+  // gmsh
+
+  GmshSession::GmshSession()
+  {
+    if (gmsh_sessions == 0)
+      {
+        gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+        gmsh::option::setNumber("General.Terminal", 0);
+      }
+    ++gmsh_sessions;
+  }
+
+  GmshSession::~GmshSession()
+  {
+    --gmsh_sessions;
+    if (gmsh_sessions == 0)
+      try
+        {
+          gmsh::finalize();
+        }
+      catch (...)
+        {}
+  }
+
+  MeshData
+  read_gmsh_data(const std::string &file)
+  {
+    check_readable(file);
+    MeshData mesh;
+    mesh.file = file;
+
+    const GmshSession session;
+    // Read into a model of our own and remove it afterwards, so that a model
+    // of a caller that holds the session stays as it was.
+    std::string previous_model;
+    gmsh::model::getCurrent(previous_model);
+    gmsh::model::add("systole-mesh-file");
+    struct RemoveModel
+    {
+      std::string previous;
+      ~RemoveModel()
+      {
+        try
+          {
+            gmsh::model::remove();
+            if (!previous.empty())
+              gmsh::model::setCurrent(previous);
+          }
+        catch (...)
+          {}
+      }
+    } remove_model{previous_model};
+
+    std::string error;
+    gmsh::logger::start();
+    try
+      {
+        gmsh::merge(file);
+      }
+    catch (const std::string &message)
+      {
+        error = message;
+      }
+    catch (const std::exception &e)
+      {
+        error = e.what();
+      }
+    std::vector<std::string> log;
+    gmsh::logger::get(log);
+    gmsh::logger::stop();
+    for (const auto &line : log)
+      if (error.empty() && line.rfind("Error", 0) == 0)
+        error = line;
+    AssertThrow(error.empty(),
+                dealii::ExcMessage(
+                  "Mesh file '" + file + "': gmsh could not read it (" + error +
+                  "). Systole reads gmsh .msh files of format 2.2 or 4.1, "
+                  "ASCII or binary."));
+
+    // Nodes, and the index of each node tag.
+    std::vector<std::size_t> node_tags;
+    std::vector<double>      coordinates, parametric;
+    gmsh::model::mesh::getNodes(node_tags,
+                                coordinates,
+                                parametric,
+                                -1,
+                                -1,
+                                false,
+                                false);
+    std::unordered_map<std::size_t, unsigned int> index_of;
+    index_of.reserve(node_tags.size());
+    mesh.vertices.resize(node_tags.size());
+    mesh.vertex_ids = node_tags;
+    for (std::size_t i = 0; i < node_tags.size(); ++i)
+      {
+        mesh.vertices[i]       = dealii::Point<3>(coordinates[3 * i],
+                                            coordinates[3 * i + 1],
+                                            coordinates[3 * i + 2]);
+        index_of[node_tags[i]] = static_cast<unsigned int>(i);
+      }
+    const auto vertex_index = [&](const std::size_t tag) {
+      const auto it = index_of.find(tag);
+      AssertThrow(it != index_of.end(),
+                  dealii::ExcMessage(
+                    "Mesh file '" + file + "': an element refers to node " +
+                    std::to_string(tag) + ", which the file does not define."));
+      return it->second;
+    };
+    const auto type_name = [](const int type) {
+      std::string         name;
+      int                 dim, order, n_nodes, n_primary;
+      std::vector<double> local;
+      gmsh::model::mesh::getElementProperties(type,
+                                              name,
+                                              dim,
+                                              order,
+                                              n_nodes,
+                                              local,
+                                              n_primary);
+      return name + " (gmsh element type " + std::to_string(type) + ")";
+    };
+
+    // Volume cells.
+    std::vector<int>                      types;
+    std::vector<std::vector<std::size_t>> element_tags, element_nodes;
+    gmsh::model::mesh::getElements(types, element_tags, element_nodes, 3, -1);
+    std::size_t n_tets = 0, n_hexes = 0;
+    for (std::size_t t = 0; t < types.size(); ++t)
+      {
+        AssertThrow(types[t] == 4 || types[t] == 5,
+                    dealii::ExcMessage(
+                      "Mesh file '" + file + "' has " +
+                      std::to_string(element_tags[t].size()) + " " +
+                      type_name(types[t]) +
+                      " elements; Systole reads linear tetrahedra (type 4) "
+                      "or hexahedra (type 5). Mesh with Mesh.ElementOrder = 1 "
+                      "and without prisms or pyramids."));
+        (types[t] == 4 ? n_tets : n_hexes) += element_tags[t].size();
+      }
+    AssertThrow(n_tets == 0 || n_hexes == 0,
+                dealii::ExcMessage(
+                  "Mesh file '" + file + "' mixes " + std::to_string(n_tets) +
+                  " tetrahedra and " + std::to_string(n_hexes) +
+                  " hexahedra; a mesh must be all tetrahedra or all "
+                  "hexahedra (gmsh: Mesh.SubdivisionAlgorithm = 2 makes all "
+                  "hexahedra)."));
+    AssertThrow(n_tets + n_hexes > 0,
+                dealii::ExcMessage(
+                  "Mesh file '" + file +
+                  "' has no tetrahedra or hexahedra: mesh the volume (gmsh "
+                  "-3) and save its physical volume."));
+    mesh.cell_type = n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
+                                : dealii::ReferenceCells::Hexahedron;
+    for (std::size_t t = 0; t < types.size(); ++t)
+      {
+        const unsigned int n = types[t] == 4 ? 4 : 8;
+        for (std::size_t e = 0; e < element_tags[t].size(); ++e)
+          {
+            std::vector<unsigned int> cell(n);
+            for (unsigned int v = 0; v < n; ++v)
+              cell[n == 8 ? hex_to_lexicographic[v] : v] =
+                vertex_index(element_nodes[t][n * e + v]);
+            mesh.cells.push_back(std::move(cell));
+            mesh.cell_ids.push_back(element_tags[t][e]);
+          }
+      }
+
+    // Faces: the triangles and quadrilaterals of each 2D physical group.
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, 2);
+    for (const auto &[dim, tag] : groups)
+      {
+        std::string name;
+        gmsh::model::getPhysicalName(dim, tag, name);
+        if (!name.empty())
+          mesh.tag_names[tag] = name;
+        std::vector<int> entities;
+        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+        for (const int entity : entities)
+          {
+            gmsh::model::mesh::getElements(types,
+                                           element_tags,
+                                           element_nodes,
+                                           dim,
+                                           entity);
+            for (std::size_t t = 0; t < types.size(); ++t)
+              {
+                AssertThrow(types[t] == 2 || types[t] == 3,
+                            dealii::ExcMessage(
+                              "Mesh file '" + file + "': physical surface " +
+                              std::to_string(tag) + " has " +
+                              std::to_string(element_tags[t].size()) + " " +
+                              type_name(types[t]) +
+                              " elements; Systole reads linear triangles "
+                              "(type 2) and quadrilaterals (type 3)."));
+                const unsigned int n = types[t] == 2 ? 3 : 4;
+                for (std::size_t e = 0; e < element_tags[t].size(); ++e)
+                  {
+                    MeshData::TaggedFace face;
+                    face.tag = tag;
+                    face.id  = element_tags[t][e];
+                    for (unsigned int v = 0; v < n; ++v)
+                      face.vertices.push_back(
+                        vertex_index(element_nodes[t][n * e + v]));
+                    mesh.faces.push_back(std::move(face));
+                  }
+              }
+          }
+      }
+    return mesh;
+  }
+
+  // ---------------------------------------------------------------------------
+  // VTK
+
+  namespace
+  {
+    /// The unstructured grid of a .vtu file; VTK's errors and warnings in
+    /// the message of the exception.
+    vtkSmartPointer<vtkUnstructuredGrid>
+    read_vtu_grid(const std::string &file)
+    {
+      check_readable(file);
+      std::string                          vtk_messages;
+      vtkNew<vtkCallbackCommand>           on_message;
+      vtkNew<vtkXMLUnstructuredGridReader> reader;
+      on_message->SetCallback(collect_vtk_message);
+      on_message->SetClientData(&vtk_messages);
+      reader->AddObserver(vtkCommand::ErrorEvent, on_message);
+      reader->AddObserver(vtkCommand::WarningEvent, on_message);
+      reader->SetFileName(file.c_str());
+      reader->Update();
+      vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
+      AssertThrow(
+        reader->GetErrorCode() == 0 && vtk_messages.empty() && grid != nullptr,
+        dealii::ExcMessage(
+          "Mesh file '" + file +
+          "': VTK could not read it as an XML unstructured grid (.vtu)" +
+          (vtk_messages.empty() ? std::string(".") : ": " + vtk_messages)));
+      return grid;
+    }
+  } // namespace
+
+  MeshData
+  read_vtu_data(const std::string &file, const std::string &face_tag_array)
+  {
+    check_readable(file);
+    MeshData mesh;
+    mesh.file = file;
+
+    const vtkSmartPointer<vtkUnstructuredGrid> grid = read_vtu_grid(file);
+
+    const vtkIdType n_points = grid->GetNumberOfPoints();
+    mesh.vertices.resize(n_points);
+    mesh.vertex_ids.resize(n_points);
+    for (vtkIdType i = 0; i < n_points; ++i)
+      {
+        double x[3];
+        grid->GetPoint(i, x);
+        mesh.vertices[i]   = dealii::Point<3>(x[0], x[1], x[2]);
+        mesh.vertex_ids[i] = static_cast<std::size_t>(i);
+      }
+
+    vtkDataArray *tags = nullptr;
+    if (!face_tag_array.empty())
+      {
+        vtkCellData *cell_data = grid->GetCellData();
+        tags                   = cell_data->GetArray(face_tag_array.c_str());
+        if (tags == nullptr)
+          {
+            std::string arrays;
+            for (int a = 0; a < cell_data->GetNumberOfArrays(); ++a)
+              arrays += std::string(arrays.empty() ? "" : ", ") + "'" +
+                        (cell_data->GetArrayName(a) != nullptr
+                           ? cell_data->GetArrayName(a)
+                           : "") +
+                        "'";
+            fail("Mesh file '" + file + "' has no cell-data array '" +
+                 face_tag_array +
+                 "' (its cell arrays: " + (arrays.empty() ? "none" : arrays) +
+                 "). Set Face tag array to the array that tags its boundary "
+                 "triangles or quadrilaterals.");
+          }
+        AssertThrow(tags->GetNumberOfComponents() == 1,
+                    dealii::ExcMessage(
+                      "Mesh file '" + file + "': the face tag array '" +
+                      face_tag_array + "' has " +
+                      std::to_string(tags->GetNumberOfComponents()) +
+                      " components; it must have one integer per cell."));
+      }
+
+    std::map<int, std::pair<std::size_t, vtkIdType>> unsupported;
+    std::size_t                                      n_tets = 0, n_hexes = 0;
+    std::size_t                                      n_face_cells = 0;
+    vtkNew<vtkIdList>                                points;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+      {
+        const int type = grid->GetCellType(c);
+        grid->GetCellPoints(c, points);
+        std::vector<unsigned int> ids(points->GetNumberOfIds());
+        for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+          ids[i] = static_cast<unsigned int>(points->GetId(i));
+        if (type == VTK_TETRA)
+          {
+            mesh.cells.push_back(ids);
+            mesh.cell_ids.push_back(c);
+            ++n_tets;
+          }
+        else if (type == VTK_HEXAHEDRON)
+          {
+            std::vector<unsigned int> cell(8);
+            for (unsigned int v = 0; v < 8; ++v)
+              cell[hex_to_lexicographic[v]] = ids[v];
+            mesh.cells.push_back(cell);
+            mesh.cell_ids.push_back(c);
+            ++n_hexes;
+          }
+        else if (type == VTK_TRIANGLE || type == VTK_QUAD)
+          {
+            ++n_face_cells;
+            if (tags != nullptr)
+              {
+                const double value = tags->GetComponent(c, 0);
+                AssertThrow(value == std::round(value) &&
+                              std::abs(value) < std::numeric_limits<int>::max(),
+                            dealii::ExcMessage(
+                              "Mesh file '" + file + "': the face tag array '" +
+                              face_tag_array + "' has the value " +
+                              std::to_string(value) + " on cell " +
+                              std::to_string(c) +
+                              "; face tags must be integers."));
+                mesh.faces.push_back(
+                  {ids, static_cast<int>(value), static_cast<std::size_t>(c)});
+              }
+          }
+        else if (type != VTK_VERTEX && type != VTK_POLY_VERTEX &&
+                 type != VTK_LINE && type != VTK_POLY_LINE)
+          {
+            auto &entry = unsupported[type];
+            if (entry.first++ == 0)
+              entry.second = c;
+          }
+      }
+    if (!unsupported.empty())
+      {
+        const auto &[type, entry] = *unsupported.begin();
+        fail("Mesh file '" + file + "' has " + std::to_string(entry.first) +
+             " cells of VTK type " + std::to_string(type) + " (" +
+             vtkCellTypes::GetClassNameFromTypeId(type) + "), the first cell " +
+             std::to_string(entry.second) +
+             "; Systole reads linear tetrahedra (VTK_TETRA) or hexahedra "
+             "(VTK_HEXAHEDRON), with triangles or quadrilaterals for the "
+             "boundary faces.");
+      }
+    AssertThrow(n_tets == 0 || n_hexes == 0,
+                dealii::ExcMessage(
+                  "Mesh file '" + file + "' mixes " + std::to_string(n_tets) +
+                  " tetrahedra and " + std::to_string(n_hexes) +
+                  " hexahedra; a mesh must be all tetrahedra or all "
+                  "hexahedra."));
+    AssertThrow(n_tets + n_hexes > 0,
+                dealii::ExcMessage("Mesh file '" + file +
+                                   "' has no tetrahedra or hexahedra."));
+    mesh.cell_type = n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
+                                : dealii::ReferenceCells::Hexahedron;
+    AssertThrow(
+      tags == nullptr || n_face_cells > 0,
+      dealii::ExcMessage(
+        "Mesh file '" + file + "' has only volume cells, so the cell array '" +
+        face_tag_array +
+        "' cannot tag boundary faces (a tag on a cell does not say which of "
+        "its faces lie on which surface). Add the boundary triangles or "
+        "quadrilaterals to the file with their tag in that array (meshio: "
+        "write the 'triangle' cells with the tag as cell data), or use the "
+        "gmsh .msh file with its physical surfaces."));
+    return mesh;
+  }
+
+  std::vector<dealii::Tensor<1, 3>>
+  read_vtu_cell_vectors(const std::string &file, const std::string &array)
+  {
+    const vtkSmartPointer<vtkUnstructuredGrid> grid = read_vtu_grid(file);
+    vtkDataArray *cell_array  = grid->GetCellData()->GetArray(array.c_str());
+    vtkDataArray *point_array = grid->GetPointData()->GetArray(array.c_str());
+    if (cell_array == nullptr && point_array == nullptr)
+      {
+        std::string arrays;
+        for (vtkFieldData *data :
+             {static_cast<vtkFieldData *>(grid->GetCellData()),
+              static_cast<vtkFieldData *>(grid->GetPointData())})
+          for (int a = 0; a < data->GetNumberOfArrays(); ++a)
+            if (data->GetArrayName(a) != nullptr)
+              arrays += std::string(arrays.empty() ? "" : ", ") + "'" +
+                        data->GetArrayName(a) + "'";
+        fail("Mesh file '" + file + "' has no cell or point array '" + array +
+             "' (its arrays: " + (arrays.empty() ? "none" : arrays) + ").");
+      }
+    vtkDataArray *data = cell_array != nullptr ? cell_array : point_array;
+    AssertThrow(data->GetNumberOfComponents() == 3,
+                dealii::ExcMessage(
+                  "Mesh file '" + file + "': the array '" + array + "' has " +
+                  std::to_string(data->GetNumberOfComponents()) +
+                  " components; a vector has 3."));
+
+    const auto vector_of = [&](const vtkIdType i) {
+      double v[3];
+      data->GetTuple(i, v);
+      return dealii::Tensor<1, 3>({v[0], v[1], v[2]});
+    };
+    std::vector<dealii::Tensor<1, 3>> vectors;
+    vtkNew<vtkIdList>                 points;
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+      {
+        const int type = grid->GetCellType(c);
+        if (type != VTK_TETRA && type != VTK_HEXAHEDRON)
+          continue;
+        grid->GetCellPoints(c, points);
+        dealii::Tensor<1, 3> v;
+        if (cell_array != nullptr)
+          v = vector_of(c);
+        else
+          {
+            // The dominant direction of the vertices' vectors: the sign of a
+            // fibre direction carries no meaning, so average a a^T, not a.
+            dealii::SymmetricTensor<2, 3> sum;
+            for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+              {
+                const auto a = vector_of(points->GetId(i));
+                sum += dealii::symmetrize(dealii::outer_product(a, a));
+              }
+            const auto first = vector_of(points->GetId(0));
+            v = dealii::eigenvectors(sum)[0].second * std::sqrt(sum.norm());
+            if (v * first < 0)
+              v = -v;
+          }
+        if (v.norm() == 0 || !std::isfinite(v.norm()))
+          {
+            dealii::Point<3> centre;
+            for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+              {
+                double x[3];
+                grid->GetPoint(points->GetId(i), x);
+                centre += dealii::Point<3>(x[0], x[1], x[2]) /
+                          static_cast<double>(points->GetNumberOfIds());
+              }
+            fail("Mesh file '" + file + "': the vector array '" + array +
+                 "' is zero or not finite " +
+                 (cell_array != nullptr ? "on" : "at the vertices of") +
+                 " cell " + std::to_string(c) + " at " + format_point(centre) +
+                 "; every cell needs a direction.");
+          }
+        vectors.push_back(v / v.norm());
+      }
+    return vectors;
+  }
+
+  // ---------------------------------------------------------------------------
+  // Building the triangulation
+
+  namespace
+  {
+    /// A boundary part of the table, resolved to a face tag.
+    struct Part
+    {
+      std::string name;
+      std::string file_name; ///< as the table (or the file) gives it
+      int         tag;
+    };
+
+    std::vector<Part>
+    resolve_parts(const MeshData &mesh, const BoundaryNameTable &table)
+    {
+      std::vector<Part> parts;
+      if (table.empty())
+        {
+          std::set<int> tags;
+          for (const auto &face : mesh.faces)
+            tags.insert(face.tag);
+          for (const auto &[tag, name] : mesh.tag_names)
+            tags.insert(tag);
+          for (const int tag : tags)
+            {
+              const auto  named = mesh.tag_names.find(tag);
+              std::string name  = named != mesh.tag_names.end()
+                                    ? named->second
+                                    : std::to_string(tag);
+              parts.push_back({name, name, tag});
+            }
+          return parts;
+        }
+      for (const auto &[part, file_name] : table)
+        {
+          int  tag   = 0;
+          bool found = false;
+          for (const auto &[t, name] : mesh.tag_names)
+            if (name == file_name)
+              {
+                tag   = t;
+                found = true;
+                break;
+              }
+          if (!found)
+            found = parse_integer(file_name, tag);
+          AssertThrow(found,
+                      dealii::ExcMessage(
+                        "Boundary names: '" + part + ": " + file_name +
+                        "' names no face of mesh file '" + mesh.file +
+                        "': it has no face tag named '" + file_name +
+                        "' (its face tags: " + list_face_tags(mesh) + ")."));
+          parts.push_back({part, file_name, tag});
+        }
+      return parts;
+    }
+
+    /// The sorted vertex indices of a face (a triangle padded with an
+    /// invalid index).
+    using FaceKey = std::array<unsigned int, 4>;
+
+    FaceKey
+    face_key(const std::vector<unsigned int> &vertices)
+    {
+      FaceKey key;
+      key.fill(dealii::numbers::invalid_unsigned_int);
+      const std::size_t n = std::min<std::size_t>(vertices.size(), 4);
+      std::copy(vertices.begin(), vertices.begin() + n, key.begin());
+      // Insertion sort by hand: GCC 12 warns about std::sort on 4 entries.
+      for (std::size_t i = 1; i < n; ++i)
+        for (std::size_t j = i; j > 0 && key[j] < key[j - 1]; --j)
+          std::swap(key[j], key[j - 1]);
+      return key;
+    }
+
+    dealii::Point<3>
+    centroid(const MeshData &mesh, const std::vector<unsigned int> &vertices)
+    {
+      dealii::Point<3> c;
+      for (const unsigned int v : vertices)
+        c += mesh.vertices[v];
+      return c / static_cast<double>(vertices.size());
+    }
+  } // namespace
+
+  unsigned int
+  default_boundary_id(const MeshData &mesh, const BoundaryNameTable &table)
+  {
+    std::set<int> used;
+    for (const auto &part : resolve_parts(mesh, table))
+      used.insert(part.tag);
+    unsigned int id = 0;
+    while (used.count(static_cast<int>(id)) > 0)
+      ++id;
+    return id;
+  }
+
+  BoundaryNames
+  build_triangulation(const MeshData              &mesh,
+                      const BoundaryNameTable     &table,
+                      dealii::Triangulation<3, 3> &tria)
+  {
+    const bool tets   = mesh.cell_type == dealii::ReferenceCells::Tetrahedron;
+    using Distributed = dealii::parallel::distributed::Triangulation<3, 3>;
+    const bool distributed = dynamic_cast<Distributed *>(&tria) != nullptr;
+    AssertThrow(!tets || !distributed,
+                dealii::ExcMessage(
+                  "Mesh file '" + mesh.file +
+                  "' has tetrahedra, which a parallel::distributed::"
+                  "Triangulation (p4est) cannot hold: read it into a serial "
+                  "Triangulation, or use an all-hexahedral mesh."));
+
+    const std::vector<Part>    parts = resolve_parts(mesh, table);
+    std::map<int, std::string> used_tags; // tag -> its first part
+    for (const auto &part : parts)
+      {
+        AssertThrow(part.tag >= 0,
+                    dealii::ExcMessage(
+                      "Mesh file '" + mesh.file + "': face tag " +
+                      std::to_string(part.tag) + " (part '" + part.name +
+                      "') is negative; boundary ids are non-negative."));
+        used_tags.emplace(part.tag, part.name);
+      }
+    const unsigned int default_id = default_boundary_id(mesh, table);
+
+    std::vector<dealii::CellData<3>> cells(mesh.cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c)
+      cells[c].vertices = mesh.cells[c];
+    if (!tets)
+      try
+        {
+          dealii::GridTools::consistently_order_cells(cells);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          fail("Mesh file '" + mesh.file +
+               "': deal.II cannot orient its hexahedra consistently (" +
+               e.get_exc_name() +
+               "); a hexahedral mesh must be orientable in deal.II's sense "
+               "(see GridTools::consistently_order_cells).");
+        }
+
+    // Every face of every cell, sorted by its vertices: a face that occurs
+    // once is a boundary face.
+    struct CellFace
+    {
+      FaceKey      key;
+      unsigned int cell;
+      unsigned int face;
+    };
+    const dealii::ReferenceCell &reference       = mesh.cell_type;
+    const unsigned int           n_face_vertices = tets ? 3 : 4;
+    std::vector<CellFace>        cell_faces;
+    cell_faces.reserve(cells.size() * reference.n_faces());
+    std::vector<unsigned int> face_vertices(n_face_vertices);
+    for (unsigned int c = 0; c < cells.size(); ++c)
+      for (const unsigned int f : reference.face_indices())
+        {
+          for (unsigned int i = 0; i < n_face_vertices; ++i)
+            face_vertices[i] =
+              cells[c].vertices[reference.face_to_cell_vertices(f, i, 1)];
+          cell_faces.push_back({face_key(face_vertices), c, f});
+        }
+    std::sort(cell_faces.begin(),
+              cell_faces.end(),
+              [](const CellFace &a, const CellFace &b) {
+                return a.key < b.key;
+              });
+    // For each entry: how many cells share its face.
+    std::vector<unsigned int> multiplicity(cell_faces.size());
+    std::size_t               n_overshared = 0, first_overshared = 0;
+    for (std::size_t i = 0; i < cell_faces.size();)
+      {
+        std::size_t j = i;
+        while (j < cell_faces.size() && cell_faces[j].key == cell_faces[i].key)
+          ++j;
+        for (std::size_t k = i; k < j; ++k)
+          multiplicity[k] = j - i;
+        if (j - i > 2 && n_overshared++ == 0)
+          first_overshared = i;
+        i = j;
+      }
+    if (n_overshared > 0)
+      {
+        const auto &entry = cell_faces[first_overshared];
+        fail("Mesh file '" + mesh.file + "': " + std::to_string(n_overshared) +
+             " faces are shared by more than two cells (duplicate cells or a "
+             "non-manifold mesh); the first is a face of element " +
+             std::to_string(mesh.cell_ids[entry.cell]) + " near " +
+             format_point(centroid(mesh, mesh.cells[entry.cell])) +
+             ". Remove the duplicate cells.");
+      }
+
+    // The tag of each boundary face from the file's faces in a used tag.
+    std::vector<int>            tag_of(cell_faces.size(), -1);
+    std::map<int, std::size_t>  n_boundary_faces; // per used tag
+    std::size_t                 n_dangling = 0, n_wrong_kind = 0;
+    const MeshData::TaggedFace *first_dangling = nullptr;
+    for (const auto &face : mesh.faces)
+      {
+        if (used_tags.count(face.tag) == 0)
+          continue;
+        if (face.vertices.size() != n_face_vertices)
+          {
+            if (n_wrong_kind++ == 0)
+              first_dangling = &face;
+            continue;
+          }
+        const FaceKey key = face_key(face.vertices);
+        const auto    found =
+          std::lower_bound(cell_faces.begin(),
+                           cell_faces.end(),
+                           key,
+                           [](const CellFace &a, const FaceKey &b) {
+                             return a.key < b;
+                           });
+        if (found == cell_faces.end() || found->key != key)
+          {
+            if (n_dangling++ == 0)
+              first_dangling = &face;
+            continue;
+          }
+        const std::size_t i = found - cell_faces.begin();
+        if (multiplicity[i] != 1)
+          continue; // between two cells: not a boundary face
+        if (tag_of[i] >= 0 && tag_of[i] != face.tag)
+          fail("Mesh file '" + mesh.file + "': the boundary face at " +
+               format_point(centroid(mesh, face.vertices)) +
+               " is in face tag " + std::to_string(tag_of[i]) + " (part '" +
+               used_tags[tag_of[i]] + "') and face tag " +
+               std::to_string(face.tag) + " (part '" + used_tags[face.tag] +
+               "'); a boundary face can carry one part only.");
+        if (tag_of[i] < 0)
+          ++n_boundary_faces[face.tag];
+        tag_of[i] = face.tag;
+      }
+    if (n_wrong_kind > 0)
+      fail("Mesh file '" + mesh.file + "': " + std::to_string(n_wrong_kind) +
+           " faces tagged " + std::to_string(first_dangling->tag) +
+           " and others have " +
+           std::to_string(first_dangling->vertices.size()) +
+           " vertices, but the faces of " + mesh.cell_kind() + " have " +
+           std::to_string(n_face_vertices) + "; the first, element " +
+           std::to_string(first_dangling->id) + ", at " +
+           format_point(centroid(mesh, first_dangling->vertices)) +
+           ". Tag the faces of the volume mesh.");
+    if (n_dangling > 0)
+      fail("Mesh file '" + mesh.file + "': " + std::to_string(n_dangling) +
+           " tagged faces are no face of any of its " + mesh.cell_kind() +
+           "; the first, element " + std::to_string(first_dangling->id) +
+           " (tag " + std::to_string(first_dangling->tag) + "), at " +
+           format_point(centroid(mesh, first_dangling->vertices)) +
+           ". The surface and the volume mesh must share their nodes (gmsh: "
+           "mesh the volume from the tagged surfaces; Coherence Mesh).");
+    if (!table.empty())
+      for (const auto &part : parts)
+        AssertThrow(n_boundary_faces[part.tag] > 0,
+                    dealii::ExcMessage(
+                      "Boundary names: '" + part.name + ": " + part.file_name +
+                      "' names no boundary face of mesh file '" + mesh.file +
+                      "' (face tag " + std::to_string(part.tag) +
+                      " has no face on its boundary; its face tags: " +
+                      list_face_tags(mesh) + ")."));
+
+    dealii::SubCellData boundary;
+    for (std::size_t i = 0; i < cell_faces.size(); ++i)
+      if (multiplicity[i] == 1)
+        {
+          dealii::CellData<2> face(n_face_vertices);
+          for (unsigned int v = 0; v < n_face_vertices; ++v)
+            face.vertices[v] =
+              cells[cell_faces[i].cell].vertices
+                [reference.face_to_cell_vertices(cell_faces[i].face, v, 1)];
+          face.boundary_id =
+            tag_of[i] >= 0 ? static_cast<dealii::types::boundary_id>(tag_of[i])
+                           : default_id;
+          boundary.boundary_quads.push_back(std::move(face));
+        }
+
+    try
+      {
+        tria.create_triangulation(mesh.vertices, cells, boundary);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        std::ostringstream info;
+        e.print_info(info);
+        fail("Mesh file '" + mesh.file +
+             "': deal.II could not build the mesh: " + trim(info.str()));
+      }
+
+    BoundaryNames names("the mesh file '" + mesh.file + "'");
+    for (const auto &part : parts)
+      names.add(part.name, static_cast<dealii::types::boundary_id>(part.tag));
+    return names;
+  }
+
+  BoundaryNames
+  read_mesh_file(const std::string           &file,
+                 const MeshFileOptions       &options,
+                 dealii::Triangulation<3, 3> &tria)
+  {
+    const std::string ext = extension(file);
+    AssertThrow(ext == ".msh" || ext == ".vtu",
+                dealii::ExcMessage(
+                  "Mesh file '" + file +
+                  "': Systole reads gmsh .msh and VTK .vtu files (by their "
+                  "extension), not '" +
+                  ext + "'."));
+    AssertThrow(ext == ".vtu" || options.face_tag_array.empty(),
+                dealii::ExcMessage(
+                  "Mesh file '" + file +
+                  "': Face tag array is for .vtu files; a gmsh file tags its "
+                  "faces with physical surfaces."));
+    AssertThrow(ext == ".msh" || options.boundary_names.empty() ||
+                  !options.face_tag_array.empty(),
+                dealii::ExcMessage(
+                  "Mesh file '" + file +
+                  "': Boundary names needs Face tag array, the cell-data "
+                  "array of the file that tags its boundary faces."));
+    MeshData mesh = ext == ".msh" ? read_gmsh_data(file)
+                                  : read_vtu_data(file, options.face_tag_array);
+    if (options.scale != 1.0)
+      for (auto &x : mesh.vertices)
+        x *= options.scale;
+    check_mesh_data(mesh);
+    return build_triangulation(mesh, options.boundary_names, tria);
+  }
+
+  BoundaryNames
+  read_gmsh(const std::string           &file,
+            const double                 scale,
+            dealii::Triangulation<3, 3> &tria)
+  {
+    MeshFileOptions options;
+    options.scale = scale;
+    return read_mesh_file(file, options, tria);
+  }
+} // namespace systole::Geometry
