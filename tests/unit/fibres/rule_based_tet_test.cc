@@ -12,6 +12,7 @@
 #include "geometry/boundary_names.h"
 #include "geometry/cell_kind.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_file.h"
 
 #include <catch2/catch.hpp>
 
