@@ -11,6 +11,7 @@
 #include "geometry/mesh_file.h"
 
 #include <filesystem>
+#include <limits>
 
 namespace systole::Geometry
 {
@@ -402,12 +403,31 @@ namespace systole::Geometry
              const std::string                 &cavity,
              const std::string                 &base)
   {
+    const CavityClosure closure = cavity_closure(tria, names, cavity, base);
+    AssertThrow(closure.plane.has_value(),
+                dealii::ExcMessage(
+                  "The cavity '" + cavity +
+                  "' is closed by the plane of its "
+                  "basal ring (the base is not flat), but the ring is not "
+                  "planar: a vertex is " +
+                  std::to_string(closure.off_plane) +
+                  " mm off its best plane. Cut the cavity's surface by a "
+                  "plane."));
+    return *closure.plane;
+  }
+
+  CavityClosure
+  cavity_closure(const dealii::Triangulation<3, 3> &tria,
+                 const BoundaryNames               &names,
+                 const std::string                 &cavity,
+                 const std::string                 &base)
+  {
     const auto base_id            = names.id(base);
     const auto [plane, off_plane] = fit_boundary_plane(tria, base_id, base);
     const double diameter         = dealii::GridTools::diameter(tria);
     const double tolerance        = 1e-6 * diameter;
     if (off_plane <= tolerance)
-      return plane;
+      return {plane, 0.0, 0.0};
 
     // A ruled base: the plane of the basal ring of the cavity, the vertices
     // of base faces that are also vertices of a cavity face of the same cell
@@ -472,21 +492,32 @@ namespace systole::Geometry
     lid.normal = dealii::eigenvectors(scatter)[2].second;
     lid.normal /= lid.normal.norm();
 
-    double max_distance = 0;
+    double                max_distance = 0;
+    std::array<double, 6> box{}; // -min (3), max (3)
+    box.fill(-std::numeric_limits<double>::max());
     for (const auto &x : ring)
-      max_distance =
-        std::max(max_distance, std::abs((x - lid.point) * lid.normal));
+      {
+        max_distance =
+          std::max(max_distance, std::abs((x - lid.point) * lid.normal));
+        for (unsigned int k = 0; k < 3; ++k)
+          {
+            box[k]     = std::max(box[k], -x[k]);
+            box[3 + k] = std::max(box[3 + k], x[k]);
+          }
+      }
     max_distance = dealii::Utilities::MPI::max(max_distance, comm);
-    AssertThrow(max_distance <= tolerance,
-                dealii::ExcMessage(
-                  "The cavity '" + cavity +
-                  "' is closed by the plane of its "
-                  "basal ring (the base is not flat), but the ring is not "
-                  "planar: a vertex is " +
-                  std::to_string(max_distance) +
-                  " mm off its best plane. Cut the cavity's surface by a "
-                  "plane."));
-    return lid;
+    dealii::Utilities::MPI::max(dealii::ArrayView<const double>(box),
+                                comm,
+                                dealii::ArrayView<double>(box));
+    dealii::Tensor<1, 3> diagonal;
+    for (unsigned int k = 0; k < 3; ++k)
+      diagonal[k] = box[3 + k] + box[k];
+    CavityClosure closure;
+    if (max_distance <= tolerance)
+      closure.plane = lid;
+    closure.off_plane = max_distance;
+    closure.rim_size  = diagonal.norm();
+    return closure;
   }
 
   namespace
@@ -507,17 +538,15 @@ namespace systole::Geometry
           for (const auto &face : cell->face_iterators())
             if (face->at_boundary() && face->boundary_id() == id)
               {
-                // The vector area: half the cross product of the diagonals
-                // of a quad (vertices 0, 1, 3, 2 in cyclic order), of two
-                // edges of a triangle.
-                const auto                 a = face->vertex(0);
-                const auto                 b = face->vertex(1);
-                const bool                 triangle = face->n_vertices() == 3;
+                // Two triangle halves of the quad give its vector area; a
+                // triangle's is half the cross product of two edges.
+                const bool triangle = face->n_vertices() == 3;
+                const auto a = face->vertex(0), b = face->vertex(1),
+                           c = face->vertex(triangle ? 2 : 3),
+                           d = triangle ? a : face->vertex(2);
                 const dealii::Tensor<1, 3> vector_area =
-                  triangle ? 0.5 * dealii::cross_product_3d(b - a,
-                                                            face->vertex(2) - a) :
-                             0.5 * dealii::cross_product_3d(face->vertex(3) - a,
-                                                            face->vertex(2) - b);
+                  triangle ? 0.5 * dealii::cross_product_3d(b - a, c - a)
+                           : 0.5 * dealii::cross_product_3d(c - a, d - b);
                 const double area = vector_area.norm();
                 const auto   mid  = face->center();
                 sums[0] += area;

@@ -96,12 +96,43 @@ namespace systole::Geometry
                  const std::string                 &name,
                  const double                       relative_tolerance = 1e-6);
 
+  /// How the cavity bounded by a boundary part is closed (see
+  /// Mechanics::CavityVolume): by a plane where its rim is planar, otherwise
+  /// by the fan (cone) over its rim.
+  struct CavityClosure
+  {
+    /// The lid plane, if the rim is planar: the plane of the base
+    /// (boundary_plane) where the base is flat, as for every mesh with one
+    /// cut plane; otherwise (each surface cut at its own height, the base a
+    /// ruled surface: Aróstica et al. 2025) the plane fitted through the
+    /// vertices where the cavity meets the base (its basal ring), if they lie
+    /// within 1e-6 of the mesh diameter of it. Empty: close by the rim fan.
+    std::optional<Plane> plane;
+    /// Largest distance of a basal-ring vertex from the ring's best plane
+    /// [mm] (0 where the base is flat).
+    double off_plane = 0.0;
+    /// Size of the basal ring: the diagonal of the bounding box of its
+    /// vertices [mm] (0 where the base is flat).
+    double rim_size = 0.0;
+  };
+
+  /// A rim farther than this fraction of its size (CavityClosure::rim_size)
+  /// from its best plane is worth a warning: its fan lid differs much from
+  /// a valve plane.
+  constexpr double rim_warning_fraction = 0.05;
+
+  /// The closure of the cavity bounded by boundary part @p cavity
+  /// (collective). Throws if the base is not flat and meets the cavity in
+  /// fewer than 3 vertices.
+  CavityClosure
+  cavity_closure(const dealii::Triangulation<3, 3> &tria,
+                 const BoundaryNames               &names,
+                 const std::string                 &cavity,
+                 const std::string                 &base = "base");
+
   /// The plane that closes the cavity bounded by boundary part @p cavity
-  /// (collective): the plane of the base (boundary_plane) where the base is
-  /// flat, as for every mesh with one cut plane; otherwise (each surface cut
-  /// at its own height, the base a ruled surface: Aróstica et al. 2025) the
-  /// plane fitted through the vertices where @p cavity meets the base (its
-  /// basal ring), which must then be planar within 1e-6 of the mesh diameter.
+  /// (collective): cavity_closure()'s plane; throws if the rim is not planar
+  /// (within 1e-6 of the mesh diameter).
   Plane
   cavity_lid(const dealii::Triangulation<3, 3> &tria,
              const BoundaryNames               &names,

@@ -732,6 +732,11 @@ namespace systole::Mechanics
                   fe_face.reinit(cell, face);
                   fe_face[layout.displacement]
                     .get_function_gradients(u, face_grad_u);
+                  // B_i = the endocardial flux, the load per unit pressure.
+                  // For a rim-fan cavity (CavityVolume::Closure::rim_fan)
+                  // whose rim moves, dV_i/du has the lid's flux too; the
+                  // bordered Newton then uses this B in its volume row, so
+                  // its Jacobian is not exact there (problem.h).
                   if (with_volume_derivative)
                     {
                       add_volume_flux(fe_face,

@@ -3,52 +3,127 @@
 #include "base/linear_algebra.h"
 #include "geometry/mesh.h"
 
+#include <vector>
+
 namespace dealii
 {
   template <int dim, int spacedim>
   class DoFHandler;
   template <int dim, int spacedim>
   class Mapping;
+  template <int dim, int spacedim>
+  class Triangulation;
 } // namespace dealii
 
 namespace systole::Mechanics
 {
-  /// Volume of the cavity bounded by the endocardium and closed by the base
-  /// plane ("lid"), in the configuration deformed by a displacement field u.
+  /// Volume of the cavity bounded by the endocardium and closed over its rim,
+  /// in the configuration deformed by a displacement field u. Two closures:
   ///
-  /// With a field h(x) = ((x - x_0) . e) e (div h = 1, h . n = 0 on the lid
-  /// plane through x_0 with unit normal e), the divergence theorem gives
+  /// **Plane lid** (Closure::plane; the base plane, or the plane of a planar
+  /// basal ring). With a field h(x) = ((x - x_0) . e) e (div h = 1, h . n = 0
+  /// on the lid plane through x_0 with unit normal e), the divergence theorem
+  /// gives
   /// @f[ V = \int_{\Gamma_{endo}} ((x - x_0)\cdot e)\,(e \cdot n_{cav})\,da
   ///       = -\int_{\Gamma_{endo,0}} ((X + u - x_0)\cdot e)\,(e \cdot J F^{-T}
   ///       N)\,dA, @f]
   /// with N the outward normal of the wall (into the cavity) and Nanson's
   /// formula. This is exact while the basal ring stays in the lid plane (a base
   /// held in its plane); otherwise it is the volume closed by the reference lid
-  /// plane. Units: mm^3.
+  /// plane.
+  ///
+  /// **Rim fan** (Closure::rim_fan; for rims that are not one plane). The lid
+  /// is the cone of segments from a point c to the (current, discrete) rim
+  /// curve. On that cone (x - c) . n = 0, so it adds nothing to the field
+  /// (x - c)/3 (div = 1), and
+  /// @f[ V = \frac13\int_{\Gamma_{endo}} (x - c)\cdot n_{cav}\,da
+  ///       = -\frac13\int_{\Gamma_{endo,0}} (X + u - c)\cdot \mathrm{cof}(F)
+  ///       N\,dA, \qquad c = \frac1{n_r}\sum_{v \in \mathrm{rim}} (X_v +
+  ///       u_v), @f]
+  /// exact for any rim shape (curved rim edges of Q2/P2 included): c is the
+  /// mean of the current positions of the n_r rim vertices, so the lid follows
+  /// a moving rim. The rim vertices are the vertices shared by the
+  /// endocardium and the base, or, without a base, the endpoints of the
+  /// boundary edges of the endocardium (edges of exactly one of its faces).
+  /// For a planar rim and c in its plane the cone is the plane lid and both
+  /// closures give the same volume (to round-off; tested).
+  ///
+  /// Units: mm^3.
   class CavityVolume
   {
   public:
+    /// How the cavity is closed.
+    enum class Closure
+    {
+      plane,  ///< the plane lid
+      rim_fan ///< the cone from the rim's vertex mean to the rim
+    };
+
+    /// A cavity closed by a plane lid.
     /// @param[in] endocardium boundary id of the endocardial faces
     /// @param[in] lid         plane that closes the cavity
-    /// (Geometry::boundary_plane of the base)
+    /// (Geometry::cavity_closure)
     CavityVolume(const dealii::types::boundary_id endocardium,
                  const Geometry::Plane           &lid);
 
+    /// A cavity closed by the fan over its rim (collective). The rim's
+    /// vertices are found here once, on the active cells of @p tria, which
+    /// must not be refined or repartitioned afterwards. Each rim vertex is
+    /// counted by exactly one rank (the lowest subdomain id among the cells
+    /// around it), so c does not depend on the partition.
+    /// @param[in] tria        the mesh (serial or distributed)
+    /// @param[in] endocardium boundary id of the endocardial faces
+    /// @param[in] base        boundary id of the base, or
+    ///            dealii::numbers::invalid_boundary_id: the rim is then the
+    ///            boundary edges of the endocardium itself
+    /// Throws unless the rim has at least 3 vertices.
+    CavityVolume(const dealii::Triangulation<3, 3> &tria,
+                 const dealii::types::boundary_id   endocardium,
+                 const dealii::types::boundary_id   base);
+
+    Closure
+    closure() const
+    {
+      return kind;
+    }
+
+    /// Number of rim vertices (all ranks; 0 for the plane lid).
+    unsigned int
+    n_rim_vertices() const
+    {
+      return n_rim;
+    }
+
     /// Cavity volume for the displacement @p u (ghosted, on @p dof_handler, an
-    /// FESystem of 3 equal scalar elements), integrated with a Gauss rule of @p
-    /// n_points per direction. Collective over the mesh's communicator.
+    /// FESystem whose first 3 components are the displacement, each a
+    /// Lagrange element with vertex DoFs), integrated with a Gauss rule of
+    /// @p n_points per direction. Collective over the mesh's communicator.
     double
     volume(const dealii::Mapping<3, 3>    &mapping,
            const dealii::DoFHandler<3, 3> &dof_handler,
            const LA::MPI::Vector          &u,
            const unsigned int              n_points) const;
 
-    /// The derivative dV/du as a vector on the DoFs of @p dof_handler
-    /// (owned, non-ghosted @p dV_du, overwritten): the volume flux
+    /// The derivative as a vector on the DoFs of @p dof_handler (owned,
+    /// non-ghosted @p dV_du, overwritten). Collective.
+    ///
+    /// Plane lid: the volume flux
     /// @f$-\int_{\Gamma_{endo,0}} \varphi\cdot\mathrm{cof}(F)N\,dA@f$
     /// (add_volume_flux with scale -1), which is also the follower-pressure
     /// load per unit pressure. It equals the derivative of volume() while
-    /// the basal ring stays in the lid plane. Collective.
+    /// the basal ring stays in the lid plane.
+    ///
+    /// Rim fan: the exact dV/du,
+    /// @f[ \frac{dV}{du}\cdot\varphi = -\frac13\int_{\Gamma_{endo,0}}
+    ///     \big[\varphi\cdot\mathrm{cof}(F)N + (x - c)\cdot
+    ///     (\partial_F\mathrm{cof}(F)[\nabla\varphi])N\big]\,dA
+    ///     + \frac13\,\delta c[\varphi]\cdot\int_{\Gamma_{endo,0}}
+    ///     \mathrm{cof}(F)N\,dA, @f]
+    /// @f$\delta c[\varphi] = \frac1{n_r}\sum_{v\in\mathrm{rim}}
+    /// \varphi(X_v)@f$: the endocardial flux plus the flux of the moving
+    /// lid. The follower-pressure load of the mechanics stays the endocardial
+    /// flux alone (the lid is not a surface of the body): the two agree while
+    /// the rim does not move (a fixed base).
     void
     derivative(const dealii::Mapping<3, 3>    &mapping,
                const dealii::DoFHandler<3, 3> &dof_handler,
@@ -57,7 +132,17 @@ namespace systole::Mechanics
                LA::MPI::Vector                &dV_du) const;
 
   private:
+    /// c for @p u: the mean of X_v + u_v over the rim vertices (collective).
+    dealii::Point<3>
+    rim_center(const dealii::DoFHandler<3, 3> &dof_handler,
+               const LA::MPI::Vector          &u) const;
+
+    Closure                    kind;
     dealii::types::boundary_id endocardium;
     Geometry::Plane            lid;
+    /// Per vertex of the triangulation (rank-local numbering): whether this
+    /// rank counts it as a rim vertex (each rim vertex on one rank only).
+    std::vector<bool> counted_rim_vertex;
+    unsigned int      n_rim = 0;
   };
 } // namespace systole::Mechanics

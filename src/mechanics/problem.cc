@@ -154,12 +154,33 @@ namespace systole::Mechanics
     if (!m.pressure_ids.empty() && names.has("base"))
       {
         Geometry::require_boundary(tria, names, "base");
-        // The base plane; for a ruled base, each cavity's basal ring.
+        // The base plane; for a ruled base, each cavity's basal ring if it
+        // is planar, else the fan over the ring (a patient base, a warped
+        // cut), with a warning when it is far from a plane.
         for (unsigned int c = 0; c < m.pressure_ids.size(); ++c)
-          m.cavities.emplace_back(m.pressure_ids[c],
-                                  Geometry::cavity_lid(tria,
-                                                       names,
-                                                       m.pressure_names[c]));
+          {
+            const auto closure =
+              Geometry::cavity_closure(tria, names, m.pressure_names[c]);
+            if (closure.plane)
+              {
+                m.cavities.emplace_back(m.pressure_ids[c], *closure.plane);
+                continue;
+              }
+            if (closure.off_plane >
+                Geometry::rim_warning_fraction * closure.rim_size)
+              {
+                std::ostringstream line;
+                line << std::setprecision(3) << "Warning: the rim of cavity '"
+                     << m.pressure_names[c] << "' lies up to "
+                     << closure.off_plane << " mm off its best plane ("
+                     << 100.0 * closure.off_plane / closure.rim_size
+                     << " % of its " << closure.rim_size
+                     << " mm size); its volume is closed by the fan from the "
+                        "rim's vertex mean.";
+                logger.line(line.str());
+              }
+            m.cavities.emplace_back(tria, m.pressure_ids[c], names.id("base"));
+          }
       }
 
     // DoFs and constraints (zero displacement on fixed parts, zero normal
@@ -269,9 +290,15 @@ namespace systole::Mechanics
     // plane: the base must be held in it (fixed or sliding). The viscous
     // stress of a time step, eta dE/dt with E(F) and its rate, has a
     // tangent that is not symmetric.
+    // A rim-fan cavity (CavityVolume::Closure::rim_fan) is closed by a lid
+    // that moves with its rim: the load (the endocardial flux) is dV/du only
+    // while the rim does not move at all, a fixed base.
+    bool fan = false;
+    for (const auto &cavity : m.cavities)
+      fan = fan || cavity.closure() == CavityVolume::Closure::rim_fan;
     const bool base_held = !names.has("base") ||
                            m.fixed_ids.count(names.id("base")) > 0 ||
-                           m.sliding_ids.count(names.id("base")) > 0;
+                           (!fan && m.sliding_ids.count(names.id("base")) > 0);
     const bool symmetric =
       (m.pressure_ids.empty() || (!m.cavities.empty() && base_held)) &&
       params.viscosity == 0.0;

@@ -152,6 +152,20 @@ namespace systole::Mechanics
   /// a ventricle. Parts that meet off the plane, such as one cavity split in
   /// two, still add up to the whole volume, but dV_i/du then differs from
   /// the load by the motion of their common edge.
+  ///
+  /// A cavity whose basal ring is not planar (Geometry::cavity_closure: a
+  /// ruled or warped base) is closed by the fan from its rim's vertex mean
+  /// (CavityVolume::Closure::rim_fan; a warning when the ring is more than
+  /// Geometry::rim_warning_fraction of its size off its best plane). Its
+  /// V_i is exact for any rim, but the load stays the endocardial flux b_i:
+  /// no pressure acts on the lid, which is not a surface of the body. While
+  /// the base is fixed the rim does not move and b_i = dV_i/du exactly. When
+  /// it moves (a sliding or free base), dV_i/du = b_i + the lid's flux, the
+  /// pressure work p dV_i exceeds the load's work by p times that flux, the
+  /// tangent is not symmetric (LU is used), and the bordered Newton of
+  /// solve_cavities(), which puts b_i in both its load column and its volume
+  /// row, has an inexact volume row: it converges to the right (u, p), as
+  /// the residuals are exact, but linearly instead of quadratically.
   class NewtonSolver;
 
   class Problem
