@@ -871,8 +871,11 @@ namespace systole::IO
         filter.fill_cell_data(node_offset, cells);
         // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
         // rank (a rank without cells has none to say).
-        impl->nodes_per_cell = dealii::Utilities::MPI::max(
-          n_local_cells > 0 ? cells.size() / n_local_cells : 0, impl->comm);
+        impl->nodes_per_cell =
+          dealii::Utilities::MPI::max(n_local_cells > 0
+                                        ? cells.size() / n_local_cells
+                                        : 0,
+                                      impl->comm);
         AssertThrow(impl->nodes_per_cell == 8 || impl->nodes_per_cell == 4,
                     dealii::ExcMessage(
                       "Field output: cells of " +

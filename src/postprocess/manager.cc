@@ -228,7 +228,7 @@ namespace systole::Postprocess
         }
       const dealii::Quadrature<3> quadrature =
         problem.cell_kind().cell_quadrature(problem.n_quadrature_points_1d());
-      dealii::FEValues<3>     fe_values(problem.mapping(),
+      dealii::FEValues<3> fe_values(problem.mapping(),
                                     fe,
                                     quadrature,
                                     dealii::update_values |
@@ -288,9 +288,9 @@ namespace systole::Postprocess
     /// Nodal fields: continuous linear elements of the mesh's cell shape.
     const std::unique_ptr<dealii::FiniteElement<3, 3>> fe_storage =
       problem.cell_kind().lagrange(1);
-    const dealii::FiniteElement<3, 3>                              &fe = *fe_storage;
-    std::optional<dealii::DoFHandler<3>>                            dof_handler;
-    dealii::AffineConstraints<double>                               constraints;
+    const dealii::FiniteElement<3, 3>   &fe = *fe_storage;
+    std::optional<dealii::DoFHandler<3>> dof_handler;
+    dealii::AffineConstraints<double>    constraints;
     std::vector<dealii::LinearAlgebra::distributed::Vector<double>> nodal;
     dealii::LinearAlgebra::distributed::Vector<double>              weights;
   };

@@ -174,9 +174,9 @@ namespace systole
           dealii::DataOut<3> data_out;
           problem.attach_output(data_out);
           postprocess.attach_output(data_out);
-          data_out.build_patches(
-            problem.mapping(),
-            problem.cell_kind().output_subdivisions(run.polynomial_degree));
+          data_out.build_patches(problem.mapping(),
+                                 problem.cell_kind().output_subdivisions(
+                                   run.polynomial_degree));
           results.write_fields(data_out, step, time);
         }
     };

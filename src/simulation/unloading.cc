@@ -243,10 +243,9 @@ namespace systole
             dealii::DataComponentInterpretation::DataComponentInterpretation>(
             3,
             dealii::DataComponentInterpretation::component_is_part_of_vector));
-        data_out.build_patches(
-          model.problem->mapping(),
-          model.problem->cell_kind().output_subdivisions(
-            run.polynomial_degree));
+        data_out.build_patches(model.problem->mapping(),
+                               model.problem->cell_kind().output_subdivisions(
+                                 run.polynomial_degree));
         results.write_fields(data_out, 0, 0.0);
       }
 
