@@ -2209,7 +2209,7 @@ def main() -> int:
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
                                            "niederer", "land", "inverse", "biv", "scaling",
-                                           "scaling-th", "large", "arostica"],
+                                           "scaling-th", "large", "arostica", "tet"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -2452,6 +2452,10 @@ def main() -> int:
                 sections[title] = scaling_section(args.build, workdir, args.quick,
                                                   th=group == "scaling-th")
                 print(sections[title], flush=True)
+        if args.only in (None, "tet"):
+            from bench_tet import TITLE as TET_TITLE, tet_section
+            sections[TET_TITLE] = tet_section(args.build, workdir, args.full, run, Case)
+            print(sections[TET_TITLE], flush=True)
         if args.only in (None, "large"):
             sections[LARGE_TITLE] = large_section(args.build, workdir)
             print(sections[LARGE_TITLE], flush=True)

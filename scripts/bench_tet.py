@@ -1,0 +1,126 @@
+"""The bench group 'tet': Land problem 2 on tetrahedra against hexahedra (scripts/bench --only tet).
+
+Two tables, every run on 2 ranks in one session (the machine is shared: compare within it):
+1. Accuracy and cost: Land problem 2 (incompressible, 10 equal load steps, Taylor-Hood) on the
+   tetrahedral ventricles of cardiac-geometries (the shipped 3 mm mesh, the reference meshes
+   of ../shared/data/lv_tet when present, and with --full a finer one written by
+   scripts/make_tet_meshes.py) and on the hexahedral ventricles of the same size, the apexes
+   against the published band.
+2. Cost per Newton iteration at about equal DOFs: the scaling group's problem (2 kPa in two
+   load steps, pure Newton, the iterative solver), time per Newton iteration per DOF, Krylov
+   iterations per solve, memory per DOF.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+from typing import Callable
+
+ROOT = Path(__file__).resolve().parent.parent
+SHARED = ROOT.parent / "shared" / "data" / "lv_tet"
+TITLE = "Mechanics on tetrahedra: Land problem 2, tetrahedra against hexahedra (2 ranks)"
+#: Land problem 2's band along the long axis (x for the cardiac-geometries meshes, z for the
+#: generated ones) [mm].
+BAND = {"endo": (-26.9, -26.4), "epi": (-28.5, -28.1)}
+#: The scaling group's problem (bench.SCALING_PROBLEM): two load steps to 2 kPa, pure Newton.
+PER_NEWTON = {"Pressure": "2", "Load steps": "2", "Mechanics/Reuse factorization": "false",
+              "Mechanics/Linear solver": "iterative"}
+HEX_TAYLOR_HOOD = {"Material/Incompressibility": "incompressible",
+                   "Discretization/Pressure element": "continuous",
+                   "Mechanics/Adaptive load steps": "false", "Load steps": "10"}
+
+
+def tet_meshes(workdir: Path, full: bool) -> list[tuple[str, Path]]:
+    """(label, .msh) of the tetrahedral ventricles of the study."""
+    meshes = [("shipped, 3 mm", ROOT / "meshes" / "lv_ellipsoid_tet.msh")]
+    if (SHARED / "psize1.5" / "lv_ellipsoid.msh").exists():
+        meshes.append(("shared psize1.5", SHARED / "psize1.5" / "lv_ellipsoid.msh"))
+    if full:
+        out = workdir / "tet_1mm"
+        done = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_tet_meshes.py"),
+                               "--out", str(out), "--only", "lv", "--lv-psize", "1.0"],
+                              capture_output=True, text=True)
+        if done.returncode == 0:
+            meshes.append(("generated, 1 mm", out / "lv_ellipsoid_tet.msh"))
+    return meshes
+
+
+def apexes(row: dict, axis: str) -> str:
+    """'endo / epi' [mm] with a mark for values outside the band."""
+    cells = []
+    for point in ("endo", "epi"):
+        value = row["values"][f"{point}_apex_{axis}"]
+        low, high = BAND[point]
+        cells.append(f"{value:.3f}" + ("" if low <= value <= high else " (out)"))
+    return " / ".join(cells)
+
+
+def cost(row: dict) -> str:
+    """Newton (chords), Krylov per solve, wall, per Newton iteration per DOF, memory per DOF."""
+    s = row["summary"]
+    n = max(1.0, s["newton_iterations"] + s.get("chord_iterations", 0.0))
+    per_dof = 1e6 * (s["assembly_seconds"] + s["linear_solver_seconds"]) / n / s["n_dofs"]
+    memory = 2 * row["memory"] * 2**20 / s["n_dofs"] / 1024
+    busy = " *" if row.get("busy") else ""
+    return (f"{s['newton_iterations']:.0f} ({s.get('chord_iterations', 0):.0f}) "
+            f"| {s['linear_iterations_per_solve']:.1f} | {row['wall']:.1f}{busy} "
+            f"| {per_dof:.1f}{busy} | {memory:.1f} |")
+
+
+def tet_section(build: Path, workdir: Path, full: bool, run: Callable, Case: type) -> str:
+    """Both tables of the group; run and Case are bench.py's."""
+    accuracy, per_newton = [], []
+    for label, mesh in tet_meshes(workdir, full):
+        changes = {"Mesh file": str(mesh)}
+        print(f"running Land problem 2 on the tetrahedral ventricle {label} ...", flush=True)
+        accuracy.append(("tetrahedra", label, "x",
+                         run(Case("tet", "lv_tet_inflation.prm", label, changes), build, workdir)))
+        per_newton.append(("tetrahedra", label, run(
+            Case("tet-newton", "lv_tet_inflation.prm", label, {**changes, **PER_NEWTON}),
+            build, workdir)))
+    for a, b, r in ((16, 5, 1), (32, 10, 1)):
+        label = f"{a}x{b}, {r} refinement(s), Q2-Q1"
+        changes = {"Global refinements": str(r),
+                   "Geometry/Ellipsoid/Cells around circumference": str(a),
+                   "Geometry/Ellipsoid/Cells from apex to base": str(b), **HEX_TAYLOR_HOOD}
+        print(f"running Land problem 2 on the hexahedral ventricle {label} ...", flush=True)
+        accuracy.append(("hexahedra", label, "z",
+                         run(Case("tet", "land_problem2.prm", label, changes), build, workdir)))
+        per_newton.append(("hexahedra", label, run(
+            Case("tet-newton", "land_problem2.prm", label, {**changes, **PER_NEWTON}),
+            build, workdir)))
+
+    lines = [f"## {TITLE}", "",
+             "Generated by `scripts/bench --only tet` (`--full` adds a 1 mm tetrahedral mesh). "
+             "Land problem 2, incompressible Taylor-Hood (P2-P1 on tetrahedra, Q2-Q1 on "
+             "hexahedra), 10 equal load steps, the `auto` linear solver. Tetrahedra: the "
+             "cardiac-geometries ventricle (flat facets, long axis x); hexahedra: the generated "
+             "ventricle (curved Q2 geometry, long axis z). Band: endo -26.9 ... -26.4, epi "
+             "-28.5 ... -28.1 mm. Per Newton iteration per DOF: (assembly + linear solver) / "
+             "(Newton + chord iterations) / DOFs.", "",
+             "| cells | mesh | DOFs | endo / epi apex [mm] | Newton (chord) iterations "
+             "| Krylov iterations per solve | wall [s] | per iteration per DOF [µs] "
+             "| 2 x peak memory per rank per DOF [KiB] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for cells, label, axis, row in accuracy:
+        if not row["ok"]:
+            lines.append(f"| {cells} | {label} | - | failed: {row['error']} | | | | | |")
+            continue
+        lines.append(f"| {cells} | {label} | {row['dofs']} | {apexes(row, axis)} | {cost(row)}")
+    lines += ["", "The same meshes on the scaling group's problem (2 kPa in two load steps, pure "
+              "Newton, the iterative solver: FGMRES with the p-multigrid P2/Q2 -> P1/Q1 Schur "
+              "block preconditioner):", "",
+              "| cells | mesh | DOFs | Newton (chord) iterations | Krylov iterations per solve "
+              "| wall [s] | per iteration per DOF [µs] "
+              "| 2 x peak memory per rank per DOF [KiB] |",
+              "|---|---|---|---|---|---|---|---|"]
+    for cells, label, row in per_newton:
+        if not row["ok"]:
+            lines.append(f"| {cells} | {label} | failed: {row['error']} | | | | | |")
+            continue
+        lines.append(f"| {cells} | {label} | {row['dofs']} | {cost(row)}")
+    if any(r.get("busy") for *_, r in accuracy + per_newton):
+        lines += ["", "\\* The machine was busy during the run: the time is inflated."]
+    return "\n".join(lines) + "\n"
