@@ -34,6 +34,23 @@ namespace systole::Geometry
       tria->create_triangulation(description);
       return {std::move(tria), std::move(names)};
     }
+
+    /// Throws for what tetrahedral meshes cannot do yet.
+    void
+    require_tetrahedral_support(const Parameters  &params,
+                                const std::string &saved_mesh)
+    {
+      AssertThrow(saved_mesh.empty(),
+                  dealii::ExcMessage(
+                    "A checkpoint of a run on a tetrahedral mesh cannot be "
+                    "resumed yet: rerun it from the start."));
+      AssertThrow(params.local_refinements == 0,
+                  dealii::ExcMessage(
+                    "Geometry / Local refinements > 0 needs a hexahedral "
+                    "mesh (no hanging nodes on tetrahedra): refine a "
+                    "tetrahedral mesh with Global refinements or mesh it "
+                    "finer."));
+    }
   } // namespace
 
   DistributedMesh
@@ -43,15 +60,7 @@ namespace systole::Geometry
   {
     if (params.tetrahedra && params.type != Parameters::Type::gmsh)
       {
-        AssertThrow(saved_mesh.empty(),
-                    dealii::ExcMessage(
-                      "A checkpoint of a run on a tetrahedral mesh cannot "
-                      "be resumed yet: rerun it from the start."));
-        AssertThrow(params.local_refinements == 0,
-                    dealii::ExcMessage(
-                      "Geometry / Cell shape = tetrahedra needs Geometry / "
-                      "Local refinements = 0 (no hanging nodes on "
-                      "tetrahedra)."));
+        require_tetrahedral_support(params, saved_mesh);
         dealii::Triangulation<3, 3> hexahedra;
         BoundaryNames               names = create_mesh(params, hexahedra);
         dealii::Triangulation<3, 3> serial;
@@ -69,15 +78,7 @@ namespace systole::Geometry
         BoundaryNames names                = create_mesh(coarse, serial);
         if (CellKind(serial).simplex())
           {
-            AssertThrow(saved_mesh.empty(),
-                        dealii::ExcMessage(
-                          "A checkpoint of a run on a tetrahedral mesh cannot "
-                          "be resumed yet: rerun it from the start."));
-            AssertThrow(params.local_refinements == 0,
-                        dealii::ExcMessage(
-                          "Geometry / Local refinements > 0 needs a "
-                          "hexahedral mesh; refine a tetrahedral mesh with "
-                          "Global refinements or mesh it finer."));
+            require_tetrahedral_support(params, saved_mesh);
             serial.refine_global(params.global_refinements);
             return fully_distributed(serial, std::move(names), comm);
           }
