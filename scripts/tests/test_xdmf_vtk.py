@@ -29,11 +29,17 @@ def need(variable):
 
 def run_with_fields(prm_name, tmp_path):
     """Run tests/runs/<prm_name> with fields at every 5th step; its results folder."""
-    app = os.path.abspath(need("SYSTOLE_APP"))
-    text = (RUNS / prm_name).read_text()
-    text = re.sub(r"set Field output interval\s*=\s*\d+", "set Field output interval = 5",
-                  text)
     prm = tmp_path / prm_name
+    prm.write_text((RUNS / prm_name).read_text())
+    return run_with_fields_of(prm, tmp_path)
+
+
+def run_with_fields_of(prm, tmp_path):
+    """Run the parameter file prm (in tmp_path) with fields at every 5th step; its results
+    folder."""
+    app = os.path.abspath(need("SYSTOLE_APP"))
+    text = re.sub(r"set Field output interval\s*=\s*\d+", "set Field output interval = 5",
+                  prm.read_text())
     prm.write_text(text)
     subprocess.run([app, str(prm)], cwd=tmp_path, check=True, capture_output=True,
                    timeout=300)
@@ -82,3 +88,19 @@ def test_land_problem_xdmf_reads_every_field_of_the_last_step(tmp_path):
 def test_ep_slab_xdmf_reads_every_field_of_the_last_step(tmp_path):
     names = check_xdmf(run_with_fields("ep_slab_coarse.prm", tmp_path))
     assert "transmembrane_potential" in names
+
+
+def test_tetrahedral_land_problem_xdmf_reads_every_field_of_the_last_step(tmp_path):
+    """Land problem 2 on the shipped tetrahedral ventricle: 4-node tetrahedra, every field."""
+    prm = tmp_path / "land_problem2_tet.prm"
+    text = (RUNS / prm.name).read_text()
+    mesh = re.search(r"set Mesh file\s*=\s*(\S+)", text).group(1)
+    prm.write_text(text.replace(mesh, str((RUNS / mesh).resolve())))
+    names = check_xdmf(run_with_fields_of(prm, tmp_path))
+    assert "displacement" in names and "pressure" in names
+    vtk = pytest.importorskip("vtk")
+    reader = vtk.vtkXdmfReader()
+    reader.SetFileName(str(tmp_path / "results" / prm.stem / "fields.xdmf"))
+    reader.Update()
+    grid = reader.GetOutputDataObject(0)
+    assert {grid.GetCellType(i) for i in range(grid.GetNumberOfCells())} == {vtk.VTK_TETRA}
