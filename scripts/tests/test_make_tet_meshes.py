@@ -13,6 +13,7 @@ import pytest
 pytest.importorskip("cardiac_geometries_core")
 
 import make_tet_meshes as tet  # noqa: E402  (after the skip: it needs the package)
+from systole_post.msh41 import Mesh, read_msh41  # noqa: E402,F401
 
 LV_PSIZE = 3.0  # the shipped mesh's size (compared below)
 BIV_PSIZE = 4.0
@@ -24,98 +25,6 @@ BIV_LV_ENDO = ((0.0, 0.0, 0.0), (17.0, 17.0, 40.0))
 BIV_LV_EPI = ((0.0, 0.0, 0.0), (22.0, 22.0, 45.0))
 BIV_RV_ENDO = ((10.0, 0.0, 0.0), (28.0, 19.0, 39.0))
 BIV_RV_EPI = ((10.0, 0.0, 0.0), (32.0, 23.0, 43.0))
-
-
-def read_msh41(path):
-    """Nodes {tag: xyz}, elements {dim: [(entity, type, rows of node tags)]}, physical names
-    {name: (dim, tag)} and entity physical tags {(dim, entity): [tags]} of an ASCII msh 4.1."""
-    lines = iter(path.read_text().splitlines())
-    nodes, elements, names, physical = {}, {}, {}, {}
-    for line in lines:
-        if line == "$MeshFormat":
-            assert next(lines).split() == ["4.1", "0", "8"]
-        elif line == "$PhysicalNames":
-            for _ in range(int(next(lines))):
-                dim, tag, name = next(lines).split(maxsplit=2)
-                names[name.strip('"')] = (int(dim), int(tag))
-        elif line == "$Entities":
-            counts = [int(v) for v in next(lines).split()]
-            for dim, count in enumerate(counts):
-                for _ in range(count):
-                    values = next(lines).split()
-                    at = 4 if dim == 0 else 7  # tag, x y z or the bounding box
-                    n_physical = int(values[at])
-                    physical[(dim, int(values[0]))] = [int(v) for v in
-                                                       values[at + 1:at + 1 + n_physical]]
-        elif line == "$Nodes":
-            n_blocks = int(next(lines).split()[0])
-            for _ in range(n_blocks):
-                _, _, parametric, n = (int(v) for v in next(lines).split())
-                assert parametric == 0
-                tags = [int(next(lines)) for _ in range(n)]
-                for node in tags:
-                    nodes[node] = np.array([float(v) for v in next(lines).split()])
-        elif line == "$Elements":
-            n_blocks = int(next(lines).split()[0])
-            for _ in range(n_blocks):
-                dim, entity, element_type, n = (int(v) for v in next(lines).split())
-                rows = np.array([[int(v) for v in next(lines).split()[1:]] for _ in range(n)])
-                elements.setdefault(dim, []).append((entity, element_type, rows))
-    return nodes, elements, names, physical
-
-
-class Mesh:
-    """The tetrahedra and the triangles of each physical surface of a msh 4.1 file."""
-
-    def __init__(self, path):
-        nodes, elements, self.names, physical = read_msh41(path)
-        index = {tag: i for i, tag in enumerate(nodes)}
-        self.points = np.array(list(nodes.values()))
-        self.types_3d = {element_type for _, element_type, _ in elements[3]}
-        self.tets = np.vstack([np.vectorize(index.get)(rows) for _, element_type, rows
-                               in elements[3] if element_type == 4])
-        self.surfaces = {}
-        for name, (dim, tag) in self.names.items():
-            if dim == 2:
-                self.surfaces[name] = np.vstack([
-                    np.vectorize(index.get)(rows) for entity, element_type, rows
-                    in elements[2] if element_type == 2 and tag in physical[(2, entity)]])
-
-    def tet_volumes(self):
-        p = self.points[self.tets]
-        return np.einsum("ij,ij->i", p[:, 1] - p[:, 0],
-                         np.cross(p[:, 2] - p[:, 0], p[:, 3] - p[:, 0])) / 6.0
-
-    def boundary_faces(self):
-        """{sorted face: the vertex of its tetrahedron opposite it} for the faces of one tet."""
-        opposite, count = {}, Counter()
-        for tet_nodes in self.tets:
-            for k in range(4):
-                face = tuple(sorted(np.delete(tet_nodes, k)))
-                count[face] += 1
-                opposite[face] = tet_nodes[k]
-        return {face: opposite[face] for face, n in count.items() if n == 1}
-
-    def cavity_volume(self, name, lid_point):
-        """Volume enclosed by the surface @p name and the lid plane through @p lid_point: the
-        divergence theorem with the origin on the lid, so the lid adds nothing. Each triangle
-        is oriented towards its tetrahedron (out of the cavity), whatever gmsh wrote."""
-        opposite = self.boundary_faces()
-        volume = 0.0
-        for triangle in self.surfaces[name]:
-            a, b, c = self.points[triangle] - lid_point
-            d = self.points[opposite[tuple(sorted(triangle))]] - lid_point
-            six_v = np.dot(a, np.cross(b, c))
-            if np.dot(np.cross(b - a, c - a), d - a) < 0:  # normal away from the wall
-                six_v = -six_v
-            volume += six_v / 6.0
-        return volume
-
-    def open_edges(self, name):
-        """Points of the edges used by one triangle of the surface @p name (its rim)."""
-        edges = Counter(tuple(sorted((t[i], t[(i + 1) % 3]))) for t in self.surfaces[name]
-                        for i in range(3))
-        return self.points[sorted({n for edge, k in edges.items() if k == 1 for n in edge})]
 
 
 def level(ellipsoid, x):
