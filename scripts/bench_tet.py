@@ -121,6 +121,38 @@ def tet_section(build: Path, workdir: Path, full: bool, run: Callable, Case: typ
             lines.append(f"| {cells} | {label} | failed: {row['error']} | | | | | |")
             continue
         lines.append(f"| {cells} | {label} | {row['dofs']} | {cost(row)}")
+    lines += p3_lines(build, workdir, run, Case)
     if any(r.get("busy") for *_, r in accuracy + per_newton):
         lines += ["", "\\* The machine was busy during the run: the time is inflated."]
     return "\n".join(lines) + "\n"
+
+
+#: Land problem 3 on the generated ventricle split into tetrahedra (Cell shape = tetrahedra):
+#: 16 x 5 coarse hexahedra refined once, 24 tetrahedra each, Taylor-Hood, no local refinement.
+P3_TET = {"Geometry/Cell shape": "tetrahedra", "Geometry/Ellipsoid/Cells around circumference": "16",
+          "Geometry/Ellipsoid/Cells from apex to base": "5", "Local refinements": "0",
+          "Discretization/Pressure element": "continuous"}
+#: The hexahedral reference of problem 3 (bench group large: 32 x 10 refined twice, 511k DOFs).
+P3_HEX = (-12.317, -15.487)
+
+
+def p3_lines(build: Path, workdir: Path, run: Callable, Case: type) -> list[str]:
+    """Land problem 3 on the generated ventricle split into tetrahedra."""
+    print("running Land problem 3 on the generated ventricle split into tetrahedra ...",
+          flush=True)
+    row = run(Case("tet-p3", "land_problem3.prm", "16x5, 1 refinement, tetrahedra", P3_TET),
+              build, workdir)
+    lines = ["", "Land problem 3 (`parameters/land_problem3.prm` with `Cell shape = tetrahedra`: "
+             "16 x 5 coarse hexahedra refined once, each split into 24 tetrahedra, Taylor-Hood, "
+             "no local refinement at the apex) against the hexahedral 511k-DOF values of the "
+             f"group large ({P3_HEX[0]} / {P3_HEX[1]} mm):", "",
+             "| mesh | DOFs | endo / epi apex z [mm] | difference to the hexahedral [mm] "
+             "| Newton (chord) iterations | Krylov iterations per solve | wall [s] "
+             "| per iteration per DOF [µs] | 2 x peak memory per rank per DOF [KiB] |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    if not row["ok"]:
+        return lines + [f"| 16x5, 1, tetrahedra | failed: {row['error']} | | | | | | | |"]
+    endo, epi = row["values"]["endo_apex_z"], row["values"]["epi_apex_z"]
+    lines.append(f"| 16x5, 1, tetrahedra | {row['dofs']} | {endo:.3f} / {epi:.3f} "
+                 f"| {endo - P3_HEX[0]:+.3f} / {epi - P3_HEX[1]:+.3f} | {cost(row)}")
+    return lines
