@@ -8,6 +8,7 @@
 #include "geometry/cell_kind.h"
 #include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
+#include "support/angle_statistics.h"
 
 #include <catch2/catch.hpp>
 
@@ -23,56 +24,9 @@ namespace
 {
   constexpr double deg = M_PI / 180;
 
-  struct Stats
-  {
-    std::vector<double> values;
+  using Stats = test_support::ErrorSamples;
 
-    void
-    add(const double e)
-    {
-      values.push_back(std::abs(e));
-    }
-    std::size_t
-    n() const
-    {
-      return values.size();
-    }
-    double
-    mean() const
-    {
-      double s = 0;
-      for (const double v : values)
-        s += v;
-      return values.empty() ? 0.0 : s / values.size();
-    }
-    double
-    max() const
-    {
-      return values.empty() ? 0.0
-                            : *std::max_element(values.begin(), values.end());
-    }
-    double
-    percentile(const double fraction) const
-    {
-      std::vector<double> sorted = values;
-      std::sort(sorted.begin(), sorted.end());
-      return sorted.empty() ? 0.0
-                            : sorted[static_cast<std::size_t>(
-                                fraction * (sorted.size() - 1))];
-    }
-  };
-
-  /// An angle difference of axes (mod 180 degrees) in (-90, 90] degrees.
-  double
-  axis_difference(const double a, const double b)
-  {
-    double d = std::fmod(a - b, 180.0);
-    if (d > 90)
-      d -= 180;
-    if (d <= -90)
-      d += 180;
-    return d;
-  }
+  using test_support::axis_difference;
 
   /// (x - c)^2 / a^2 + ...: 1 on the ellipsoid of centre (@p cx, 0, 0) and
   /// semi-axes @p a, @p b, @p c.

@@ -13,6 +13,7 @@
 #include "geometry/cell_kind.h"
 #include "geometry/mesh.h"
 #include "geometry/mesh_file.h"
+#include "support/angle_statistics.h"
 
 #include <catch2/catch.hpp>
 
@@ -27,51 +28,7 @@ namespace
   constexpr double deg = M_PI / 180;
 
   /// Mean, largest and a percentile of a set of absolute values.
-  struct Stats
-  {
-    std::vector<double> values;
-    double              signed_sum = 0;
-
-    void
-    add(const double e)
-    {
-      values.push_back(std::abs(e));
-      signed_sum += e;
-    }
-    std::size_t
-    n() const
-    {
-      return values.size();
-    }
-    double
-    mean() const
-    {
-      double s = 0;
-      for (const double v : values)
-        s += v;
-      return values.empty() ? 0.0 : s / values.size();
-    }
-    double
-    signed_mean() const
-    {
-      return values.empty() ? 0.0 : signed_sum / values.size();
-    }
-    double
-    max() const
-    {
-      return values.empty() ? 0.0
-                            : *std::max_element(values.begin(), values.end());
-    }
-    double
-    percentile(const double fraction) const
-    {
-      std::vector<double> sorted = values;
-      std::sort(sorted.begin(), sorted.end());
-      return sorted.empty() ? 0.0
-                            : sorted[static_cast<std::size_t>(
-                                fraction * (sorted.size() - 1))];
-    }
-  };
+  using Stats = test_support::ErrorSamples;
 
   /// The shipped tetrahedral LV (meshes/lv_ellipsoid_tet.msh: the Land
   /// ventricle, long axis x, base plane x = 5 mm) with Systole's part names
