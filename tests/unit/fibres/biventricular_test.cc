@@ -7,6 +7,7 @@
 #include "fibres/biventricular.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
+#include "support/angle_statistics.h"
 
 #include <catch2/catch.hpp>
 
@@ -80,17 +81,7 @@ namespace
     return 2 * std::acos(std::min(1.0, std::abs(c)));
   }
 
-  /// An angle difference of axes (mod 180 degrees) in (-90, 90] degrees.
-  double
-  axis_difference(const double a, const double b)
-  {
-    double d = std::fmod(a - b, 180.0);
-    if (d > 90)
-      d -= 180;
-    if (d <= -90)
-      d += 180;
-    return d;
-  }
+  using test_support::axis_difference;
 } // namespace
 
 TEST_CASE("Quaternions of frames round-trip", "[fibres][bislerp]")
