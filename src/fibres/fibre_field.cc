@@ -5,8 +5,10 @@
 #include "base/logger.h"
 #include "fibres/arostica.h"
 #include "fibres/rule_based.h"
+#include "geometry/mesh_file.h"
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 namespace systole::Fibres
@@ -110,7 +112,7 @@ namespace systole::Fibres
     prm.declare_entry(
       "Generator",
       "cartesian",
-      Selection("analytic|arostica|biventricular|cartesian|dti|rule-based"),
+      Selection("analytic|arostica|biventricular|cartesian|dti|rule-based|vtu"),
       "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
       "problem 1, isotropic laws); analytic: the helix rule of "
       "Land et al. 2015 problem 3 on the generated ellipsoid, "
@@ -128,7 +130,9 @@ namespace systole::Fibres
       "epicardium, no flux on the base; Rule-based / Element degree), the "
       "radii and the helix angle linear in it, f = sin(alpha) e_mu + "
       "cos(alpha) e_theta, the sheet s = f x (e_mu x e_theta) in the wall "
-      "(the Sheet angle does not apply). Units: -.");
+      "(the Sheet angle does not apply); vtu: one frame per cell of the mesh "
+      "from the vectors of a .vtu file with the mesh's cells (subsection "
+      "VTU). Units: -.");
     prm.declare_entry("Helix angle endocardium",
                       "60",
                       Double(-90, 90),
@@ -169,6 +173,32 @@ namespace systole::Fibres
       "peaks (the apex). Units: -.");
     prm.leave_subsection();
     prm.leave_subsection();
+    prm.enter_subsection("VTU");
+    prm.declare_entry(
+      "File",
+      "",
+      Anything(),
+      "The .vtu file with the fibre vectors: the mesh file itself "
+      "(Geometry / Gmsh / Mesh file), or one with the same volume cells in "
+      "the same order (its cell i gives the coarse cell i of the mesh; "
+      "refined cells take their coarse cell's frame). A relative path is "
+      "relative to the folder of this parameter file. Units: -.");
+    prm.declare_entry(
+      "Fibre array",
+      "fibres",
+      Anything(),
+      "Name of its 3-component cell array (or point array, reduced to the "
+      "dominant direction of each cell's vertices) of fibre directions f; "
+      "normalized. Units: -.");
+    prm.declare_entry(
+      "Sheet array",
+      "",
+      Anything(),
+      "Name of its array of sheet directions s (made orthogonal to f); "
+      "empty: s is the unit vector orthogonal to f in the plane of f and "
+      "the coordinate axis least aligned with it, so laws that use s "
+      "(Holzapfel-Ogden's sheet terms) need this array. Units: -.");
+    prm.leave_subsection();
     Biventricular::Parameters::declare(prm);
     DTIParameters::declare(prm);
   }
@@ -190,8 +220,77 @@ namespace systole::Fibres
                                 : ApicobasalField::poisson;
     p.biventricular         = Biventricular::Parameters::parse(prm);
     p.dti                   = DTIParameters::parse(prm, base_directory);
+    const std::vector<std::string> vtu = {"Fibres", "VTU"};
+    std::filesystem::path          file(prm.get(vtu, "File"));
+    if (!file.empty() && file.is_relative() && !base_directory.empty())
+      file = std::filesystem::path(base_directory) / file;
+    p.vtu_file        = file.empty() ? "" : file.lexically_normal().string();
+    p.vtu_fibre_array = prm.get(vtu, "Fibre array");
+    p.vtu_sheet_array = prm.get(vtu, "Sheet array");
+    AssertThrow(p.generator != "vtu" || !p.vtu_file.empty(),
+                dealii::ExcMessage(
+                  "Fibres / Generator = vtu needs Fibres / VTU / File (the "
+                  ".vtu mesh file whose cell or point array holds the "
+                  "fibre directions)."));
     return p;
   }
+
+  namespace
+  {
+    /// The frames of Generator = vtu: per coarse cell, f from the file's
+    /// fibre array, s from its sheet array (or the axis least aligned with f)
+    /// made orthogonal to f, n = f x s.
+    FibreField
+    vtu_fibre_field(const Parameters                  &params,
+                    const dealii::Triangulation<3, 3> &tria)
+    {
+      std::vector<dealii::Tensor<1, 3>> f =
+        Geometry::read_vtu_cell_vectors(params.vtu_file,
+                                        params.vtu_fibre_array);
+      std::vector<dealii::Tensor<1, 3>> s;
+      if (!params.vtu_sheet_array.empty())
+        s = Geometry::read_vtu_cell_vectors(params.vtu_file,
+                                            params.vtu_sheet_array);
+      AssertThrow(f.size() == tria.n_global_coarse_cells(),
+                  dealii::ExcMessage(
+                    "Fibres / VTU / File '" + params.vtu_file + "' has " +
+                    std::to_string(f.size()) + " volume cells, the mesh " +
+                    std::to_string(tria.n_global_coarse_cells()) +
+                    " coarse cells: give the mesh file itself (or one with "
+                    "its cells in the same order)."));
+      auto frames = std::make_shared<std::vector<FibreBasis>>(f.size());
+      for (std::size_t c = 0; c < f.size(); ++c)
+        {
+          FibreBasis &b = (*frames)[c];
+          b.f           = f[c];
+          dealii::Tensor<1, 3> t;
+          if (!s.empty())
+            t = s[c] - (s[c] * b.f) * b.f;
+          else
+            {
+              unsigned int k = 0;
+              for (unsigned int d = 1; d < 3; ++d)
+                if (std::abs(b.f[d]) < std::abs(b.f[k]))
+                  k = d;
+              t[k] = 1.0;
+              t -= b.f[k] * b.f;
+            }
+          AssertThrow(t.norm() > 1e-8,
+                      dealii::ExcMessage(
+                        "Fibres / VTU / Sheet array '" +
+                        params.vtu_sheet_array + "': the sheet of cell " +
+                        std::to_string(c) +
+                        " is parallel to its fibre; give a sheet direction "
+                        "across the fibre."));
+          b.s = t / t.norm();
+          b.n = dealii::cross_product_3d(b.f, b.s);
+          validate(b, "cell " + std::to_string(c) + " (vtu generator)");
+        }
+      return [frames](const auto &cell, const auto &points, auto &bases) {
+        bases.assign(points.size(), (*frames)[cell->id().get_coarse_cell_id()]);
+      };
+    }
+  } // namespace
 
   FibreField
   create_fibre_field(const Parameters                  &params,
@@ -239,6 +338,8 @@ namespace systole::Fibres
           (*rule)(cell, points, bases);
         };
       }
+    if (params.generator == "vtu")
+      return vtu_fibre_field(params, tria);
     if (params.generator == "dti")
       return create_dti_fibre_field(params.dti,
                                     tria,

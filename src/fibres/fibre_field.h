@@ -89,8 +89,8 @@ namespace systole::Fibres
   struct Parameters
   {
     /// "analytic", "arostica" (arostica.h), "biventricular"
-    /// (biventricular.h), "cartesian", "dti" (dti_import.h) or "rule-based"
-    /// (rule_based.h)
+    /// (biventricular.h), "cartesian", "dti" (dti_import.h), "rule-based"
+    /// (rule_based.h) or "vtu" (per-cell vectors of a .vtu mesh file)
     std::string generator  = "cartesian";
     double      alpha_endo = 60.0;  ///< [degrees]
     double      alpha_epi  = -60.0; ///< [degrees]
@@ -102,6 +102,10 @@ namespace systole::Fibres
     Biventricular::Parameters biventricular;
     /// Subsection "Fibres / DTI": the diffusion-tensor image.
     DTIParameters dti;
+    /// Subsection "Fibres / VTU": per-cell vectors of a .vtu mesh file.
+    std::string vtu_file;                   ///< absolute
+    std::string vtu_fibre_array = "fibres"; ///< cell or point array
+    std::string vtu_sheet_array;            ///< empty: none
 
     static void
     declare(dealii::ParameterHandler &prm);

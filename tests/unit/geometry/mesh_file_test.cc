@@ -4,6 +4,7 @@
 #include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/tria.h>
 
+#include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "geometry/mesh_checks.h"
 #include "geometry/mesh_file.h"
@@ -882,7 +883,7 @@ TEST_CASE("Every shipped gmsh mesh reads as deal.II's own reader reads it",
 }
 
 TEST_CASE("Per-cell vectors of a .vtu file come in the mesh's cell order",
-          "[geometry][mesh_file]")
+          "[geometry][mesh_file][fibres]")
 {
   const FileMesh mesh = unit_cube(false, 2);
   // A cell array: a direction that varies with the cell's centre; a point
@@ -947,6 +948,36 @@ TEST_CASE("Per-cell vectors of a .vtu file come in the mesh's cell order",
       const double sign = cell->vertex_index(0) % 2 == 0 ? 1.0 : -1.0;
       CHECK((directions[cell->index()] - sign * direction).norm() < 1e-12);
     }
+
+  // The same vectors as the fibre generator vtu: f of each cell, s a unit
+  // vector across it, n = f x s; a file of other cells is refused.
+  Fibres::Parameters fibre_params;
+  fibre_params.generator       = "vtu";
+  fibre_params.vtu_file        = file.name;
+  fibre_params.vtu_fibre_array = "fibres";
+  const auto frames            = Fibres::create_fibre_field(fibre_params,
+                                                 Geometry::LVShape(),
+                                                 tria,
+                                                 Geometry::BoundaryNames());
+  std::vector<Fibres::FibreBasis> bases;
+  for (const auto &cell : tria.active_cell_iterators())
+    {
+      frames(cell, {cell->center(), cell->vertex(0)}, bases);
+      REQUIRE(bases.size() == 2);
+      const auto f = field(cell->center());
+      CHECK((bases[0].f - f / f.norm()).norm() < 1e-12);
+      CHECK(std::abs(bases[1].s * bases[1].f) < 1e-12);
+      CHECK(std::abs(bases[1].s.norm() - 1.0) < 1e-12);
+    }
+  dealii::Triangulation<3> other;
+  dealii::GridGenerator::subdivided_hyper_cube_with_simplices(other, 1);
+  CHECK_THAT(error_of([&]() {
+               Fibres::create_fibre_field(fibre_params,
+                                          Geometry::LVShape(),
+                                          other,
+                                          Geometry::BoundaryNames());
+             }),
+             Catch::Contains("coarse cells: give the mesh file itself"));
 
   CHECK_THAT(error_of(
                [&]() { Geometry::read_vtu_cell_vectors(file.name, "sheets"); }),
