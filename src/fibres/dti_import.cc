@@ -6,6 +6,7 @@
 #include <deal.II/base/utilities.h>
 
 #include "fibres/fibre_field.h"
+#include "geometry/vtk_messages.h"
 
 #include <Eigen/Dense>
 #include <vtkCallbackCommand.h>
@@ -101,22 +102,6 @@ namespace systole::Fibres
           }
     }
 
-    /// Collects VTK error and warning messages instead of printing them.
-    void
-    collect_vtk_message(vtkObject *,
-                        unsigned long,
-                        void *client_data,
-                        void *call_data)
-    {
-      auto *messages = static_cast<std::string *>(client_data);
-      if (call_data != nullptr)
-        {
-          std::string text(static_cast<const char *>(call_data));
-          while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
-            text.pop_back();
-          *messages += (messages->empty() ? "" : "; ") + text;
-        }
-    }
   } // namespace
 
   // ---------------------------------------------------------------------------
@@ -254,7 +239,7 @@ namespace systole::Fibres
     std::string                   vtk_messages;
     vtkNew<vtkCallbackCommand>    on_message;
     vtkNew<vtkXMLImageDataReader> reader;
-    on_message->SetCallback(collect_vtk_message);
+    on_message->SetCallback(Geometry::collect_vtk_message);
     on_message->SetClientData(&vtk_messages);
     reader->AddObserver(vtkCommand::ErrorEvent, on_message);
     reader->AddObserver(vtkCommand::WarningEvent, on_message);

@@ -8,6 +8,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include "geometry/mesh_checks.h"
+#include "geometry/vtk_messages.h"
 
 #include <gmsh.h>
 #include <vtkCallbackCommand.h>
@@ -133,24 +134,23 @@ namespace systole::Geometry
       {0, 1, 3, 2, 4, 5, 7, 6}};
 
     unsigned int gmsh_sessions = 0;
-
-    /// Collects VTK error and warning messages instead of printing them.
-    void
-    collect_vtk_message(vtkObject *,
-                        unsigned long,
-                        void *client_data,
-                        void *call_data)
-    {
-      auto *messages = static_cast<std::string *>(client_data);
-      if (call_data != nullptr)
-        {
-          std::string text(static_cast<const char *>(call_data));
-          while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
-            text.pop_back();
-          *messages += (messages->empty() ? "" : "; ") + text;
-        }
-    }
   } // namespace
+
+  void
+  collect_vtk_message(vtkObject *,
+                      unsigned long,
+                      void *client_data,
+                      void *call_data)
+  {
+    auto *messages = static_cast<std::string *>(client_data);
+    if (call_data != nullptr)
+      {
+        std::string text(static_cast<const char *>(call_data));
+        while (!text.empty() && (text.back() == '\n' || text.back() == ' '))
+          text.pop_back();
+        *messages += (messages->empty() ? "" : "; ") + text;
+      }
+  }
 
   std::string
   MeshData::cell_kind() const
