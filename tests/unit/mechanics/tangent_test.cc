@@ -2,6 +2,7 @@
 #include <deal.II/distributed/tria.h>
 
 #include "base/logger.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "materials/guccione.h"
 #include "materials/volumetric_law.h"
@@ -88,6 +89,48 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
       problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
     problem.set_displacement(Wobble(0.8));
     CHECK(observed_order(problem, 3.0, 20.0, 1e-3) == Approx(2.0).margin(0.2));
+  }
+
+  SECTION("Land ventricle split into tetrahedra, P2 (penalty) and P2-P1 "
+          "(Taylor-Hood, incompressible), follower pressure, active tension, "
+          "Robin springs")
+  {
+    Geometry::Parameters geometry; // the Land ventricle, 8 x 3 hexahedra
+    geometry.lv_cells.circumferential = 8;
+    geometry.lv_cells.longitudinal    = 3;
+    geometry.tetrahedra               = true;
+    const auto mesh =
+      Geometry::create_distributed_mesh(geometry, MPI_COMM_WORLD);
+    for (const auto incompressibility :
+         {Mechanics::Incompressibility::penalty,
+          Mechanics::Incompressibility::incompressible})
+      {
+        Mechanics::Parameters params;
+        params.incompressibility = incompressibility;
+        params.pressure_element  = Mechanics::PressureElement::continuous;
+        params.fixed_boundaries  = {"base"};
+        params.pressure_boundary = "endocardium";
+        params.robin_boundaries  = {"epicardium"};
+        params.robin_stiffness   = 0.5;
+        params.linear_solver     = "direct";
+        Mechanics::Problem problem(params,
+                                   *mesh.tria,
+                                   mesh.names,
+                                   2,
+                                   1,
+                                   law,
+                                   volumetric,
+                                   fibres,
+                                   logger);
+        REQUIRE(problem.cell_kind().simplex());
+        // Smaller than on hexahedra: the split cells near the apex are small.
+        problem.set_displacement(Wobble(0.2));
+        if (params.mixed())
+          problem.set_pressure_field(2.0);
+        INFO(problem.discretization_name());
+        CHECK(observed_order(problem, 3.0, 20.0, 1e-4) ==
+              Approx(2.0).margin(0.2));
+      }
   }
 
   SECTION("Beam, Q1 (penalty) and Q1-P0 (mixed, incompressible), follower "
