@@ -20,10 +20,12 @@ ellipsoid. Boundary parts (physical surfaces, the tags Systole reads as boundary
 
 The tetrahedral mesh is turned into an all-hexahedral one by gmsh's subdivision
 (Mesh.SubdivisionAlgorithm = 2: each tetrahedron split into four hexahedra), written as
-ASCII msh 2.2. Needs the gmsh Python module (Debian python3-gmsh or the PyPI wheel);
+ASCII msh 2.2; with --tetrahedra the linear tetrahedra themselves are written (ASCII msh 4.1,
+one meshing thread and gmsh's default seed, so the same command writes the same mesh). Needs the gmsh Python module (Debian python3-gmsh or the PyPI wheel);
 scripts/systole_post/biv_shape.py imports the shape constants from here.
 
   python3 scripts/make_biv_mesh.py --size 4.5 -o meshes/biv_coarse.msh
+  python3 scripts/make_biv_mesh.py --size 5 --tetrahedra -o meshes/biv_tet_coarse.msh
 """
 
 import argparse
@@ -88,12 +90,16 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--size", type=float, default=4.5, help="element size [mm]")
     parser.add_argument("-o", "--output", required=True, help="the .msh file to write")
+    parser.add_argument("--tetrahedra", action="store_true",
+                        help="write the linear tetrahedra (msh 4.1) instead of hexahedra")
     args = parser.parse_args()
     import gmsh  # only here: the constants above are imported without gmsh
 
 
-    gmsh.initialize()
+    gmsh.initialize(readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setNumber("General.NumThreads", 1)
+    gmsh.option.setNumber("Mesh.RandomSeed", 1)
     gmsh.model.add("biv_ellipsoid")
     occ = gmsh.model.occ
     lv_wall = add_ellipsoid(grown(LV_ENDO, LV_WALL))
@@ -127,17 +133,18 @@ def main():
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
     gmsh.option.setNumber("Mesh.Algorithm3D", 1)
     gmsh.option.setNumber("Mesh.Optimize", 1)
-    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 2)
-    gmsh.option.setNumber("Mesh.MshFileVersion", 2.2)
+    gmsh.option.setNumber("Mesh.SubdivisionAlgorithm", 0 if args.tetrahedra else 2)
+    gmsh.option.setNumber("Mesh.MshFileVersion", 4.1 if args.tetrahedra else 2.2)
     gmsh.option.setNumber("Mesh.Binary", 0)
     gmsh.model.mesh.generate(3)
+    cell_type, cell_name = (4, "tetrahedra") if args.tetrahedra else (5, "hexahedra")
     types = gmsh.model.mesh.getElementTypes(3)
-    if list(types) != [5]:
-        raise RuntimeError(f"not all hexahedra: element types {types}")
+    if list(types) != [cell_type]:
+        raise RuntimeError(f"not all {cell_name}: element types {types}")
     gmsh.write(args.output)
-    n_hex = len(gmsh.model.mesh.getElementsByType(5)[0])
+    n_cells = len(gmsh.model.mesh.getElementsByType(cell_type)[0])
     n_nodes = len(gmsh.model.mesh.getNodes()[0])
-    print(f"wrote {args.output}: {n_hex} hexahedra, {n_nodes} nodes, parts "
+    print(f"wrote {args.output}: {n_cells} {cell_name}, {n_nodes} nodes, parts "
           + ", ".join(f"{k} = surfaces {v}" for k, v in parts.items()))
     gmsh.finalize()
     return 0

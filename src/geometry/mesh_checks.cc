@@ -1,7 +1,10 @@
 #include "geometry/mesh_checks.h"
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
+#include <deal.II/grid/cell_id.h>
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
@@ -11,7 +14,9 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <set>
 #include <sstream>
+#include <tuple>
 #include <unordered_map>
 
 namespace systole::Geometry
@@ -448,5 +453,139 @@ namespace systole::Geometry
                   ". A hole or a gap in the surface (or faces of it tagged as "
                   "another part) adds a loop, a closed surface has none: fix "
                   "the mesh or its tags."));
+  }
+
+
+  namespace
+  {
+    using Line = dealii::Triangulation<3, 3>::line_iterator;
+    using Cell = dealii::Triangulation<3, 3>::cell_iterator;
+
+    /// The edges of the faces of a cavity part on the coarse mesh, with the
+    /// faces around each and the first face's cell; and the base's edges.
+    struct CavityEdges
+    {
+      struct Edge
+      {
+        Line           line;
+        unsigned int   n_faces = 0;
+        dealii::CellId first_cell;
+        bool           first_owned = false;
+      };
+      std::map<unsigned int, Edge> edges; ///< by line index, sorted
+      std::set<unsigned int>       base_lines;
+    };
+
+    CavityEdges
+    cavity_edges(const dealii::Triangulation<3, 3> &tria,
+                 const bool                         whole,
+                 const dealii::types::boundary_id   cavity_id,
+                 const dealii::types::boundary_id   base_id)
+    {
+      CavityEdges result;
+      // A fully distributed mesh has no coarser level: its active cells.
+      const auto cells =
+        whole ? tria.cell_iterators_on_level(0)
+              : dealii::IteratorRange<Cell>(tria.begin_active(), tria.end());
+      for (const auto &cell : cells)
+        {
+          if (!whole && cell->is_artificial())
+            continue;
+          const bool owned = whole || cell->is_locally_owned();
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == base_id)
+              for (unsigned int l = 0; l < face->n_lines(); ++l)
+                result.base_lines.insert(face->line_index(l));
+            else if (face->at_boundary() && face->boundary_id() == cavity_id)
+              for (unsigned int l = 0; l < face->n_lines(); ++l)
+                {
+                  auto &edge = result.edges[face->line_index(l)];
+                  if (edge.n_faces++ == 0 || cell->id() < edge.first_cell)
+                    {
+                      edge.line        = face->line(l);
+                      edge.first_cell  = cell->id();
+                      edge.first_owned = owned;
+                    }
+                }
+        }
+      return result;
+    }
+
+    /// The global count of @p local and the first offender's end points, from
+    /// the lowest rank that has one (collective).
+    std::pair<unsigned int, std::array<dealii::Point<3>, 2>>
+    global_offenders(const unsigned int                     local,
+                     const std::array<dealii::Point<3>, 2> &first,
+                     const MPI_Comm                         comm)
+    {
+      const unsigned int n_ranks =
+        dealii::Utilities::MPI::n_mpi_processes(comm);
+      const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);
+      const unsigned int total = dealii::Utilities::MPI::sum(local, comm);
+      const unsigned int root =
+        dealii::Utilities::MPI::min(local > 0 ? rank : n_ranks, comm);
+      if (total == 0 || root == n_ranks)
+        return {total, first};
+      return {total, dealii::Utilities::MPI::broadcast(comm, first, root)};
+    }
+  } // namespace
+
+  void
+  check_cavity_rim(const dealii::Triangulation<3, 3> &tria,
+                   const BoundaryNames               &names,
+                   const std::string                 &cavity,
+                   const std::string                 &base)
+  {
+    // Every rank holds the whole coarse mesh (serial, p4est), or its part
+    // of the mesh and the cells around (fully distributed): there, each edge
+    // is counted by one rank.
+    const bool whole =
+      dynamic_cast<
+        const dealii::parallel::fullydistributed::Triangulation<3> *>(&tria) ==
+      nullptr;
+    const CavityEdges found =
+      cavity_edges(tria, whole, names.id(cavity), names.id(base));
+    const MPI_Comm                  comm   = tria.get_communicator();
+    unsigned int                    n_open = 0, n_non_manifold = 0;
+    std::array<dealii::Point<3>, 2> first_open, first_non_manifold;
+    for (const auto &[index, edge] : found.edges)
+      {
+        if (!whole && !edge.first_owned)
+          continue;
+        const std::array<dealii::Point<3>, 2> ends = {
+          {edge.line->vertex(0), edge.line->vertex(1)}};
+        if (edge.n_faces > 2 && n_non_manifold++ == 0)
+          first_non_manifold = ends;
+        if (edge.n_faces == 1 && found.base_lines.count(index) == 0 &&
+            n_open++ == 0)
+          first_open = ends;
+      }
+    if (!whole)
+      {
+        std::tie(n_open, first_open) =
+          global_offenders(n_open, first_open, comm);
+        std::tie(n_non_manifold, first_non_manifold) =
+          global_offenders(n_non_manifold, first_non_manifold, comm);
+      }
+    const std::string what = "The cavity '" + cavity + "' of " + names.source();
+    AssertThrow(n_non_manifold == 0,
+                dealii::ExcMessage(
+                  what + " is not a manifold surface: " +
+                  std::to_string(n_non_manifold) +
+                  " of its edges lie in more than two of its faces; the "
+                  "first joins " +
+                  format_point(first_non_manifold[0]) + " and " +
+                  format_point(first_non_manifold[1]) +
+                  ". Fix the mesh (duplicate or folded faces) or its tags."));
+    AssertThrow(n_open == 0,
+                dealii::ExcMessage(
+                  what + " is open away from its lid, the part '" + base +
+                  "': " + std::to_string(n_open) +
+                  " edges of its rim (edges in one of its faces) are not "
+                  "edges of '" +
+                  base + "'; the first joins " + format_point(first_open[0]) +
+                  " and " + format_point(first_open[1]) +
+                  ". Part of the cavity's surface is tagged as another part, "
+                  "or the surface has a hole: fix the mesh or its tags."));
   }
 } // namespace systole::Geometry

@@ -86,4 +86,17 @@ namespace systole::Geometry
                      const BoundaryNames               &names,
                      const std::string                 &part,
                      const unsigned int                 n_rim_loops);
+
+  /// Throw (one line: the cavity, the mesh, the count, the first offending
+  /// edge with coordinates) unless boundary part @p cavity is a surface that
+  /// the part @p base closes: every edge of its faces lies in at most two of
+  /// them, and each edge in only one (its rim) is an edge of a face of
+  /// @p base. A cavity with part of its surface tagged as another part, or
+  /// with a hole, fails. Counts are global on a distributed mesh (each edge
+  /// counted by the rank owning its first face's cell); collective.
+  void
+  check_cavity_rim(const dealii::Triangulation<3, 3> &tria,
+                   const BoundaryNames               &names,
+                   const std::string                 &cavity,
+                   const std::string                 &base);
 } // namespace systole::Geometry

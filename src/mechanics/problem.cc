@@ -12,6 +12,7 @@
 
 #include "base/errors.h"
 #include "geometry/mesh.h"
+#include "geometry/mesh_checks.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/problem_impl.h"
@@ -159,6 +160,10 @@ namespace systole::Mechanics
         // cut), with a warning when it is far from a plane.
         for (unsigned int c = 0; c < m.pressure_ids.size(); ++c)
           {
+            Geometry::check_cavity_rim(tria,
+                                       names,
+                                       m.pressure_names[c],
+                                       "base");
             const auto closure =
               Geometry::cavity_closure(tria, names, m.pressure_names[c]);
             if (closure.plane)

@@ -812,6 +812,48 @@ TEST_CASE("Surfaces of boundary parts: closed, open, holed and non-manifold",
                Catch::Contains("(1, 1, 0)") && Catch::Contains("(1, 1, 1)"));
 }
 
+TEST_CASE("A cavity open away from its base names the count and the first "
+          "edge",
+          "[geometry][mesh_file][errors]")
+{
+  // The cube as a cavity closed by its top: every side but z_max is the
+  // cavity, z_max the base.
+  ScratchFile file("open_cavity.msh");
+  FileMesh    mesh = unit_cube(false, 3);
+  for (auto &tag : mesh.face_tags)
+    tag = tag == 6 ? 6 : 7;
+  mesh.names = {{6, "base"}, {7, "cavity"}, {8, "epicardium"}};
+  write_msh22(mesh, file.name);
+  dealii::Triangulation<3> tria;
+  const auto               names = Geometry::read_gmsh(file.name, 1.0, tria);
+  CHECK_NOTHROW(Geometry::check_cavity_rim(tria, names, "cavity", "base"));
+
+  // The middle square of x_max tagged as another part: a hole in the
+  // cavity, its 4 edges a rim that is not on the base.
+  for (unsigned int f = 0; f < mesh.faces.size(); ++f)
+    {
+      Point<3> c;
+      for (const unsigned int v : mesh.faces[f])
+        c += mesh.vertices[v] / 3.0;
+      if (std::abs(c[0] - 1) < 1e-12 && std::abs(c[1] - 0.5) < 1.0 / 6 &&
+          std::abs(c[2] - 0.5) < 1.0 / 6)
+        mesh.face_tags[f] = 8;
+    }
+  write_msh22(mesh, file.name);
+  dealii::Triangulation<3> open_tria;
+  const auto        open_names = Geometry::read_gmsh(file.name, 1.0, open_tria);
+  const std::string message    = error_of([&]() {
+    Geometry::check_cavity_rim(open_tria, open_names, "cavity", "base");
+  });
+  CHECK(one_line(message));
+  CHECK_THAT(message,
+             Catch::Contains("The cavity 'cavity'") &&
+               Catch::Contains(file.name) &&
+               Catch::Contains("is open away from its lid, the part 'base': "
+                               "4 edges of its rim") &&
+               Catch::Contains("the first joins (1, 0.333333, 0.333333)"));
+}
+
 TEST_CASE("A part that no boundary face carries names the part, the file and "
           "the parts",
           "[geometry][mesh_file][errors]")
