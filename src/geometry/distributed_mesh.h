@@ -29,7 +29,11 @@ namespace systole::Geometry
   /// partitioned by METIS into the ranks (fewest cut faces) and handed to a
   /// parallel::fullydistributed::Triangulation, which keeps only the owned
   /// cells and one layer of ghosts; the serial copy is freed.
-  /// @param[in] saved_mesh see create_mesh() (hexahedral meshes only).
+  /// @param[in] saved_mesh if not empty: the mesh of a checkpoint, written by
+  ///   save() of the mesh built from the same @p params, with its cell data
+  ///   (hexahedra: see create_mesh(), on any number of ranks; tetrahedra:
+  ///   the saved partition, on the number of ranks that saved it, else an
+  ///   error naming both counts).
   DistributedMesh
   create_distributed_mesh(const Parameters  &params,
                           const MPI_Comm     comm,

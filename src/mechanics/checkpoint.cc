@@ -1,7 +1,8 @@
 // Checkpoints of Mechanics::Problem: the saved states and the held
 // factorization travel with the cells of the mesh (SolutionTransfer and
-// attached cell data of parallel::distributed::Triangulation::save/load), so
-// a run can resume on another number of ranks.
+// attached cell data of the distributed mesh's save/load), so a run on
+// hexahedra (p4est) can resume on another number of ranks; one on tetrahedra
+// (fully distributed) resumes on the same number.
 
 #include <deal.II/base/utilities.h>
 
@@ -10,6 +11,9 @@
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/vector.hpp>
+
+#include <cstdint>
+#include <cstring>
 
 namespace systole::Mechanics
 {
@@ -20,7 +24,66 @@ namespace systole::Mechanics
     using CellIterator = dealii::Triangulation<3, 3>::cell_iterator;
     using CellStatus   = dealii::Triangulation<3, 3>::CellStatus;
     using Range = boost::iterator_range<std::vector<char>::const_iterator>;
+
+    /// Whether the cell data of a checkpoint must have one size on every
+    /// cell: deal.II 9.4's fully distributed mesh saves fixed-size data only
+    /// (p4est saves either).
+    bool
+    fixed_size_cell_data(
+      const dealii::parallel::DistributedTriangulationBase<3, 3> &tria)
+    {
+      return dynamic_cast<
+               const dealii::parallel::distributed::Triangulation<3, 3> *>(
+               &tria) == nullptr;
+    }
+
+    /// @p bytes behind their length (8 bytes), padded with zeros to
+    /// 8 + @p size bytes.
+    std::vector<char>
+    with_length(const std::vector<char> &bytes, const std::uint64_t size)
+    {
+      std::vector<char>   out(sizeof(std::uint64_t) + size, 0);
+      const std::uint64_t n = bytes.size();
+      std::memcpy(out.data(), &n, sizeof(n));
+      std::copy(bytes.begin(), bytes.end(), out.begin() + sizeof(n));
+      return out;
+    }
+
+    /// The bytes with_length() wrapped.
+    Range
+    without_length(const Range &range)
+    {
+      std::uint64_t n = 0;
+      std::memcpy(&n, &*range.begin(), sizeof(n));
+      const auto begin = range.begin() + sizeof(n);
+      AssertThrow(n <= static_cast<std::uint64_t>(range.end() - begin),
+                  dealii::ExcMessage("The checkpoint's mechanics cell data "
+                                     "are truncated."));
+      return Range(begin, begin + n);
+    }
   } // namespace
+
+
+  std::vector<std::vector<double>>
+  Problem::Impl::checkpoint_data_of(const CellIterator &cell) const
+  {
+    const auto                       c = cell->active_cell_index();
+    std::vector<std::vector<double>> data(3);
+    if (c < factorized_tension.size())
+      data[0] = factorized_tension[c];
+    if (c < factorized_model_inputs.size())
+      data[2] = factorized_model_inputs[c];
+    if (tension_model != nullptr)
+      for (const auto &point : point_data.get_data(cell))
+        {
+          data[1].insert(data[1].end(),
+                         point->tension_state.begin(),
+                         point->tension_state.end());
+          data[1].push_back(point->stretch_n);
+          data[1].push_back(point->model_tension);
+        }
+    return data;
+  }
 
 
   void
@@ -89,29 +152,31 @@ namespace systole::Mechanics
       }
     m.checkpoint_transfer = std::make_unique<Transfer>(m.dof_handler);
     m.checkpoint_transfer->prepare_for_serialization(in);
+    // The tension of the factorized iterate, and the tension model's
+    // accepted state of every point (its states, the stretch, the tension),
+    // packed per owned cell.
+    m.checkpoint_cell_data.assign(m.tria.n_active_cells(), {});
+    std::uint64_t longest = 0;
+    for (const auto &cell : m.tria.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          const auto &bytes =
+            m.checkpoint_cell_data[cell->active_cell_index()] =
+              dealii::Utilities::pack(m.checkpoint_data_of(cell), false);
+          longest = std::max<std::uint64_t>(longest, bytes.size());
+        }
+    const bool fixed = fixed_size_cell_data(m.tria);
+    if (fixed)
+      {
+        longest = dealii::Utilities::MPI::max(longest, m.comm);
+        for (auto &bytes : m.checkpoint_cell_data)
+          bytes = with_length(bytes, longest);
+      }
     m.tria.register_data_attach(
       [&m](const CellIterator &cell, const CellStatus) {
-        // The tension of the factorized iterate, and the tension model's
-        // accepted state of every point (its states, the stretch, the
-        // tension).
-        const auto                       c = cell->active_cell_index();
-        std::vector<std::vector<double>> data(3);
-        if (c < m.factorized_tension.size())
-          data[0] = m.factorized_tension[c];
-        if (c < m.factorized_model_inputs.size())
-          data[2] = m.factorized_model_inputs[c];
-        if (m.tension_model != nullptr && cell->is_locally_owned())
-          for (const auto &point : m.point_data.get_data(cell))
-            {
-              data[1].insert(data[1].end(),
-                             point->tension_state.begin(),
-                             point->tension_state.end());
-              data[1].push_back(point->stretch_n);
-              data[1].push_back(point->model_tension);
-            }
-        return dealii::Utilities::pack(data, false);
+        return m.checkpoint_cell_data[cell->active_cell_index()];
       },
-      /*returns_variable_size_data=*/true);
+      /*returns_variable_size_data=*/!fixed);
     archive &m.n_saves &m.have_factorization &m.factorized_pressures;
     archive                                  &m.factorized_active_tension;
     archive &m.factorized_tension_time &m.factorized_tension_time_step;
@@ -165,11 +230,12 @@ namespace systole::Mechanics
         d.factorized_a_n       = out[9];
       }
 
+    const bool         fixed  = fixed_size_cell_data(m.tria);
     const unsigned int handle = m.tria.register_data_attach(
       [](const CellIterator &, const CellStatus) {
         return std::vector<char>();
       },
-      true);
+      !fixed);
     m.factorized_tension.assign(m.tria.n_active_cells(), {});
     m.factorized_model_inputs.assign(m.tension_model != nullptr
                                        ? m.tria.n_active_cells()
@@ -177,8 +243,10 @@ namespace systole::Mechanics
                                      {});
     m.tria.notify_ready_to_unpack(
       handle,
-      [&m](const CellIterator &cell, const CellStatus, const Range &range) {
-        const auto data =
+      [&m,
+       fixed](const CellIterator &cell, const CellStatus, const Range &packed) {
+        const Range range = fixed ? without_length(packed) : packed;
+        const auto  data =
           dealii::Utilities::unpack<std::vector<std::vector<double>>>(
             range.begin(),
             range.end(),
@@ -303,5 +371,6 @@ namespace systole::Mechanics
   {
     impl->checkpoint_transfer.reset();
     impl->checkpoint_vectors.clear();
+    impl->checkpoint_cell_data.clear();
   }
 } // namespace systole::Mechanics

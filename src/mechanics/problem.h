@@ -418,8 +418,8 @@ namespace systole::Mechanics
     restore();
 
     /// Checkpoint, part 1 (after save(), before the triangulation's save()):
-    /// attach to the cells of the mesh, for the next
-    /// parallel::distributed::Triangulation::save(), the last two saved
+    /// attach to the cells of the mesh, for the next save() of the
+    /// distributed mesh (p4est or fully distributed), the last two saved
     /// displacements and the iterate whose tangent the linear solver holds
     /// factorized (SolutionTransfer), and the active tension of that
     /// iterate per quadrature point; write the small state (saves, the

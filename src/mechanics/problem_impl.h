@@ -341,5 +341,15 @@ namespace systole::Mechanics
     std::unique_ptr<
       dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
       checkpoint_transfer;
+    /// ... and the packed cell data, by active cell index.
+    std::vector<std::vector<char>> checkpoint_cell_data;
+
+    /// What a checkpoint stores of a locally owned @p cell: the tension of
+    /// the factorized iterate per point, the tension model's accepted state
+    /// of every point (its states, the stretch, the tension), and the model
+    /// inputs of the factorized iterate.
+    std::vector<std::vector<double>>
+    checkpoint_data_of(
+      const dealii::Triangulation<3, 3>::cell_iterator &cell) const;
   };
 } // namespace systole::Mechanics

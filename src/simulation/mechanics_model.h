@@ -42,8 +42,8 @@ namespace systole
 
   struct MechanicsModel
   {
-    /// @p saved_mesh: load the mesh refinement from this file (a
-    /// checkpoint's, see Geometry::create_mesh()) instead of refining.
+    /// @p saved_mesh: load the mesh from this file (a checkpoint's, see
+    /// Geometry::create_distributed_mesh()) instead of refining.
     /// @p passive_law: use this law instead of the one of Material / Passive
     /// law (the calibration passes one whose parameters it changes).
     MechanicsModel(const dealii::ParameterHandler        &prm,

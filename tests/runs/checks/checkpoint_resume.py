@@ -17,6 +17,11 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   round-off by definition, to 1e-10 absolute besides).
   KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
   of PRM itself).
+- reference-2 / ranks-2-2: the uninterrupted run on 2 ranks (results/reference_2); killed on 2
+  ranks after step 45 (or KILL_STEP) and resumed on 2: equal to reference-2 to 1e-12 (a
+  tetrahedral mesh resumes on the rank count it was saved with, in the saved partition).
+- ranks-2-1-refused: a copy of the ranks-2-2 run resumed on 1 rank fails with one line
+  naming both rank counts (a fully distributed mesh cannot be repartitioned on load).
 - corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
   resuming (Output / Resume = true) prints one line naming that file and falls back to the
   previous checkpoint; the results equal the reference to 1e-12.
@@ -28,6 +33,7 @@ SYSTOLE_TEST_KILL_IN_CHECKPOINT (SIGKILL while writing that step's checkpoint).
 """
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -41,7 +47,11 @@ GROUPS = ("timeseries", "events", "summary")
 
 def prm_for(prm: Path, run: str, extra: str = "") -> Path:
     out = Path(f"{run}.prm")
-    out.write_text(prm.read_text() + f"\nsubsection Output\n  set Run name = {run}\n{extra}end\n")
+    # A mesh file named relative to PRM's folder, named from here.
+    text = re.sub(r"(set Mesh file\s*=\s*)(\S+)",
+                  lambda m: m.group(1) + str((prm.parent / m.group(2)).resolve()),
+                  prm.read_text())
+    out.write_text(text + f"\nsubsection Output\n  set Run name = {run}\n{extra}end\n")
     return out
 
 
@@ -134,6 +144,32 @@ def main() -> None:
         assert "Resuming from" in log, log[-2000:]
         # Another rank count: 1e-8 relative, the drift columns 1e-10 absolute besides.
         compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10)
+        return
+
+    if mode == "reference-2":
+        shutil.rmtree("results/reference_2", ignore_errors=True)
+        run(mpi2 + [prm_for(prm, "reference_2")])
+        return
+
+    if mode == "ranks-2-2":
+        shutil.rmtree("results/ranks_2_2", ignore_errors=True)
+        run(mpi2 + [prm_for(prm, "ranks_2_2")], {"SYSTOLE_TEST_KILL_AT_STEP": kill_step or "45"},
+            expect_kill=True)
+        log = run(mpi2 + ["--resume", "results/ranks_2_2"])
+        assert "Resuming from" in log, log[-2000:]
+        compare(Path("results/reference_2/results.h5"), Path("results/ranks_2_2/results.h5"),
+                1e-12)
+        return
+
+    if mode == "ranks-2-1-refused":
+        shutil.rmtree("results/refused", ignore_errors=True)
+        shutil.copytree("results/ranks_2_2", "results/refused")
+        log = run([systole, "--resume", "results/refused"], expect_fail=True)
+        lines = [line for line in log.splitlines() if "error" in line]
+        expected = "was written on 2 rank(s) and cannot resume on 1"
+        assert len(lines) == 1 and expected in lines[0], \
+            f"expected one line '... {expected} ...':\n{log[-2000:]}"
+        print(lines[0])
         return
 
     if mode == "corrupt":
