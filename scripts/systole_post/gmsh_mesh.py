@@ -1,5 +1,6 @@
-"""A small reader of ASCII gmsh .msh 2.2 hexahedral meshes, the quality of their cells and the
-volume of a cavity bounded by a tagged surface and closed by a flat lid.
+"""A small reader of ASCII gmsh .msh 2.2 meshes (hexahedra with quadrilateral faces, or
+tetrahedra with triangular faces), the quality of hexahedral cells and the volume of a cavity
+bounded by a tagged quadrilateral surface and closed by a flat lid.
 
 This is an independent path to the numbers Systole computes in C++ (deal.II's gmsh import and
 Mechanics::CavityVolume): it reads the file itself and integrates another field over another
@@ -13,6 +14,8 @@ import numpy as np
 
 HEX = 5
 QUAD = 3
+TET = 4
+TRIANGLE = 2
 
 # For each corner of a gmsh (= VTK) hexahedron, its three edge neighbours in right-handed
 # order: det(x_a - x_i, x_b - x_i, x_c - x_i) > 0 for a positively oriented cell.
@@ -27,13 +30,21 @@ class MshMesh:
     hexahedra: np.ndarray  # (n_hex, 8) node indices
     quads: dict = field(default_factory=dict)  # physical tag -> (n, 4) node indices
     names: dict = field(default_factory=dict)  # physical surface name -> tag
+    tetrahedra: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), int))
+    triangles: dict = field(default_factory=dict)  # physical tag -> (n, 3) node indices
+
+    def faces(self, tag: int) -> np.ndarray:
+        """The boundary faces (quadrangles or triangles) of physical surface @p tag."""
+        return self.quads.get(tag, self.triangles.get(tag, np.zeros((0, 3), int)))
 
 
 def read_msh(path) -> MshMesh:
-    """Read an ASCII msh 2.2 file with hexahedral cells and quadrilateral boundary faces."""
+    """Read an ASCII msh 2.2 file with hexahedral cells and quadrilateral boundary faces, or
+    tetrahedral cells and triangular boundary faces."""
     lines = Path(path).read_text().split("\n")
     i = 0
     names, node_ids, coords, hexes, quads = {}, [], [], [], {}
+    tets, triangles = [], {}
     if not lines[1].startswith("2."):
         raise ValueError(f"{path}: not an msh 2.x file (version {lines[1]})")
     while i < len(lines):
@@ -60,6 +71,10 @@ def read_msh(path) -> MshMesh:
                     hexes.append(vertices)
                 elif kind == QUAD:
                     quads.setdefault(physical, []).append(vertices)
+                elif kind == TET:
+                    tets.append(vertices)
+                elif kind == TRIANGLE:
+                    triangles.setdefault(physical, []).append(vertices)
             i += n + 2
         else:
             i += 1
@@ -67,9 +82,11 @@ def read_msh(path) -> MshMesh:
     index[node_ids] = np.arange(len(node_ids))
     return MshMesh(
         nodes=coords,
-        hexahedra=index[np.array(hexes)],
+        hexahedra=index[np.array(hexes, dtype=int).reshape(-1, 8)],
         quads={tag: index[np.array(q)] for tag, q in quads.items()},
         names=names,
+        tetrahedra=index[np.array(tets, dtype=int).reshape(-1, 4)],
+        triangles={tag: index[np.array(t)] for tag, t in triangles.items()},
     )
 
 

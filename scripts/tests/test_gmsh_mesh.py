@@ -79,3 +79,17 @@ def test_cavity_volume_needs_its_ring_in_the_lid_plane(tmp_path):
     mesh = read_msh(write_block_with_cavity(tmp_path / "b.msh"))
     with pytest.raises(ValueError, match="off the lid plane"):
         cavity_volume(mesh, "endo", lid_z=1.5)
+
+
+def test_reader_of_tetrahedra(tmp_path):
+    """One unit tetrahedron, its face z = 0 tagged "base": the cells and faces by type."""
+    path = tmp_path / "tet.msh"
+    path.write_text("\n".join([
+        "$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "2", '2 1 "base"',
+        '3 2 "myocardium"', "$EndPhysicalNames", "$Nodes", "4", "1 0 0 0", "2 1 0 0",
+        "3 0 1 0", "4 0 0 1", "$EndNodes", "$Elements", "2", "1 2 2 1 1 1 3 2",
+        "2 4 2 2 2 1 2 3 4", "$EndElements", ""]))
+    mesh = read_msh(path)
+    assert mesh.hexahedra.shape == (0, 8) and mesh.quads == {}
+    np.testing.assert_array_equal(mesh.tetrahedra, [[0, 1, 2, 3]])
+    np.testing.assert_array_equal(mesh.faces(mesh.names["base"]), [[0, 2, 1]])

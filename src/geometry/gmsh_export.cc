@@ -6,9 +6,9 @@
 #include <deal.II/distributed/tria_base.h>
 #include <deal.II/grid/tria.h>
 
+#include "geometry/cell_kind.h"
 #include "geometry/point_less.h"
 
-#include <array>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -33,37 +33,42 @@ namespace systole::Geometry
   {
     // gmsh numbers the corners of a hexahedron counter-clockwise around the
     // bottom face, then the top face; deal.II lexicographically. Faces (deal.II
-    // lexicographic 0 1 2 3) become the cycle 0 1 3 2.
-    constexpr std::array<unsigned int, 8> hex_order = {
-      {0, 1, 3, 2, 4, 5, 7, 6}};
-    constexpr std::array<unsigned int, 4> quad_order = {{0, 1, 3, 2}};
+    // lexicographic 0 1 2 3) become the cycle 0 1 3 2. Tetrahedra and
+    // triangles keep their order (read_mesh_file() reads them so).
+    const bool                      simplex = CellKind(tria).simplex();
+    const std::vector<unsigned int> cell_order =
+      simplex ? std::vector<unsigned int>{0, 1, 2, 3}
+              : std::vector<unsigned int>{0, 1, 3, 2, 4, 5, 7, 6};
+    const std::vector<unsigned int> face_order =
+      simplex ? std::vector<unsigned int>{0, 1, 2}
+              : std::vector<unsigned int>{0, 1, 3, 2};
 
     // Flatten this rank's locally owned cells and boundary faces: per element
     // [tag, x0, y0, z0, x1, ...]. Physical tags are ids + 1: gmsh reads tag 0
     // as "no physical group".
-    std::vector<double> hexes, quads;
+    std::vector<double> volumes, surfaces;
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          hexes.push_back(cell->material_id() + 1);
-          for (const unsigned int v : hex_order)
+          volumes.push_back(cell->material_id() + 1);
+          for (const unsigned int v : cell_order)
             for (unsigned int d = 0; d < 3; ++d)
-              hexes.push_back(cell->vertex(v)[d]);
+              volumes.push_back(cell->vertex(v)[d]);
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary())
               {
-                quads.push_back(cell->face(f)->boundary_id() + 1);
-                for (const unsigned int v : quad_order)
+                surfaces.push_back(cell->face(f)->boundary_id() + 1);
+                for (const unsigned int v : face_order)
                   for (unsigned int d = 0; d < 3; ++d)
-                    quads.push_back(cell->face(f)->vertex(v)[d]);
+                    surfaces.push_back(cell->face(f)->vertex(v)[d]);
               }
         }
     const auto *distributed =
       dynamic_cast<const dealii::parallel::TriangulationBase<3, 3> *>(&tria);
     const MPI_Comm comm =
       distributed ? distributed->get_communicator() : MPI_COMM_SELF;
-    const auto all_hexes = dealii::Utilities::MPI::gather(comm, hexes, 0);
-    const auto all_quads = dealii::Utilities::MPI::gather(comm, quads, 0);
+    const auto all_volumes  = dealii::Utilities::MPI::gather(comm, volumes, 0);
+    const auto all_surfaces = dealii::Utilities::MPI::gather(comm, surfaces, 0);
 
     bool ok = true;
     if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
@@ -89,26 +94,26 @@ namespace systole::Geometry
               }
           return result;
         };
-        const auto   cells = elements(all_hexes, 8);
-        const auto   faces = elements(all_quads, 4);
+        const auto   cells = elements(all_volumes, cell_order.size());
+        const auto   faces = elements(all_surfaces, face_order.size());
         unsigned int index = 0;
         for (auto &[point, number] : nodes)
           number = ++index;
-        std::set<int> volumes;
+        std::set<int> materials;
         for (const auto &e : cells)
-          volumes.insert(e.tag);
+          materials.insert(e.tag);
 
         std::ofstream out(file);
         ok = out.good();
         out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n"
-            << names.names().size() + volumes.size() << '\n';
+            << names.names().size() + materials.size() << '\n';
         for (const auto &name : names.names())
           out << "2 " << static_cast<int>(names.id(name)) + 1 << " \"" << name
               << "\"\n";
-        for (const int tag : volumes)
+        for (const int tag : materials)
           out << "3 " << tag << " \""
-              << (volumes.size() == 1 ? std::string("myocardium")
-                                      : "material_" + std::to_string(tag))
+              << (materials.size() == 1 ? std::string("myocardium")
+                                        : "material_" + std::to_string(tag))
               << "\"\n";
         out << "$EndPhysicalNames\n$Nodes\n"
             << nodes.size() << '\n'
@@ -125,10 +130,12 @@ namespace systole::Geometry
             out << ' ' << nodes.at(p);
           out << '\n';
         };
+        // gmsh element types: triangle 2, quadrangle 3, tetrahedron 4,
+        // hexahedron 5.
         for (const auto &e : faces)
-          write(e, 3);
+          write(e, simplex ? 2 : 3);
         for (const auto &e : cells)
-          write(e, 5);
+          write(e, simplex ? 4 : 5);
         out << "$EndElements\n";
         ok = ok && out.good();
       }

@@ -1,9 +1,8 @@
 #include "simulation/unloading.h"
 
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -212,13 +211,15 @@ namespace systole
     const auto        &X                = unloader.vertices();
 
     // The unloaded reference: the mesh, the unloading displacement x_img - X
-    // at its vertices (a Q1 field) beside the reload displacement.
+    // at its vertices (a linear field) beside the reload displacement.
     const std::string mesh_path = run.output_directory + "/" + up.mesh_file;
     Geometry::write_gmsh(tria, model.names, mesh_path);
     if (run.field_output_interval > 0)
       {
-        dealii::DoFHandler<3>     q1(tria);
-        const dealii::FESystem<3> fe(dealii::FE_Q<3>(1), 3);
+        dealii::DoFHandler<3> q1(tria);
+        // Linear (Q1 or P1) on the cells of the mesh.
+        const dealii::FESystem<3> fe(*model.problem->cell_kind().lagrange(1),
+                                     3);
         q1.distribute_dofs(fe);
         dealii::Vector<double> unloading(q1.n_dofs());
         std::map<dealii::Point<3>, unsigned int, Geometry::PointLess> lookup;
