@@ -1,6 +1,6 @@
 """A small reader of ASCII gmsh .msh 2.2 meshes (hexahedra with quadrilateral faces, or
 tetrahedra with triangular faces), the quality of hexahedral cells and the volume of a cavity
-bounded by a tagged quadrilateral surface and closed by a flat lid.
+bounded by a tagged surface (quadrilaterals or triangles) and closed by a flat lid.
 
 This is an independent path to the numbers Systole computes in C++ (deal.II's gmsh import and
 Mechanics::CavityVolume): it reads the file itself and integrates another field over another
@@ -159,3 +159,24 @@ def cavity_volume(mesh: MshMesh, surface: str, lid_z: float) -> float:
                 # Lid traversed b -> a; its outward normal is +z, area = 1/2 sum (x_b y_a - x_a y_b).
                 area += 0.5 * (pb[0] * pa[1] - pa[0] * pb[1])
     return (flux + lid_z * area) / 3.0
+
+
+def triangle_cavity_volume(mesh: MshMesh, surface: str, lid_point) -> float:
+    """Volume of the cavity bounded by the triangles of the physical surface @p surface of a
+    tetrahedral mesh and closed by the plane through @p lid_point that holds its rim: the
+    divergence theorem with the origin on the lid (the lid adds nothing), each triangle
+    oriented out of the cavity, into the tetrahedron it bounds (gmsh does not orient boundary
+    elements consistently)."""
+    opposite = {}
+    for cell in mesh.tetrahedra:
+        for k in range(4):
+            opposite[tuple(sorted(np.delete(cell, k)))] = cell[k]
+    volume = 0.0
+    for triangle in mesh.triangles[mesh.names[surface]]:
+        a, b, c = mesh.nodes[triangle] - lid_point
+        d = mesh.nodes[opposite[tuple(sorted(triangle))]] - lid_point
+        six_v = np.dot(a, np.cross(b, c))
+        if np.dot(np.cross(b - a, c - a), d - a) < 0:  # normal away from the wall
+            six_v = -six_v
+        volume += six_v / 6.0
+    return volume

@@ -5,7 +5,8 @@ import itertools
 import numpy as np
 import pytest
 
-from systole_post.gmsh_mesh import cavity_volume, read_msh, scaled_jacobians
+from systole_post.gmsh_mesh import (cavity_volume, read_msh, scaled_jacobians,
+                                    triangle_cavity_volume)
 
 
 def write_block_with_cavity(path, shear=0.0, flip=False):
@@ -93,3 +94,59 @@ def test_reader_of_tetrahedra(tmp_path):
     assert mesh.hexahedra.shape == (0, 8) and mesh.quads == {}
     np.testing.assert_array_equal(mesh.tetrahedra, [[0, 1, 2, 3]])
     np.testing.assert_array_equal(mesh.faces(mesh.names["base"]), [[0, 2, 1]])
+
+
+def write_tet_block_with_cavity(path, shear=0.0):
+    """The block of write_block_with_cavity() with every cube split into the 6 tetrahedra
+    around its diagonal from (i, j, k) to (i + 1, j + 1, k + 1) (a conforming split), the
+    tetrahedra's faces on the 5 walls of the cavity the physical surface "endo" (tag 1),
+    written with mixed orientations."""
+    index, nodes = {}, []
+    for k, j, i in itertools.product(range(3), range(4), range(4)):
+        index[(i, j, k)] = len(nodes) + 1
+        nodes.append((i + shear * k, j, k))
+    tets = []
+    for i, j, k in itertools.product(range(3), range(3), range(2)):
+        if (i, j, k) == (1, 1, 1):
+            continue
+        for order in itertools.permutations(range(3)):
+            corner, path_ = [i, j, k], [(i, j, k)]
+            for axis in order:
+                corner[axis] += 1
+                path_.append(tuple(corner))
+            tets.append([index[c] for c in path_])
+    count = {}
+    for tet in tets:
+        for f in range(4):
+            face = tuple(sorted(tet[:f] + tet[f + 1:]))
+            count[face] = count.get(face, 0) + 1
+    unsheared = {index[c]: c for c in index}
+    walls = []
+    for face, n in count.items():
+        centre = np.mean([unsheared[v] for v in face], axis=0)
+        if n == 1 and 1 <= centre[0] <= 2 and 1 <= centre[1] <= 2 and 1 <= centre[2] < 2:
+            walls.append(list(face) if len(walls) % 2 else list(face)[::-1])
+    lines = ["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$PhysicalNames", "1",
+             '2 1 "endo"', "$EndPhysicalNames", "$Nodes", str(len(nodes))]
+    lines += [f"{n + 1} {x} {y} {z}" for n, (x, y, z) in enumerate(nodes)]
+    lines += ["$EndNodes", "$Elements", str(len(walls) + len(tets))]
+    element = 1
+    for face in walls:
+        lines.append(f"{element} 2 2 1 1 " + " ".join(map(str, face)))
+        element += 1
+    for tet in tets:
+        lines.append(f"{element} 4 2 2 2 " + " ".join(map(str, tet)))
+        element += 1
+    lines += ["$EndElements", ""]
+    path.write_text("\n".join(lines))
+    return path
+
+
+@pytest.mark.parametrize("shear", [0.0, 0.7])
+def test_triangle_cavity_volume_of_a_tetrahedral_block(tmp_path, shear):
+    """The unit cavity (a shear keeps its volume) from its 10 wall triangles."""
+    mesh = read_msh(write_tet_block_with_cavity(tmp_path / "t.msh", shear=shear))
+    assert mesh.tetrahedra.shape == (17 * 6, 4)
+    assert mesh.triangles[1].shape == (10, 3)
+    lid = np.array([1.0 + 2 * shear, 1.0, 2.0])  # a point of the plane z = 2
+    assert triangle_cavity_volume(mesh, "endo", lid) == pytest.approx(1.0, abs=1e-14)

@@ -15,7 +15,7 @@ Klotz et al. 2006's curve through the stored (EDP, EDV) pair, computed here from
 (V0 = EDV (0.6 - 0.006 EDP), A_n = 27.78 mmHg, B_n = 2.76), and the fitted volumes lie within
 TOL (relative) of it.
 --unloaded MESH (Calibration / Reference = unloaded): the unloaded mesh's cavity volume,
-computed here from MESH (closed by the base plane), is the reported unloaded volume (to
+computed here from MESH (hexahedra or tetrahedra, closed by the base plane), is the reported unloaded volume (to
 1e-6) and below every fitted volume, and the reference reloads to the image's vertices within
 0.1 mm. --improves (with --klotz): the fitted EDPVR is closer to Klotz's curve (norm of the
 relative errors) than the EDPVR of the initial values. --reference-error TOL: the unloaded
@@ -31,7 +31,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.gmsh_mesh import cavity_volume, read_msh  # noqa: E402
+from systole_post.gmsh_mesh import cavity_volume, read_msh, triangle_cavity_volume  # noqa: E402
 
 
 def main(argv) -> int:
@@ -125,8 +125,13 @@ def main(argv) -> int:
 
     if unloaded is not None:
         m = read_msh(unloaded)
-        lid = m.nodes[m.quads[m.names["base"]]][..., 2].max()
-        volume = cavity_volume(m, "endocardium", lid) / 1000
+        if len(m.tetrahedra) > 0:
+            # Closed by the plane of the base (through its centroid).
+            lid = m.nodes[np.unique(m.faces(m.names["base"]))].mean(axis=0)
+            volume = triangle_cavity_volume(m, "endocardium", lid) / 1000
+        else:
+            lid = m.nodes[m.quads[m.names["base"]]][..., 2].max()
+            volume = cavity_volume(m, "endocardium", lid) / 1000
         print(f"unloaded mesh: cavity {volume:.6f} mL (reported "
               f"{stats['unloaded_volume_mL']:.6f} mL), image {stats['image_volume_mL']:.6f} mL, "
               f"reload error {stats['reload_max_error_mm']:.3g} mm, "
