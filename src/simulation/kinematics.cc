@@ -2,12 +2,11 @@
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_system.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/numerics/data_component_interpretation.h>
 #include <deal.II/numerics/data_out.h>
@@ -16,6 +15,8 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "base/units.h"
+#include "geometry/cell_kind.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "mechanics/cavity_volume.h"
@@ -108,8 +109,11 @@ namespace systole
       Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto kinematics = KinematicsParameters::parse(prm);
 
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
+    // Hexahedra on p4est, tetrahedra fully distributed.
+    const Geometry::DistributedMesh mesh =
+      Geometry::create_distributed_mesh(geometry, comm);
+    const dealii::Triangulation<3> &tria  = *mesh.tria;
+    const Geometry::BoundaryNames  &names = mesh.names;
     for (const auto &part : kinematics.cavities)
       Geometry::require_boundary(tria, names, part);
     Geometry::require_boundary(tria, names, "base");
@@ -120,11 +124,14 @@ namespace systole
         ? Geometry::boundary_plane(tria, names.id("base"), "base")
         : Geometry::cavity_lid(tria, names, kinematics.cavities.front());
 
-    const dealii::FESystem<3> fe(dealii::FE_Q<3>(run.polynomial_degree), 3);
+    const Geometry::CellKind  kind(tria);
+    const dealii::FESystem<3> fe(*kind.lagrange(run.polynomial_degree), 3);
     dealii::DoFHandler<3>     dof_handler(tria);
     dof_handler.distribute_dofs(fe);
-    const dealii::MappingQ<3> mapping(run.mapping_degree);
-    const unsigned int n_q = run.polynomial_degree + run.mapping_degree + 1;
+    const auto mapping_pointer        = kind.mapping(tria, run.mapping_degree);
+    const dealii::Mapping<3> &mapping = *mapping_pointer;
+    const unsigned int        n_q =
+      run.polynomial_degree + kind.mapping_degree(run.mapping_degree) + 1;
 
     const dealii::IndexSet owned = dof_handler.locally_owned_dofs();
     dealii::IndexSet       relevant;
@@ -218,7 +225,9 @@ namespace systole
                                                               "displacement"),
                                      dealii::DataOut<3>::type_dof_data,
                                      vector);
-            data_out.build_patches(mapping, run.polynomial_degree);
+            data_out.build_patches(mapping,
+                                   kind.output_subdivisions(
+                                     run.polynomial_degree));
             results.write_fields(data_out, step, time);
           }
 
