@@ -17,21 +17,40 @@
 
 namespace systole::Electrophysiology
 {
+  namespace
+  {
+    /// The Lagrange element of @p degree on cells of @p kind; P1 only on
+    /// tetrahedra.
+    std::unique_ptr<dealii::FiniteElement<3, 3>>
+    element(const Geometry::CellKind &kind, const unsigned int degree)
+    {
+      AssertThrow(!kind.simplex() || degree == 1,
+                  dealii::ExcMessage(
+                    "Electrophysiology / Polynomial degree = " +
+                    std::to_string(degree) +
+                    " needs hexahedra: on tetrahedra the lumped mass of P2 "
+                    "gives the vertices zero weight. Set it to 1."));
+      return kind.lagrange(degree);
+    }
+  } // namespace
+
+
   Monodomain::Impl::Impl(
-    const Parameters                                         &params,
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-    const dealii::Mapping<3, 3>                              &mapping,
-    Logger                                                   &logger,
-    const double                                              start_time)
+    const Parameters                                           &params,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const dealii::Mapping<3, 3>                                &mapping,
+    Logger                                                     &logger,
+    const double                                                start_time)
     : params(params)
     , model(*params.ionic_model)
     , tria(tria)
     , mapping(mapping)
     , comm(tria.get_communicator())
     , logger(logger)
-    , fe(params.degree)
+    , kind(tria)
+    , fe(element(kind, params.degree))
     , dof_handler(tria)
-    , quadrature(params.degree + 1)
+    , quadrature(kind.cell_quadrature(params.degree + 1))
     , n_owned(0)
     , n_components(1 + params.ionic_model->n_states())
     , threshold(params.ionic_model->from_mV(params.activation_threshold_mV))
@@ -43,20 +62,20 @@ namespace systole::Electrophysiology
 
 
   Monodomain::Monodomain(
-    const Parameters                                         &params,
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-    const dealii::Mapping<3, 3>                              &mapping,
-    const Fibres::FibreField                                 &fibres,
-    const Geometry::BoundaryNames                            &names,
-    Logger                                                   &logger,
-    const double                                              start_time)
+    const Parameters                                           &params,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const dealii::Mapping<3, 3>                                &mapping,
+    const Fibres::FibreField                                   &fibres,
+    const Geometry::BoundaryNames                              &names,
+    Logger                                                     &logger,
+    const double                                                start_time)
   {
     AssertThrow(params.ionic_model != nullptr,
                 dealii::ExcMessage("Monodomain: no ionic model given."));
     impl    = std::make_unique<Impl>(params, tria, mapping, logger, start_time);
     Impl &m = *impl;
 
-    m.dof_handler.distribute_dofs(m.fe);
+    m.dof_handler.distribute_dofs(*m.fe);
     m.owned = m.dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
     m.n_owned = m.owned.n_elements();
@@ -116,10 +135,10 @@ namespace systole::Electrophysiology
     save();
 
     std::ostringstream o;
-    o << "Electrophysiology: monodomain, " << m.model.name() << ", Q"
-      << params.degree << ", " << m.dof_handler.n_dofs()
-      << " nodes, D = " << params.diffusivity_l() << " / "
-      << params.diffusivity_t()
+    o << "Electrophysiology: monodomain, " << m.model.name() << ", "
+      << (m.kind.simplex() ? "P" : "Q") << params.degree << ", "
+      << m.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
+      << " / " << params.diffusivity_t()
       << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
       << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
       << params.time_step << " ms, CG + " << params.preconditioner << ", "
@@ -153,7 +172,7 @@ namespace systole::Electrophysiology
                                                                cell->level(),
                                                                cell->index(),
                                                                &m.dof_handler);
-    const unsigned int     n = m.fe.n_dofs_per_cell();
+    const unsigned int     n = m.fe->n_dofs_per_cell();
     dealii::Vector<double> V(n), first(n), latest(n), calcium(n);
     dof_cell->get_dof_values(m.potential_mV, V);
     dof_cell->get_dof_values(m.calcium_uM, calcium);
@@ -181,7 +200,7 @@ namespace systole::Electrophysiology
       for (unsigned int i = 0; i < n; ++i)
         {
           // NaN (not activated) at any node propagates to every point.
-          const double phi = m.fe.shape_value(i, quadrature.point(q));
+          const double phi = m.fe->shape_value(i, quadrature.point(q));
           values.potential[q] += phi * V[i];
           values.activation_time[q] += phi * first[i];
           values.latest_activation_time[q] += phi * latest[i];

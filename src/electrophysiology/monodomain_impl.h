@@ -8,7 +8,7 @@
 #include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/petsc_precondition.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
@@ -19,6 +19,7 @@
 #include "electrophysiology/activation.h"
 #include "electrophysiology/arkode_adapter.h"
 #include "electrophysiology/monodomain.h"
+#include "geometry/cell_kind.h"
 
 #include <memory>
 #include <optional>
@@ -66,14 +67,15 @@ namespace systole::Electrophysiology
 
   struct Monodomain::Impl
   {
-    Impl(const Parameters                                         &params,
-         const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-         const dealii::Mapping<3, 3>                              &mapping,
-         Logger                                                   &logger,
-         const double                                              start_time);
+    Impl(const Parameters                                           &params,
+         const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+         const dealii::Mapping<3, 3>                                &mapping,
+         Logger                                                     &logger,
+         const double start_time);
 
     // --- assembly.cc ---
-    /// Lumped (Gauss-Lobatto) mass of the owned nodes and their positions.
+    /// Lumped (nodal quadrature) mass of the owned nodes and their
+    /// positions.
     void
     assemble_lumped_mass();
     /// The consistent mass matrix M_ij = ∫ φ_i φ_j (Gauss points) and its
@@ -128,16 +130,18 @@ namespace systole::Electrophysiology
     std::unique_ptr<ImexIntegrator>
     create_integrator(const double t0);
 
-    Parameters                                                params;
-    const IonicModel                                         &model;
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria;
-    const dealii::Mapping<3, 3>                              &mapping;
-    MPI_Comm                                                  comm;
-    Logger                                                   &logger;
+    Parameters                                                  params;
+    const IonicModel                                           &model;
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+    const dealii::Mapping<3, 3>                                &mapping;
+    MPI_Comm                                                    comm;
+    Logger                                                     &logger;
 
-    dealii::FE_Q<3>       fe;
-    dealii::DoFHandler<3> dof_handler;
-    dealii::QGauss<3>     quadrature; ///< of the stiffness
+    /// Hexahedra or tetrahedra: the element, the rules.
+    Geometry::CellKind                           kind;
+    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
+    dealii::DoFHandler<3>                        dof_handler;
+    dealii::Quadrature<3> quadrature; ///< of the stiffness
     dealii::IndexSet      owned, relevant;
     unsigned int          n_owned;      ///< owned nodes
     unsigned int          n_components; ///< 1 + model.n_states()
