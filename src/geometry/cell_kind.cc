@@ -121,7 +121,13 @@ namespace systole::Geometry
   dealii::Point<3>
   CellKind::project_to_reference_cell(const dealii::Point<3> &point) const
   {
-    if (!is_simplex)
+    return Geometry::project_to_reference_cell(is_simplex, point);
+  }
+
+  dealii::Point<3>
+  project_to_reference_cell(const bool simplex, const dealii::Point<3> &point)
+  {
+    if (!simplex)
       return dealii::GeometryInfo<3>::project_to_unit_cell(point);
     // Barycentric coordinates (1 - x - y - z, x, y, z). Clamped, they sum
     // to at least 1 (what one exceeds 1 by, the others fall below 0 by).

@@ -115,4 +115,9 @@ namespace systole::Geometry
   private:
     bool is_simplex = false;
   };
+
+  /// CellKind::project_to_reference_cell() for a cell that is a tetrahedron
+  /// (@p simplex) or a hexahedron. Not collective.
+  dealii::Point<3>
+  project_to_reference_cell(const bool simplex, const dealii::Point<3> &point);
 } // namespace systole::Geometry
