@@ -135,6 +135,20 @@ namespace systole::Electrophysiology
              const dealii::Quadrature<3> &quadrature,
              PointValues                 &values) const;
 
+    /// The shape functions of the element at the reference points
+    /// @p reference: n_dofs_per_cell values per point (for the evaluate()
+    /// below).
+    std::vector<double>
+    shape_values(const std::vector<dealii::Point<3>> &reference) const;
+
+    /// evaluate() at the points whose shape_values() are @p shape_values:
+    /// the same values, without evaluating the polynomials again (points
+    /// read at every step). Not collective.
+    void
+    evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+             const std::vector<double> &shape_values,
+             PointValues               &values) const;
+
     /// Values at reference points anywhere in the mesh, on every rank (NaN
     /// for a point outside the mesh). Collective.
     PointValues

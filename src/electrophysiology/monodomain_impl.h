@@ -185,6 +185,21 @@ namespace systole::Electrophysiology
     ActivationTracker               tracker;
     std::vector<double>             v_sample; ///< v at time t, owned nodes
 
+    /// The four output vectors below at the locally relevant nodes,
+    /// interleaved (potential, first, latest, calcium), in the order of
+    /// PETSc's local form (owned nodes, then ghosts): what evaluate() reads
+    /// (cheaper than a PETSc access per node).
+    std::vector<double> output_values;
+    /// Relevant but not owned nodes (the ghosts, in local-form order).
+    dealii::IndexSet ghosts;
+    /// Position of the locally relevant node @p dof in output_values / 4.
+    unsigned int
+    local_index(const dealii::types::global_dof_index dof) const
+    {
+      return owned.is_element(dof) ? owned.index_within_set(dof)
+                                   : n_owned + ghosts.index_within_set(dof);
+    }
+
     /// Ghosted, node layout: potential [mV], first and latest activation,
     /// calcium [µM] (NaN without calcium).
     LA::MPI::Vector potential_mV, activation_first, activation_latest,
@@ -216,6 +231,11 @@ namespace systole::Electrophysiology
     std::unique_ptr<
       dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
       checkpoint_transfer;
+
+    /// values_at_points() on tetrahedra: fill point_cache's owners and
+    /// cells for @p points (collective).
+    void
+    locate_on_tetrahedra(const std::vector<dealii::Point<3>> &points) const;
 
     /// values_at_points(): the cells around the last points asked for.
     struct PointCache
