@@ -7,6 +7,7 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/numerics/data_out.h>
 
@@ -152,6 +153,20 @@ namespace systole
                                                  ? ""
                                                  : checkpoint + "/ep.mesh");
     }
+
+    /// The mapping of the EP mesh: CellKind's on tetrahedra (affine); on
+    /// hexahedra a plain MappingQ, whose point searches give the
+    /// RemotePointEvaluation the same cells as before (a MappingQCache
+    /// moves the activation of points on cell faces by 1e-10).
+    std::unique_ptr<dealii::Mapping<3, 3>>
+    ep_mapping(const Geometry::CellKind          &kind,
+               const dealii::Triangulation<3, 3> &tria,
+               const unsigned int                 degree)
+    {
+      if (kind.simplex())
+        return kind.mapping(tria, degree);
+      return std::make_unique<dealii::MappingQ<3>>(degree);
+    }
   } // namespace
 
   struct ElectricalActivation::Impl
@@ -228,7 +243,7 @@ namespace systole
     : params(coupled_parameters(prm, period))
     , mesh(ep_mesh(geometry, params, comm, checkpoint))
     , kind(*mesh.tria)
-    , mapping(kind.mapping(*mesh.tria, run.mapping_degree))
+    , mapping(ep_mapping(kind, *mesh.tria, run.mapping_degree))
     , comm(comm)
     , tracker(0, params.activation_threshold_mV)
     , mech_tria(mech_tria)
