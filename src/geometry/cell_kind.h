@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/point.h>
 #include <deal.II/base/quadrature.h>
 
 #include <memory>
@@ -74,6 +75,27 @@ namespace systole::Geometry
     mapping(const dealii::Triangulation<3, 3> &tria,
             const unsigned int                 degree) const;
 
+    /// A rule whose points are the nodes of lagrange(@p degree), so that
+    /// the mass matrix integrated with it is diagonal (the lumped mass):
+    /// QGaussLobatto(degree + 1) on hexahedra; on tetrahedra the 4 vertices
+    /// with weight 1/24 each (the reference volume over 4; for P1 exactly the
+    /// row sums of the consistent mass, all positive). Throws for
+    /// tetrahedra of degree 2 (their nodal rule has zero vertex weights).
+    dealii::Quadrature<3>
+    nodal_quadrature(const unsigned int degree) const;
+
+    /// Sample points of a face (the weights mean nothing): its vertices,
+    /// edge midpoints and centre (QGaussLobatto<2>(3) on quadrilaterals).
+    dealii::Quadrature<2>
+    face_sample_points() const;
+
+    /// @p point (reference coordinates) moved into the reference cell: on
+    /// hexahedra each coordinate clamped to [0, 1]; on tetrahedra the
+    /// barycentric coordinates clamped to [0, 1] and renormalised to sum 1.
+    /// Points inside stay where they are.
+    dealii::Point<3>
+    project_to_reference_cell(const dealii::Point<3> &point) const;
+
     /// Subdivisions of an output patch (DataOut::build_patches) for fields
     /// of degree @p degree: @p degree on hexahedra; 1 on tetrahedra (linear
     /// patches, the vertex values: the results file takes 4-node tetrahedra).
@@ -93,4 +115,9 @@ namespace systole::Geometry
   private:
     bool is_simplex = false;
   };
+
+  /// CellKind::project_to_reference_cell() for a cell that is a tetrahedron
+  /// (@p simplex) or a hexahedron. Not collective.
+  dealii::Point<3>
+  project_to_reference_cell(const bool simplex, const dealii::Point<3> &point);
 } // namespace systole::Geometry
