@@ -11,6 +11,8 @@
 #include <deal.II/fe/mapping_q_cache.h>
 #include <deal.II/grid/tria.h>
 
+#include "geometry/mid_edge_nodes.h"
+
 #include <algorithm>
 #include <array>
 
@@ -35,6 +37,8 @@ namespace systole::Geometry
                   "prisms or pyramids): Systole needs a mesh of one shape, "
                   "all hexahedra or all tetrahedra."));
     is_simplex = tet && !hex;
+    // Every rank reads the mesh file, so each attaches the same nodes.
+    curved = is_simplex && mid_edge_nodes(tria) != nullptr;
   }
 
   std::string
@@ -151,7 +155,8 @@ namespace systole::Geometry
                     const unsigned int                 degree) const
   {
     if (is_simplex)
-      return std::make_unique<dealii::MappingFE<3>>(dealii::FE_SimplexP<3>(1));
+      return std::make_unique<dealii::MappingFE<3>>(
+        dealii::FE_SimplexP<3>(mapping_degree(degree)));
     auto cache = std::make_unique<dealii::MappingQCache<3>>(degree);
     cache->initialize(dealii::MappingQ<3>(degree), tria);
     return cache;

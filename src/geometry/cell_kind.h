@@ -29,11 +29,15 @@ namespace systole::Geometry
   /// | cell rule, n points   | QGauss(n) (n^3 points) | QGaussSimplex(n) | |
   /// face rule             | QGauss<2>(n)           | QGaussSimplex<2>(n)    |
   /// | mapping of degree m   | MappingQCache(m)       |
-  /// MappingFE(FE_SimplexP(1)) |
+  /// MappingFE(FE_SimplexP(1 or 2)) |
   ///
   /// Both rules with n points per direction integrate polynomials of degree
-  /// 2n - 1 exactly. Tetrahedral meshes carry flat facets (no manifolds), so
-  /// their mapping is affine whatever degree is asked for.
+  /// 2n - 1 exactly. Tetrahedral meshes read from a file of 4-node
+  /// tetrahedra (or split from hexahedra) carry flat facets, so their
+  /// mapping is affine whatever degree is asked for. A file of 10-node
+  /// tetrahedra keeps its mid-edge nodes (Geometry::MidEdgeManifold), and a
+  /// mapping degree >= 2 then gives the quadratic MappingFE(FE_SimplexP(2))
+  /// through the corners and those nodes.
   class CellKind
   {
   public:
@@ -70,7 +74,8 @@ namespace systole::Geometry
 
     /// The mapping of @p tria (hexahedra: a MappingQCache of degree
     /// @p degree that follows the manifolds, support points computed once;
-    /// tetrahedra: affine).
+    /// tetrahedra: MappingFE(FE_SimplexP(mapping_degree(@p degree))), affine
+    /// unless the mesh has mid-edge nodes).
     std::unique_ptr<dealii::Mapping<3, 3>>
     mapping(const dealii::Triangulation<3, 3> &tria,
             const unsigned int                 degree) const;
@@ -105,15 +110,28 @@ namespace systole::Geometry
       return is_simplex ? 1 : degree;
     }
 
-    /// The degree mapping() gives for @p degree.
+    /// The degree mapping() gives for @p degree: @p degree on hexahedra; on
+    /// tetrahedra 2 if @p degree >= 2 and the mesh has mid-edge nodes
+    /// (curved()), else 1.
     unsigned int
     mapping_degree(const unsigned int degree) const
     {
-      return is_simplex ? 1 : degree;
+      if (!is_simplex)
+        return degree;
+      return curved && degree >= 2 ? 2 : 1;
+    }
+
+    /// Whether the mesh is tetrahedral with the mid-edge nodes of a
+    /// second-order mesh file (Geometry::MidEdgeManifold).
+    bool
+    curved_tetrahedra() const
+    {
+      return curved;
     }
 
   private:
     bool is_simplex = false;
+    bool curved     = false;
   };
 
   /// CellKind::project_to_reference_cell() for a cell that is a tetrahedron

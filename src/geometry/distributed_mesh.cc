@@ -8,6 +8,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include "geometry/cell_kind.h"
+#include "geometry/mid_edge_nodes.h"
 
 namespace systole::Geometry
 {
@@ -32,6 +33,7 @@ namespace systole::Geometry
         std::make_unique<dealii::parallel::fullydistributed::Triangulation<3>>(
           comm);
       tria->create_triangulation(description);
+      copy_mid_edge_nodes(serial, *tria);
       return {std::move(tria), std::move(names)};
     }
 
