@@ -29,6 +29,9 @@ element size, --biv-psize.
 
   python3 scripts/make_tet_meshes.py --out meshes
 
+--order 2 writes second-order meshes (10-node tetrahedra, 6-node triangles; the mid-edge nodes
+of the curved surfaces on them) as lv_ellipsoid_tet_p2.msh and biv_ellipsoid_tet_p2.msh.
+
 Needs cardiac-geometries-core and the gmsh wheel (scripts/requirements.txt, in the venv).
 """
 
@@ -64,6 +67,10 @@ def boundary_names_line(parts):
     return "set Boundary names = " + "; ".join(f"{part}: {name}" for part, name in parts.items())
 
 
+#: Element order, set by main(); _run_package raises the package's mesh to it before writing.
+ELEMENT_ORDER = [1]
+
+
 def _prepare_gmsh():
     """Initialise gmsh with pinned options before the package's own gmsh.initialize(), which
     is then a no-op (gmsh keeps these options until the package's gmsh.finalize()).
@@ -84,9 +91,20 @@ def _run_package(build, path, **kwargs):
     import gmsh
 
     _prepare_gmsh()
+    write = gmsh.write
+
+    def write_at_order(file_name):
+        # The package meshes at order 1 (it sets the option itself): raise the order on the
+        # model it built, which puts the new nodes of the curved surfaces on them.
+        if ELEMENT_ORDER[0] != 1:
+            gmsh.model.mesh.setOrder(ELEMENT_ORDER[0])
+        write(file_name)
+
+    gmsh.write = write_at_order
     try:
         build(path, **kwargs)
     finally:
+        gmsh.write = write
         if gmsh.isInitialized():
             gmsh.finalize()
 
@@ -122,9 +140,11 @@ def summarize(path):
         types, _, nodes = gmsh.model.mesh.getElements(3)
         n_tets, vertices = 0, set()
         for element_type, element_nodes in zip(types, nodes):
-            if element_type == 4:  # 4-node tetrahedron
-                n_tets += len(element_nodes) // 4
-                vertices.update(element_nodes.tolist())
+            if element_type in (4, 11):  # 4- or 10-node tetrahedron, corners first
+                n_nodes = 4 if element_type == 4 else 10
+                n_tets += len(element_nodes) // n_nodes
+                corners = element_nodes.reshape(-1, n_nodes)[:, :4]
+                vertices.update(corners.ravel().tolist())
         return markers, n_tets, len(vertices), [int(t) for t in types]
     finally:
         gmsh.finalize()
@@ -141,15 +161,19 @@ def write_mesh(kind, out_dir, psize):
     """Write one mesh and its JSON, print its summary and .prm line; returns the .msh path."""
     writer, name, parts = {"lv": (write_lv, LV_FILE, LV_PARTS),
                            "biv": (write_biv, BIV_FILE, BIV_PARTS)}[kind]
+    if ELEMENT_ORDER[0] == 2:
+        name = name.replace(".msh", "_p2.msh")
     path = out_dir / name
     writer(path, psize)
     markers, n_tets, n_vertices, types = summarize(path)
-    if types != [4]:
-        raise RuntimeError(f"{path}: 3D element types {types}, expected tetrahedra (4) only")
+    expected = [4] if ELEMENT_ORDER[0] == 1 else [11]
+    if types != expected:
+        raise RuntimeError(f"{path}: 3D element types {types}, expected {expected} only")
     missing = [name for name in parts.values() if markers.get(name, [0, 0])[1] != 2]
     if missing:
         raise RuntimeError(f"{path}: no physical surface {missing}; it has {sorted(markers)}")
-    info = {"mesh": name, "psize_mm": psize, "tetrahedra": n_tets, "vertices": n_vertices,
+    info = {"mesh": name, "psize_mm": psize, "element_order": ELEMENT_ORDER[0],
+            "tetrahedra": n_tets, "vertices": n_vertices,
             "markers": markers, "systole_parts": parts,
             "boundary_names": boundary_names_line(parts), "written_by": package_versions()}
     path.with_suffix(".json").write_text(json.dumps(info, indent=1) + "\n")
@@ -170,7 +194,10 @@ def main(argv=None):
     parser.add_argument("--biv-psize", type=float, default=DEFAULT_BIV_PSIZE,
                         help="BiV element size [mm]")
     parser.add_argument("--only", choices=["lv", "biv"], help="write one of the two meshes")
+    parser.add_argument("--order", type=int, choices=[1, 2], default=1,
+                        help="element order: 2 adds the mid-edge nodes (file name *_p2.msh)")
     args = parser.parse_args(argv)
+    ELEMENT_ORDER[0] = args.order
     for size in (args.lv_psize, args.biv_psize):
         if not size > 0:
             parser.error(f"sizes must be positive, got {size}")

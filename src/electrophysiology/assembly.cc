@@ -17,16 +17,17 @@ namespace systole::Electrophysiology
   void
   Monodomain::Impl::assemble_lumped_mass()
   {
-    // Gauss-Lobatto points are the nodes of FE_Q (degree 1 and 2), so the
-    // mass matrix integrated with them is diagonal and positive.
-    const dealii::QGaussLobatto<3>               nodal(fe.degree + 1);
-    dealii::FEValues<3>                          fe_values(mapping,
-                                  fe,
+    // A rule on the nodes (Gauss-Lobatto points for FE_Q of degree 1 and 2,
+    // the vertices for P1): the mass matrix integrated with it is diagonal
+    // and positive.
+    const dealii::Quadrature<3> nodal = kind.nodal_quadrature(fe->degree);
+    dealii::FEValues<3>         fe_values(mapping,
+                                  *fe,
                                   nodal,
                                   dealii::update_values |
                                     dealii::update_JxW_values);
-    const unsigned int                           n = fe.n_dofs_per_cell();
-    dealii::Vector<double>                       local(n);
+    const unsigned int          n = fe->n_dofs_per_cell();
+    dealii::Vector<double>      local(n);
     std::vector<dealii::types::global_dof_index> indices(n);
     lumped_mass_vector.reinit(owned, comm);
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -63,14 +64,14 @@ namespace systole::Electrophysiology
   void
   Monodomain::Impl::assemble_consistent_mass()
   {
-    const dealii::QGauss<3>                      gauss(fe.degree + 1);
-    dealii::FEValues<3>                          fe_values(mapping,
-                                  fe,
+    const dealii::Quadrature<3> gauss = kind.cell_quadrature(fe->degree + 1);
+    dealii::FEValues<3>         fe_values(mapping,
+                                  *fe,
                                   gauss,
                                   dealii::update_values |
                                     dealii::update_JxW_values);
-    const unsigned int                           n = fe.n_dofs_per_cell();
-    dealii::FullMatrix<double>                   local(n, n);
+    const unsigned int          n = fe->n_dofs_per_cell();
+    dealii::FullMatrix<double>  local(n, n);
     std::vector<dealii::types::global_dof_index> indices(n);
     mass = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
@@ -97,7 +98,7 @@ namespace systole::Electrophysiology
   Monodomain::Impl::evaluate_fibres(const Fibres::FibreField &fibres)
   {
     dealii::FEValues<3>             fe_values(mapping,
-                                  fe,
+                                  *fe,
                                   quadrature,
                                   dealii::update_quadrature_points);
     std::vector<Fibres::FibreBasis> bases;
@@ -123,11 +124,11 @@ namespace systole::Electrophysiology
   {
     const double D_l = params.diffusivity_l(), D_t = params.diffusivity_t();
     dealii::FEValues<3>                          fe_values(mapping,
-                                  fe,
+                                  *fe,
                                   quadrature,
                                   dealii::update_gradients |
                                     dealii::update_JxW_values);
-    const unsigned int                           n = fe.n_dofs_per_cell();
+    const unsigned int                           n = fe->n_dofs_per_cell();
     dealii::FullMatrix<double>                   local(n, n);
     std::vector<dealii::types::global_dof_index> indices(n);
     std::vector<dealii::Tensor<1, 3>>            D_grad(n);
@@ -209,12 +210,12 @@ namespace systole::Electrophysiology
             const auto &part = stimulus.region.boundary_part;
             const auto  id   = names.id(part);
             Geometry::require_boundary(tria, names, part);
-            const dealii::QGaussLobatto<2> face_points(3);
-            dealii::FEFaceValues<3>        fe_face(mapping,
-                                            fe,
+            const dealii::Quadrature<2> face_points = kind.face_sample_points();
+            dealii::FEFaceValues<3>     fe_face(mapping,
+                                            *fe,
                                             face_points,
                                             dealii::update_quadrature_points);
-            std::vector<dealii::Point<3>>  local_points;
+            std::vector<dealii::Point<3>> local_points;
             for (const auto &cell : dof_handler.active_cell_iterators())
               if (cell->is_locally_owned())
                 for (const auto f : cell->face_indices())

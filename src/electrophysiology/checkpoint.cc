@@ -22,13 +22,27 @@ namespace systole::Electrophysiology
       archive &stats.steps &stats.linear_solves &stats.linear_iterations;
       archive &stats.amg_setups &stats.seconds;
     }
+
+    /// Throws on a tetrahedral mesh: a fully distributed mesh reloads only
+    /// on the ranks that saved it, and the mechanics on tetrahedra does not
+    /// resume either.
+    void
+    require_hexahedra(const Geometry::CellKind &kind)
+    {
+      AssertThrow(!kind.simplex(),
+                  dealii::ExcMessage(
+                    "The electrophysiology on a tetrahedral mesh cannot be "
+                    "checkpointed yet: set Output / Checkpoint interval = 0 "
+                    "and Output / Checkpoint minutes = 0."));
+    }
   } // namespace
 
 
   void
   Monodomain::prepare_checkpoint(boost::archive::binary_oarchive &archive)
   {
-    Impl                        &m = *impl;
+    Impl &m = *impl;
+    require_hexahedra(m.kind);
     const unsigned int           n = m.n_components + 2;
     std::vector<LA::MPI::Vector> owned(n);
     {
@@ -64,7 +78,8 @@ namespace systole::Electrophysiology
   void
   Monodomain::load_checkpoint(boost::archive::binary_iarchive &archive)
   {
-    Impl    &m           = *impl;
+    Impl &m = *impl;
+    require_hexahedra(m.kind);
     double   gamma_stage = -1, gamma_amg = -1;
     archive &m.t &gamma_stage &gamma_amg;
     serialize_statistics(archive, m.stats);

@@ -8,6 +8,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include "electrophysiology/monodomain_impl.h"
+#include "geometry/point_location.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,21 +18,40 @@
 
 namespace systole::Electrophysiology
 {
+  namespace
+  {
+    /// The Lagrange element of @p degree on cells of @p kind; P1 only on
+    /// tetrahedra.
+    std::unique_ptr<dealii::FiniteElement<3, 3>>
+    element(const Geometry::CellKind &kind, const unsigned int degree)
+    {
+      AssertThrow(!kind.simplex() || degree == 1,
+                  dealii::ExcMessage(
+                    "Electrophysiology / Polynomial degree = " +
+                    std::to_string(degree) +
+                    " needs hexahedra: on tetrahedra the lumped mass of P2 "
+                    "gives the vertices zero weight. Set it to 1."));
+      return kind.lagrange(degree);
+    }
+  } // namespace
+
+
   Monodomain::Impl::Impl(
-    const Parameters                                         &params,
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-    const dealii::Mapping<3, 3>                              &mapping,
-    Logger                                                   &logger,
-    const double                                              start_time)
+    const Parameters                                           &params,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const dealii::Mapping<3, 3>                                &mapping,
+    Logger                                                     &logger,
+    const double                                                start_time)
     : params(params)
     , model(*params.ionic_model)
     , tria(tria)
     , mapping(mapping)
     , comm(tria.get_communicator())
     , logger(logger)
-    , fe(params.degree)
+    , kind(tria)
+    , fe(element(kind, params.degree))
     , dof_handler(tria)
-    , quadrature(params.degree + 1)
+    , quadrature(kind.cell_quadrature(params.degree + 1))
     , n_owned(0)
     , n_components(1 + params.ionic_model->n_states())
     , threshold(params.ionic_model->from_mV(params.activation_threshold_mV))
@@ -43,23 +63,25 @@ namespace systole::Electrophysiology
 
 
   Monodomain::Monodomain(
-    const Parameters                                         &params,
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-    const dealii::Mapping<3, 3>                              &mapping,
-    const Fibres::FibreField                                 &fibres,
-    const Geometry::BoundaryNames                            &names,
-    Logger                                                   &logger,
-    const double                                              start_time)
+    const Parameters                                           &params,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const dealii::Mapping<3, 3>                                &mapping,
+    const Fibres::FibreField                                   &fibres,
+    const Geometry::BoundaryNames                              &names,
+    Logger                                                     &logger,
+    const double                                                start_time)
   {
     AssertThrow(params.ionic_model != nullptr,
                 dealii::ExcMessage("Monodomain: no ionic model given."));
     impl    = std::make_unique<Impl>(params, tria, mapping, logger, start_time);
     Impl &m = *impl;
 
-    m.dof_handler.distribute_dofs(m.fe);
+    m.dof_handler.distribute_dofs(*m.fe);
     m.owned = m.dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
     m.n_owned = m.owned.n_elements();
+    m.ghosts  = m.relevant;
+    m.ghosts.subtract_set(m.owned);
     AssertThrow(m.owned.is_contiguous(), dealii::ExcInternalError());
     {
       dealii::AffineConstraints<double> hanging(m.relevant);
@@ -116,10 +138,10 @@ namespace systole::Electrophysiology
     save();
 
     std::ostringstream o;
-    o << "Electrophysiology: monodomain, " << m.model.name() << ", Q"
-      << params.degree << ", " << m.dof_handler.n_dofs()
-      << " nodes, D = " << params.diffusivity_l() << " / "
-      << params.diffusivity_t()
+    o << "Electrophysiology: monodomain, " << m.model.name() << ", "
+      << (m.kind.simplex() ? "P" : "Q") << params.degree << ", "
+      << m.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
+      << " / " << params.diffusivity_t()
       << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
       << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
       << params.time_step << " ms, CG + " << params.preconditioner << ", "
@@ -138,10 +160,33 @@ namespace systole::Electrophysiology
   }
 
 
+  std::vector<double>
+  Monodomain::shape_values(const std::vector<dealii::Point<3>> &reference) const
+  {
+    const auto         &fe = *impl->fe;
+    const unsigned int  n  = fe.n_dofs_per_cell();
+    std::vector<double> phi(reference.size() * n);
+    for (unsigned int q = 0; q < reference.size(); ++q)
+      for (unsigned int i = 0; i < n; ++i)
+        phi[q * n + i] = fe.shape_value(i, reference[q]);
+    return phi;
+  }
+
+
   void
   Monodomain::evaluate(
     const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
     const dealii::Quadrature<3>                             &quadrature,
+    PointValues                                             &values) const
+  {
+    evaluate(cell, shape_values(quadrature.get_points()), values);
+  }
+
+
+  void
+  Monodomain::evaluate(
+    const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+    const std::vector<double>                               &shape_values,
     PointValues                                             &values) const
   {
     const Impl &m = *impl;
@@ -153,12 +198,18 @@ namespace systole::Electrophysiology
                                                                cell->level(),
                                                                cell->index(),
                                                                &m.dof_handler);
-    const unsigned int     n = m.fe.n_dofs_per_cell();
+    const unsigned int     n = m.fe->n_dofs_per_cell();
     dealii::Vector<double> V(n), first(n), latest(n), calcium(n);
-    dof_cell->get_dof_values(m.potential_mV, V);
-    dof_cell->get_dof_values(m.calcium_uM, calcium);
-    dof_cell->get_dof_values(m.activation_first, first);
-    dof_cell->get_dof_values(m.activation_latest, latest);
+    std::vector<dealii::types::global_dof_index> indices(n);
+    dof_cell->get_dof_indices(indices);
+    for (unsigned int i = 0; i < n; ++i)
+      {
+        const double *at = &m.output_values[4 * m.local_index(indices[i])];
+        V[i]             = at[0];
+        first[i]         = at[1];
+        latest[i]        = at[2];
+        calcium[i]       = at[3];
+      }
 
     // With repeated stimulation, the nodes of a cell that the current beat's
     // wave is crossing hold upstrokes of two beats: their interpolant would
@@ -172,7 +223,7 @@ namespace systole::Electrophysiology
         mixed_beats = *highest - *lowest > 0.5 * m.params.stimulus_period;
       }
 
-    const unsigned int n_q = quadrature.size();
+    const unsigned int n_q = shape_values.size() / n;
     values.potential.assign(n_q, 0.0);
     values.activation_time.assign(n_q, 0.0);
     values.latest_activation_time.assign(n_q, 0.0);
@@ -181,7 +232,7 @@ namespace systole::Electrophysiology
       for (unsigned int i = 0; i < n; ++i)
         {
           // NaN (not activated) at any node propagates to every point.
-          const double phi = m.fe.shape_value(i, quadrature.point(q));
+          const double phi = shape_values[q * n + i];
           values.potential[q] += phi * V[i];
           values.activation_time[q] += phi * first[i];
           values.latest_activation_time[q] += phi * latest[i];
@@ -211,32 +262,36 @@ namespace systole::Electrophysiology
         cache.points = points;
         cache.owner.assign(n, ranks);
         cache.cells.assign(n, {});
-        for (unsigned int p = 0; p < n; ++p)
-          {
-            try
-              {
-                for (const auto &[cell, reference] :
-                     dealii::GridTools::find_all_active_cells_around_point(
-                       m.mapping,
-                       m.dof_handler,
-                       points[p],
-                       1e-10))
-                  if (cell->is_locally_owned())
-                    {
-                      cache.owner[p] = rank;
-                      cache.cells[p] = {cell, reference};
-                      break;
-                    }
-              }
-            catch (const std::exception &)
-              {
-                // Not in any cell this rank knows.
-              }
-          }
-        dealii::Utilities::MPI::min(
-          dealii::ArrayView<const unsigned int>(cache.owner),
-          m.comm,
-          dealii::ArrayView<unsigned int>(cache.owner));
+        if (m.kind.simplex())
+          m.locate_on_tetrahedra(points);
+        else
+          for (unsigned int p = 0; p < n; ++p)
+            {
+              try
+                {
+                  for (const auto &[cell, reference] :
+                       dealii::GridTools::find_all_active_cells_around_point(
+                         m.mapping,
+                         m.dof_handler,
+                         points[p],
+                         1e-10))
+                    if (cell->is_locally_owned())
+                      {
+                        cache.owner[p] = rank;
+                        cache.cells[p] = {cell, reference};
+                        break;
+                      }
+                }
+              catch (const std::exception &)
+                {
+                  // Not in any cell this rank knows.
+                }
+            }
+        if (!m.kind.simplex())
+          dealii::Utilities::MPI::min(
+            dealii::ArrayView<const unsigned int>(cache.owner),
+            m.comm,
+            dealii::ArrayView<unsigned int>(cache.owner));
       }
     const auto &owner = cache.owner;
     const auto &found = cache.cells;
@@ -271,6 +326,43 @@ namespace systole::Electrophysiology
         values.calcium_uM.push_back(global[n_values * p + 3]);
       }
     return values;
+  }
+
+
+  void
+  Monodomain::Impl::locate_on_tetrahedra(
+    const std::vector<dealii::Point<3>> &points) const
+  {
+    // Each point is evaluated by the rank holding it least outside a cell,
+    // the lowest among equals (deal.II 9.4's searches test the unit cube,
+    // not the tetrahedron).
+    const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
+    const auto         located =
+      Geometry::locate_in_owned_cells(tria, mapping, points, 1e-10);
+    const unsigned int  n = points.size();
+    std::vector<double> outside(n), least(n);
+    for (unsigned int p = 0; p < n; ++p)
+      outside[p] = located[p].outside;
+    dealii::Utilities::MPI::min(dealii::ArrayView<const double>(outside),
+                                comm,
+                                dealii::ArrayView<double>(least));
+    auto &cache = point_cache;
+    for (unsigned int p = 0; p < n; ++p)
+      if (std::isfinite(outside[p]) && outside[p] == least[p])
+        {
+          cache.owner[p]   = rank;
+          const auto &cell = located[p].cell;
+          cache.cells[p]   = {
+              dealii::DoFHandler<3>::active_cell_iterator(&tria,
+                                                        cell->level(),
+                                                        cell->index(),
+                                                        &dof_handler),
+              located[p].reference};
+        }
+    dealii::Utilities::MPI::min(dealii::ArrayView<const unsigned int>(
+                                  cache.owner),
+                                comm,
+                                dealii::ArrayView<unsigned int>(cache.owner));
   }
 
 

@@ -3,6 +3,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/distributed/tria_base.h>
 #include <deal.II/grid/tria.h>
 
 #include "electrophysiology/activation.h"
@@ -20,12 +21,6 @@ namespace dealii
   class DataOut;
   template <int dim, int spacedim>
   class Mapping;
-
-  namespace parallel::distributed
-  {
-    template <int dim, int spacedim>
-    class Triangulation;
-  }
 } // namespace dealii
 
 namespace boost::archive
@@ -75,18 +70,20 @@ namespace systole::Electrophysiology
   /// (IonicModel): dv/dt = ∇·(D∇v) − I_ion(v, s) + I_stim/(χ C_m A),
   /// D = σ/(χ C_m) [mm²/ms].
   ///
-  /// Discretization: continuous Q1 or Q2 elements on the given mesh (its own
-  /// DoFHandler), a lumped (Gauss-Lobatto) mass M = M_L or (Mass matrix =
-  /// consistent) the consistent one, the ionic model evaluated at the nodes
-  /// (so the ODE system is M dv/dt = −K v + M f(v, s)). The state of ARKode
-  /// holds v and the model's state variables at every node (interleaved per
-  /// node); the IMEX ARK method treats −M⁻¹K v implicitly (linear, time
-  /// independent; a CG + Jacobi solve with a consistent M) and the ionic
-  /// currents, the state ODEs and the stimulus explicitly. Stage systems
-  /// (M + γK) x = M b are solved by CG + BoomerAMG; the preconditioner is
-  /// rebuilt only when γ
-  /// changes by more than 20 % (never with fixed steps). Activation times
-  /// are sampled every Parameters::time_step (ActivationTracker).
+  /// Discretization: continuous Q1 or Q2 elements on hexahedra, P1 on
+  /// tetrahedra (Geometry::CellKind picks elements, quadratures and the
+  /// nodal rule), on the given mesh (its own DoFHandler), a lumped (nodal
+  /// quadrature: Gauss-Lobatto on hexahedra, the vertices on tetrahedra)
+  /// mass M = M_L or (Mass matrix = consistent) the consistent one, the ionic
+  /// model evaluated at the nodes (so the ODE system is M dv/dt = −K v + M f(v,
+  /// s)). The state of ARKode holds v and the model's state variables at every
+  /// node (interleaved per node); the IMEX ARK method treats −M⁻¹K v implicitly
+  /// (linear, time independent; a CG + Jacobi solve with a consistent M) and
+  /// the ionic currents, the state ODEs and the stimulus explicitly. Stage
+  /// systems (M + γK) x = M b are solved by CG + BoomerAMG; the preconditioner
+  /// is rebuilt only when γ changes by more than 20 % (never with fixed steps).
+  /// Activation times are sampled every Parameters::time_step
+  /// (ActivationTracker).
   ///
   /// The mesh must be conforming (no hanging nodes). Cheap to include
   /// (pimpl).
@@ -94,14 +91,16 @@ namespace systole::Electrophysiology
   {
   public:
     /// @param[in] tria the mesh, e.g. the one of the mechanics (kept by
-    ///            reference, must outlive this object and not change)
+    ///            reference, must outlive this object and not change): a
+    ///            p4est mesh of hexahedra or a fully distributed one of
+    ///            tetrahedra (degree 1 only)
     /// @param[in] mapping geometry of its cells (kept by reference)
     /// @param[in] fibres fibre field, evaluated once at the quadrature points
     ///            of every locally owned cell
     /// @param[in] names boundary parts of @p tria (surface stimuli)
     /// @param[in] start_time initial time [ms]; the tissue starts at rest
-    Monodomain(const Parameters                                         &params,
-               const dealii::parallel::distributed::Triangulation<3, 3> &tria,
+    Monodomain(const Parameters &params,
+               const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
                const dealii::Mapping<3, 3>   &mapping,
                const Fibres::FibreField      &fibres,
                const Geometry::BoundaryNames &names,
@@ -135,6 +134,20 @@ namespace systole::Electrophysiology
     evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
              const dealii::Quadrature<3> &quadrature,
              PointValues                 &values) const;
+
+    /// The shape functions of the element at the reference points
+    /// @p reference: n_dofs_per_cell values per point (for the evaluate()
+    /// below).
+    std::vector<double>
+    shape_values(const std::vector<dealii::Point<3>> &reference) const;
+
+    /// evaluate() at the points whose shape_values() are @p shape_values:
+    /// the same values, without evaluating the polynomials again (points
+    /// read at every step). Not collective.
+    void
+    evaluate(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+             const std::vector<double> &shape_values,
+             PointValues               &values) const;
 
     /// Values at reference points anywhere in the mesh, on every rank (NaN
     /// for a point outside the mesh). Collective.
@@ -179,7 +192,7 @@ namespace systole::Electrophysiology
     /// every node to the cells (SolutionTransfer, so that a restart may use
     /// another number of ranks), and write the time, the counters and the
     /// stage-solver set-up (the gamma of the stage matrix and of its AMG) to
-    /// @p archive.
+    /// @p archive. Hexahedral meshes only: throws on tetrahedra.
     void
     prepare_checkpoint(boost::archive::binary_oarchive &archive);
 

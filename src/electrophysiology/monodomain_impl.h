@@ -8,7 +8,7 @@
 #include <deal.II/distributed/solution_transfer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/petsc_precondition.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
@@ -19,6 +19,7 @@
 #include "electrophysiology/activation.h"
 #include "electrophysiology/arkode_adapter.h"
 #include "electrophysiology/monodomain.h"
+#include "geometry/cell_kind.h"
 
 #include <memory>
 #include <optional>
@@ -66,14 +67,15 @@ namespace systole::Electrophysiology
 
   struct Monodomain::Impl
   {
-    Impl(const Parameters                                         &params,
-         const dealii::parallel::distributed::Triangulation<3, 3> &tria,
-         const dealii::Mapping<3, 3>                              &mapping,
-         Logger                                                   &logger,
-         const double                                              start_time);
+    Impl(const Parameters                                           &params,
+         const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+         const dealii::Mapping<3, 3>                                &mapping,
+         Logger                                                     &logger,
+         const double start_time);
 
     // --- assembly.cc ---
-    /// Lumped (Gauss-Lobatto) mass of the owned nodes and their positions.
+    /// Lumped (nodal quadrature) mass of the owned nodes and their
+    /// positions.
     void
     assemble_lumped_mass();
     /// The consistent mass matrix M_ij = ∫ φ_i φ_j (Gauss points) and its
@@ -128,16 +130,18 @@ namespace systole::Electrophysiology
     std::unique_ptr<ImexIntegrator>
     create_integrator(const double t0);
 
-    Parameters                                                params;
-    const IonicModel                                         &model;
-    const dealii::parallel::distributed::Triangulation<3, 3> &tria;
-    const dealii::Mapping<3, 3>                              &mapping;
-    MPI_Comm                                                  comm;
-    Logger                                                   &logger;
+    Parameters                                                  params;
+    const IonicModel                                           &model;
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+    const dealii::Mapping<3, 3>                                &mapping;
+    MPI_Comm                                                    comm;
+    Logger                                                     &logger;
 
-    dealii::FE_Q<3>       fe;
-    dealii::DoFHandler<3> dof_handler;
-    dealii::QGauss<3>     quadrature; ///< of the stiffness
+    /// Hexahedra or tetrahedra: the element, the rules.
+    Geometry::CellKind                           kind;
+    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
+    dealii::DoFHandler<3>                        dof_handler;
+    dealii::Quadrature<3> quadrature; ///< of the stiffness
     dealii::IndexSet      owned, relevant;
     unsigned int          n_owned;      ///< owned nodes
     unsigned int          n_components; ///< 1 + model.n_states()
@@ -181,6 +185,21 @@ namespace systole::Electrophysiology
     ActivationTracker               tracker;
     std::vector<double>             v_sample; ///< v at time t, owned nodes
 
+    /// The four output vectors below at the locally relevant nodes,
+    /// interleaved (potential, first, latest, calcium), in the order of
+    /// PETSc's local form (owned nodes, then ghosts): what evaluate() reads
+    /// (cheaper than a PETSc access per node).
+    std::vector<double> output_values;
+    /// Relevant but not owned nodes (the ghosts, in local-form order).
+    dealii::IndexSet ghosts;
+    /// Position of the locally relevant node @p dof in output_values / 4.
+    unsigned int
+    local_index(const dealii::types::global_dof_index dof) const
+    {
+      return owned.is_element(dof) ? owned.index_within_set(dof)
+                                   : n_owned + ghosts.index_within_set(dof);
+    }
+
     /// Ghosted, node layout: potential [mV], first and latest activation,
     /// calcium [µM] (NaN without calcium).
     LA::MPI::Vector potential_mV, activation_first, activation_latest,
@@ -212,6 +231,11 @@ namespace systole::Electrophysiology
     std::unique_ptr<
       dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
       checkpoint_transfer;
+
+    /// values_at_points() on tetrahedra: fill point_cache's owners and
+    /// cells for @p points (collective).
+    void
+    locate_on_tetrahedra(const std::vector<dealii::Point<3>> &points) const;
 
     /// values_at_points(): the cells around the last points asked for.
     struct PointCache

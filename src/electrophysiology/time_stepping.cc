@@ -367,6 +367,32 @@ namespace systole::Electrophysiology
         ierr = VecGhostUpdateEnd(vec, INSERT_VALUES, SCATTER_FORWARD);
         AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
       }
+    const unsigned int n_local = n_owned + ghosts.n_elements();
+    output_values.resize(4 * n_local);
+    unsigned int c = 0;
+    for (LA::MPI::Vector *v :
+         {&potential_mV, &activation_first, &activation_latest, &calcium_uM})
+      {
+        const Vec vec   = static_cast<const Vec &>(*v);
+        Vec       local = nullptr;
+        AssertThrow(VecGhostGetLocalForm(vec, &local) == 0,
+                    dealii::ExcInternalError());
+        const Vec      from = local != nullptr ? local : vec;
+        const double  *a    = nullptr;
+        PetscInt       size = 0;
+        PetscErrorCode ierr = VecGetLocalSize(from, &size);
+        AssertThrow(ierr == 0 && static_cast<unsigned int>(size) == n_local,
+                    dealii::ExcInternalError());
+        ierr = VecGetArrayRead(from, &a);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+        for (unsigned int i = 0; i < n_local; ++i)
+          output_values[4 * i + c] = a[i];
+        ierr = VecRestoreArrayRead(from, &a);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+        if (local != nullptr)
+          VecGhostRestoreLocalForm(vec, &local);
+        ++c;
+      }
   }
 
 

@@ -3,7 +3,9 @@
 #include <deal.II/base/geometry_info.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/quadrature.h>
 #include <deal.II/base/utilities.h>
+#include <deal.II/grid/reference_cell.h>
 
 #include "fibres/fibre_field.h"
 #include "geometry/vtk_messages.h"
@@ -622,26 +624,25 @@ namespace systole::Fibres
     const auto     field = std::make_shared<const DTIField>(params);
     const MPI_Comm comm  = tria.get_communicator();
 
-    // Sample the 2 x 2 x 2 Gauss points of the straight-sided cells.
+    // Sample the Gauss points of 2 per direction of the straight-sided cells
+    // (8 in a hexahedron, 4 in a tetrahedron).
     DTIStatistics       local;
-    const double        g = 0.5 / std::sqrt(3.0);
     std::vector<double> lower(3, std::numeric_limits<double>::max());
     std::vector<double> upper(3, std::numeric_limits<double>::lowest());
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          for (unsigned int q = 0; q < 8; ++q)
+          const dealii::ReferenceCell shape = cell->reference_cell();
+          const dealii::Quadrature<3> points =
+            shape.get_gauss_type_quadrature<3>(2);
+          for (const auto &unit : points.get_points())
             {
-              const dealii::Point<3> unit(q & 1 ? 0.5 + g : 0.5 - g,
-                                          q & 2 ? 0.5 + g : 0.5 - g,
-                                          q & 4 ? 0.5 + g : 0.5 - g);
               dealii::Point<3> X;
-              for (unsigned int v = 0; v < 8; ++v)
-                X += dealii::GeometryInfo<3>::d_linear_shape_function(unit, v) *
-                     cell->vertex(v);
+              for (const unsigned int v : cell->vertex_indices())
+                X += shape.d_linear_shape_function(unit, v) * cell->vertex(v);
               local.add(field->sample(X).status);
             }
-          for (unsigned int v = 0; v < 8; ++v)
+          for (const unsigned int v : cell->vertex_indices())
             for (unsigned int d = 0; d < 3; ++d)
               {
                 lower[d] = std::min(lower[d], cell->vertex(v)[d]);

@@ -8,6 +8,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include "geometry/cell_kind.h"
+#include "geometry/mid_edge_nodes.h"
 
 #include <fstream>
 #include <numeric>
@@ -97,15 +98,18 @@ namespace systole::Geometry
         create_description_from_triangulation(serial, comm);
       auto tria = std::make_unique<FullyDistributedTriangulation>(comm);
       tria->create_triangulation(description);
+      copy_mid_edge_nodes(serial, *tria);
       return {std::move(tria), std::move(names)};
     }
 
     /// The tetrahedral path on resume: the partitioned mesh of a checkpoint
-    /// (saved by save() of its fully distributed mesh) with its cell data.
+    /// (saved by save() of its fully distributed mesh) with its cell data,
+    /// and the mid-edge nodes of @p coarse, the mesh it was built from.
     DistributedMesh
-    load_fully_distributed(const std::string &saved_mesh,
-                           BoundaryNames      names,
-                           const MPI_Comm     comm)
+    load_fully_distributed(const std::string                 &saved_mesh,
+                           const dealii::Triangulation<3, 3> &coarse,
+                           BoundaryNames                      names,
+                           const MPI_Comm                     comm)
     {
       const auto info = read_saved_mesh_info(saved_mesh, comm);
       AssertThrow(info.n_ranks > 0,
@@ -126,6 +130,7 @@ namespace systole::Geometry
                     std::to_string(info.n_ranks) + " rank(s)."));
       auto tria = std::make_unique<FullyDistributedTriangulation>(comm);
       tria->load(saved_mesh);
+      copy_mid_edge_nodes(coarse, *tria);
       return {std::move(tria), std::move(names)};
     }
 
@@ -153,7 +158,10 @@ namespace systole::Geometry
         dealii::Triangulation<3, 3> hexahedra;
         BoundaryNames               names = create_mesh(params, hexahedra);
         if (!saved_mesh.empty())
-          return load_fully_distributed(saved_mesh, std::move(names), comm);
+          return load_fully_distributed(saved_mesh,
+                                        hexahedra,
+                                        std::move(names),
+                                        comm);
         dealii::Triangulation<3, 3> serial;
         dealii::GridGenerator::convert_hypercube_to_simplex_mesh(hexahedra,
                                                                  serial);
@@ -171,7 +179,10 @@ namespace systole::Geometry
           {
             require_tetrahedral_support(params);
             if (!saved_mesh.empty())
-              return load_fully_distributed(saved_mesh, std::move(names), comm);
+              return load_fully_distributed(saved_mesh,
+                                            serial,
+                                            std::move(names),
+                                            comm);
             serial.refine_global(params.global_refinements);
             return fully_distributed(serial, std::move(names), comm);
           }

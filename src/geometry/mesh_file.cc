@@ -8,6 +8,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include "geometry/mesh_checks.h"
+#include "geometry/mid_edge_nodes.h"
 #include "geometry/vtk_messages.h"
 
 #include <gmsh.h>
@@ -134,6 +135,83 @@ namespace systole::Geometry
       {0, 1, 3, 2, 4, 5, 7, 6}};
 
     unsigned int gmsh_sessions = 0;
+
+    /// The corners (0 to 3) of an edge of a tetrahedron.
+    struct Edge
+    {
+      unsigned int first, second;
+    };
+
+    /// The edge of each mid-edge node (4 to 9) of gmsh's 10-node
+    /// tetrahedron, from the reference coordinates gmsh gives its nodes (a
+    /// mid-edge node sits halfway between its corners), so that no node
+    /// order is copied from gmsh's manual.
+    std::vector<Edge>
+    tet10_edges()
+    {
+      std::string         name;
+      int                 dim, order, n_nodes, n_primary;
+      std::vector<double> x;
+      gmsh::model::mesh::getElementProperties(11,
+                                              name,
+                                              dim,
+                                              order,
+                                              n_nodes,
+                                              x,
+                                              n_primary);
+      const auto coordinate = [&](const unsigned int node, const unsigned d) {
+        return x[3 * node + d];
+      };
+      std::vector<Edge> edges;
+      for (unsigned int k = 4; k < 10; ++k)
+        for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int b = a + 1; b < 4; ++b)
+            {
+              double distance = 0;
+              for (unsigned int d = 0; d < 3; ++d)
+                distance +=
+                  std::abs(coordinate(k, d) -
+                           0.5 * (coordinate(a, d) + coordinate(b, d)));
+              if (distance < 1e-12)
+                edges.push_back({a, b});
+            }
+      AssertThrow(edges.size() == 6,
+                  dealii::ExcMessage("gmsh's 10-node tetrahedron has no "
+                                     "node halfway along each edge."));
+      return edges;
+    }
+
+    /// Drops the nodes that are no corner of a cell (the mid-edge nodes of
+    /// second-order cells, and those of their faces) from @p mesh's vertices,
+    /// renumbering the cells, faces and mid-edge nodes.
+    void
+    keep_corners_only(MeshData &mesh)
+    {
+      const unsigned int        none = dealii::numbers::invalid_unsigned_int;
+      std::vector<unsigned int> new_index(mesh.vertices.size(), none);
+      for (const auto &cell : mesh.cells)
+        for (const unsigned int v : cell)
+          new_index[v] = 0;
+      std::vector<dealii::Point<3>> vertices;
+      std::vector<std::size_t>      ids;
+      for (std::size_t i = 0; i < new_index.size(); ++i)
+        if (new_index[i] != none)
+          {
+            new_index[i] = static_cast<unsigned int>(vertices.size());
+            vertices.push_back(mesh.vertices[i]);
+            ids.push_back(mesh.vertex_ids[i]);
+          }
+      for (auto &cell : mesh.cells)
+        for (unsigned int &v : cell)
+          v = new_index[v];
+      for (auto &face : mesh.faces)
+        for (unsigned int &v : face.vertices)
+          v = new_index[v];
+      for (auto &node : mesh.mid_edge_nodes)
+        node = {new_index[node.first], new_index[node.second], node.position};
+      mesh.vertices   = std::move(vertices);
+      mesh.vertex_ids = std::move(ids);
+    }
   } // namespace
 
   void
@@ -319,15 +397,16 @@ namespace systole::Geometry
     std::size_t n_tets = 0, n_hexes = 0;
     for (std::size_t t = 0; t < types.size(); ++t)
       {
-        AssertThrow(types[t] == 4 || types[t] == 5,
+        AssertThrow(types[t] == 4 || types[t] == 5 || types[t] == 11,
                     dealii::ExcMessage(
                       "Mesh file '" + file + "' has " +
                       std::to_string(element_tags[t].size()) + " " +
                       type_name(types[t]) +
-                      " elements; Systole reads linear tetrahedra (type 4) "
-                      "or hexahedra (type 5). Mesh with Mesh.ElementOrder = 1 "
-                      "and without prisms or pyramids."));
-        (types[t] == 4 ? n_tets : n_hexes) += element_tags[t].size();
+                      " elements; Systole reads tetrahedra of 4 or 10 nodes "
+                      "(types 4, 11) or 8-node hexahedra (type 5). Mesh with "
+                      "Mesh.ElementOrder = 1 or 2 (2 on tetrahedra only) and "
+                      "without prisms or pyramids."));
+        (types[t] == 5 ? n_hexes : n_tets) += element_tags[t].size();
       }
     AssertThrow(n_tets == 0 || n_hexes == 0,
                 dealii::ExcMessage(
@@ -345,13 +424,23 @@ namespace systole::Geometry
                                 : dealii::ReferenceCells::Hexahedron;
     for (std::size_t t = 0; t < types.size(); ++t)
       {
-        const unsigned int n = types[t] == 4 ? 4 : 8;
+        const unsigned int n       = types[t] == 5 ? 8 : 4;
+        const unsigned int n_nodes = types[t] == 11 ? 10 : n;
+        const auto edges = types[t] == 11 ? tet10_edges() : std::vector<Edge>();
         for (std::size_t e = 0; e < element_tags[t].size(); ++e)
           {
+            const std::size_t        *nodes = &element_nodes[t][n_nodes * e];
             std::vector<unsigned int> cell(n);
             for (unsigned int v = 0; v < n; ++v)
               cell[n == 8 ? hex_to_lexicographic[v] : v] =
-                vertex_index(element_nodes[t][n * e + v]);
+                vertex_index(nodes[v]);
+            for (unsigned int k = 0; k < edges.size(); ++k)
+              {
+                const unsigned int mid = vertex_index(nodes[4 + k]);
+                mesh.mid_edge_nodes.push_back({cell[edges[k].first],
+                                               cell[edges[k].second],
+                                               mesh.vertices[mid]});
+              }
             mesh.cells.push_back(std::move(cell));
             mesh.cell_ids.push_back(element_tags[t][e]);
           }
@@ -377,28 +466,32 @@ namespace systole::Geometry
                                            entity);
             for (std::size_t t = 0; t < types.size(); ++t)
               {
-                AssertThrow(types[t] == 2 || types[t] == 3,
+                AssertThrow(types[t] == 2 || types[t] == 3 || types[t] == 9,
                             dealii::ExcMessage(
                               "Mesh file '" + file + "': physical surface " +
                               std::to_string(tag) + " has " +
                               std::to_string(element_tags[t].size()) + " " +
                               type_name(types[t]) +
-                              " elements; Systole reads linear triangles "
-                              "(type 2) and quadrilaterals (type 3)."));
-                const unsigned int n = types[t] == 2 ? 3 : 4;
+                              " elements; Systole reads triangles of 3 or 6 "
+                              "nodes (types 2, 9) and 4-node quadrilaterals "
+                              "(type 3)."));
+                const unsigned int n       = types[t] == 3 ? 4 : 3;
+                const unsigned int n_nodes = types[t] == 9 ? 6 : n;
                 for (std::size_t e = 0; e < element_tags[t].size(); ++e)
                   {
                     MeshData::TaggedFace face;
                     face.tag = tag;
                     face.id  = element_tags[t][e];
-                    for (unsigned int v = 0; v < n; ++v)
+                    for (unsigned int v = 0; v < n; ++v) // the corners
                       face.vertices.push_back(
-                        vertex_index(element_nodes[t][n * e + v]));
+                        vertex_index(element_nodes[t][n_nodes * e + v]));
                     mesh.faces.push_back(std::move(face));
                   }
               }
           }
       }
+    if (!mesh.mid_edge_nodes.empty())
+      keep_corners_only(mesh);
     return mesh;
   }
 
@@ -722,6 +815,18 @@ namespace systole::Geometry
       return key;
     }
 
+    /// The mid-edge nodes of @p mesh keyed by their corners' positions.
+    std::shared_ptr<const MidEdgeTable>
+    mid_edge_table(const MeshData &mesh)
+    {
+      auto table = std::make_shared<MidEdgeTable>(make_mid_edge_table());
+      for (const auto &node : mesh.mid_edge_nodes)
+        table->emplace(mid_edge_key(mesh.vertices[node.first],
+                                    mesh.vertices[node.second]),
+                       node.position);
+      return table;
+    }
+
     dealii::Point<3>
     centroid(const MeshData &mesh, const std::vector<unsigned int> &vertices)
     {
@@ -937,6 +1042,8 @@ namespace systole::Geometry
         fail("Mesh file '" + mesh.file +
              "': deal.II could not build the mesh: " + trim(info.str()));
       }
+    if (!mesh.mid_edge_nodes.empty())
+      attach_mid_edge_nodes(tria, mid_edge_table(mesh));
 
     BoundaryNames names("the mesh file '" + mesh.file + "'");
     for (const auto &part : parts)
@@ -970,8 +1077,12 @@ namespace systole::Geometry
     MeshData mesh = ext == ".msh" ? read_gmsh_data(file)
                                   : read_vtu_data(file, options.face_tag_array);
     if (options.scale != 1.0)
-      for (auto &x : mesh.vertices)
-        x *= options.scale;
+      {
+        for (auto &x : mesh.vertices)
+          x *= options.scale;
+        for (auto &node : mesh.mid_edge_nodes)
+          node.position *= options.scale;
+      }
     check_mesh_data(mesh);
     return build_triangulation(mesh, options.boundary_names, tria);
   }

@@ -71,6 +71,19 @@ namespace systole::Geometry
 
     /// The file's boundary faces (gmsh: the 2D elements of each 2D physical
     /// group, once per group; VTK: triangle/quad cells with their tag).
+    /// A node halfway along an edge of a second-order tetrahedron.
+    struct MidEdgeNode
+    {
+      unsigned int     first;    ///< index of one corner into vertices
+      unsigned int     second;   ///< index of the other corner
+      dealii::Point<3> position; ///< where the file puts the node
+    };
+
+    /// The mid-edge nodes of the 10-node tetrahedra (once per cell, so an
+    /// edge shared by cells appears once for each); empty for a linear mesh.
+    /// The vertices above are the corners only.
+    std::vector<MidEdgeNode> mid_edge_nodes;
+
     std::vector<TaggedFace> faces;
     /// The file's name of a face tag, where it has one (gmsh physical names).
     std::map<int, std::string> tag_names;

@@ -9,7 +9,6 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/petsc_vector.h>
 
-#include "geometry/cell_kind.h"
 #include "mechanics/surface_terms.h"
 
 #include <array>
@@ -193,6 +192,22 @@ namespace systole::Mechanics
     return dealii::Point<3>(sums[0], sums[1], sums[2]) / sums[3];
   }
 
+  namespace
+  {
+    /// The Gauss rule of @p n_points per direction on the faces of the
+    /// element (CellKind's face rule, without its collective shape query).
+    dealii::Quadrature<2>
+    face_quadrature(const dealii::DoFHandler<3, 3> &dof_handler,
+                    const unsigned int              n_points)
+    {
+      return dof_handler.get_fe()
+        .reference_cell()
+        .face_reference_cell(0)
+        .get_gauss_type_quadrature<2>(n_points);
+    }
+  } // namespace
+
+
   double
   CavityVolume::volume(const dealii::Mapping<3, 3>    &mapping,
                        const dealii::DoFHandler<3, 3> &dof_handler,
@@ -200,8 +215,7 @@ namespace systole::Mechanics
                        const unsigned int              n_points) const
   {
     const dealii::Quadrature<2> quadrature =
-      Geometry::CellKind(dof_handler.get_triangulation())
-        .face_quadrature(n_points);
+      face_quadrature(dof_handler, n_points);
     dealii::FEFaceValues<3>                  fe_face(mapping,
                                     dof_handler.get_fe(),
                                     quadrature,
@@ -257,8 +271,7 @@ namespace systole::Mechanics
                            LA::MPI::Vector                &dV_du) const
   {
     const dealii::Quadrature<2> quadrature =
-      Geometry::CellKind(dof_handler.get_triangulation())
-        .face_quadrature(n_points);
+      face_quadrature(dof_handler, n_points);
     const bool              fan = kind == Closure::rim_fan;
     dealii::FEFaceValues<3> fe_face(
       mapping,

@@ -1,12 +1,12 @@
 #include "simulation/electrical_activation.h"
 
-#include <deal.II/base/geometry_info.h>
 #include <deal.II/base/mpi_remote_point_evaluation.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/quadrature.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -14,7 +14,10 @@
 #include "base/logger.h"
 #include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
+#include "geometry/cell_kind.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
+#include "geometry/point_location.h"
 #include "mechanics/problem.h"
 #include "simulation/parameters.h"
 
@@ -40,17 +43,60 @@ namespace systole
     /// the boundary may lie a little outside the EP mesh.
     constexpr double point_tolerance = 0.05;
 
-    /// Throw unless every point of @p rpe was found (collective).
+    /// Mechanics points read from the EP mesh: located by
+    /// RemotePointEvaluation (unique mapping) on hexahedra, by
+    /// Geometry::DistributedPoints on tetrahedra (deal.II 9.4's search tests
+    /// the unit cube, and misses or misplaces points in tetrahedra).
+    struct PointSet
+    {
+      std::unique_ptr<dealii::Utilities::MPI::RemotePointEvaluation<3>> rpe;
+      std::unique_ptr<Geometry::DistributedPoints>                      simplex;
+      unsigned int n_points = 0;
+      /// On tetrahedra: the EP shape values at the points of each cell
+      /// evaluated here (computed on the first evaluation).
+      mutable std::vector<std::vector<double>> shape_values;
+
+      /// Locate @p points (collective).
+      void
+      reinit(const std::vector<dealii::Point<3>>                     &points,
+             const dealii::parallel::DistributedTriangulationBase<3> &tria,
+             const dealii::Mapping<3>                                &mapping,
+             const bool tetrahedra)
+      {
+        n_points = points.size();
+        if (tetrahedra)
+          simplex = std::make_unique<Geometry::DistributedPoints>(
+            tria,
+            mapping,
+            points,
+            point_tolerance,
+            tria.get_communicator());
+        else
+          {
+            rpe = std::make_unique<
+              dealii::Utilities::MPI::RemotePointEvaluation<3>>(
+              point_tolerance,
+              /*enforce_unique_mapping=*/true);
+            rpe->reinit(points, tria, mapping);
+          }
+      }
+
+      bool
+      point_found(const unsigned int i) const
+      {
+        return simplex ? simplex->point_found(i) : rpe->point_found(i);
+      }
+    };
+
+    /// Throw unless every point of @p set was found (collective).
     void
-    require_all_found(
-      const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
-      const unsigned int                                      n_points,
-      const std::string                                      &what,
-      const MPI_Comm                                          comm)
+    require_all_found(const PointSet    &set,
+                      const std::string &what,
+                      const MPI_Comm     comm)
     {
       unsigned int missing = 0;
-      for (unsigned int i = 0; i < n_points; ++i)
-        if (!rpe.point_found(i))
+      for (unsigned int i = 0; i < set.n_points; ++i)
+        if (!set.point_found(i))
           ++missing;
       missing = dealii::Utilities::MPI::sum(missing, comm);
       AssertThrow(missing == 0,
@@ -89,43 +135,75 @@ namespace systole
                     "trigger the beat."));
       return params;
     }
+
+    /// The EP mesh: the mechanics mesh (from @p geometry) refined
+    /// Electrophysiology / Mesh refinement more times; loaded from
+    /// @p checkpoint if not empty.
+    Geometry::DistributedMesh
+    ep_mesh(const Geometry::Parameters          &geometry,
+            const Electrophysiology::Parameters &params,
+            const MPI_Comm                       comm,
+            const std::string                   &checkpoint)
+    {
+      Geometry::Parameters refined = geometry;
+      refined.global_refinements += params.mesh_refinement;
+      return Geometry::create_distributed_mesh(refined,
+                                               comm,
+                                               checkpoint.empty()
+                                                 ? ""
+                                                 : checkpoint + "/ep.mesh");
+    }
+
+    /// The mapping of the EP mesh: CellKind's on tetrahedra (affine); on
+    /// hexahedra a plain MappingQ, whose point searches give the
+    /// RemotePointEvaluation the same cells as before (a MappingQCache
+    /// moves the activation of points on cell faces by 1e-10).
+    std::unique_ptr<dealii::Mapping<3, 3>>
+    ep_mapping(const Geometry::CellKind          &kind,
+               const dealii::Triangulation<3, 3> &tria,
+               const unsigned int                 degree)
+    {
+      if (kind.simplex())
+        return kind.mapping(tria, degree);
+      return std::make_unique<dealii::MappingQ<3>>(degree);
+    }
   } // namespace
 
   struct ElectricalActivation::Impl
   {
-    Impl(const dealii::ParameterHandler                           &prm,
-         const RunParameters                                      &run,
-         const Geometry::Parameters                               &geometry,
-         const dealii::parallel::distributed::Triangulation<3, 3> &mech_tria,
-         const Mechanics::Problem                                 &problem,
-         const double                                              period,
-         Logger                                                   &logger,
-         const MPI_Comm                                            comm,
-         const std::string                                        &checkpoint);
+    Impl(const dealii::ParameterHandler                             &prm,
+         const RunParameters                                        &run,
+         const Geometry::Parameters                                 &geometry,
+         const dealii::parallel::DistributedTriangulationBase<3, 3> &mech_tria,
+         const Mechanics::Problem                                   &problem,
+         const double                                                period,
+         Logger                                                     &logger,
+         const MPI_Comm                                              comm,
+         const std::string &checkpoint);
 
     /// Values (potential, first, latest activation) at the points of @p rpe,
     /// NaN where a point was not found. Collective.
     std::vector<dealii::Tensor<1, 4>>
-    evaluate(const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
-             const unsigned int n_points) const;
+    evaluate(const PointSet &set) const;
 
     /// Sample the potential at the mechanics points (at the current EP time)
     /// and record their upstrokes since the last sample. Collective.
     void
     sample();
 
-    Electrophysiology::Parameters                   params;
-    dealii::parallel::distributed::Triangulation<3> tria;
-    Geometry::BoundaryNames                         names;
-    dealii::MappingQ<3>                             mapping;
-    std::unique_ptr<Electrophysiology::Monodomain>  monodomain;
-    MPI_Comm                                        comm;
+    Electrophysiology::Parameters params;
+    /// The EP mesh and the names of its boundary parts.
+    Geometry::DistributedMesh                      mesh;
+    Geometry::CellKind                             kind;
+    std::unique_ptr<dealii::Mapping<3, 3>>         mapping;
+    std::unique_ptr<Electrophysiology::Monodomain> monodomain;
+    MPI_Comm                                       comm;
 
     /// Mechanics quadrature points: where each cell's points start in the
     /// flat list, and the upstroke times of each point (ascending).
-    std::vector<unsigned int>                        cell_start;
-    unsigned int                                     n_points = 0;
-    dealii::Utilities::MPI::RemotePointEvaluation<3> at_quadrature;
+    std::vector<unsigned int> cell_start;
+    unsigned int              n_points = 0;
+    PointSet                  at_quadrature;
     /// Upstrokes of the potential interpolated at each point (crossings of
     /// the activation threshold, located linearly in time between samples).
     Electrophysiology::ActivationTracker tracker;
@@ -135,63 +213,63 @@ namespace systole
     double                               transfer_seconds = 0;
     /// The calcium [µM] at the mechanics points at the sample times since
     /// the last forget_calcium_before() (keep_calcium()).
-    bool                                                   keep_calcium = false;
-    std::deque<double>                                     calcium_times;
-    std::deque<std::vector<double>>                        calcium_samples;
-    const dealii::parallel::distributed::Triangulation<3> &mech_tria;
-    const Mechanics::Problem                              &problem;
+    bool                            keep_calcium = false;
+    std::deque<double>              calcium_times;
+    std::deque<std::vector<double>> calcium_samples;
+    const dealii::parallel::DistributedTriangulationBase<3> &mech_tria;
+    const Mechanics::Problem                                &problem;
 
     /// Output on the mechanics mesh (set up on first use).
-    unsigned int                           output_degree;
-    std::unique_ptr<dealii::FE_Q<3>>       output_fe;
-    std::unique_ptr<dealii::DoFHandler<3>> output_dofs;
-    std::unique_ptr<dealii::Utilities::MPI::RemotePointEvaluation<3>> at_nodes;
-    std::vector<dealii::types::global_dof_index>                      node_dofs;
+    unsigned int                                       output_degree;
+    std::unique_ptr<dealii::FiniteElement<3, 3>>       output_fe;
+    std::unique_ptr<dealii::DoFHandler<3>>             output_dofs;
+    std::unique_ptr<PointSet>                          at_nodes;
+    std::vector<dealii::types::global_dof_index>       node_dofs;
     dealii::LinearAlgebra::distributed::Vector<double> out_potential, out_first,
       out_latest;
   };
 
 
   ElectricalActivation::Impl::Impl(
-    const dealii::ParameterHandler                           &prm,
-    const RunParameters                                      &run,
-    const Geometry::Parameters                               &geometry,
-    const dealii::parallel::distributed::Triangulation<3, 3> &mech_tria,
-    const Mechanics::Problem                                 &problem,
-    const double                                              period,
-    Logger                                                   &logger,
-    const MPI_Comm                                            comm,
-    const std::string                                        &checkpoint)
+    const dealii::ParameterHandler                             &prm,
+    const RunParameters                                        &run,
+    const Geometry::Parameters                                 &geometry,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &mech_tria,
+    const Mechanics::Problem                                   &problem,
+    const double                                                period,
+    Logger                                                     &logger,
+    const MPI_Comm                                              comm,
+    const std::string                                          &checkpoint)
     : params(coupled_parameters(prm, period))
-    , tria(comm)
-    , mapping(run.mapping_degree)
+    , mesh(ep_mesh(geometry, params, comm, checkpoint))
+    , kind(*mesh.tria)
+    , mapping(ep_mapping(kind, *mesh.tria, run.mapping_degree))
     , comm(comm)
-    , at_quadrature(point_tolerance, /*enforce_unique_mapping=*/true)
     , tracker(0, params.activation_threshold_mV)
     , mech_tria(mech_tria)
     , problem(problem)
     , output_degree(run.polynomial_degree)
   {
-    Geometry::Parameters refined = geometry;
-    refined.global_refinements += params.mesh_refinement;
-    names =
-      Geometry::create_mesh(refined,
-                            tria,
-                            checkpoint.empty() ? "" : checkpoint + "/ep.mesh");
+    AssertThrow(!kind.simplex() ||
+                  (run.checkpoint_interval == 0 && run.checkpoint_minutes == 0),
+                dealii::ExcMessage(
+                  "The electrophysiology on a tetrahedral mesh cannot be "
+                  "checkpointed yet: set Output / Checkpoint interval = 0 and "
+                  "Output / Checkpoint wall time interval = 0."));
     // The fibre generator runs again on the EP mesh (the rule-based one
     // solves its Laplace problems there); the monodomain model evaluates it
     // once, at its own quadrature points.
     monodomain = std::make_unique<Electrophysiology::Monodomain>(
       params,
-      tria,
-      mapping,
+      *mesh.tria,
+      *mapping,
       Fibres::create_fibre_field(
         Fibres::Parameters::parse(prm, run.parameter_directory),
         geometry.lv_shape,
-        tria,
-        names,
+        *mesh.tria,
+        mesh.names,
         &logger),
-      names,
+      mesh.names,
       logger,
       0.0);
 
@@ -205,8 +283,8 @@ namespace systole
       }
     cell_start.push_back(flat.size());
     n_points = flat.size();
-    at_quadrature.reinit(flat, tria, mapping);
-    require_all_found(at_quadrature, n_points, "quadrature points", comm);
+    at_quadrature.reinit(flat, *mesh.tria, *mapping, kind.simplex());
+    require_all_found(at_quadrature, "quadrature points", comm);
     upstrokes.assign(n_points, {});
     tracker =
       Electrophysiology::ActivationTracker(n_points,
@@ -216,14 +294,43 @@ namespace systole
 
 
   std::vector<dealii::Tensor<1, 4>>
-  ElectricalActivation::Impl::evaluate(
-    const dealii::Utilities::MPI::RemotePointEvaluation<3> &rpe,
-    const unsigned int                                      n) const
+  ElectricalActivation::Impl::evaluate(const PointSet &set) const
   {
-    using Value = dealii::Tensor<1, 4>;
-    std::vector<Value>             output, buffer;
+    using Value                      = dealii::Tensor<1, 4>;
+    const unsigned int             n = set.n_points;
     Electrophysiology::PointValues values;
-    rpe.evaluate_and_process<Value>(
+    if (set.simplex)
+      {
+        // (Points are handed over moved into their cell.)
+        const auto flat = set.simplex->evaluate(
+          4,
+          [&](const unsigned int                                    c,
+              const dealii::Triangulation<3>::active_cell_iterator &cell,
+              const std::vector<dealii::Point<3>>                  &reference,
+              std::vector<double>                                  &result) {
+            if (c >= set.shape_values.size())
+              set.shape_values.resize(c + 1);
+            if (set.shape_values[c].empty())
+              set.shape_values[c] = monodomain->shape_values(reference);
+            monodomain->evaluate(cell, set.shape_values[c], values);
+            result.resize(4 * reference.size());
+            for (unsigned int q = 0; q < reference.size(); ++q)
+              {
+                result[4 * q]     = values.potential[q];
+                result[4 * q + 1] = values.activation_time[q];
+                result[4 * q + 2] = values.latest_activation_time[q];
+                result[4 * q + 3] = values.calcium_uM[q];
+              }
+          });
+        std::vector<Value> per_point(n);
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int c = 0; c < 4; ++c)
+            per_point[i][c] = flat[4 * i + c];
+        return per_point;
+      }
+
+    std::vector<Value> output, buffer;
+    set.rpe->evaluate_and_process<Value>(
       output,
       buffer,
       [&](const dealii::ArrayView<Value> &result,
@@ -232,7 +339,7 @@ namespace systole
         for (unsigned int c = 0; c < data.cells.size(); ++c)
           {
             const dealii::Triangulation<3>::active_cell_iterator
-              cell(&tria, data.cells[c].first, data.cells[c].second);
+              cell(mesh.tria.get(), data.cells[c].first, data.cells[c].second);
             const unsigned int begin = data.reference_point_ptrs[c];
             const unsigned int end   = data.reference_point_ptrs[c + 1];
             // Points found within the tolerance outside the cell are
@@ -241,7 +348,7 @@ namespace systole
               data.reference_point_values.begin() + begin,
               data.reference_point_values.begin() + end);
             for (auto &point : reference)
-              point = dealii::GeometryInfo<3>::project_to_unit_cell(point);
+              point = kind.project_to_reference_cell(point);
             const dealii::Quadrature<3> points(reference);
             monodomain->evaluate(cell, points, values);
             for (unsigned int q = 0; q < end - begin; ++q)
@@ -255,7 +362,7 @@ namespace systole
       });
     // One entry per point and cell around it (unique mapping: at most one).
     std::vector<Value> per_point(n, Value({nan, nan, nan, nan}));
-    const auto        &ptr = rpe.get_point_ptrs();
+    const auto        &ptr = set.rpe->get_point_ptrs();
     for (unsigned int i = 0; i < n; ++i)
       if (ptr[i + 1] > ptr[i])
         per_point[i] = output[ptr[i]];
@@ -267,7 +374,7 @@ namespace systole
   ElectricalActivation::Impl::sample()
   {
     const auto          start  = std::chrono::steady_clock::now();
-    const auto          values = evaluate(at_quadrature, n_points);
+    const auto          values = evaluate(at_quadrature);
     const double        time   = monodomain->time();
     std::vector<double> potential(n_points);
     for (unsigned int i = 0; i < n_points; ++i)
@@ -303,15 +410,15 @@ namespace systole
 
 
   ElectricalActivation::ElectricalActivation(
-    const dealii::ParameterHandler                           &prm,
-    const RunParameters                                      &run,
-    const Geometry::Parameters                               &geometry,
-    const dealii::parallel::distributed::Triangulation<3, 3> &mechanics_tria,
-    const Mechanics::Problem                                 &problem,
-    const double                                              period,
-    Logger                                                   &logger,
-    const MPI_Comm                                            comm,
-    const std::string                                        &checkpoint)
+    const dealii::ParameterHandler                             &prm,
+    const RunParameters                                        &run,
+    const Geometry::Parameters                                 &geometry,
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &mechanics_tria,
+    const Mechanics::Problem                                   &problem,
+    const double                                                period,
+    Logger                                                     &logger,
+    const MPI_Comm                                              comm,
+    const std::string                                          &checkpoint)
     : impl(std::make_unique<Impl>(prm,
                                   run,
                                   geometry,
@@ -332,6 +439,13 @@ namespace systole
   } // namespace
 
 
+  bool
+  ElectricalActivation::checkpointable() const
+  {
+    return !impl->kind.simplex();
+  }
+
+
   void
   ElectricalActivation::save_checkpoint(
     boost::archive::binary_oarchive &archive,
@@ -339,7 +453,7 @@ namespace systole
   {
     Impl &m = *impl;
     m.monodomain->prepare_checkpoint(archive);
-    m.tria.save(folder + "/ep.mesh");
+    m.mesh.tria->save(folder + "/ep.mesh");
     m.monodomain->finish_checkpoint();
     archive            &m.sampled_time;
     std::vector<double> calcium_times(m.calcium_times.begin(),
@@ -350,7 +464,7 @@ namespace systole
     // registration only lasts until the mechanics mesh is saved; it does not
     // change the mesh, hence the cast.)
     auto &mechanics_tria =
-      const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
+      const_cast<dealii::parallel::DistributedTriangulationBase<3, 3> &>(
         m.mech_tria);
     mechanics_tria.register_data_attach(
       [&m](const MechanicsCell &cell, const CellStatus) {
@@ -387,7 +501,7 @@ namespace systole
     m.calcium_samples.assign(calcium_times.size(),
                              std::vector<double>(m.n_points));
     auto &mechanics_tria =
-      const_cast<dealii::parallel::distributed::Triangulation<3, 3> &>(
+      const_cast<dealii::parallel::DistributedTriangulationBase<3, 3> &>(
         m.mech_tria);
     const unsigned int handle = mechanics_tria.register_data_attach(
       [](const MechanicsCell &, const CellStatus) {
@@ -497,7 +611,7 @@ namespace systole
     if (m.keep_calcium)
       return;
     m.keep_calcium             = true;
-    const auto          values = m.evaluate(m.at_quadrature, m.n_points);
+    const auto          values = m.evaluate(m.at_quadrature);
     std::vector<double> calcium(m.n_points);
     for (unsigned int i = 0; i < m.n_points; ++i)
       calcium[i] = values[i][3];
@@ -577,9 +691,10 @@ namespace systole
     Impl &m = *impl;
     if (!m.output_dofs)
       {
-        // A scalar Q(degree) field on the mechanics mesh: EP is read at the
-        // support points of the locally owned nodes.
-        m.output_fe   = std::make_unique<dealii::FE_Q<3>>(m.output_degree);
+        // A scalar Q(degree) (P(degree) on tetrahedra) field on the
+        // mechanics mesh: EP is read at the support points of the locally
+        // owned nodes.
+        m.output_fe = Geometry::CellKind(m.mech_tria).lagrange(m.output_degree);
         m.output_dofs = std::make_unique<dealii::DoFHandler<3>>(m.mech_tria);
         m.output_dofs->distribute_dofs(*m.output_fe);
         const auto       owned = m.output_dofs->locally_owned_dofs();
@@ -599,14 +714,11 @@ namespace systole
               m.node_dofs.push_back(dof);
               points.push_back(point);
             }
-        m.at_nodes =
-          std::make_unique<dealii::Utilities::MPI::RemotePointEvaluation<3>>(
-            point_tolerance,
-            true);
-        m.at_nodes->reinit(points, m.tria, m.mapping);
-        require_all_found(*m.at_nodes, points.size(), "output nodes", m.comm);
+        m.at_nodes = std::make_unique<PointSet>();
+        m.at_nodes->reinit(points, *m.mesh.tria, *m.mapping, m.kind.simplex());
+        require_all_found(*m.at_nodes, "output nodes", m.comm);
       }
-    const auto values = m.evaluate(*m.at_nodes, m.node_dofs.size());
+    const auto values = m.evaluate(*m.at_nodes);
     for (unsigned int i = 0; i < m.node_dofs.size(); ++i)
       {
         m.out_potential[m.node_dofs[i]] = values[i][0];
@@ -660,8 +772,9 @@ namespace systole
     std::ostringstream o;
     o << "Electrophysiology mesh: the mechanics mesh refined "
       << m.params.mesh_refinement << " time(s), "
-      << m.tria.n_global_active_cells() << " cells, Q" << m.params.degree
-      << ", " << m.monodomain->n_dofs() << " nodes; stimulus every "
+      << m.mesh.tria->n_global_active_cells() << " " << m.kind.name() << ", "
+      << (m.kind.simplex() ? "P" : "Q") << m.params.degree << ", "
+      << m.monodomain->n_dofs() << " nodes; stimulus every "
       << m.params.stimulus_period << " ms, read at "
       << dealii::Utilities::MPI::sum(m.n_points, m.comm)
       << " mechanics quadrature points";

@@ -1,7 +1,7 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/distributed/tria.h>
+#include <deal.II/distributed/tria_base.h>
 
 #include "electrophysiology/activation.h"
 #include "electrophysiology/monodomain.h"
@@ -57,6 +57,10 @@ namespace systole
   ///
   /// The mechanics points are located in the EP mesh once (Utilities::MPI::
   /// RemotePointEvaluation: the two meshes may be partitioned differently).
+  ///
+  /// Hexahedral meshes (p4est) and tetrahedral ones (fully distributed; the
+  /// EP mesh refined by splitting each tetrahedron into 8, P1 elements) alike;
+  /// checkpoints only on hexahedra.
   class ElectricalActivation
   {
   public:
@@ -67,17 +71,24 @@ namespace systole
     ///            taken as this period; another value is an error)
     /// @param[in] checkpoint a checkpoint folder to resume from: the EP mesh
     ///            is then loaded from it (load_checkpoint() reads the rest)
+    /// Throws on a tetrahedral mesh when @p run asks for checkpoints (Output
+    /// / Checkpoint interval or wall time interval).
     ElectricalActivation(
-      const dealii::ParameterHandler                           &prm,
-      const RunParameters                                      &run,
-      const Geometry::Parameters                               &geometry,
-      const dealii::parallel::distributed::Triangulation<3, 3> &mechanics_tria,
-      const Mechanics::Problem                                 &problem,
-      const double                                              period,
-      Logger                                                   &logger,
-      const MPI_Comm                                            comm,
-      const std::string &checkpoint = "");
+      const dealii::ParameterHandler &prm,
+      const RunParameters            &run,
+      const Geometry::Parameters     &geometry,
+      const dealii::parallel::DistributedTriangulationBase<3, 3>
+                               &mechanics_tria,
+      const Mechanics::Problem &problem,
+      const double              period,
+      Logger                   &logger,
+      const MPI_Comm            comm,
+      const std::string        &checkpoint = "");
     ~ElectricalActivation();
+
+    /// Whether save_checkpoint() can be called (hexahedral meshes).
+    bool
+    checkpointable() const;
 
     /// Checkpoint: save the EP mesh with the monodomain state to
     /// @p folder/ep.mesh*, attach the upstrokes and samples of every
@@ -135,7 +146,8 @@ namespace systole
     /// Add the fields "transmembrane_potential" [mV], "activation_time" (the
     /// first upstroke, the activation map of the run) and
     /// "latest_activation_time" [ms] (NaN where none) on the mechanics mesh
-    /// (interpolated from EP at the nodes of a Q(degree) field) to
+    /// (interpolated from EP at the nodes of a Q(degree), on tetrahedra
+    /// P(degree), field) to
     /// @p data_out, at time() (which may lie up to one step of the
     /// circulation integrator ahead of the mechanics). Collective; call
     /// before build_patches().

@@ -1,14 +1,15 @@
 #include "simulation/electrophysiology_run.h"
 
 #include <deal.II/base/parameter_handler.h>
-#include <deal.II/distributed/tria.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/numerics/data_out.h>
 
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "electrophysiology/monodomain.h"
 #include "fibres/fibre_field.h"
+#include "geometry/cell_kind.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
 #include "simulation/parameters.h"
@@ -30,9 +31,14 @@ namespace systole
       Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto params = Electrophysiology::Parameters::parse(prm);
 
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const Geometry::BoundaryNames names = Geometry::create_mesh(geometry, tria);
-    const dealii::MappingQ<3>     mapping(run.mapping_degree);
+    // Hexahedra on p4est, tetrahedra fully distributed.
+    const Geometry::DistributedMesh mesh =
+      Geometry::create_distributed_mesh(geometry, comm);
+    const auto              &tria  = *mesh.tria;
+    const auto              &names = mesh.names;
+    const Geometry::CellKind kind(tria);
+    const auto mapping_pointer        = kind.mapping(tria, run.mapping_degree);
+    const dealii::Mapping<3> &mapping = *mapping_pointer;
 
     Electrophysiology::Monodomain ep(
       params,
@@ -51,10 +57,10 @@ namespace systole
     {
       std::ostringstream o;
       o << IO::code_version() << ": problem '" << run.problem << "', "
-        << tria.n_global_active_cells() << " cells, Q" << params.degree << ", "
-        << ep.n_dofs() << " DOFs, "
-        << dealii::Utilities::MPI::n_mpi_processes(comm) << " rank(s), "
-        << params.ionic_model->name();
+        << tria.n_global_active_cells() << " " << kind.name() << ", "
+        << (kind.simplex() ? "P" : "Q") << params.degree << ", " << ep.n_dofs()
+        << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
+        << " rank(s), " << params.ionic_model->name();
       logger.line(o.str());
     }
 
@@ -98,7 +104,8 @@ namespace systole
         {
           dealii::DataOut<3> data_out;
           ep.attach_output(data_out);
-          data_out.build_patches(mapping, params.degree);
+          data_out.build_patches(mapping,
+                                 kind.output_subdivisions(params.degree));
           results.write_fields(data_out, step, time);
         }
     };

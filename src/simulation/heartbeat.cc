@@ -815,16 +815,15 @@ namespace systole
     // (A calcium-driven tension always runs the electrophysiology.)
     if (calcium_driven || bestel_params.activation_map == "electrophysiology")
       {
-        ep = std::make_unique<ElectricalActivation>(
-          prm,
-          run,
-          model.geometry,
-          Geometry::hexahedral(tria, "The electrophysiology"),
-          problem,
-          circulation.period,
-          logger,
-          comm,
-          checkpoint);
+        ep = std::make_unique<ElectricalActivation>(prm,
+                                                    run,
+                                                    model.geometry,
+                                                    tria,
+                                                    problem,
+                                                    circulation.period,
+                                                    logger,
+                                                    comm,
+                                                    checkpoint);
         logger.line(ep->description());
         earliest = ep->earliest_stimulus();
       }
@@ -1004,6 +1003,10 @@ namespace systole
       ++n_checkpoints;
       logger.detail() << "  checkpoint " << path << std::endl;
     };
+    // The electrophysiology on tetrahedra cannot be checkpointed yet (nor
+    // can the mechanics there resume): an interrupted run stops without one.
+    if (ep != nullptr && !ep->checkpointable())
+      writer.checkpoint = nullptr;
 
     const auto start = std::chrono::steady_clock::now();
     const auto stats = stepper.run(writer);

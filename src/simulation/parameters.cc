@@ -213,7 +213,9 @@ namespace systole
       "2",
       Integer(1, 4),
       "Degree of the polynomial geometry of curved cells (1: straight edges). "
-      "Units: -.");
+      "Tetrahedra: 2 or more maps the cells of a file of 10-node tetrahedra "
+      "quadratically through its mid-edge nodes; other tetrahedral meshes "
+      "are affine. Units: -.");
     Mechanics::Parameters::declare_pressure_element(prm);
     prm.leave_subsection();
 

@@ -1,9 +1,10 @@
 #include "support/ep_fixture.h"
 
-#include <deal.II/distributed/tria.h>
-#include <deal.II/fe/mapping_q.h>
+#include <deal.II/fe/mapping.h>
 
 #include "base/logger.h"
+#include "geometry/cell_kind.h"
+#include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 
 #include <cmath>
@@ -30,13 +31,15 @@ namespace test_support
              const MPI_Comm                       comm)
   {
     Geometry::Parameters geometry;
-    geometry.type      = Geometry::Parameters::Type::box;
-    geometry.box_lower = box.lower;
-    geometry.box_upper = box.upper;
-    geometry.box_cells = box.cells;
-    dealii::parallel::distributed::Triangulation<3> tria(comm);
-    const auto                 names = Geometry::create_mesh(geometry, tria);
-    const dealii::MappingQ<3>  mapping(1);
+    geometry.type       = Geometry::Parameters::Type::box;
+    geometry.box_lower  = box.lower;
+    geometry.box_upper  = box.upper;
+    geometry.box_cells  = box.cells;
+    geometry.tetrahedra = box.tetrahedra;
+    const auto  mesh    = Geometry::create_distributed_mesh(geometry, comm);
+    const auto &tria    = *mesh.tria;
+    const auto &names   = mesh.names;
+    const auto  mapping = Geometry::CellKind(tria).mapping(tria, 1);
     const dealii::Tensor<1, 3> f = box.fibre;
     const Fibres::FibreField   fibres =
       [f](const auto &, const auto &points, auto &bases) {
@@ -54,7 +57,7 @@ namespace test_support
     Logger                        logger(comm, sink);
     Electrophysiology::Monodomain ep(params,
                                      tria,
-                                     mapping,
+                                     *mapping,
                                      fibres,
                                      names,
                                      logger);
@@ -66,6 +69,7 @@ namespace test_support
     result.probes     = ep.values_at_points(probes);
     result.summary    = ep.activation_summary(0.9);
     result.statistics = ep.statistics();
+    result.n_dofs     = ep.n_dofs();
     return result;
   }
 } // namespace test_support

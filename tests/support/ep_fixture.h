@@ -15,13 +15,16 @@
 
 namespace test_support
 {
-  /// A box of hexahedra with a uniform fibre direction.
+  /// A box of hexahedra (or tetrahedra) with a uniform fibre direction.
   struct EPBox
   {
     dealii::Point<3>            lower;
     dealii::Point<3>            upper;
     std::array<unsigned int, 3> cells = {{1, 1, 1}};
     dealii::Tensor<1, 3>        fibre; ///< unit fibre direction
+    /// Each hexahedron split into tetrahedra (Cell shape = tetrahedra:
+    /// 24 per cube, P1).
+    bool tetrahedra = false;
   };
 
   /// What a run produced.
@@ -31,6 +34,7 @@ namespace test_support
     systole::Electrophysiology::PointValues       probes;
     systole::Electrophysiology::ActivationSummary summary;
     systole::Electrophysiology::Statistics        statistics;
+    unsigned long long                            n_dofs = 0;
   };
 
   /// Run the monodomain model of @p params on @p box (distributed over

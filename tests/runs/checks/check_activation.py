@@ -3,6 +3,7 @@
 
     check_activation.py RESULTS.h5 [NAME=VALUE:TOL ...] [--increasing A,B,...]
                         [--plateau T0:DIP] [--serial SERIAL.h5]
+                        [--closer-than OTHER.h5]
 
 - every time-series value is finite, the activated fraction lies in [0, 1] and never
   decreases, and the whole volume ends activated;
@@ -16,6 +17,8 @@
   falls slowly and smoothly, so a dip is a numerical oscillation of the node (an
   unstable explicit step of its ionic current), which a dip below the activation
   threshold would count as a second upstroke;
+- --closer-than: each checked /summary column NAME lies closer to its VALUE than OTHER's
+  (e.g. another discretization of the same problem at the same mesh size);
 - --serial: every time-series and /summary column equals the serial run's to 1e-8
   relative (to the column's scale) plus 1e-10, except the iteration counts of the
   iterative solver, which depend on the partition.
@@ -80,6 +83,11 @@ def main(argv) -> int:
         i = args.index("--serial")
         serial = args[i + 1]
         del args[i : i + 2]
+    closer_than = None
+    if "--closer-than" in args:
+        i = args.index("--closer-than")
+        closer_than = read(args[i + 1])[1]
+        del args[i : i + 2]
     plateau = None
     if "--plateau" in args:
         i = args.index("--plateau")
@@ -107,6 +115,12 @@ def main(argv) -> int:
         print(f"{name}: {got:.4f} (expected {value} +- {tolerance}) {status}")
         if status != "ok":
             failures.append(f"{name} = {got} is not within {tolerance} of {value}")
+        if closer_than is not None:
+            other = closer_than[name][-1]
+            print(f"{name}: the other run's {other:.4f}")
+            if not abs(got - value) < abs(other - value):
+                failures.append(f"{name} = {got} is not closer to {value} than the other "
+                                f"run's {other}")
     times = [summary[name][-1] for name in increasing]
     print("increasing: " + ", ".join(f"{n} {t:.3f}" for n, t in zip(increasing, times)))
     if any(not b > a for a, b in zip(times, times[1:])):

@@ -810,6 +810,19 @@ TEST_CASE("Surfaces of boundary parts: closed, open, holed and non-manifold",
   CHECK_THAT(non_manifold,
              Catch::Contains("is not a manifold surface: 1 of its edges") &&
                Catch::Contains("(1, 1, 0)") && Catch::Contains("(1, 1, 1)"));
+
+  // The same surface as a cavity (with a base part of no faces): the
+  // cavity check names the non-manifold edge before the open rim.
+  auto cavity_names = pair_names;
+  cavity_names.add("base", 42);
+  const std::string cavity = error_of([&]() {
+    Geometry::check_cavity_rim(pair_tria, cavity_names, "surface", "base");
+  });
+  CHECK(one_line(cavity));
+  CHECK_THAT(cavity,
+             Catch::Contains("The cavity 'surface'") &&
+               Catch::Contains("is not a manifold surface: 1 of its edges") &&
+               Catch::Contains("(1, 1, 0)") && Catch::Contains("(1, 1, 1)"));
 }
 
 TEST_CASE("A cavity open away from its base names the count and the first "
