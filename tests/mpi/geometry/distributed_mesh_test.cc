@@ -3,6 +3,7 @@
 #include <deal.II/distributed/tria_base.h>
 
 #include "geometry/distributed_mesh.h"
+#include "geometry/mid_edge_nodes.h"
 
 #include <catch2/catch.hpp>
 
@@ -63,4 +64,26 @@ TEST_CASE("A tetrahedral mesh saved on 2 ranks loads with the cell data of "
     });
   CHECK(n_cells == loaded.tria->n_locally_owned_active_cells());
   CHECK(largest == 0.0);
+}
+
+TEST_CASE("A second-order tetrahedral mesh loads with its mid-edge nodes",
+          "[mpi][geometry][simplex]")
+{
+  Geometry::Parameters params;
+  params.type            = Geometry::Parameters::Type::gmsh;
+  params.mesh_file       = SYSTOLE_SOURCE_DIR "/meshes/lv_ellipsoid_tet_p2.msh";
+  const std::string file = "distributed_mesh_test_p2.mesh";
+  std::size_t       n_nodes = 0;
+  {
+    const auto saved =
+      Geometry::create_distributed_mesh(params, MPI_COMM_WORLD);
+    REQUIRE(Geometry::mid_edge_nodes(*saved.tria) != nullptr);
+    n_nodes = Geometry::mid_edge_nodes(*saved.tria)->n_nodes();
+    saved.tria->save(file);
+  }
+  const auto loaded =
+    Geometry::create_distributed_mesh(params, MPI_COMM_WORLD, file);
+  const auto *manifold = Geometry::mid_edge_nodes(*loaded.tria);
+  REQUIRE(manifold != nullptr);
+  CHECK(manifold->n_nodes() == n_nodes);
 }
