@@ -594,7 +594,7 @@ TEST_CASE("Unused nodes are one clear error", "[geometry][mesh_file][errors]")
       Catch::Contains("(2, 3, 4)"));
 }
 
-TEST_CASE("Mixed, quadratic and face-less meshes are clear errors",
+TEST_CASE("Mixed, pyramid and face-less meshes are clear errors",
           "[geometry][mesh_file][errors]")
 {
   ScratchFile file("mixed.msh");
@@ -609,15 +609,14 @@ TEST_CASE("Mixed, quadratic and face-less meshes are clear errors",
              Catch::Contains("mixes 1 tetrahedra and 1 hexahedra"));
   {
     std::ofstream out(file.name);
-    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n10\n"
-           "1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 0.5 0 0\n6 0.5 0.5 0\n"
-           "7 0 0.5 0\n8 0 0 0.5\n9 0 0.5 0.5\n10 0.5 0 0.5\n$EndNodes\n"
-           "$Elements\n1\n1 11 2 1 1 1 2 3 4 5 6 7 8 9 10\n$EndElements\n";
+    out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n"
+           "1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 0.5 0.5 1\n$EndNodes\n"
+           "$Elements\n1\n1 7 2 1 1 1 2 3 4 5\n$EndElements\n";
   }
   CHECK_THAT(read_error(file.name),
              Catch::Contains("has 1 ") &&
-               Catch::Contains("(gmsh element type 11)") &&
-               Catch::Contains("Mesh.ElementOrder = 1"));
+               Catch::Contains("(gmsh element type 7)") &&
+               Catch::Contains("Mesh.ElementOrder = 1 or 2"));
 
   // A .vtu with volume cells only cannot tag faces.
   const FileMesh            mesh = unit_cube(false, 1);
@@ -909,7 +908,10 @@ TEST_CASE("Every shipped gmsh mesh reads as deal.II's own reader reads it",
 {
   for (const auto &entry :
        std::filesystem::directory_iterator(SYSTOLE_SOURCE_DIR "/meshes"))
-    if (entry.path().extension() == ".msh")
+    // deal.II 9.4's GridIn reads first-order cells only: the second-order
+    // meshes (*_p2.msh) are checked by the 10-node tests.
+    if (entry.path().extension() == ".msh" &&
+        entry.path().stem().string().find("_p2") == std::string::npos)
       {
         const std::string file = entry.path().string();
         INFO(file);
