@@ -12,6 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
+from systole_post.msh41 import closed_surface_volume
+
 HEX = 5
 QUAD = 3
 TET = 4
@@ -167,16 +169,5 @@ def triangle_cavity_volume(mesh: MshMesh, surface: str, lid_point) -> float:
     divergence theorem with the origin on the lid (the lid adds nothing), each triangle
     oriented out of the cavity, into the tetrahedron it bounds (gmsh does not orient boundary
     elements consistently)."""
-    opposite = {}
-    for cell in mesh.tetrahedra:
-        for k in range(4):
-            opposite[tuple(sorted(np.delete(cell, k)))] = cell[k]
-    volume = 0.0
-    for triangle in mesh.triangles[mesh.names[surface]]:
-        a, b, c = mesh.nodes[triangle] - lid_point
-        d = mesh.nodes[opposite[tuple(sorted(triangle))]] - lid_point
-        six_v = np.dot(a, np.cross(b, c))
-        if np.dot(np.cross(b - a, c - a), d - a) < 0:  # normal away from the wall
-            six_v = -six_v
-        volume += six_v / 6.0
-    return volume
+    return closed_surface_volume(mesh.nodes, mesh.triangles[mesh.names[surface]],
+                                 mesh.tetrahedra, lid_point)

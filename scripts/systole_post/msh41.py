@@ -45,6 +45,26 @@ def read_msh41(path):
     return nodes, elements, names, physical
 
 
+
+def closed_surface_volume(points, triangles, tetrahedra, lid_point):
+    """Volume enclosed by the boundary @p triangles of a tetrahedral mesh (@p points,
+    @p tetrahedra) and the lid plane through @p lid_point that holds their rim: the divergence
+    theorem with the origin on the lid, so the lid adds nothing. Each triangle is oriented
+    towards its tetrahedron (out of the cavity), whatever gmsh wrote."""
+    opposite = {}
+    for tet_nodes in tetrahedra:
+        for k in range(4):
+            opposite[tuple(sorted(np.delete(tet_nodes, k)))] = tet_nodes[k]
+    volume = 0.0
+    for triangle in triangles:
+        a, b, c = points[triangle] - lid_point
+        d = points[opposite[tuple(sorted(triangle))]] - lid_point
+        six_v = np.dot(a, np.cross(b, c))
+        if np.dot(np.cross(b - a, c - a), d - a) < 0:  # normal away from the wall
+            six_v = -six_v
+        volume += six_v / 6.0
+    return volume
+
 class Mesh:
     """The tetrahedra and the triangles of each physical surface of a msh 4.1 file."""
 
@@ -78,19 +98,9 @@ class Mesh:
         return {face: opposite[face] for face, n in count.items() if n == 1}
 
     def cavity_volume(self, name, lid_point):
-        """Volume enclosed by the surface @p name and the lid plane through @p lid_point: the
-        divergence theorem with the origin on the lid, so the lid adds nothing. Each triangle
-        is oriented towards its tetrahedron (out of the cavity), whatever gmsh wrote."""
-        opposite = self.boundary_faces()
-        volume = 0.0
-        for triangle in self.surfaces[name]:
-            a, b, c = self.points[triangle] - lid_point
-            d = self.points[opposite[tuple(sorted(triangle))]] - lid_point
-            six_v = np.dot(a, np.cross(b, c))
-            if np.dot(np.cross(b - a, c - a), d - a) < 0:  # normal away from the wall
-                six_v = -six_v
-            volume += six_v / 6.0
-        return volume
+        """Volume enclosed by the surface @p name and the lid plane through @p lid_point
+        (closed_surface_volume())."""
+        return closed_surface_volume(self.points, self.surfaces[name], self.tets, lid_point)
 
     def open_edges(self, name):
         """Points of the edges used by one triangle of the surface @p name (its rim)."""
