@@ -311,9 +311,10 @@ namespace systole::Mechanics
         }
     }
 
-    /// Spring-dashpot (Robin) support on one face: R_a += phi_a (alpha u_c +
-    /// beta v_c) (full) or phi_a ((alpha u + beta v).N) N_c (normal), and
-    /// the tangent (alpha + beta dv/du) phi_a phi_b (N_c N_d or delta_cd);
+    /// Spring-dashpot (Robin) support on one face: R_a += phi_a s (P (alpha
+    /// u + beta v))_c with P the support's projection (I, N x N or I - N x
+    /// N) and s its taper, and the tangent (alpha + beta dv/du) s phi_a
+    /// phi_b P_cd;
     /// @p face_v (the velocity) is read only when @p with_rates.
     void
     add_robin_face(const dealii::FEFaceValues<3>   &fe_face,
@@ -327,16 +328,18 @@ namespace systole::Mechanics
                    CellSystem                      &cell)
     {
       const double beta = with_rates ? support.damping : 0.0;
-      const double k    = support.stiffness + beta * velocity_coefficient;
       for (const unsigned int q : fe_face.quadrature_point_indices())
         {
-          const Tensor<1, 3> &N     = fe_face.normal_vector(q);
-          const double        JxW   = fe_face.JxW(q);
-          Tensor<1, 3>        force = support.stiffness * face_u[q];
+          const Tensor<1, 3> &N = fe_face.normal_vector(q);
+          // The taper's scale at the reference point, in the weight.
+          const double JxW =
+            fe_face.JxW(q) * support.scale(fe_face.quadrature_point(q));
+          const double k     = support.stiffness + beta * velocity_coefficient;
+          Tensor<1, 3> force = support.stiffness * face_u[q];
           if (beta != 0.0)
             force += beta * face_v[q];
-          const Tensor<1, 3> traction =
-            support.normal_only ? (force * N) * N : force;
+          const Tensor<2, 3> P        = support.projection(N);
+          const Tensor<1, 3> traction = P * force;
           for (const unsigned int a : s.u_dofs)
             {
               const double phi_a = fe_face.shape_value(a, q);
@@ -347,11 +350,8 @@ namespace systole::Mechanics
                 continue;
               for (const unsigned int b : s.u_dofs)
                 {
-                  const double phi_b = fe_face.shape_value(b, q);
-                  const double coupling =
-                    support.normal_only
-                      ? N[s.component[a]] * N[s.component[b]]
-                      : (s.component[a] == s.component[b] ? 1.0 : 0.0);
+                  const double phi_b    = fe_face.shape_value(b, q);
+                  const double coupling = P[s.component[a]][s.component[b]];
                   cell.matrix(a, b) += k * phi_a * phi_b * coupling * JxW;
                 }
             }
@@ -454,6 +454,7 @@ namespace systole::Mechanics
                                     face_quadrature,
                                     dealii::update_values |
                                       dealii::update_gradients |
+                                      dealii::update_quadrature_points |
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
 
@@ -849,12 +850,38 @@ namespace systole::Mechanics
     if (dynamic)
       residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);
     if (with_volume_derivative)
-      for (auto &b : volume_derivatives)
-        b.compress(dealii::VectorOperation::add);
+      {
+        for (auto &b : volume_derivatives)
+          b.compress(dealii::VectorOperation::add);
+        update_volume_rows();
+      }
 
     // An inverted element on any rank fails the step on every rank.
     inverted = dealii::Utilities::MPI::max(inverted, comm);
     AssertThrow(inverted == 0, ExcInvertedElement());
     return residual.l2_norm();
+  }
+
+  void
+  Problem::Impl::update_volume_rows()
+  {
+    dealii::TimerOutput::Scope scope(timer, "Mechanics / cavity volume");
+    volume_rows.resize(cavities.size());
+    for (unsigned int i = 0; i < cavities.size(); ++i)
+      {
+        if (!moving_lid[i])
+          {
+            volume_rows[i] = volume_derivatives[i];
+            continue;
+          }
+        // dV/du of the fan lid: the endocardial flux plus the lid's, then
+        // condensed as the assembly condenses the flux.
+        LA::MPI::Vector exact(owned, comm);
+        cavities[i].derivative(mapping, dof_handler, u, n_q_face_1d, exact);
+        LA::MPI::Vector ghosted(owned, relevant, comm);
+        ghosted = exact;
+        volume_rows[i].reinit(owned, comm);
+        constraints.condense(ghosted, volume_rows[i]);
+      }
   }
 } // namespace systole::Mechanics

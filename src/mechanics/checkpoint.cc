@@ -346,6 +346,7 @@ namespace systole::Mechanics
                                m.pressure_matrix.get(),
                                m.augmentation.get());
         m.factorized_volume_derivatives.clear();
+        m.factorized_volume_rows.clear();
         m.factorized_w.clear();
         if (bordered)
           {
@@ -356,6 +357,7 @@ namespace systole::Mechanics
                 m.linear_solve(w[j], m.volume_derivatives[j], 0, 0.0);
               }
             m.factorized_volume_derivatives = m.volume_derivatives;
+            m.factorized_volume_rows        = m.volume_rows;
             m.factorized_w                  = w;
           }
         // (assemble() marks the factorization stale.)

@@ -312,6 +312,7 @@ namespace systole::Mechanics
                                     *m.fe,
                                     face_quadrature,
                                     dealii::update_values |
+                                      dealii::update_quadrature_points |
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
     std::vector<dealii::Tensor<1, 3>> u_at(face_quadrature.size());
@@ -330,10 +331,13 @@ namespace systole::Mechanics
             fe_face[m.layout.displacement].get_function_values(m.u, u_at);
             for (const unsigned int q : fe_face.quadrature_point_indices())
               {
-                const double un = u_at[q] * fe_face.normal_vector(q);
                 const double u2 =
-                  support->second.normal_only ? un * un : u_at[q].norm_square();
-                energy += 0.5 * support->second.stiffness * u2 * fe_face.JxW(q);
+                  u_at[q] *
+                  (support->second.projection(fe_face.normal_vector(q)) *
+                   u_at[q]);
+                energy += 0.5 * support->second.stiffness * u2 *
+                          support->second.scale(fe_face.quadrature_point(q)) *
+                          fe_face.JxW(q);
               }
           }
     return dealii::Utilities::MPI::sum(energy, m.comm);
@@ -369,6 +373,7 @@ namespace systole::Mechanics
                                     face_quadrature,
                                     dealii::update_values |
                                       dealii::update_gradients |
+                                      dealii::update_quadrature_points |
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
     std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size()),
@@ -433,11 +438,11 @@ namespace systole::Mechanics
                 const dealii::Tensor<1, 3> &N = fe_face.normal_vector(q);
                 if (damped)
                   {
-                    const double vn = face_v[q] * N;
                     dissipation +=
                       support->second.damping *
-                      (support->second.normal_only ? vn * vn
-                                                   : face_v[q].norm_square()) *
+                      (face_v[q] *
+                       (support->second.projection(N) * face_v[q])) *
+                      support->second.scale(fe_face.quadrature_point(q)) *
                       fe_face.JxW(q);
                   }
                 if (on_part)

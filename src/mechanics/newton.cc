@@ -54,29 +54,31 @@ namespace systole::Mechanics
       return true;
     }
 
-    /// The update of the bordered system [K -B; B^T -W'] [du; dp] = -[R; g]
-    /// from the back substitutions with one factorization of K: @p du = w_R
-    /// (K w_R = -R) on entry, @p w[j] = K^-1 b_j. Solves the k x k system
-    /// (B^T w - W') dp = -(g + B^T w_R) and adds w dp to @p du. The dot
-    /// products b_i . w use the constrained entries of the distributed w: b
-    /// is condensed (zero there), so they are b^T K^-1 b. False (and @p du
-    /// unchanged) if the Schur complement is singular.
+    /// The update of the bordered system [K -B; D^T -W'] [du; dp] = -[R; g]
+    /// (B the loads per unit pressure, D = dV/du the volume rows: D = B
+    /// unless a lid moves) from the back substitutions with one
+    /// factorization of K: @p du = w_R (K w_R = -R) on entry, @p w[j] =
+    /// K^-1 b_j. Solves the k x k system (D^T w - W') dp = -(g + D^T w_R)
+    /// and adds w dp to @p du. The dot products d_i . w use the constrained
+    /// entries of the distributed w: d is condensed (zero there), so they
+    /// are d^T K^-1 b. False (and @p du unchanged) if the Schur complement
+    /// is singular.
     bool
-    bordered_update(const std::vector<LA::MPI::Vector> &B,
+    bordered_update(const std::vector<LA::MPI::Vector> &D,
                     const std::vector<LA::MPI::Vector> &w,
                     const dealii::Vector<double>       &g,
                     const dealii::FullMatrix<double>   &dW_dp,
                     LA::MPI::Vector                    &du,
                     dealii::Vector<double>             &dp)
     {
-      const unsigned int         k = B.size();
+      const unsigned int         k = D.size();
       dealii::FullMatrix<double> schur(k, k);
       dealii::Vector<double>     rhs(k);
       for (unsigned int i = 0; i < k; ++i)
         {
-          rhs[i] = -(g[i] + B[i] * du);
+          rhs[i] = -(g[i] + D[i] * du);
           for (unsigned int j = 0; j < k; ++j)
-            schur(i, j) = B[i] * w[j] - dW_dp(i, j);
+            schur(i, j) = D[i] * w[j] - dW_dp(i, j);
         }
       if (!solve_small_system(schur, rhs, dp))
         return false;
@@ -334,7 +336,7 @@ namespace systole::Mechanics
             break;
           }
         dealii::Vector<double> dp;
-        if (!bordered_update(m.factorized_volume_derivatives,
+        if (!bordered_update(m.factorized_volume_rows,
                              m.factorized_w,
                              volume_residual(),
                              target_derivative,
@@ -652,7 +654,7 @@ namespace systole::Mechanics
         report.linear_iterations +=
           m.linear_solve(du, m.residual, it, relative);
         if (bordered)
-          bordered_correction(m.factorized_volume_derivatives,
+          bordered_correction(m.factorized_volume_rows,
                               m.factorized_w,
                               dp,
                               it,
@@ -667,6 +669,7 @@ namespace systole::Mechanics
         // (Of K alone until the bordered update below stores B0, W0.)
         m.have_factorization = true;
         m.factorized_volume_derivatives.clear();
+        m.factorized_volume_rows.clear();
         m.factorized_w.clear();
         m.factorized_u              = m.u_owned;
         m.factorized_pressures      = pressures;
@@ -687,8 +690,9 @@ namespace systole::Mechanics
         for (unsigned int j = 0; j < k; ++j)
           report.linear_iterations +=
             m.linear_solve(w_volume[j], m.volume_derivatives[j], it, relative);
-        bordered_correction(m.volume_derivatives, w_volume, dp, it, relative);
+        bordered_correction(m.volume_rows, w_volume, dp, it, relative);
         m.factorized_volume_derivatives = m.volume_derivatives;
+        m.factorized_volume_rows        = m.volume_rows;
         m.factorized_w                  = w_volume;
         m.have_factorization            = true;
       }

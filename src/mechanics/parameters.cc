@@ -1,7 +1,10 @@
 #include "mechanics/parameters.h"
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/utilities.h>
+
+#include <algorithm>
 
 namespace systole::Mechanics
 {
@@ -43,8 +46,10 @@ namespace systole::Mechanics
     parse_supports(const std::string &text)
     {
       const std::string form =
-        "' is not of the form 'part: normal|full, stiffness [kPa/mm], "
-        "damping [kPa ms/mm]'.";
+        "' is not of the form 'part: normal|tangential|full, stiffness "
+        "[kPa/mm], damping [kPa ms/mm]' or 'part: normal|tangential|full, "
+        "stiffness, damping, taper h0 s_base' (0 <= h0 < 1, 0 <= s_base <= "
+        "1).";
       std::vector<RobinSupport> supports;
       for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
         {
@@ -56,22 +61,42 @@ namespace systole::Mechanics
           s.boundary = dealii::Utilities::trim(item.substr(0, colon));
           const auto values =
             dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
-          AssertThrow(!s.boundary.empty() && values.size() == 3 &&
-                        (values[0] == "normal" || values[0] == "full"),
+          AssertThrow(!s.boundary.empty() &&
+                        (values.size() == 3 || values.size() == 4) &&
+                        (values[0] == "normal" || values[0] == "tangential" ||
+                         values[0] == "full"),
                       dealii::ExcMessage("Mechanics / Robin supports: '" +
                                          item + form));
-          s.normal_only = values[0] == "normal";
+          s.normal_only     = values[0] == "normal";
+          s.tangential_only = values[0] == "tangential";
+          bool valid        = true;
           try
             {
               s.stiffness = dealii::Utilities::string_to_double(values[1]);
               s.damping   = dealii::Utilities::string_to_double(values[2]);
+              if (values.size() == 4)
+                {
+                  const auto taper =
+                    dealii::Utilities::break_text_into_lines(values[3], 1);
+                  valid = taper.size() == 3 && taper[0] == "taper";
+                  if (valid)
+                    {
+                      s.taper_start =
+                        dealii::Utilities::string_to_double(taper[1]);
+                      s.base_scale =
+                        dealii::Utilities::string_to_double(taper[2]);
+                      valid = s.taper_start >= 0 && s.taper_start < 1 &&
+                              s.base_scale >= 0 && s.base_scale <= 1;
+                    }
+                }
             }
           catch (...)
             {
-              AssertThrow(false,
-                          dealii::ExcMessage("Mechanics / Robin supports: '" +
-                                             item + form));
+              valid = false;
             }
+          AssertThrow(valid,
+                      dealii::ExcMessage("Mechanics / Robin supports: '" +
+                                         item + form));
           AssertThrow(
             s.stiffness >= 0 && s.damping >= 0 && s.stiffness + s.damping > 0,
             dealii::ExcMessage("Mechanics / Robin supports: '" + item +
@@ -148,13 +173,22 @@ namespace systole::Mechanics
       "",
       Anything(),
       "Spring-dashpot supports with their own values, one per boundary part: "
-      "'part: normal|full, alpha, beta; part: ...' gives the traction "
-      "-(alpha u + beta v) per reference area on the normal component "
-      "(normal: ((alpha u + beta v).N) N) or on all components (full). "
+      "'part: normal|tangential|full, alpha, beta; part: ...' gives the "
+      "traction -(alpha u + beta v) per reference area on the normal "
+      "component (normal: ((alpha u + beta v).N) N), on the tangential ones "
+      "(tangential: a base that may descend but not slide or turn) or on all "
+      "components (full). "
       "alpha in kPa/mm (1 Pa/m = 1e-6 kPa/mm), beta in kPa ms/mm "
       "(1 Pa s/m = 1e-3 kPa ms/mm); the benchmark of Arostica et al. 2025: "
-      "'epicardium: normal, 100, 5; base: full, 0.1, 5'. A part may not be "
-      "in Robin boundaries as well. Units: kPa/mm, kPa ms/mm.");
+      "'epicardium: normal, 100, 5; base: full, 0.1, 5'. An optional fourth "
+      "item 'taper h0 s_base' scales alpha and beta from the apex to the "
+      "base (a pericardium that holds the apex and lets the base descend, "
+      "after Strocchi et al. 2020): by 1 up to the height fraction h0 above "
+      "the apex, then linearly down to s_base at the base plane (h = 1; h "
+      "is the distance from the apex, the part's point farthest from the "
+      "base's best-fit plane, over the apex's distance; needs a part "
+      "'base'). A part may not be in Robin boundaries as well. Units: "
+      "kPa/mm, kPa ms/mm.");
     prm.declare_entry(
       "Active tension",
       "0",
@@ -382,7 +416,7 @@ namespace systole::Mechanics
     p.robin_stiffness    = prm.get_double(m, "Robin stiffness");
     p.robin_normal_only  = prm.get(m, "Robin type") == "normal";
     p.robin_damping      = prm.get_double(m, "Robin damping");
-    p.robin_supports     = parse_supports(prm.get(m, "Robin supports"));
+    p.robin_supports     = parse_robin_supports(prm.get(m, "Robin supports"));
     p.active_tension     = prm.get_double(m, "Active tension");
     p.active_transverse_fraction =
       prm.get_double(m, "Active transverse fraction");
@@ -463,6 +497,34 @@ namespace systole::Mechanics
                   " the pressure field already removes the locking: set it "
                   "to full."));
     return p;
+  }
+
+  std::vector<RobinSupport>
+  Parameters::parse_robin_supports(const std::string &text)
+  {
+    return parse_supports(text);
+  }
+
+  dealii::Tensor<2, 3>
+  RobinSupport::projection(const dealii::Tensor<1, 3> &N) const
+  {
+    const dealii::Tensor<2, 3> nn = dealii::outer_product(N, N);
+    if (normal_only)
+      return nn;
+    const dealii::Tensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
+    return tangential_only ? I - nn : I;
+  }
+
+  double
+  RobinSupport::scale(const dealii::Point<3> &X) const
+  {
+    if (!tapered())
+      return 1.0;
+    const double h =
+      std::clamp(1.0 - ((base_point - X) * apex_to_base) / height, 0.0, 1.0);
+    if (h <= taper_start)
+      return 1.0;
+    return 1.0 - (1.0 - base_scale) * (h - taper_start) / (1.0 - taper_start);
   }
 
   std::vector<RobinSupport>

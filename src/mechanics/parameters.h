@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
 
 #include <string>
 #include <utility>
@@ -23,13 +24,42 @@ namespace systole::Mechanics
 
   /// A spring-dashpot (Robin) support on one boundary part: the traction
   /// -(alpha u + beta v) per reference area, on the normal component only
-  /// ((u.N) N) or on all components.
+  /// ((u.N) N), on the tangential ones (u - (u.N) N) or on all components.
   struct RobinSupport
   {
     std::string boundary;
     double      stiffness   = 0.0;  ///< alpha [kPa/mm]
     double      damping     = 0.0;  ///< beta [kPa ms/mm]
     bool        normal_only = true; ///< normal component only
+    /// The tangential components only (a base that may descend along its
+    /// normal but not slide or turn); normal_only is false then.
+    bool tangential_only = false;
+    /// The projection onto the supported components at unit normal @p N:
+    /// N x N, I - N x N, or I.
+    dealii::Tensor<2, 3>
+    projection(const dealii::Tensor<1, 3> &N) const;
+
+    /// Apex-to-base taper (a pericardium that holds the apex and lets the
+    /// base move, after Strocchi et al. 2020, J Biomech 101:109645): alpha
+    /// and beta are scaled by s(h) = 1 for h <= taper_start, falling
+    /// linearly to base_scale at h = 1, with h in [0, 1] the height above
+    /// the apex as a fraction of the apex's distance from the base plane.
+    double taper_start = 1.0;
+    double base_scale  = 1.0; ///< s at the base (1: no taper)
+    bool
+    tapered() const
+    {
+      return base_scale != 1.0;
+    }
+    /// Where h is measured from (set by the Problem from the mesh for a
+    /// tapered support): a point of the base plane, the unit normal from the
+    /// apex toward the base, the apex's distance from the plane [mm].
+    dealii::Point<3>     base_point   = {};
+    dealii::Tensor<1, 3> apex_to_base = {};
+    double               height       = 1.0;
+    /// s(h(X)) at reference position @p X (1 if not tapered).
+    double
+    scale(const dealii::Point<3> &X) const;
   };
 
   /// How the near-incompressibility of the myocardium is imposed
@@ -117,6 +147,11 @@ namespace systole::Mechanics
     /// robin_supports.
     std::vector<RobinSupport>
     all_robin_supports() const;
+
+    /// The supports of the entry "Robin supports" (its syntax; throws
+    /// ExcMessage naming a malformed item).
+    static std::vector<RobinSupport>
+    parse_robin_supports(const std::string &text);
 
     /// Prescribed active tension at the end of the load ramp [kPa] (2nd
     /// Piola-Kirchhoff, along the reference fibre).

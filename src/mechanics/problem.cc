@@ -24,6 +24,54 @@
 
 namespace systole::Mechanics
 {
+  namespace
+  {
+    /// Where a tapered support's height is measured from (collective): the
+    /// best-fit plane of the base and the vertex of part @p id farthest from
+    /// it, the apex.
+    void
+    locate_taper(const dealii::Triangulation<3, 3> &tria,
+                 const Geometry::BoundaryNames     &names,
+                 const dealii::types::boundary_id   id,
+                 RobinSupport                      &support)
+    {
+      AssertThrow(names.has("base"),
+                  dealii::ExcMessage(
+                    "Mechanics / Robin supports: the taper of '" +
+                    support.boundary +
+                    "' runs from the apex to the base, "
+                    "but " +
+                    names.source() +
+                    " has no boundary part 'base': name the base part, or "
+                    "drop the taper."));
+      // The fit only (a ruled base is not planar).
+      const Geometry::Plane base =
+        Geometry::boundary_plane(tria, names.id("base"), "base", 1.0);
+      double below = 0.0, above = 0.0;
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == id)
+              for (const unsigned int v : face->vertex_indices())
+                {
+                  const double d = (face->vertex(v) - base.point) * base.normal;
+                  below          = std::min(below, d);
+                  above          = std::max(above, d);
+                }
+      const MPI_Comm comm   = tria.get_communicator();
+      below                 = dealii::Utilities::MPI::min(below, comm);
+      above                 = dealii::Utilities::MPI::max(above, comm);
+      const bool apex_below = -below >= above;
+      support.base_point    = base.point;
+      support.apex_to_base  = apex_below ? base.normal : -base.normal;
+      support.height        = apex_below ? -below : above;
+      AssertThrow(support.height > 0.0,
+                  dealii::ExcMessage("Mechanics / Robin supports: part '" +
+                                     support.boundary +
+                                     "' lies in the base plane: it has no "
+                                     "apex for the taper."));
+    }
+  } // namespace
 
   Problem::Impl::Impl(
     const Parameters                                     &params,
@@ -134,9 +182,14 @@ namespace systole::Mechanics
     m.fixed_ids   = ids(params.fixed_boundaries, "Fixed boundaries");
     m.sliding_ids = ids(params.sliding_boundaries, "Sliding boundaries");
     for (const auto &support : params.all_robin_supports())
-      m.robin_supports[*ids({support.boundary},
-                            "Robin boundaries (or Robin supports)")
-                          .begin()] = support;
+      {
+        const auto id =
+          *ids({support.boundary}, "Robin boundaries (or Robin supports)")
+             .begin();
+        m.robin_supports[id] = support;
+        if (support.tapered())
+          locate_taper(tria, names, id, m.robin_supports[id]);
+      }
     // Pressure parts, each with its own pressure; with a base, each is a
     // cavity closed by the base plane.
     m.pressure_names = params.pressure_boundaries();
@@ -157,7 +210,15 @@ namespace systole::Mechanics
         Geometry::require_boundary(tria, names, "base");
         // The base plane; for a ruled base, each cavity's basal ring if it
         // is planar, else the fan over the ring (a patient base, a warped
-        // cut), with a warning when it is far from a plane.
+        // cut), with a warning when it is far from a plane. A base that is
+        // not held in its plane (springs, free) moves the rim out of it: the
+        // fan over the moving rim closes every cavity then.
+        const auto base_id = names.id("base");
+        const bool base_in_plane =
+          m.fixed_ids.count(base_id) > 0 || m.sliding_ids.count(base_id) > 0;
+        if (!base_in_plane)
+          logger.line("The base is not held in its plane: each cavity is "
+                      "closed by the fan from its moving rim's vertex mean.");
         for (unsigned int c = 0; c < m.pressure_ids.size(); ++c)
           {
             Geometry::check_cavity_rim(tria,
@@ -166,6 +227,12 @@ namespace systole::Mechanics
                                        "base");
             const auto closure =
               Geometry::cavity_closure(tria, names, m.pressure_names[c]);
+            m.moving_lid.push_back(!base_in_plane);
+            if (!base_in_plane)
+              {
+                m.cavities.emplace_back(tria, m.pressure_ids[c], base_id);
+                continue;
+              }
             if (closure.plane)
               {
                 m.cavities.emplace_back(m.pressure_ids[c], *closure.plane);
@@ -184,7 +251,7 @@ namespace systole::Mechanics
                         "rim's vertex mean.";
                 logger.line(line.str());
               }
-            m.cavities.emplace_back(tria, m.pressure_ids[c], names.id("base"));
+            m.cavities.emplace_back(tria, m.pressure_ids[c], base_id);
           }
       }
 
@@ -573,13 +640,13 @@ namespace systole::Mechanics
       dp[i] =
         0.3 * std::max(std::abs(pressures[i]), 1.0) * (i % 2 == 0 ? 1.0 : -0.7);
     // First block row: K d - B dp (R depends on p through -p_i b_i); second:
-    // B^T d.
+    // D^T d (D = dV/du, the volume rows).
     m.tangent_vmult(Jd, d);
     dealii::Vector<double> volume_row(k);
     for (unsigned int i = 0; i < k; ++i)
       {
         Jd.add(-dp[i], m.volume_derivatives[i]);
-        volume_row[i] = m.volume_derivatives[i] * d;
+        volume_row[i] = m.volume_rows[i] * d;
       }
 
     const LA::MPI::Vector u0          = m.u_owned;

@@ -255,12 +255,25 @@ namespace systole::Mechanics
     void
     tangent_vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;
     LA::MPI::Vector residual; ///< owned
-    /// Owned: dV_i/du of every cavity, condensed.
+    /// Owned: the endocardial flux of every cavity (the load per unit
+    /// pressure), condensed; dV_i/du unless the cavity's lid moves.
     std::vector<LA::MPI::Vector> volume_derivatives;
-    LA::MPI::Vector              u_owned; ///< owned
-    LA::MPI::Vector              u;       ///< ghosted copy of u_owned
-    LA::MPI::Vector              u_saved; ///< owned
-    LA::MPI::Vector u_previous;           ///< owned, the save() before u_saved
+    /// Owned: dV_i/du exactly, condensed: the volume rows of the bordered
+    /// Newton system. volume_derivatives[i] except for a cavity with a
+    /// moving lid, whose dV_i/du has the lid's flux too
+    /// (CavityVolume::derivative).
+    std::vector<LA::MPI::Vector> volume_rows;
+    /// Per cavity: closed by the fan over a rim that moves (the base is not
+    /// held in its plane), so that dV/du is not the endocardial flux.
+    std::vector<bool> moving_lid;
+    /// volume_rows from volume_derivatives and the moving lids (after an
+    /// assembly with the volume derivatives; collective).
+    void
+                    update_volume_rows();
+    LA::MPI::Vector u_owned;    ///< owned
+    LA::MPI::Vector u;          ///< ghosted copy of u_owned
+    LA::MPI::Vector u_saved;    ///< owned
+    LA::MPI::Vector u_previous; ///< owned, the save() before u_saved
     unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
@@ -306,6 +319,8 @@ namespace systole::Mechanics
     /// iterations that start a solve).
     bool                         have_factorization = false;
     std::vector<LA::MPI::Vector> factorized_volume_derivatives, factorized_w;
+    /// The volume_rows of that iterate.
+    std::vector<LA::MPI::Vector> factorized_volume_rows;
     /// The last solve converged: the factorization is that of an iterate
     /// near its solution (not of a diverged one).
     bool last_solve_converged = false;

@@ -1,0 +1,74 @@
+// The spring-dashpot supports' entry: the apex-to-base taper of a
+// pericardium, parsed and evaluated against the hand-computed profile.
+#include "base/errors.h"
+#include "mechanics/parameters.h"
+
+#include <catch2/catch.hpp>
+
+using namespace systole;
+
+TEST_CASE("A tapered support scales its springs from the apex to the base",
+          "[mechanics]")
+{
+  const auto supports = Mechanics::Parameters::parse_robin_supports(
+    "epicardium: normal, 0.1, 0.005, taper 0.5 0.2; base: full, 1, 0");
+  REQUIRE(supports.size() == 2);
+  auto epicardium = supports[0];
+  CHECK(epicardium.normal_only);
+  CHECK(epicardium.stiffness == 0.1);
+  CHECK(epicardium.damping == 0.005);
+  CHECK(epicardium.tapered());
+  CHECK_FALSE(supports[1].tapered());
+  CHECK(supports[1].scale(dealii::Point<3>(0, 0, -20)) == 1.0);
+
+  // Base plane z = 5, apex at z = -20: h = (z + 20) / 25.
+  epicardium.base_point   = dealii::Point<3>(3, -2, 5);
+  epicardium.apex_to_base = dealii::Tensor<1, 3>({0, 0, 1});
+  epicardium.height       = 25;
+  CHECK(epicardium.scale(dealii::Point<3>(0, 0, -20)) == Approx(1.0));
+  CHECK(epicardium.scale(dealii::Point<3>(7, 1, -7.5)) == Approx(1.0));
+  // h = 0.75: halfway from h0 = 0.5 to the base, 1 - 0.8 / 2.
+  CHECK(epicardium.scale(dealii::Point<3>(0, 9, -1.25)) == Approx(0.6));
+  CHECK(epicardium.scale(dealii::Point<3>(0, 0, 5)) == Approx(0.2));
+  // Beyond the base and the apex: clamped.
+  CHECK(epicardium.scale(dealii::Point<3>(0, 0, 8)) == Approx(0.2));
+  CHECK(epicardium.scale(dealii::Point<3>(0, 0, -30)) == Approx(1.0));
+}
+
+TEST_CASE("A support acts on the normal, the tangential or all components",
+          "[mechanics]")
+{
+  const auto supports = Mechanics::Parameters::parse_robin_supports(
+    "a: normal, 1, 0; b: tangential, 1, 0; c: full, 1, 0");
+  const dealii::Tensor<1, 3> N({0.6, 0, 0.8});
+  const dealii::Tensor<1, 3> u({1, 2, 3});
+  // (u.N) N = 3 N; u - 3 N; u.
+  const double               un = 0.6 * 1 + 0.8 * 3;
+  const dealii::Tensor<1, 3> normal({0.6 * un, 0, 0.8 * un});
+  CHECK((supports[0].projection(N) * u - normal).norm() < 1e-15);
+  CHECK((supports[1].projection(N) * u - (u - normal)).norm() < 1e-15);
+  CHECK((supports[2].projection(N) * u - u).norm() < 1e-15);
+}
+
+TEST_CASE("A malformed taper names the item and the form", "[mechanics]")
+{
+  for (const std::string item : {"epicardium: normal, 1, 0, taper 1.2 0",
+                                 "epicardium: normal, 1, 0, taper 0.5",
+                                 "epicardium: normal, 1, 0, slope 0.5 0"})
+    {
+      INFO(item);
+      std::string message;
+      try
+        {
+          Mechanics::Parameters::parse_robin_supports(item);
+        }
+      catch (const std::exception &e)
+        {
+          message = one_line_message(e);
+        }
+      CHECK_THAT(message,
+                 Catch::Contains("Mechanics / Robin supports: '" + item +
+                                 "' is not of the form") &&
+                   Catch::Contains("taper h0 s_base"));
+    }
+}
