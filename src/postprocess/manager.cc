@@ -135,7 +135,7 @@ namespace systole::Postprocess
                 const auto c = cell->active_cell_index();
                 wall->evaluate(cell, points[c], wf);
                 for (const auto &w : wf)
-                  frames[c].push_back({w.e_c, w.e_l, w.e_t});
+                  frames[c].push_back({w.e_c, w.e_l, w.e_t, w.transmural});
               }
         }
       if (needs.segments)
@@ -191,6 +191,8 @@ namespace systole::Postprocess
       data.points        = &states;
       data.quantities    = &quantities;
       data.comm          = comm;
+      if (needs.cardiac_frame)
+        data.frames = &frames;
       if (needs.segments)
         {
           data.segments       = &*aha;
