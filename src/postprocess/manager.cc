@@ -29,8 +29,9 @@ namespace systole::Postprocess
       "accepted step of a heartbeat or mechanics problem (none by default). " +
         postprocessor_descriptions() +
         " Fields are written with the others every Output / Field output "
-        "interval steps; strain, AHA segments and ventricle function need a "
-        "ventricle (boundary parts endocardium, epicardium, base).");
+        "interval steps; strain, AHA segments, clinical kinematics and "
+        "ventricle function need a left ventricle (boundary parts "
+        "endocardium, epicardium, base).");
     prm.enter_subsection("AHA segments");
     prm.declare_entry(
       "Reference direction",
@@ -115,7 +116,8 @@ namespace systole::Postprocess
           AssertThrow(names.has(part),
                       dealii::ExcMessage(
                         "Postprocess / List of postprocessors: strain, AHA "
-                        "segments and ventricle function need a ventricle, "
+                        "segments, clinical kinematics and ventricle function "
+                        "need a left ventricle, "
                         "but " +
                         names.source() + " has no boundary part named '" +
                         part + "'."));

@@ -260,7 +260,7 @@ TEST_CASE("An unknown postprocessor is an error naming the valid ones",
       CHECK(msg.find("unknown postprocessor 'strains'") != std::string::npos);
       for (const auto &name : systole::Postprocess::postprocessor_names())
         CHECK(msg.find(name) != std::string::npos);
-      CHECK(systole::Postprocess::postprocessor_names().size() == 7);
+      CHECK(systole::Postprocess::postprocessor_names().size() == 8);
     }
   CHECK(thrown);
 }
