@@ -6,9 +6,10 @@
 The page holds every picture as an embedded base64 PNG and needs no network: provenance
 (code version, ranks, wall time, peak memory), the pressure-volume loop(s) and traces of a
 heartbeat or circulation run, the global indices of the "ventricle function" postprocessor,
-the activation map, the AHA bull's-eye plots of peak strain and activation time, the beat
-table, the cost statistics and the parameters used. Sections whose data the run lacks are
-left out. Prints the report's path.
+the "clinical kinematics" (strains, twist and displacements referred to end-diastole) with
+each beat's peaks against normal adult ranges, the activation map, the AHA bull's-eye plots
+of peak strain and activation time, the beat table, the cost statistics and the parameters
+used. Sections whose data the run lacks are left out. Prints the report's path.
 """
 
 from __future__ import annotations
@@ -35,12 +36,48 @@ INDICES = [("long_axis_shortening", "long-axis shortening [-]"),
            ("torsion", "torsion (apex to base) [deg]"),
            ("ejection_fraction", "ejection fraction so far [-]")]
 
+#: The peaks per beat of the "clinical kinematics" postprocessor (/summary) against normal
+#: adult ranges (echo and MRI, referred to end-diastole; shared/reference/physiology.md,
+#: docs/architecture.md "Clinical kinematics"): column, label, factor to the unit shown, unit,
+#: lower and upper bound of the range (None: open), what is normal.
+CLINICAL = [
+    ("peak_global_longitudinal_strain", "global longitudinal strain (GLS)", 100, "%",
+     -24, -16,
+     "about -20 %, abnormal below 16 % in magnitude (Yingchoncharoen 2013: -19.7 %)"),
+    ("peak_global_circumferential_strain", "global circumferential strain (GCS)", 100, "%",
+     -30, -16, "Yingchoncharoen 2013: -23.3 %"),
+    ("peak_global_radial_strain", "global radial strain (GRS)", 100, "%",
+     25, 60, "Yingchoncharoen 2013: +47.3 %"),
+    ("peak_endocardial_longitudinal_strain", "endocardial longitudinal strain", 100, "%",
+     None, None, ""),
+    ("peak_endocardial_circumferential_strain", "endocardial circumferential strain", 100,
+     "%", None, None, ""),
+    ("peak_endocardial_radial_strain", "endocardial radial strain", 100, "%",
+     None, None, ""),
+    ("peak_twist", "twist (apex minus base)", 1, "deg", 5, 25, "about 10-20 deg"),
+    ("peak_torsion_per_length", "torsion (twist per ED length)", 1, "deg/mm", None, None, ""),
+    ("peak_av_plane_displacement", "AV-plane displacement", 1, "mm", 8, 18,
+     "about 12-16 mm, abnormal below about 10 mm"),
+    ("peak_apex_displacement", "apex displacement", 1, "mm", None, 5, "a few mm"),
+    ("peak_wall_thickening_ed", "wall thickening", 100, "%", 25, 60, "about 30-60 %"),
+]
+
+#: The /timeseries of "clinical kinematics" drawn per panel: (columns, factor, title).
+CLINICAL_TRACES = [
+    (("global_longitudinal_strain", "global_circumferential_strain", "global_radial_strain"),
+     100, "global strains from ED [%]"),
+    (("twist",), 1, "twist [deg]"),
+    (("av_plane_displacement", "apex_displacement"), 1, "AV-plane and apex displacement [mm]"),
+    (("wall_thickening_ed",), 100, "wall thickening from ED [%]"),
+]
+
 STYLE = """
 body { font-family: sans-serif; margin: 2em; max-width: 1400px; color: #222; }
 h1 { font-size: 1.5em; } h2 { font-size: 1.2em; border-bottom: 1px solid #ccc; }
 table { border-collapse: collapse; font-size: 0.85em; }
 td, th { border: 1px solid #ccc; padding: 2px 8px; text-align: right; }
 th { background: #f0f0f0; } td:first-child, th:first-child { text-align: left; }
+td.out { background: #f8d0d0; } td.in { background: #d8f0d8; }
 img { max-width: 100%; display: block; margin: 0.5em 0; }
 pre { background: #f7f7f7; padding: 0.8em; font-size: 0.8em; overflow-x: auto; }
 """
@@ -80,6 +117,75 @@ def indices_figure(results: Results) -> Figure | None:
         ax.plot(ts["time"], ts[key], color="tab:blue")
         ax.set_xlabel("time [ms]")
         ax.set_title(label, fontsize=9)
+        ax.grid(True, alpha=0.3)
+    return figure
+
+
+def normal_range(low: float | None, high: float | None, unit: str) -> str:
+    if low is None and high is None:
+        return ""
+    if low is None:
+        return f"< {high:g} {unit}"
+    if high is None:
+        return f"> {low:g} {unit}"
+    return f"{low:+g} … {high:+g} {unit}" if low < 0 else f"{low:g} … {high:g} {unit}"
+
+
+def in_range(value: float, low: float | None, high: float | None) -> bool | None:
+    """Whether value lies in [low, high] (None: no range, or not a number)."""
+    if (low is None and high is None) or not np.isfinite(value):
+        return None
+    return (low is None or value >= low) and (high is None or value <= high)
+
+
+def clinical_rows(results: Results) -> list[tuple[str, list[float], str, list, str]]:
+    """(label with unit, the values per beat in that unit, the normal range, whether each
+    value is in it (None: no range), what is normal) of the CLINICAL columns the run has."""
+    rows = []
+    for column, label, factor, unit, low, high, normal in CLINICAL:
+        if column not in results.summary:
+            continue
+        values = [factor * float(v) for v in results.summary[column]]
+        rows.append((f"{label} [{unit}]", values, normal_range(low, high, unit),
+                     [in_range(v, low, high) for v in values], normal))
+    return rows
+
+
+def clinical_table(results: Results) -> str:
+    """The peaks per beat against the normal ranges; empty without the columns."""
+    rows = clinical_rows(results)
+    if not rows:
+        return ""
+    beats = len(rows[0][1])
+    head = ("<tr><th>peak from end-diastole</th>" +
+            "".join(f"<th>beat {b}</th>" for b in range(beats)) +
+            "<th>normal range</th><th>normal</th></tr>")
+    body = ""
+    for label, values, band, inside, normal in rows:
+        cells = "".join(
+            f'<td class="{"" if ok is None else ("in" if ok else "out")}">{v:.3g}</td>'
+            for v, ok in zip(values, inside))
+        body += (f"<tr><td>{html.escape(label)}</td>{cells}<td>{html.escape(band)}</td>"
+                 f"<td>{html.escape(normal)}</td></tr>")
+    return "<table>" + head + body + "</table>"
+
+
+def clinical_figure(results: Results) -> Figure | None:
+    ts = results.timeseries
+    panels = [([k for k in keys if k in ts], factor, title)
+              for keys, factor, title in CLINICAL_TRACES if any(k in ts for k in keys)]
+    if not panels:
+        return None
+    figure = Figure(figsize=(12.0, 2.8), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(1, len(panels))
+    for ax, (keys, factor, title) in zip(np.atleast_1d(axes), panels):
+        for key in keys:
+            ax.plot(ts["time"], factor * np.asarray(ts[key]), label=key.replace("_", " "))
+        if len(keys) > 1:
+            ax.legend(fontsize=7)
+        ax.set_xlabel("time [ms]")
+        ax.set_title(title, fontsize=9)
         ax.grid(True, alpha=0.3)
     return figure
 
@@ -152,6 +258,16 @@ def build_report(path: str | Path) -> str:
     figure = indices_figure(results)
     if figure is not None:
         parts += ["<h2>Global indices</h2>", png(figure)]
+    table = clinical_table(results)
+    if table:
+        parts += ["<h2>Clinical kinematics</h2>",
+                  "<p>Peaks of each beat referred to its end-diastole (Lagrangian strains "
+                  "in the end-diastolic cardiac frame; docs/architecture.md, \"Clinical "
+                  "kinematics\"), against normal adult ranges: green inside, red outside.</p>",
+                  table]
+        figure = clinical_figure(results)
+        if figure is not None:
+            parts.append(png(figure))
     if has_activation_field(results):
         from systole_post.activation import make_activation_figure
 

@@ -17,7 +17,8 @@ import pytest
 from test_bullseye import aha_summary
 
 from conftest import write_results_file
-from report import build_report, write_report
+from report import build_report, clinical_figure, clinical_rows, write_report
+from systole_post.results import read_results
 
 
 def synthetic(tmp_path):
@@ -38,6 +39,46 @@ def test_report_embeds_its_pictures_and_names_no_url(tmp_path):
     assert not re.search(r'(src|href)="(https?:|//)', text)
     assert "AHA segments" in text and "Parameters" in text
     assert write_report(path) == path.parent / "report.html"
+
+
+def test_report_shows_the_clinical_peaks_against_the_normal_ranges(tmp_path):
+    path = tmp_path / "run" / "results.h5"
+    path.parent.mkdir()
+    t = np.linspace(0, 800, 41)
+    summary = {"beat": [0.0, 1.0],
+               "peak_global_longitudinal_strain": [0.05, -0.2],  # positive: outside
+               "peak_global_radial_strain": [0.3, 0.7],  # +30 % in, +70 % out
+               "peak_twist": [40.0, 12.0],
+               "peak_apex_displacement": [4.0, 6.0],  # < 5 mm
+               "peak_torsion_per_length": [0.1, 0.2]}  # no range
+    write_results_file(path, {"time": t, "step": np.arange(41.0),
+                              "global_longitudinal_strain": -0.1 * np.sin(t / 800 * np.pi),
+                              "twist": 10 * np.sin(t / 800 * np.pi)},
+                       summary=summary)
+    rows = {label: (values, band, inside)
+            for label, values, band, inside, _ in clinical_rows(read_results(path))}
+    assert list(rows) == ["global longitudinal strain (GLS) [%]",
+                          "global radial strain (GRS) [%]", "twist (apex minus base) [deg]",
+                          "torsion (twist per ED length) [deg/mm]",
+                          "apex displacement [mm]"]
+    values, band, inside = rows["global longitudinal strain (GLS) [%]"]
+    assert values == pytest.approx([5.0, -20.0]) and band == "-24 … -16 %"
+    assert inside == [False, True]
+    assert rows["global radial strain (GRS) [%]"][2] == [True, False]
+    assert rows["twist (apex minus base) [deg]"][2] == [False, True]
+    assert rows["apex displacement [mm]"][1:] == ("< 5 mm", [True, False])
+    assert rows["torsion (twist per ED length) [deg/mm]"][1:] == ("", [None, None])
+    text = build_report(path)
+    assert "<h2>Clinical kinematics</h2>" in text
+    assert text.count('class="out"') == 4 and text.count('class="in"') == 4
+    # One figure: the traces of the columns it has (GLS, twist).
+    assert text.count('src="data:image/png;base64,') == 1
+    assert len(clinical_figure(read_results(path)).axes) == 2
+
+
+def test_report_without_clinical_columns_has_no_such_section(tmp_path):
+    text = build_report(synthetic(tmp_path))
+    assert "Clinical kinematics" not in text
 
 
 def chromium():
@@ -88,10 +129,11 @@ def test_heartbeat_report_renders_with_every_section(tmp_path):
     html = write_report(results, tmp_path / "report.html")
     text = html.read_text()
     for title in ("Provenance", "Pressure-volume loop", "Traces", "Global indices",
-                  "Activation map", "AHA segments", "Beats", "Cost", "Parameters"):
+                  "Clinical kinematics", "Activation map", "AHA segments", "Beats", "Cost",
+                  "Parameters"):
         assert f"<h2>{title}</h2>" in text, title
     assert "code version" in text and "wall time" in text
-    check_rendered(html, tmp_path, 5)
+    check_rendered(html, tmp_path, 6)
 
 
 def test_paraview_script_has_a_colour_map_for_every_postprocessor_field():

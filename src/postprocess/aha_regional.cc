@@ -16,29 +16,36 @@ namespace systole::Postprocess
     return n;
   }
 
-  std::array<std::array<double, 3>, 17>
+  AhaRegional::SegmentValues
   AhaRegional::segment_means(const StepData &data)
+  {
+    return segment_means(data, [&](const unsigned int c, const unsigned int q) {
+      const auto &pq = (*data.quantities)[c][q];
+      return std::array<double, 3>{
+        {pq.strain_circumferential, pq.strain_longitudinal, pq.strain_radial}};
+    });
+  }
+
+  AhaRegional::SegmentValues
+  AhaRegional::segment_means(const StepData &data, const PointValues &value)
   {
     // Per segment: the three weighted sums and the volume.
     std::vector<double> sums(17 * 4, 0.0);
     for (unsigned int c = 0; c < data.points->size(); ++c)
       {
         const auto &points = (*data.points)[c];
-        if (points.empty())
-          continue;
         for (unsigned int q = 0; q < points.size(); ++q)
           {
-            const unsigned int s  = (*data.point_segments)[c][q] - 1;
-            const auto        &pq = (*data.quantities)[c][q];
-            const double       w  = points[q].JxW;
-            sums[4 * s + 0] += pq.strain_circumferential * w;
-            sums[4 * s + 1] += pq.strain_longitudinal * w;
-            sums[4 * s + 2] += pq.strain_radial * w;
+            const unsigned int s = (*data.point_segments)[c][q] - 1;
+            const auto         v = value(c, q);
+            const double       w = points[q].JxW;
+            for (unsigned int k = 0; k < 3; ++k)
+              sums[4 * s + k] += v[k] * w;
             sums[4 * s + 3] += w;
           }
       }
     dealii::Utilities::MPI::sum(sums, data.comm, sums);
-    std::array<std::array<double, 3>, 17> means;
+    SegmentValues means;
     for (unsigned int s = 0; s < 17; ++s)
       for (unsigned int k = 0; k < 3; ++k)
         means[s][k] = sums[4 * s + 3] > 0
@@ -47,16 +54,35 @@ namespace systole::Postprocess
     return means;
   }
 
+  std::string
+  AhaRegional::column_prefix(const unsigned int segment)
+  {
+    char prefix[16];
+    std::snprintf(prefix, sizeof(prefix), "aha_%02u_", segment);
+    return prefix;
+  }
+
+  void
+  update_peak(double &peak, const double value)
+  {
+    if (!std::isfinite(peak) || std::abs(value) > std::abs(peak))
+      peak = value;
+  }
+
+  void
+  update_peaks(AhaRegional::SegmentValues       &peaks,
+               const AhaRegional::SegmentValues &values)
+  {
+    for (unsigned int s = 0; s < 17; ++s)
+      for (unsigned int k = 0; k < 3; ++k)
+        update_peak(peaks[s][k], values[s][k]);
+  }
+
   void
   AhaRegional::step(const StepData &data, std::vector<IO::Column> &row)
   {
     (void)row;
-    const auto means = segment_means(data);
-    for (unsigned int s = 0; s < 17; ++s)
-      for (unsigned int k = 0; k < 3; ++k)
-        if (!std::isfinite(peaks[s][k]) ||
-            std::abs(means[s][k]) > std::abs(peaks[s][k]))
-          peaks[s][k] = means[s][k];
+    update_peaks(peaks, segment_means(data));
   }
 
   void
@@ -88,13 +114,11 @@ namespace systole::Postprocess
                                         "radial"};
     for (unsigned int s = 0; s < 17; ++s)
       {
-        char prefix[16];
-        std::snprintf(prefix, sizeof(prefix), "aha_%02u_", s + 1);
+        const std::string prefix = column_prefix(s + 1);
         for (unsigned int k = 0; k < 3; ++k)
-          row.push_back({std::string(prefix) + "peak_strain_" + components[k],
-                         "-",
-                         peaks[s][k]});
-        row.push_back({std::string(prefix) + "activation_time",
+          row.push_back(
+            {prefix + "peak_strain_" + components[k], "-", peaks[s][k]});
+        row.push_back({prefix + "activation_time",
                        "ms",
                        sums[2 * s + 1] > 0
                          ? sums[2 * s] / sums[2 * s + 1]

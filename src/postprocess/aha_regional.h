@@ -3,6 +3,8 @@
 #include "postprocess/postprocessor.h"
 
 #include <array>
+#include <functional>
+#include <string>
 
 namespace systole::Postprocess
 {
@@ -19,6 +21,10 @@ namespace systole::Postprocess
   class AhaRegional : public Postprocessor
   {
   public:
+    /// Three values (circumferential, longitudinal, radial) per segment:
+    /// [segment - 1][component].
+    using SegmentValues = std::array<std::array<double, 3>, 17>;
+
     AhaRegional();
 
     Needs
@@ -34,8 +40,23 @@ namespace systole::Postprocess
 
     /// Volume-weighted means of the three strains per segment at the
     /// points of @p data (collective): [segment - 1][component].
-    static std::array<std::array<double, 3>, 17>
+    static SegmentValues
     segment_means(const StepData &data);
+
+    /// Three values per point: value(cell, q) at quadrature point q of the
+    /// locally owned cell with active index cell.
+    using PointValues =
+      std::function<std::array<double, 3>(unsigned int, unsigned int)>;
+
+    /// Means of @p value over every segment, weighted by the points'
+    /// reference volume (JxW), NaN for a segment without points
+    /// (collective): [segment - 1][component].
+    static SegmentValues
+    segment_means(const StepData &data, const PointValues &value);
+
+    /// The column name prefix "aha_NN_" of @p segment (1 ... 17).
+    static std::string
+    column_prefix(const unsigned int segment);
 
     std::vector<double>
     state() const override;
@@ -48,6 +69,16 @@ namespace systole::Postprocess
     void
     reset();
 
-    std::array<std::array<double, 3>, 17> peaks{};
+    SegmentValues peaks{};
   };
+
+  /// Keep in @p peak the value of largest magnitude, with its sign, of
+  /// @p peak and @p value (a NaN @p peak takes @p value).
+  void
+  update_peak(double &peak, const double value);
+
+  /// update_peak() of every value of @p peaks with that of @p values.
+  void
+  update_peaks(AhaRegional::SegmentValues       &peaks,
+               const AhaRegional::SegmentValues &values);
 } // namespace systole::Postprocess

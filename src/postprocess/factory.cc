@@ -3,6 +3,7 @@
 #include <deal.II/base/exceptions.h>
 
 #include "postprocess/aha_regional.h"
+#include "postprocess/clinical_kinematics.h"
 #include "postprocess/fields.h"
 #include "postprocess/ventricle_function.h"
 
@@ -43,6 +44,17 @@ namespace systole::Postprocess
                              return q.active_tension;
                            }}});
          }},
+        {"clinical kinematics",
+         "/timeseries every step, referred to the beat's end-diastole (ED, "
+         "the largest cavity volume before ejection): "
+         "global_{longitudinal,circumferential,radial}_strain and "
+         "endocardial_..._strain (Lagrangian engineering strain in the ED "
+         "cardiac frame, wall and inner-third means), twist [deg], "
+         "torsion_per_length [deg/mm], av_plane_displacement [mm], "
+         "apex_displacement [mm], wall_thickening_ed; /summary per beat: "
+         "peak_<column>, end_diastolic_time [ms] and "
+         "aha_NN_peak_ed_strain_circumferential, _longitudinal, _radial",
+         [] { return std::make_unique<ClinicalKinematics>(); }},
         {"fibre stretch",
          "field fibre_stretch = |F f0| [-]",
          [] {

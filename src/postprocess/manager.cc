@@ -29,8 +29,9 @@ namespace systole::Postprocess
       "accepted step of a heartbeat or mechanics problem (none by default). " +
         postprocessor_descriptions() +
         " Fields are written with the others every Output / Field output "
-        "interval steps; strain, AHA segments and ventricle function need a "
-        "ventricle (boundary parts endocardium, epicardium, base).");
+        "interval steps; strain, AHA segments, clinical kinematics and "
+        "ventricle function need a left ventricle (boundary parts "
+        "endocardium, epicardium, base).");
     prm.enter_subsection("AHA segments");
     prm.declare_entry(
       "Reference direction",
@@ -115,7 +116,8 @@ namespace systole::Postprocess
           AssertThrow(names.has(part),
                       dealii::ExcMessage(
                         "Postprocess / List of postprocessors: strain, AHA "
-                        "segments and ventricle function need a ventricle, "
+                        "segments, clinical kinematics and ventricle function "
+                        "need a left ventricle, "
                         "but " +
                         names.source() + " has no boundary part named '" +
                         part + "'."));
@@ -135,7 +137,7 @@ namespace systole::Postprocess
                 const auto c = cell->active_cell_index();
                 wall->evaluate(cell, points[c], wf);
                 for (const auto &w : wf)
-                  frames[c].push_back({w.e_c, w.e_l, w.e_t});
+                  frames[c].push_back({w.e_c, w.e_l, w.e_t, w.transmural});
               }
         }
       if (needs.segments)
@@ -191,6 +193,8 @@ namespace systole::Postprocess
       data.points        = &states;
       data.quantities    = &quantities;
       data.comm          = comm;
+      if (needs.cardiac_frame)
+        data.frames = &frames;
       if (needs.segments)
         {
           data.segments       = &*aha;

@@ -5,6 +5,8 @@
 
 #include "fibres/fibre_basis.h"
 
+#include <limits>
+
 namespace systole::Postprocess
 {
   /// The local cardiac frame at a point of the reference wall: orthonormal
@@ -16,6 +18,9 @@ namespace systole::Postprocess
     dealii::Tensor<1, 3> circumferential;
     dealii::Tensor<1, 3> longitudinal;
     dealii::Tensor<1, 3> radial;
+    /// The transmural wall coordinate phi: 0 on the endocardium, 1 on the
+    /// epicardium (Fibres::WallFrame::transmural; NaN if unknown).
+    double transmural = std::numeric_limits<double>::quiet_NaN();
   };
 
   /// What the field postprocessors write at one point.

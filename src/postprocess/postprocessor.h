@@ -36,7 +36,9 @@ namespace systole::Postprocess
     double                                                 cavity_volume = 0;
     const std::vector<std::vector<Mechanics::PointState>> *points     = nullptr;
     const std::vector<std::vector<PointQuantities>>       *quantities = nullptr;
-    const AhaSegments                                     *segments   = nullptr;
+    /// The reference cardiac frame of every point (Needs::cardiac_frame).
+    const std::vector<std::vector<CardiacFrame>> *frames   = nullptr;
+    const AhaSegments                            *segments = nullptr;
     /// The segment (1 ... 17) of every point (of its reference position).
     const std::vector<std::vector<unsigned int>> *point_segments = nullptr;
     const std::vector<Mechanics::VertexState>    *vertices       = nullptr;
@@ -102,8 +104,10 @@ namespace systole::Postprocess
     }
 
     /// What the next step() and end_beat() depend on (reference values,
-    /// the peaks of the beat so far), as numbers: for checkpoints. The
-    /// default: no state.
+    /// the peaks of the beat so far), as numbers: for checkpoints. Called
+    /// on every rank (it may be collective); the checkpoint keeps rank 0's
+    /// numbers and gives them to set_state() on every rank. The default: no
+    /// state.
     virtual std::vector<double>
     state() const
     {

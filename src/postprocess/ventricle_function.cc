@@ -15,8 +15,8 @@ namespace systole::Postprocess
     return n;
   }
 
-  void
-  VentricleFunction::step(const StepData &data, std::vector<IO::Column> &row)
+  VentricleShape
+  ventricle_shape(const StepData &data)
   {
     const AhaSegments &aha  = *data.segments;
     const auto        &axis = aha.axis();
@@ -47,23 +47,25 @@ namespace systole::Postprocess
         c[d] = centroid_sums[o + d] / std::max(n, 1.0);
       return c;
     };
-    // Sums over this rank's vertices: the apex (its axial position, count),
-    // the base (axial position, count), the rotations of the apical and
+    // Sums over this rank's vertices: the apex (deformed position, count),
+    // the base (deformed position, count), the rotations of the apical and
     // basal rings (sum, count).
-    std::vector<double> sums(8, 0.0);
+    std::vector<double> sums(12, 0.0);
     const double        tolerance = 1e-8 * axis.length;
     for (const auto &v : *data.vertices)
       {
         const double l = aha.level(v.reference);
         if ((v.reference - axis.apex).norm() < tolerance)
           {
-            sums[0] += (v.deformed - axis.apex) * e;
-            sums[1] += 1;
+            for (unsigned int d = 0; d < 3; ++d)
+              sums[d] += v.deformed[d];
+            sums[3] += 1;
           }
         if (std::abs(l - 1.0) < 1e-8)
           {
-            sums[2] += (v.deformed - axis.apex) * e;
-            sums[3] += 1;
+            for (unsigned int d = 0; d < 3; ++d)
+              sums[4 + d] += v.deformed[d];
+            sums[7] += 1;
           }
         const unsigned int ring = aha.ring(l);
         if (ring != 1 && ring != 3)
@@ -78,33 +80,48 @@ namespace systole::Postprocess
           continue;
         const double angle =
           std::atan2(-e * dealii::cross_product_3d(r0, r), r0 * r);
-        sums[ring == 1 ? 4 : 6] += angle;
-        sums[ring == 1 ? 5 : 7] += 1;
+        sums[ring == 1 ? 8 : 10] += angle;
+        sums[ring == 1 ? 9 : 11] += 1;
       }
     double volume = 0;
     for (const auto &cell : *data.points)
       for (const auto &p : cell)
         volume += dealii::determinant(p.F) * p.JxW;
-    std::vector<double> totals(8);
+    std::vector<double> totals(12);
     dealii::Utilities::MPI::sum(sums, data.comm, totals);
     volume = dealii::Utilities::MPI::sum(volume, data.comm);
-    AssertThrow(totals[1] > 0 && totals[3] > 0 && totals[5] > 0 &&
-                  totals[7] > 0,
+    AssertThrow(totals[3] > 0 && totals[7] > 0 && totals[9] > 0 &&
+                  totals[11] > 0,
                 dealii::ExcMessage(
-                  "Postprocess / ventricle function: the mesh has no apex "
-                  "vertex, base vertices or vertices in the apical and basal "
-                  "rings."));
-    const double length = totals[2] / totals[3] - totals[0] / totals[1];
-    const double thickness =
+                  "Postprocess: the mesh has no apex vertex, base vertices or "
+                  "vertices in the apical and basal rings."));
+    VentricleShape shape;
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        shape.apex[d] = totals[d] / totals[3];
+        shape.base[d] = totals[4 + d] / totals[7];
+      }
+    shape.apical_rotation = totals[8] / totals[9];
+    shape.basal_rotation  = totals[10] / totals[11];
+    shape.thickness =
       2 * volume / (data.endocardial_area + data.epicardial_area);
+    return shape;
+  }
+
+  void
+  VentricleFunction::step(const StepData &data, std::vector<IO::Column> &row)
+  {
+    const VentricleShape shape = ventricle_shape(data);
+    const double         length =
+      (shape.base - shape.apex) * data.segments->axis().direction;
     if (!initialized)
       {
         reference_length    = length;
-        reference_thickness = thickness;
+        reference_thickness = shape.thickness;
         initialized         = true;
       }
     const double torsion =
-      (totals[4] / totals[5] - totals[6] / totals[7]) * 180 / M_PI;
+      (shape.apical_rotation - shape.basal_rotation) * 180 / M_PI;
     if (data.beat != beat || !(max_volume > 0))
       max_volume = data.cavity_volume;
     beat       = data.beat;
@@ -116,7 +133,7 @@ namespace systole::Postprocess
     row.push_back(
       {"long_axis_shortening", "-", 1.0 - length / reference_length});
     row.push_back(
-      {"wall_thickening", "-", thickness / reference_thickness - 1.0});
+      {"wall_thickening", "-", shape.thickness / reference_thickness - 1.0});
     row.push_back({"torsion", "deg", torsion});
     row.push_back({"ejection_fraction", "-", ejection_fraction});
   }

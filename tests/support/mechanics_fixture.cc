@@ -33,16 +33,20 @@ namespace test_support
            std::cos(0.25 * p[1] - 0.1 * p[2] + c);
   }
 
+  systole::Materials::Guccione::Parameters
+  test_guccione_parameters()
+  {
+    systole::Materials::Guccione::Parameters g;
+    g.C    = 2;
+    g.b_f  = 8;
+    g.b_t  = 2;
+    g.b_fs = 4;
+    return g;
+  }
+
   VentricleMechanics::VentricleMechanics(const MPI_Comm comm)
     : logger(comm, sink)
-    , law([] {
-      systole::Materials::Guccione::Parameters g;
-      g.C    = 2;
-      g.b_f  = 8;
-      g.b_t  = 2;
-      g.b_fs = 4;
-      return g;
-    }())
+    , law(test_guccione_parameters())
     , volumetric(systole::Materials::VolumetricLaw::Form::simo_taylor, 100.0)
     , tria(comm)
   {

@@ -30,6 +30,11 @@
 
 namespace test_support
 {
+  /// The Guccione law of the mechanics tests: C = 2 kPa, b_f = 8, b_t = 2,
+  /// b_fs = 4.
+  systole::Materials::Guccione::Parameters
+  test_guccione_parameters();
+
   /// A fibre frame that rotates about z with the height (f at the angle
   /// 0.3 z [rad/mm] from x, n = z), so that the anisotropy is not aligned
   /// with the mesh.

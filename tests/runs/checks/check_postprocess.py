@@ -10,6 +10,11 @@
 - /summary has aha_NN_peak_strain_{circumferential,longitudinal,radial} and
   aha_NN_activation_time for NN = 01 ... 17, the strains finite and below 1 in magnitude;
   with --activation every segment's activation time is finite and inside the beat;
+- with "clinical kinematics" (if its columns are there): its /timeseries columns are finite
+  and zero at the first step and at each beat's end-diastolic step (the step at
+  end_diastolic_time, the reference of the beat), the volume there is the beat's lv_EDV to
+  1e-4 (end-diastole is the largest volume before ejection), the /summary peaks and
+  aha_NN_peak_ed_strain_* are finite (strains below 1 in magnitude);
 - with --serial, every postprocessor column agrees with the serial run to 1e-6 (relative
   to the column's scale): 2 ranks reproduce 1 rank.
 """
@@ -21,6 +26,51 @@ import numpy as np
 
 TIMESERIES = ["long_axis_shortening", "wall_thickening", "torsion", "ejection_fraction"]
 COMPONENTS = ["circumferential", "longitudinal", "radial"]
+CLINICAL = [f"{layer}_{c}_strain" for layer in ("global", "endocardial")
+            for c in ("longitudinal", "circumferential", "radial")] + [
+    "twist", "torsion_per_length", "av_plane_displacement", "apex_displacement",
+    "wall_thickening_ed"]
+
+
+def clinical_summary_columns():
+    return ([f"peak_{name}" for name in CLINICAL] + ["end_diastolic_time"] +
+            [f"aha_{n:02d}_peak_ed_strain_{c}" for n in range(1, 18) for c in COMPONENTS])
+
+
+def check_clinical(ts, summary):
+    """The "clinical kinematics" columns (the errors found)."""
+    errors = []
+    for name in CLINICAL:
+        if name not in ts:
+            return [f"/timeseries/{name} missing"]
+        if not np.all(np.isfinite(ts[name])):
+            errors.append(f"/timeseries/{name} is not finite")
+        if abs(ts[name][0]) > 1e-12:
+            errors.append(f"/timeseries/{name} is {ts[name][0]} at the first step")
+    for name in clinical_summary_columns():
+        if name not in summary:
+            errors.append(f"/summary/{name} missing")
+        elif not np.all(np.isfinite(summary[name])):
+            errors.append(f"/summary/{name} = {summary[name]} is not finite")
+        elif "strain" in name and not np.all(np.abs(summary[name]) < 1):
+            errors.append(f"/summary/{name} = {summary[name]}: not a strain")
+    if errors:
+        return errors
+    for b, (start, ed, edv) in enumerate(zip(summary["start_time"],
+                                             summary["end_diastolic_time"],
+                                             summary["lv_EDV_mL"])):
+        at = np.flatnonzero((ts["beat"] == b) & (np.abs(ts["time"] - start - ed) < 1e-9))
+        if at.size != 1:
+            errors.append(f"beat {b}: no step at end_diastolic_time {ed} ms")
+            continue
+        i = at[0]
+        for name in CLINICAL:
+            if abs(ts[name][i]) > 1e-12:
+                errors.append(f"beat {b}: /timeseries/{name} is {ts[name][i]} at end-diastole")
+        if not 0 <= edv - ts["volume_mL"][i] <= 1e-4 * edv:
+            errors.append(f"beat {b}: volume {ts['volume_mL'][i]} mL at end-diastole, "
+                          f"lv_EDV {edv} mL")
+    return errors
 
 
 def aha_columns():
@@ -70,9 +120,15 @@ def main(argv):
             start, end = summary["start_time"], summary["end_time"]
             if not np.all(np.isfinite(v) & (v >= 0) & (v <= end - start)):
                 errors.append(f"/summary/{name} = {v}: not inside the beat")
+    clinical = "global_longitudinal_strain" in ts
+    if clinical:
+        errors += check_clinical(ts, summary)
     if serial is not None:
+        groups = [("timeseries", TIMESERIES), ("summary", aha_columns())]
+        if clinical:
+            groups += [("timeseries", CLINICAL), ("summary", clinical_summary_columns())]
         with h5py.File(serial, "r") as g:
-            for group, names in (("timeseries", TIMESERIES), ("summary", aha_columns())):
+            for group, names in groups:
                 for name in names:
                     a, b = f_read(args[0], group, name), g[group][name][()]
                     scale = max(np.nanmax(np.abs(b)), 1e-12) if b.size else 1
@@ -83,7 +139,8 @@ def main(argv):
     for e in errors:
         print("FAIL:", e)
     if not errors:
-        print(f"postprocessors ok: {len(ts['time'])} steps, {len(summary['lv_EF'])} beat(s)")
+        print(f"postprocessors ok: {len(ts['time'])} steps, {len(summary['lv_EF'])} beat(s)"
+              + (", with clinical kinematics" if clinical else ""))
     return 1 if errors else 0
 
 
