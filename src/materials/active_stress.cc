@@ -5,23 +5,35 @@
 
 namespace systole::Materials
 {
+  dealii::SymmetricTensor<2, 3>
+  active_stress_direction(const CrossFibreFractions &cross,
+                          const Fibres::FibreBasis  &basis)
+  {
+    for (const double eta : {cross.sheet, cross.normal})
+      AssertThrow(eta >= 0.0 && eta <= 1.0,
+                  dealii::ExcMessage(
+                    "The cross-fibre fractions of the active stress (sheet " +
+                    std::to_string(cross.sheet) + ", normal " +
+                    std::to_string(cross.normal) + ") must lie in [0, 1]."));
+    const auto outer = [](const dealii::Tensor<1, 3> &a) {
+      return dealii::symmetrize(dealii::outer_product(a, a));
+    };
+    dealii::SymmetricTensor<2, 3> D = outer(basis.f);
+    if (cross.sheet != 0.0)
+      D += cross.sheet * outer(basis.s);
+    if (cross.normal != 0.0)
+      D += cross.normal * outer(basis.n);
+    return D;
+  }
+
   void
   add_active_stress(const double                   Ta,
-                    const double                   transverse_fraction,
+                    const CrossFibreFractions     &cross,
                     const Fibres::FibreBasis      &basis,
                     dealii::SymmetricTensor<2, 3> &S)
   {
     AssertThrow(std::isfinite(Ta),
                 dealii::ExcMessage("The active tension is not finite."));
-    AssertThrow(transverse_fraction >= 0.0 && transverse_fraction <= 1.0,
-                dealii::ExcMessage(
-                  "The transverse fraction of the active stress (" +
-                  std::to_string(transverse_fraction) +
-                  ") must lie in [0, 1]."));
-
-    const dealii::SymmetricTensor<2, 3> ff =
-      dealii::symmetrize(dealii::outer_product(basis.f, basis.f));
-    S += Ta * ff +
-         (transverse_fraction * Ta) * (dealii::unit_symmetric_tensor<3>() - ff);
+    S += Ta * active_stress_direction(cross, basis);
   }
 } // namespace systole::Materials

@@ -167,6 +167,43 @@ namespace systole::Mechanics
         }
     }
 
+    /// The tangent of the cross-fibre part of a stretch-dependent tension:
+    /// dS = c G (f0 x f0 : dE) with G = eta_s s0 x s0 + eta_n n0 x n0 and c
+    /// = dT/dlambda / lambda, so K_(Ac)(Bd) += c (F G grad N_A)_c (F f0)_d
+    /// (f0 . grad N_B) JxW: rank one per point and not symmetric (every
+    /// node pair, into the cell matrix). Needs the node gradients of
+    /// add_stress_point().
+    void
+    add_cross_fibre_tangent(const dealii::FEValues<3>            &values,
+                            const unsigned int                    q,
+                            const Tensor<2, 3>                   &F,
+                            const Fibres::FibreBasis             &basis,
+                            const Materials::CrossFibreFractions &cross,
+                            const double                          slope,
+                            const ShapeScratch                   &s,
+                            CellSystem                           &cell)
+    {
+      const SymmetricTensor<2, 3> G =
+        Materials::active_stress_direction(cross, basis) -
+        dealii::symmetrize(dealii::outer_product(basis.f, basis.f));
+      const Tensor<2, 3> FG = F * Tensor<2, 3>(G);
+      const Tensor<1, 3> Ff = F * basis.f;
+      const double       w  = slope * values.JxW(q);
+      const unsigned int n  = s.node_dofs.size();
+      for (unsigned int A = 0; A < n; ++A)
+        {
+          const Tensor<1, 3> a = FG * s.node_grad[A];
+          for (unsigned int B = 0; B < n; ++B)
+            {
+              const double b = w * (basis.f * s.node_grad[B]);
+              for (unsigned int c = 0; c < 3; ++c)
+                for (unsigned int d = 0; d < 3; ++d)
+                  cell.matrix(s.node_dofs[A][c], s.node_dofs[B][d]) +=
+                    a[c] * b * Ff[d];
+            }
+        }
+    }
+
     /// Move the node-pair blocks of the displacement block (both triangles)
     /// into the cell matrix and zero them.
     void
@@ -597,6 +634,9 @@ namespace systole::Mechanics
             // The active stress comes after the volumetric part: it is not
             // projected.
             double tension = active_tension + data[q]->tension;
+            // dT/dlambda / lambda of a stretch-dependent tension, for the
+            // tangent of its cross-fibre part.
+            double cross_fibre_slope = 0.0;
             if (tension_model != nullptr)
               {
                 // Two-way coupling: the model's step at this iterate's
@@ -615,20 +655,20 @@ namespace systole::Mechanics
                 data[q]->model_tension = model_tension;
                 tension += model_tension;
                 // dS/dE += f0 x f0 x dT/dE with dT/dE = dT/dlambda f0 x f0 /
-                // lambda (lambda^2 = 1 + 2 f0.E f0).
-                // The transverse fraction is 0 here (set_tension_model()
-                // refuses others: the term would not be major symmetric).
+                // lambda (lambda^2 = 1 + 2 f0.E f0). The cross-fibre part
+                // (not major symmetric) goes in after add_stress_point().
                 if (with_matrix && dT_dstretch != 0.0)
                   {
                     const dealii::SymmetricTensor<2, 3> ff = dealii::symmetrize(
                       dealii::outer_product(in.basis.f, in.basis.f));
                     out.dS_dE +=
                       (dT_dstretch / stretch) * dealii::outer_product(ff, ff);
+                    cross_fibre_slope = dT_dstretch / stretch;
                   }
               }
             if (tension != 0.0)
               Materials::add_active_stress(tension,
-                                           params.active_transverse_fraction,
+                                           params.active_cross_fibre,
                                            in.basis,
                                            out.S);
             // Kelvin-Voigt: S += eta dE/dt, dE/dt = sym(F^T grad v); through
@@ -650,6 +690,15 @@ namespace systole::Mechanics
                              with_matrix,
                              scratch,
                              cell_system);
+            if (cross_fibre_slope != 0.0 && params.active_cross_fibre.any())
+              add_cross_fibre_tangent(fe_values,
+                                      q,
+                                      in.F,
+                                      in.basis,
+                                      params.active_cross_fibre,
+                                      cross_fibre_slope,
+                                      scratch,
+                                      cell_system);
             if (viscous && with_matrix)
               add_viscous_point(fe_values.JxW(q),
                                 in.F,

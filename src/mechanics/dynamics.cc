@@ -402,7 +402,7 @@ namespace systole::Mechanics
             dealii::SymmetricTensor<2, 3> S_active;
             if (tension != 0.0)
               Materials::add_active_stress(tension,
-                                           m.params.active_transverse_fraction,
+                                           m.params.active_cross_fibre,
                                            data[q]->basis,
                                            S_active);
             const double JxW = fe_values.JxW(q);

@@ -196,11 +196,21 @@ namespace systole::Mechanics
       "Prescribed active tension T_a at the end of the load "
       "ramp: S_a = T_a f0 x f0 (2nd Piola-Kirchhoff, per "
       "reference area, along the reference fibre). Units: kPa.");
-    prm.declare_entry("Active transverse fraction",
+    prm.declare_entry(
+      "Active sheet fraction",
+      "0",
+      Double(0.0, 1.0),
+      "Fraction eta_s of the active tension that acts along the sheet "
+      "direction s0: S_a = T_a (f0 x f0 + eta_s s0 x s0 + eta_n n0 x n0) "
+      "(Sommer et al. 2015; fenicsx-pulse's transversely isotropic eta is "
+      "eta_s = eta_n = eta). With the Land model (stretch-dependent) the "
+      "tangent is not symmetric and the direct solver uses LU. Units: -.");
+    prm.declare_entry("Active normal fraction",
                       "0",
                       Double(0.0, 1.0),
-                      "Fraction eta of T_a acting across the fibres: "
-                      "S_a += eta T_a (I - f0 x f0). Units: -.");
+                      "Fraction eta_n of the active tension that acts along "
+                      "the sheet-normal direction n0 (see Active sheet "
+                      "fraction). Units: -.");
     prm.declare_entry("Volumetric integration",
                       "full",
                       Selection("full|reduced"),
@@ -418,8 +428,8 @@ namespace systole::Mechanics
     p.robin_damping      = prm.get_double(m, "Robin damping");
     p.robin_supports     = parse_robin_supports(prm.get(m, "Robin supports"));
     p.active_tension     = prm.get_double(m, "Active tension");
-    p.active_transverse_fraction =
-      prm.get_double(m, "Active transverse fraction");
+    p.active_cross_fibre.sheet  = prm.get_double(m, "Active sheet fraction");
+    p.active_cross_fibre.normal = prm.get_double(m, "Active normal fraction");
     p.reduced_volumetric_integration =
       prm.get(m, "Volumetric integration") == "reduced";
     p.load_steps          = prm.get_integer(m, "Load steps");

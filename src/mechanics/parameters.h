@@ -3,6 +3,8 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
+#include "materials/active_stress.h"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -156,8 +158,8 @@ namespace systole::Mechanics
     /// Prescribed active tension at the end of the load ramp [kPa] (2nd
     /// Piola-Kirchhoff, along the reference fibre).
     double active_tension = 0.0;
-    /// Fraction of the active tension acting across the fibres [-].
-    double active_transverse_fraction = 0.0;
+    /// Fractions of the active tension along the sheet and the normal [-].
+    Materials::CrossFibreFractions active_cross_fibre;
 
     /// Integrate the volumetric penalty with one Gauss point less per
     /// direction than the rest (Q2 only).

@@ -75,11 +75,10 @@ namespace systole::Mechanics
               else
                 m.volumetric_law.add_to(s.F, law.S, law.dS_dE);
               if (s.active_tension != 0.0)
-                Materials::add_active_stress(
-                  s.active_tension,
-                  m.params.active_transverse_fraction,
-                  s.basis,
-                  law.S);
+                Materials::add_active_stress(s.active_tension,
+                                             m.params.active_cross_fibre,
+                                             s.basis,
+                                             law.S);
               const dealii::Tensor<2, 3> sigma =
                 s.F * dealii::Tensor<2, 3>(law.S) * dealii::transpose(s.F) / J;
               s.cauchy_stress = dealii::symmetrize(sigma);

@@ -374,14 +374,8 @@ namespace systole::Mechanics
     const bool symmetric =
       (m.pressure_ids.empty() || (!m.cavities.empty() && base_held)) &&
       params.viscosity == 0.0;
-    m.linear_solver = create_linear_solver(solver,
-                                           m.mapping,
-                                           m.dof_handler,
-                                           m.layout,
-                                           m.constraints,
-                                           params.linear_tolerance,
-                                           symmetric,
-                                           params.displacement_preconditioner);
+    m.linear_solver_name = solver;
+    m.create_linear_solver(symmetric);
     if (m.linear_solver->needs_pressure_matrix())
       m.pressure_matrix = std::make_unique<PressureMatrix>(
         m.layout,
@@ -572,6 +566,22 @@ namespace systole::Mechanics
     return {{std::sqrt(squares[0]), std::sqrt(squares[1])}};
   }
 
+
+  void
+  Problem::Impl::create_linear_solver(const bool symmetric)
+  {
+    symmetric_tangent = symmetric;
+    linear_solver =
+      Mechanics::create_linear_solver(linear_solver_name,
+                                      mapping,
+                                      dof_handler,
+                                      layout,
+                                      constraints,
+                                      params.linear_tolerance,
+                                      symmetric,
+                                      params.displacement_preconditioner);
+    have_factorization = false;
+  }
 
   dealii::Vector<double>
   Problem::Impl::cavity_volumes_now() const

@@ -277,6 +277,13 @@ namespace systole::Mechanics
     unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;
+    /// "direct" or "iterative" (auto resolved), and whether the tangent is
+    /// symmetric (the direct solver's LDL^T, the iterative one's CG).
+    std::string linear_solver_name;
+    bool        symmetric_tangent = true;
+    /// (Re)creates linear_solver (no factorization held afterwards).
+    void
+    create_linear_solver(const bool symmetric);
 
     /// Elastodynamics (time_step > 0: the assembly adds the inertia).
     Dynamics dynamics;

@@ -42,15 +42,11 @@ namespace systole::Mechanics
                   "two-way (" +
                   model->name() +
                   " is driven by activation times: use set_active_tension)."));
-    // dT/dlambda with a transverse part, dT/dE x (I - f0 x f0), is not
-    // major symmetric; the assembly mirrors the element matrix.
-    AssertThrow(model == nullptr || m.params.active_transverse_fraction == 0.0,
-                dealii::ExcMessage(
-                  "Mechanics / Active transverse fraction must be 0 with a "
-                  "stretch-dependent tension model (" +
-                  model->name() +
-                  "): its tangent would not be symmetric, which the "
-                  "assembly assumes."));
+    // dT/dlambda with a cross-fibre part, dT/dE x (eta_s s0 x s0 + eta_n
+    // n0 x n0), is not major symmetric: the solver must not assume it.
+    if (model != nullptr && m.params.active_cross_fibre.any() &&
+        m.symmetric_tangent)
+      m.create_linear_solver(false);
     m.tension_model = model;
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())

@@ -816,40 +816,46 @@ TEST_CASE("The volumetric law rejects a non-positive volume ratio",
 }
 
 
-TEST_CASE("Active stress adds T_a f0 x f0 plus the transverse fraction of "
-          "T_a in the cross-fibre plane",
+TEST_CASE("Active stress adds T_a f0 x f0 plus the sheet and normal "
+          "fractions of T_a across the fibres",
           "[materials][active]")
 {
   const double Ta = 7.5;
   for (const unsigned int seed : seeds)
-    for (const double eta : {0.0, 0.3, 1.0})
+    for (const auto &[eta_s, eta_n] :
+         std::vector<std::pair<double, double>>{{0.0, 0.0},
+                                                {0.3, 0.3},
+                                                {0.4, 0.1},
+                                                {0.0, 1.0}})
       {
-        INFO("seed " << seed << ", transverse fraction " << eta);
+        INFO("seed " << seed << ", sheet " << eta_s << ", normal " << eta_n);
         const Fibres::FibreBasis basis = test_support::random_fibre_basis(seed);
         const auto start = test_support::random_passive_input(seed, strain).F;
         const dealii::SymmetricTensor<2, 3> S0 =
           dealii::symmetrize(start + dealii::transpose(start));
 
         dealii::SymmetricTensor<2, 3> S = S0;
-        Materials::add_active_stress(Ta, eta, basis, S);
+        Materials::add_active_stress(Ta, {eta_s, eta_n}, basis, S);
 
         // Against the formula, entry by entry.
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
             {
               const double expected =
-                S0[i][j] + Ta * basis.f[i] * basis.f[j] +
-                eta * Ta * ((i == j ? 1.0 : 0.0) - basis.f[i] * basis.f[j]);
+                S0[i][j] + Ta * (basis.f[i] * basis.f[j] +
+                                 eta_s * basis.s[i] * basis.s[j] +
+                                 eta_n * basis.n[i] * basis.n[j]);
               CHECK(S[i][j] == Approx(expected).epsilon(1e-14).margin(1e-14));
             }
 
-        // In the fibre frame: T_a along f, eta T_a along s and n, no shear.
+        // In the fibre frame: T_a along f, eta_s T_a along s, eta_n T_a
+        // along n, no shear.
         const dealii::SymmetricTensor<2, 3> dS = S - S0;
         CHECK(basis.f * (dS * basis.f) == Approx(Ta).epsilon(1e-13));
         CHECK(basis.s * (dS * basis.s) ==
-              Approx(eta * Ta).epsilon(1e-13).margin(1e-13));
+              Approx(eta_s * Ta).epsilon(1e-13).margin(1e-13));
         CHECK(basis.n * (dS * basis.n) ==
-              Approx(eta * Ta).epsilon(1e-13).margin(1e-13));
+              Approx(eta_n * Ta).epsilon(1e-13).margin(1e-13));
         CHECK(basis.f * (dS * basis.s) == Approx(0.0).margin(1e-13));
         CHECK(basis.f * (dS * basis.n) == Approx(0.0).margin(1e-13));
         CHECK(basis.s * (dS * basis.n) == Approx(0.0).margin(1e-13));
@@ -857,20 +863,22 @@ TEST_CASE("Active stress adds T_a f0 x f0 plus the transverse fraction of "
 }
 
 
-TEST_CASE("Active stress rejects a transverse fraction outside [0, 1]",
+TEST_CASE("Active stress rejects a cross-fibre fraction outside [0, 1]",
           "[materials][active]")
 {
   const Fibres::FibreBasis      basis = test_support::random_fibre_basis(3);
   dealii::SymmetricTensor<2, 3> S;
   for (const double eta : {-0.1, -1e-12, 1.0 + 1e-12, 1.5})
     {
-      INFO("transverse fraction " << eta);
-      CHECK_THROWS_AS(Materials::add_active_stress(5.0, eta, basis, S),
+      INFO("fraction " << eta);
+      CHECK_THROWS_AS(Materials::add_active_stress(5.0, {eta, 0.0}, basis, S),
+                      dealii::ExceptionBase);
+      CHECK_THROWS_AS(Materials::add_active_stress(5.0, {0.0, eta}, basis, S),
                       dealii::ExceptionBase);
       CHECK(S.norm() == 0.0); // nothing was added before the throw
     }
-  CHECK_NOTHROW(Materials::add_active_stress(5.0, 0.0, basis, S));
-  CHECK_NOTHROW(Materials::add_active_stress(5.0, 1.0, basis, S));
+  CHECK_NOTHROW(Materials::add_active_stress(5.0, {0.0, 0.0}, basis, S));
+  CHECK_NOTHROW(Materials::add_active_stress(5.0, {1.0, 1.0}, basis, S));
 }
 
 
