@@ -528,6 +528,14 @@ namespace systole::Mechanics
       face_grad_u(face_quadrature.size());
     std::vector<double>       p_values(quadrature.size());
     std::vector<Tensor<1, 3>> face_u(face_quadrature.size());
+    // Cavities whose pressure loads their moving lid too: the fan's apex c,
+    // and the wall's vector area (summed below) for the lid's force on the
+    // rim.
+    std::vector<dealii::Point<3>> lid_apex(cavities.size());
+    std::vector<Tensor<1, 3>>     lid_area(cavities.size());
+    for (unsigned int i = 0; i < cavities.size(); ++i)
+      if (lid_loaded(i))
+        lid_apex[i] = cavities[i].rim_center(dof_handler, u);
 
     // Elastodynamics: the residual becomes R(u) + (alpha_f R(u_n) + M
     // A(u)) / (1 - alpha_f), A the effective acceleration (problem_impl.h,
@@ -798,7 +806,24 @@ namespace systole::Mechanics
                     }
                   // R -= p dV/du, K -= p d2V/du2 with the wall normal: the
                   // pressure pushes the wall along -N (into the body).
-                  if (pressures[part] != 0.0)
+                  // With the lid loaded too: the fan's dV/du and d2V/du2
+                  // (at fixed c; the lid's force on the rim below).
+                  if (lid_loaded(part))
+                    {
+                      fe_face[layout.displacement].get_function_values(u,
+                                                                       face_u);
+                      CavityVolume::add_fan_face(fe_face,
+                                                 face_u,
+                                                 face_grad_u,
+                                                 lid_apex[part],
+                                                 -pressures[part],
+                                                 cell_system.residual,
+                                                 with_matrix
+                                                   ? &cell_system.matrix
+                                                   : nullptr,
+                                                 lid_area[part]);
+                    }
+                  else if (pressures[part] != 0.0)
                     add_volume_flux(fe_face,
                                     face_grad_u,
                                     pressures[part],
@@ -889,6 +914,25 @@ namespace systole::Mechanics
           }
       }
 
+    // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on
+    // every rim vertex (the rest of -p dV/du of the fan).
+    for (unsigned int i = 0; i < cavities.size(); ++i)
+      if (lid_loaded(i))
+        {
+          const Tensor<1, 3> area =
+            dealii::Utilities::MPI::sum(lid_area[i], comm);
+          dealii::Vector<double> share(3);
+          for (unsigned int k = 0; k < 3; ++k)
+            share[k] =
+              -pressures[i] * area[k] / (3.0 * cavities[i].n_rim_vertices());
+          std::vector<dealii::types::global_dof_index> rim(3);
+          cavities[i].for_each_rim_vertex(
+            dof_handler,
+            [&](const std::array<dealii::types::global_dof_index, 3> &dofs) {
+              rim.assign(dofs.begin(), dofs.end());
+              constraints.distribute_local_to_global(share, rim, residual);
+            });
+        }
     if (with_matrix)
       tangent.compress(dealii::VectorOperation::add);
     if (with_pressure_matrix)
@@ -924,13 +968,16 @@ namespace systole::Mechanics
             continue;
           }
         // dV/du of the fan lid: the endocardial flux plus the lid's, then
-        // condensed as the assembly condenses the flux.
+        // condensed as the assembly condenses the flux. With the lid loaded
+        // it is the load per unit pressure too.
         LA::MPI::Vector exact(owned, comm);
         cavities[i].derivative(mapping, dof_handler, u, n_q_face_1d, exact);
         LA::MPI::Vector ghosted(owned, relevant, comm);
         ghosted = exact;
         volume_rows[i].reinit(owned, comm);
         constraints.condense(ghosted, volume_rows[i]);
+        if (lid_loaded(i))
+          volume_derivatives[i] = volume_rows[i];
       }
   }
 } // namespace systole::Mechanics

@@ -167,6 +167,108 @@ namespace systole::Mechanics
                   ": it needs at least 3 to be closed by a lid."));
   }
 
+  void
+  CavityVolume::for_each_rim_vertex(
+    const dealii::DoFHandler<3, 3> &dof_handler,
+    const std::function<
+      void(const std::array<dealii::types::global_dof_index, 3> &)> &f) const
+  {
+    for_each_counted_rim_vertex(
+      dof_handler,
+      counted_rim_vertex,
+      [&](const dealii::Point<3> &,
+          const std::array<dealii::types::global_dof_index, 3> &dofs) {
+        f(dofs);
+      });
+  }
+
+  void
+  CavityVolume::add_fan_face(
+    const dealii::FEFaceValues<3, 3>        &fe_face,
+    const std::vector<dealii::Tensor<1, 3>> &u_values,
+    const std::vector<dealii::Tensor<2, 3>> &u_gradients,
+    const dealii::Point<3>                  &c,
+    const double                             scale,
+    dealii::Vector<double>                  &vector,
+    dealii::FullMatrix<double>              *matrix,
+    dealii::Tensor<1, 3>                    &area_sum)
+  {
+    const auto                       &fe         = fe_face.get_fe();
+    const unsigned int                n          = fe.n_dofs_per_cell();
+    static constexpr int              perm[6][4] = {{0, 1, 2, 1},
+                                                    {1, 2, 0, 1},
+                                                    {2, 0, 1, 1},
+                                                    {0, 2, 1, -1},
+                                                    {2, 1, 0, -1},
+                                                    {1, 0, 2, -1}};
+    std::vector<unsigned int>         component(n);
+    std::vector<dealii::Tensor<1, 3>> grad(n), turn(n);
+    for (unsigned int a = 0; a < n; ++a)
+      component[a] = fe.system_to_component_index(a).first;
+    for (const unsigned int q : fe_face.quadrature_point_indices())
+      {
+        const dealii::Tensor<2, 3> F =
+          dealii::unit_symmetric_tensor<3>() + u_gradients[q];
+        const dealii::Tensor<1, 3> &N    = fe_face.normal_vector(q);
+        const dealii::Tensor<1, 3>  area = dealii::cofactor(F) * N;
+        const dealii::Tensor<1, 3>  w =
+          fe_face.quadrature_point(q) + u_values[q] - c;
+        const double JxW = fe_face.JxW(q);
+        area_sum += area * JxW;
+        const double weight = -scale * JxW / 3.0;
+        // da[e_k g] = dcof(F)[e_k (x) g] N, and w . da[e_k g] = ((F (N x g))
+        // x w)_k (N = t1 x t2: dcof[G](t1 x t2) = G t1 x F t2 + F t1 x G t2).
+        // A[i][j][K] = eps_ijk eps_JKL F_kL N_J: (da[e_j g])_i = A[i][j] . g.
+        double A[3][3][3] = {};
+        if (matrix != nullptr)
+          for (const auto &p : perm)
+            for (const auto &r : perm)
+              A[p[0]][p[1]][r[1]] += p[3] * r[3] * F[p[2]][r[2]] * N[r[0]];
+        for (unsigned int a = 0; a < n; ++a)
+          {
+            if (component[a] >= 3)
+              continue;
+            grad[a] = fe_face.shape_grad_component(a, q, component[a]);
+            turn[a] =
+              dealii::cross_product_3d(F * dealii::cross_product_3d(N, grad[a]),
+                                       w);
+          }
+        for (unsigned int a = 0; a < n; ++a)
+          {
+            const unsigned int ca = component[a];
+            if (ca >= 3)
+              continue;
+            const double phi_a = fe_face.shape_value(a, q);
+            vector(a) += weight * (phi_a * area[ca] + turn[a][ca]);
+            if (matrix == nullptr)
+              continue;
+            for (unsigned int b = 0; b < n; ++b)
+              {
+                const unsigned int cb = component[b];
+                if (cb >= 3)
+                  continue;
+                const double phi_b = fe_face.shape_value(b, q);
+                // phi_a . da[phi_b] + phi_b . da[phi_a]
+                double value = phi_a * (A[ca][cb][0] * grad[b][0] +
+                                        A[ca][cb][1] * grad[b][1] +
+                                        A[ca][cb][2] * grad[b][2]) +
+                               phi_b * (A[cb][ca][0] * grad[a][0] +
+                                        A[cb][ca][1] * grad[a][1] +
+                                        A[cb][ca][2] * grad[a][2]);
+                // w . d2a: (w . (e_ca x e_cb)) (N . (g_a x g_b))
+                if (ca != cb)
+                  {
+                    const unsigned int k    = 3 - ca - cb;
+                    const double       sign = (cb == (ca + 1) % 3) ? 1.0 : -1.0;
+                    value += sign * w[k] *
+                             (N * dealii::cross_product_3d(grad[a], grad[b]));
+                  }
+                (*matrix)(a, b) += weight * value;
+              }
+          }
+      }
+  }
+
   dealii::Point<3>
   CavityVolume::rim_center(const dealii::DoFHandler<3, 3> &dof_handler,
                            const LA::MPI::Vector          &u) const
@@ -308,36 +410,14 @@ namespace systole::Mechanics
               else
                 {
                   fe_face[displacement].get_function_values(u, u_values);
-                  for (const unsigned int q :
-                       fe_face.quadrature_point_indices())
-                    {
-                      const dealii::Tensor<2, 3> F =
-                        dealii::unit_symmetric_tensor<3>() + u_gradients[q];
-                      const dealii::Tensor<1, 3> &N = fe_face.normal_vector(q);
-                      const dealii::Tensor<1, 3> area = dealii::cofactor(F) * N;
-                      const dealii::Tensor<1, 3> w =
-                        fe_face.quadrature_point(q) + u_values[q] - c;
-                      const double JxW = fe_face.JxW(q);
-                      wall_area += area * JxW;
-                      // w . (dcof(F)[e_k (x) g]) N = ((F (N x g)) x w)_k:
-                      // with N = t1 x t2, dcof[G](t1 x t2) = G t1 x F t2 +
-                      // F t1 x G t2.
-                      for (unsigned int a = 0; a < n; ++a)
-                        {
-                          const unsigned int k =
-                            fe.system_to_component_index(a).first;
-                          if (k >= 3)
-                            continue;
-                          const double phi = fe_face.shape_value(a, q);
-                          const dealii::Tensor<1, 3> g =
-                            fe_face.shape_grad_component(a, q, k);
-                          const dealii::Tensor<1, 3> turn =
-                            dealii::cross_product_3d(
-                              F * dealii::cross_product_3d(N, g),
-                              w);
-                          local(a) -= (phi * area[k] + turn[k]) * JxW / 3.0;
-                        }
-                    }
+                  add_fan_face(fe_face,
+                               u_values,
+                               u_gradients,
+                               c,
+                               1.0,
+                               local,
+                               nullptr,
+                               wall_area);
                 }
               cell->get_dof_indices(dofs);
               for (unsigned int i = 0; i < n; ++i)

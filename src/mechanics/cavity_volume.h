@@ -3,12 +3,20 @@
 #include "base/linear_algebra.h"
 #include "geometry/mesh.h"
 
+#include <array>
+#include <functional>
 #include <vector>
 
 namespace dealii
 {
   template <int dim, int spacedim>
   class DoFHandler;
+  template <int dim, int spacedim>
+  class FEFaceValues;
+  template <typename number>
+  class FullMatrix;
+  template <typename number>
+  class Vector;
   template <int dim, int spacedim>
   class Mapping;
   template <int dim, int spacedim>
@@ -131,12 +139,47 @@ namespace systole::Mechanics
                const unsigned int              n_points,
                LA::MPI::Vector                &dV_du) const;
 
-  private:
-    /// c for @p u: the mean of X_v + u_v over the rim vertices (collective).
+    /// Rim fan: c for @p u, the mean of X_v + u_v over the rim vertices
+    /// (collective; @p u ghosted).
     dealii::Point<3>
     rim_center(const dealii::DoFHandler<3, 3> &dof_handler,
                const LA::MPI::Vector          &u) const;
 
+    /// Rim fan: @p f(dofs) for every rim vertex this rank counts (each rim
+    /// vertex on one rank), with the global indices of its 3 displacement
+    /// DoFs.
+    void
+    for_each_rim_vertex(
+      const dealii::DoFHandler<3, 3> &dof_handler,
+      const std::function<
+        void(const std::array<dealii::types::global_dof_index, 3> &)> &f) const;
+
+    /// Rim fan, one endocardial face: with w = X + u - c and a = cof(F) N,
+    /// adds @p scale times the face's part of dV/du and of d2V/du2 at fixed
+    /// c,
+    /// @f[ v_a \mathrel{+}= -rac{s}{3}\int arphi_a\cdot a +
+    ///     w\cdot\partial a[arphi_a]\,dA, \quad M_{ab} \mathrel{+}=
+    ///     -rac{s}{3}\int arphi_a\cdot\partial a[arphi_b] +
+    ///     arphi_b\cdot\partial a[arphi_a] + w\cdot\partial^2 a[arphi_a,
+    ///     arphi_b]\,dA, @f]
+    /// with @f$w\cdot\partial^2 a[e_i g_a, e_j g_b] = (w\cdot(e_i	imes
+    /// e_j))(N\cdot(g_a	imes g_b))@f$, and adds @f$\int a\,dA@f$ to @p
+    /// area. The rest of dV/du is the lid's apex term (1/3)(int a dA) . dc; the
+    /// rest of d2V/du2, (1/3)(dc[phi] . da[psi] + dc[psi] . da[phi]), couples
+    /// the rim to the whole wall (low rank; not assembled).
+    /// @param[in] fe_face values on the face (values, gradients, quadrature
+    ///            points, normal vectors, JxW)
+    static void
+    add_fan_face(const dealii::FEFaceValues<3, 3>        &fe_face,
+                 const std::vector<dealii::Tensor<1, 3>> &u_values,
+                 const std::vector<dealii::Tensor<2, 3>> &u_gradients,
+                 const dealii::Point<3>                  &c,
+                 const double                             scale,
+                 dealii::Vector<double>                  &vector,
+                 dealii::FullMatrix<double>              *matrix,
+                 dealii::Tensor<1, 3>                    &area);
+
+  private:
     Closure                    kind;
     dealii::types::boundary_id endocardium;
     Geometry::Plane            lid;

@@ -205,6 +205,20 @@ namespace systole::Mechanics
       "(Sommer et al. 2015; fenicsx-pulse's transversely isotropic eta is "
       "eta_s = eta_n = eta). With the Land model (stretch-dependent) the "
       "tangent is not symmetric and the direct solver uses LU. Units: -.");
+    prm.declare_entry(
+      "Lid pressure",
+      "false",
+      Bool(),
+      "With a base that is not held in its plane (on springs), where each "
+      "cavity is closed by the fan over its moving rim: true lets the "
+      "cavity pressure act on that lid as well, its force reaching the wall "
+      "through the rim (spread evenly over the rim vertices), so that the "
+      "load is p dV/du of the closed cavity and the pressure exerts no net "
+      "force on the ventricle (as the closed valves pass it to the annulus; "
+      "energy-consistent, after Regazzoni et al. 2022, J Comput Phys "
+      "457:111083); the tangent then omits the low-rank coupling of the rim "
+      "to the wall. false: the pressure acts on the endocardium only (the "
+      "benchmark of Arostica et al. 2025).");
     prm.declare_entry("Active normal fraction",
                       "0",
                       Double(0.0, 1.0),
@@ -430,6 +444,7 @@ namespace systole::Mechanics
     p.active_tension     = prm.get_double(m, "Active tension");
     p.active_cross_fibre.sheet  = prm.get_double(m, "Active sheet fraction");
     p.active_cross_fibre.normal = prm.get_double(m, "Active normal fraction");
+    p.lid_pressure              = prm.get_bool(m, "Lid pressure");
     p.reduced_volumetric_integration =
       prm.get(m, "Volumetric integration") == "reduced";
     p.load_steps          = prm.get_integer(m, "Load steps");

@@ -161,6 +161,10 @@ namespace systole::Mechanics
     /// Fractions of the active tension along the sheet and the normal [-].
     Materials::CrossFibreFractions active_cross_fibre;
 
+    /// With a base not held in its plane: the cavity pressures act on the
+    /// lids too (the load is p dV/du of the closed cavity).
+    bool lid_pressure = false;
+
     /// Integrate the volumetric penalty with one Gauss point less per
     /// direction than the rest (Q2 only).
     bool reduced_volumetric_integration = false;

@@ -371,8 +371,12 @@ namespace systole::Mechanics
     const bool base_held = !names.has("base") ||
                            m.fixed_ids.count(names.id("base")) > 0 ||
                            (!fan && m.sliding_ids.count(names.id("base")) > 0);
+    // With the pressure on the moving lids the load is p dV/du again (its
+    // assembled tangent omits the rim's low-rank coupling, and is
+    // symmetric).
     const bool symmetric =
-      (m.pressure_ids.empty() || (!m.cavities.empty() && base_held)) &&
+      (m.pressure_ids.empty() ||
+       (!m.cavities.empty() && (base_held || params.lid_pressure))) &&
       params.viscosity == 0.0;
     m.linear_solver_name = solver;
     m.create_linear_solver(symmetric);
@@ -590,6 +594,27 @@ namespace systole::Mechanics
     for (unsigned int i = 0; i < cavities.size(); ++i)
       volumes[i] = cavities[i].volume(mapping, dof_handler, u, n_q_face_1d);
     return volumes;
+  }
+
+  dealii::Tensor<1, 3>
+  Problem::net_pressure_force(const dealii::Vector<double> &pressures)
+  {
+    Impl &m = *impl;
+    // The load is what the pressures take from the residual (R = internal
+    // forces - loads).
+    m.assemble(dealii::Vector<double>(pressures.size()), 0.0, false);
+    LA::MPI::Vector load = m.residual;
+    m.assemble(pressures, 0.0, false);
+    load -= m.residual;
+    dealii::Tensor<1, 3> force;
+    for (unsigned int k = 0; k < 3; ++k)
+      {
+        dealii::ComponentMask mask(m.fe->n_components(), false);
+        mask.set(k, true);
+        for (const auto i : dealii::DoFTools::extract_dofs(m.dof_handler, mask))
+          force[k] += load(i);
+      }
+    return dealii::Utilities::MPI::sum(force, m.comm);
   }
 
   double

@@ -375,6 +375,14 @@ namespace systole::Mechanics
     std::vector<std::vector<double>>
     model_tensions() const;
 
+    /// The net force of the cavity pressures @p pressures [kPa] on the wall
+    /// at the current u, the sum over the nodes of their load (the
+    /// residual's change from zero pressures) [kPa mm^2 = mN]: about -p
+    /// times the lid's vector area with the pressure on the endocardium
+    /// only, zero with Lid pressure (the closed cavity). Collective.
+    dealii::Tensor<1, 3>
+    net_pressure_force(const dealii::Vector<double> &pressures);
+
     /// Verification hook: relative errors of the bordered Jacobian against
     /// central differences in a fixed pseudo-random direction (d, dp) at the
     /// current u and the cavity pressures @p pressures [kPa] (size

@@ -266,6 +266,13 @@ namespace systole::Mechanics
     /// Per cavity: closed by the fan over a rim that moves (the base is not
     /// held in its plane), so that dV/du is not the endocardial flux.
     std::vector<bool> moving_lid;
+    /// Whether cavity @p i's pressure loads its lid (Parameters::
+    /// lid_pressure, and the lid moves).
+    bool
+    lid_loaded(const unsigned int i) const
+    {
+      return params.lid_pressure && moving_lid[i];
+    }
     /// volume_rows from volume_derivatives and the moving lids (after an
     /// assembly with the volume derivatives; collective).
     void

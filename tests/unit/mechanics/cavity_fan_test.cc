@@ -4,9 +4,11 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/fe/mapping_q.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/numerics/vector_tools.h>
 
@@ -352,4 +354,123 @@ TEST_CASE("For a planar rim the fan gives the plane lid's volume",
   plane.derivative(mapping, dof_handler, u, 4, b_plane);
   fan.derivative(mapping, dof_handler, u, 4, b_fan);
   CHECK(b_fan * u_owned == Approx(b_plane * u_owned).epsilon(1e-12));
+}
+
+namespace
+{
+  /// Over the cavity faces of @p field's mesh (serial), at the displacement
+  /// @p u and a fixed fan apex @p c: the fan's face vectors (sum of
+  /// CavityVolume::add_fan_face's v) dotted with @p d, and its matrix M
+  /// applied as d^T M e.
+  std::pair<double, double>
+  fan_face_terms(const Field            &field,
+                 const LA::MPI::Vector  &u,
+                 const LA::MPI::Vector  &d,
+                 const LA::MPI::Vector  &e,
+                 const dealii::Point<3> &c)
+  {
+    const dealii::Quadrature<2> quadrature =
+      field.kind.face_quadrature(field.n_points);
+    dealii::FEFaceValues<3>                      fe_face(*field.mapping,
+                                    field.fe,
+                                    quadrature,
+                                    dealii::update_values |
+                                      dealii::update_gradients |
+                                      dealii::update_quadrature_points |
+                                      dealii::update_normal_vectors |
+                                      dealii::update_JxW_values);
+    const dealii::FEValuesExtractors::Vector     displacement(0);
+    const unsigned int                           n = field.fe.n_dofs_per_cell();
+    std::vector<dealii::Tensor<1, 3>>            values(quadrature.size());
+    std::vector<dealii::Tensor<2, 3>>            gradients(quadrature.size());
+    std::vector<dealii::types::global_dof_index> dofs(n);
+    dealii::Vector<double>                       v(n);
+    dealii::FullMatrix<double>                   M(n, n);
+    dealii::Tensor<1, 3>                         area;
+    double                                       vd = 0, dMd = 0;
+    for (const auto &cell : field.dof_handler.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->boundary_id() == cup_cavity)
+          {
+            fe_face.reinit(cell, face);
+            fe_face[displacement].get_function_values(u, values);
+            fe_face[displacement].get_function_gradients(u, gradients);
+            v = 0;
+            M = 0;
+            Mechanics::CavityVolume::add_fan_face(fe_face,
+                                                  values,
+                                                  gradients,
+                                                  c,
+                                                  1.0,
+                                                  v,
+                                                  &M,
+                                                  area);
+            cell->get_dof_indices(dofs);
+            for (unsigned int a = 0; a < n; ++a)
+              {
+                vd += v(a) * d(dofs[a]);
+                for (unsigned int b = 0; b < n; ++b)
+                  dMd += d(dofs[a]) * M(a, b) * e(dofs[b]);
+              }
+          }
+    return {vd, dMd};
+  }
+} // namespace
+
+TEST_CASE("The rim fan's face Hessian is the derivative of its face vector",
+          "[mechanics][cavity][fd]")
+{
+  // At a fixed apex c the fan's face terms are a function of u alone: the
+  // matrix of add_fan_face (the load's tangent when the lid is loaded) must
+  // be the derivative of its vector: d^T M e against the central difference
+  // of v . d along e, and the other way round (M is symmetric). v is
+  // quadratic in u at fixed c, so the central difference is exact up to
+  // round-off.
+  const test_support::WarpingDisplacement u0(0.15, 0.3);
+  const test_support::WarpingDisplacement d(0.3, 1.1), e(-0.2, 0.7);
+  const auto check = [&](const dealii::Triangulation<3, 3> &tria,
+                         const unsigned int                 degree) {
+    const Field            field(tria, degree);
+    const auto             u = field.interpolate(u0);
+    const auto             D = field.interpolate(d);
+    const auto             E = field.interpolate(e);
+    const dealii::Point<3> c(0.3, -0.2, 2.4);
+    for (const bool swap : {false, true})
+      {
+        const auto  &first = swap ? E : D;
+        const auto  &along = swap ? d : e;
+        const auto  &other = swap ? D : E;
+        const double exact = fan_face_terms(field, u, first, other, c).second;
+        const double h     = 0.1;
+        const double plus  = fan_face_terms(field,
+                                           field.interpolate(u0, h, &along),
+                                           first,
+                                           other,
+                                           c)
+                              .first;
+        const double minus = fan_face_terms(field,
+                                            field.interpolate(u0, -h, &along),
+                                            first,
+                                            other,
+                                            c)
+                               .first;
+        const double error = std::abs((plus - minus) / (2 * h) - exact);
+        INFO("degree " << degree << (swap ? ", e^T M d = " : ", d^T M e = ")
+                       << exact << ", FD error " << error);
+        CHECK(std::abs(exact) > 1e-3);
+        CHECK(error < 1e-10 * std::abs(exact) + 1e-14);
+      }
+  };
+  SECTION("hexahedra, Q2 on MappingQ2")
+  {
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    test_support::make_cup(tria, 1);
+    check(tria, 2);
+  }
+  SECTION("tetrahedra, P2")
+  {
+    dealii::Triangulation<3> tria;
+    test_support::make_tet_cup(tria, 0);
+    check(tria, 2);
+  }
 }
