@@ -533,9 +533,20 @@ namespace systole::Mechanics
     // rim.
     std::vector<dealii::Point<3>> lid_apex(cavities.size());
     std::vector<Tensor<1, 3>>     lid_area(cavities.size());
+    // With the matrix: alpha_k = int da_k[phi] dA of each loaded lid's wall
+    // (its rank-6 rim-wall coupling, low_rank_u/v).
+    std::vector<std::array<LA::MPI::Vector, 3>> lid_alpha(cavities.size());
+    std::array<dealii::Vector<double>, 3>       alpha_local;
+    for (auto &a : alpha_local)
+      a.reinit(n);
     for (unsigned int i = 0; i < cavities.size(); ++i)
       if (lid_loaded(i))
-        lid_apex[i] = cavities[i].rim_center(dof_handler, u);
+        {
+          lid_apex[i] = cavities[i].rim_center(dof_handler, u);
+          if (with_matrix)
+            for (auto &a : lid_alpha[i])
+              a.reinit(owned, comm);
+        }
 
     // Elastodynamics: the residual becomes R(u) + (alpha_f R(u_n) + M
     // A(u)) / (1 - alpha_f), A the effective acceleration (problem_impl.h,
@@ -812,6 +823,8 @@ namespace systole::Mechanics
                     {
                       fe_face[layout.displacement].get_function_values(u,
                                                                        face_u);
+                      for (auto &a : alpha_local)
+                        a = 0;
                       CavityVolume::add_fan_face(fe_face,
                                                  face_u,
                                                  face_grad_u,
@@ -821,7 +834,17 @@ namespace systole::Mechanics
                                                  with_matrix
                                                    ? &cell_system.matrix
                                                    : nullptr,
-                                                 lid_area[part]);
+                                                 lid_area[part],
+                                                 &alpha_local);
+                      if (with_matrix)
+                        {
+                          cell->get_dof_indices(dofs);
+                          for (unsigned int k = 0; k < 3; ++k)
+                            constraints.distribute_local_to_global(
+                              alpha_local[k],
+                              dofs,
+                              lid_alpha[part][k]);
+                        }
                     }
                   else if (pressures[part] != 0.0)
                     add_volume_flux(fe_face,
@@ -915,7 +938,48 @@ namespace systole::Mechanics
       }
 
     // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on
-    // every rim vertex (the rest of -p dV/du of the fan).
+    // every rim vertex (the rest of -p dV/du of the fan); with the matrix
+    // the rest of -p d2V/du2, -(p/3) sum_k (C_k A_k^T + A_k C_k^T) with
+    // C_k = dc_k/du (1/n_rim on the rim's DoFs of component k) and A_k =
+    // alpha_k: low_rank_u = -(p/3) [C, A], low_rank_v = [A, C].
+    if (with_matrix)
+      {
+        low_rank_u.clear();
+        low_rank_v.clear();
+      }
+    for (unsigned int i = 0; i < cavities.size(); ++i)
+      if (lid_loaded(i) && with_matrix)
+        {
+          std::array<LA::MPI::Vector, 3> C;
+          dealii::Vector<double>         one(1);
+          one[0] = 1.0 / cavities[i].n_rim_vertices();
+          std::vector<dealii::types::global_dof_index> dof(1);
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              C[k].reinit(owned, comm);
+              lid_alpha[i][k].compress(dealii::VectorOperation::add);
+            }
+          cavities[i].for_each_rim_vertex(
+            dof_handler,
+            [&](const std::array<dealii::types::global_dof_index, 3> &dofs) {
+              for (unsigned int k = 0; k < 3; ++k)
+                {
+                  dof[0] = dofs[k];
+                  constraints.distribute_local_to_global(one, dof, C[k]);
+                }
+            });
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              C[k].compress(dealii::VectorOperation::add);
+              LA::MPI::Vector scaled_C = C[k], scaled_A = lid_alpha[i][k];
+              scaled_C *= -pressures[i] / 3.0;
+              scaled_A *= -pressures[i] / 3.0;
+              low_rank_u.push_back(scaled_C);
+              low_rank_v.push_back(lid_alpha[i][k]);
+              low_rank_u.push_back(scaled_A);
+              low_rank_v.push_back(C[k]);
+            }
+        }
     for (unsigned int i = 0; i < cavities.size(); ++i)
       if (lid_loaded(i))
         {

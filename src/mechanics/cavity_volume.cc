@@ -191,7 +191,8 @@ namespace systole::Mechanics
     const double                             scale,
     dealii::Vector<double>                  &vector,
     dealii::FullMatrix<double>              *matrix,
-    dealii::Tensor<1, 3>                    &area_sum)
+    dealii::Tensor<1, 3>                    &area_sum,
+    std::array<dealii::Vector<double>, 3>   *alpha)
   {
     const auto                       &fe         = fe_face.get_fe();
     const unsigned int                n          = fe.n_dofs_per_cell();
@@ -242,6 +243,12 @@ namespace systole::Mechanics
             vector(a) += weight * (phi_a * area[ca] + turn[a][ca]);
             if (matrix == nullptr)
               continue;
+            // alpha_k[phi_a] = int (da[phi_a])_k dA
+            if (alpha != nullptr)
+              for (unsigned int k = 0; k < 3; ++k)
+                (*alpha)[k](a) +=
+                  JxW * (A[k][ca][0] * grad[a][0] + A[k][ca][1] * grad[a][1] +
+                         A[k][ca][2] * grad[a][2]);
             for (unsigned int b = 0; b < n; ++b)
               {
                 const unsigned int cb = component[b];

@@ -157,16 +157,18 @@ namespace systole::Mechanics
     /// Rim fan, one endocardial face: with w = X + u - c and a = cof(F) N,
     /// adds @p scale times the face's part of dV/du and of d2V/du2 at fixed
     /// c,
-    /// @f[ v_a \mathrel{+}= -rac{s}{3}\int arphi_a\cdot a +
-    ///     w\cdot\partial a[arphi_a]\,dA, \quad M_{ab} \mathrel{+}=
-    ///     -rac{s}{3}\int arphi_a\cdot\partial a[arphi_b] +
-    ///     arphi_b\cdot\partial a[arphi_a] + w\cdot\partial^2 a[arphi_a,
-    ///     arphi_b]\,dA, @f]
-    /// with @f$w\cdot\partial^2 a[e_i g_a, e_j g_b] = (w\cdot(e_i	imes
-    /// e_j))(N\cdot(g_a	imes g_b))@f$, and adds @f$\int a\,dA@f$ to @p
-    /// area. The rest of dV/du is the lid's apex term (1/3)(int a dA) . dc; the
-    /// rest of d2V/du2, (1/3)(dc[phi] . da[psi] + dc[psi] . da[phi]), couples
-    /// the rim to the whole wall (low rank; not assembled).
+    /// @f[ v_a \mathrel{+}= -\frac{s}{3}\int \varphi_a\cdot a +
+    ///     w\cdot\partial a[\varphi_a]\,dA, \quad M_{ab} \mathrel{+}=
+    ///     -\frac{s}{3}\int \varphi_a\cdot\partial a[\varphi_b] +
+    ///     \varphi_b\cdot\partial a[\varphi_a] + w\cdot\partial^2 a[\varphi_a,
+    ///     \varphi_b]\,dA, @f]
+    /// with @f$w\cdot\partial^2 a[e_i g_a, e_j g_b] = (w\cdot(e_i\times
+    /// e_j))(N\cdot(g_a\times g_b))@f$, and adds @f$\int a\,dA@f$ to @p
+    /// area. The rest of dV/du is the lid's apex term (1/3)(int a dA) . dc;
+    /// the rest of d2V/du2, (1/3)(dc[phi] . alpha[psi] + dc[psi] .
+    /// alpha[phi]) with alpha[phi] = int da[phi] dA, couples the rim to the
+    /// whole wall (rank 6): with @p matrix and @p alpha, alpha_k[phi_b] is
+    /// added to (*alpha)[k](b) (unscaled).
     /// @param[in] fe_face values on the face (values, gradients, quadrature
     ///            points, normal vectors, JxW)
     static void
@@ -177,7 +179,8 @@ namespace systole::Mechanics
                  const double                             scale,
                  dealii::Vector<double>                  &vector,
                  dealii::FullMatrix<double>              *matrix,
-                 dealii::Tensor<1, 3>                    &area);
+                 dealii::Tensor<1, 3>                    &area,
+                 std::array<dealii::Vector<double>, 3>   *alpha = nullptr);
 
   private:
     Closure                    kind;

@@ -345,6 +345,7 @@ namespace systole::Mechanics
         m.linear_solver->setup(m.tangent,
                                m.pressure_matrix.get(),
                                m.augmentation.get());
+        m.factorize_low_rank();
         m.factorized_volume_derivatives.clear();
         m.factorized_volume_rows.clear();
         m.factorized_w.clear();

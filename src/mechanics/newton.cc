@@ -252,9 +252,7 @@ namespace systole::Mechanics
       {
         dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
         m.residual *= -1.0;
-        du = 0;
-        report.linear_iterations += m.linear_solver->solve(du, m.residual);
-        m.constraints.distribute(du);
+        report.linear_iterations += m.linear_solve(du, m.residual, 0, 0.0);
         return true;
       }
     catch (const dealii::ExceptionBase &)
@@ -666,6 +664,7 @@ namespace systole::Mechanics
         m.linear_solver->setup(m.tangent,
                                m.pressure_matrix.get(),
                                m.augmentation.get());
+        m.factorize_low_rank();
         // (Of K alone until the bordered update below stores B0, W0.)
         m.have_factorization = true;
         m.factorized_volume_derivatives.clear();

@@ -444,6 +444,33 @@ namespace systole::Mechanics
         augmentation->vmult(correction, dst);
         dst -= correction;
       }
+    for (unsigned int j = 0; j < low_rank_u.size(); ++j)
+      dst.add(low_rank_v[j] * src, low_rank_u[j]);
+  }
+
+  void
+  Problem::Impl::factorize_low_rank()
+  {
+    factorized_low_rank_v.clear();
+    factorized_low_rank_z.clear();
+    const unsigned int r = low_rank_u.size();
+    if (r == 0)
+      return;
+    std::vector<LA::MPI::Vector> z(r);
+    for (unsigned int j = 0; j < r; ++j)
+      {
+        z[j].reinit(owned, comm);
+        linear_solver->solve(z[j], low_rank_u[j]);
+        constraints.distribute(z[j]);
+      }
+    dealii::FullMatrix<double> small(r, r);
+    for (unsigned int i = 0; i < r; ++i)
+      for (unsigned int j = 0; j < r; ++j)
+        small(i, j) = (i == j ? 1.0 : 0.0) + low_rank_v[i] * z[j];
+    factorized_low_rank_inverse.reinit(r, r);
+    factorized_low_rank_inverse.invert(small);
+    factorized_low_rank_v = low_rank_v;
+    factorized_low_rank_z = std::move(z);
   }
 
   Problem::~Problem() = default;
@@ -459,6 +486,17 @@ namespace systole::Mechanics
         x                      = 0;
         const unsigned int its = linear_solver->solve(x, b);
         constraints.distribute(x);
+        // (K + U V^T)^-1 b = x - Z (I + V^T Z)^-1 V^T x (Woodbury).
+        const unsigned int r = factorized_low_rank_v.size();
+        if (r > 0)
+          {
+            dealii::Vector<double> y(r), s(r);
+            for (unsigned int j = 0; j < r; ++j)
+              y[j] = factorized_low_rank_v[j] * x;
+            factorized_low_rank_inverse.vmult(s, y);
+            for (unsigned int j = 0; j < r; ++j)
+              x.add(-s[j], factorized_low_rank_z[j]);
+          }
         return its;
       }
     catch (const dealii::ExceptionBase &e)

@@ -276,7 +276,22 @@ namespace systole::Mechanics
     /// volume_rows from volume_derivatives and the moving lids (after an
     /// assembly with the volume derivatives; collective).
     void
-                    update_volume_rows();
+    update_volume_rows();
+
+    /// The part of the tangent the sparse matrix does not hold: K = tangent
+    /// + sum_j low_rank_u[j] low_rank_v[j]^T (owned, condensed): the rank-6
+    /// coupling of each loaded lid's rim to its wall (Lid pressure), of the
+    /// last assembly with the matrix. Empty without.
+    std::vector<LA::MPI::Vector> low_rank_u, low_rank_v;
+    /// Of the factorized tangent (Woodbury): v_j, z_j = tangent^-1 u_j and
+    /// (I + V^T Z)^-1, applied by linear_solve().
+    std::vector<LA::MPI::Vector> factorized_low_rank_v, factorized_low_rank_z;
+    dealii::FullMatrix<double>   factorized_low_rank_inverse;
+    /// After linear_solver->setup(): the factorized low-rank data
+    /// (collective; nothing without a low-rank part).
+    void
+    factorize_low_rank();
+
     LA::MPI::Vector u_owned;    ///< owned
     LA::MPI::Vector u;          ///< ghosted copy of u_owned
     LA::MPI::Vector u_saved;    ///< owned

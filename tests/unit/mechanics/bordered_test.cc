@@ -73,6 +73,37 @@ TEST_CASE("With a base on springs the volume row is the derivative of the "
   CHECK(e2[1] < 1e-7);
 }
 
+TEST_CASE("With the pressure on the moving lid the bordered Jacobian is the "
+          "derivative of (R, V)",
+          "[mechanics][fd]")
+{
+  // The load p dV/du of the closed cavity: its tangent is the fan's face
+  // Hessian plus the rank-6 coupling of the rim to the wall (low_rank_u/v,
+  // applied by tangent_vmult and by Woodbury in the solves).
+  Setup s;
+  s.params.fixed_boundaries = {};
+  s.params.lid_pressure     = true;
+  s.params.robin_supports   = Mechanics::Parameters::parse_robin_supports(
+    "base: full, 0.5, 0; epicardium: normal, 0.2, 0, taper 0.4 0");
+  Mechanics::Problem problem(s.params,
+                             s.tria,
+                             s.names,
+                             2,
+                             2,
+                             s.law,
+                             s.volumetric,
+                             s.fibres,
+                             s.logger);
+  problem.set_displacement(Wobble());
+  const auto e1 = problem.bordered_jacobian_error(2.0, 10.0, 1e-3);
+  const auto e2 = problem.bordered_jacobian_error(2.0, 10.0, 5e-4);
+  INFO("row errors at h: " << e1[0] << ", " << e1[1] << "; at h/2: " << e2[0]
+                           << ", " << e2[1]);
+  CHECK(e2[0] < 1e-6);
+  CHECK(std::log2(e1[0] / e2[0]) == Approx(2.0).margin(0.2));
+  CHECK(e2[1] < 1e-7);
+}
+
 TEST_CASE("With the pressure on the moving lid the cavity exerts no net "
           "force",
           "[mechanics]")
