@@ -216,9 +216,10 @@ namespace systole::Mechanics
       "load is p dV/du of the closed cavity and the pressure exerts no net "
       "force on the ventricle (as the closed valves pass it to the annulus; "
       "energy-consistent, after Regazzoni et al. 2022, J Comput Phys "
-      "457:111083); the tangent then omits the low-rank coupling of the rim "
-      "to the wall. false: the pressure acts on the endocardium only (the "
-      "benchmark of Arostica et al. 2025).");
+      "457:111083); its tangent couples the rim to the whole wall (rank 6 "
+      "per cavity, applied by Woodbury in the solves). false: the pressure "
+      "acts on the endocardium only (the benchmark of Arostica et al. "
+      "2025).");
     prm.declare_entry("Active normal fraction",
                       "0",
                       Double(0.0, 1.0),
