@@ -194,14 +194,8 @@ namespace systole::Mechanics
     dealii::Tensor<1, 3>                    &area_sum,
     std::array<dealii::Vector<double>, 3>   *alpha)
   {
-    const auto                       &fe         = fe_face.get_fe();
-    const unsigned int                n          = fe.n_dofs_per_cell();
-    static constexpr int              perm[6][4] = {{0, 1, 2, 1},
-                                                    {1, 2, 0, 1},
-                                                    {2, 0, 1, 1},
-                                                    {0, 2, 1, -1},
-                                                    {2, 1, 0, -1},
-                                                    {1, 0, 2, -1}};
+    const auto                       &fe = fe_face.get_fe();
+    const unsigned int                n  = fe.n_dofs_per_cell();
     std::vector<unsigned int>         component(n);
     std::vector<dealii::Tensor<1, 3>> grad(n), turn(n);
     for (unsigned int a = 0; a < n; ++a)
@@ -222,9 +216,7 @@ namespace systole::Mechanics
         // A[i][j][K] = eps_ijk eps_JKL F_kL N_J: (da[e_j g])_i = A[i][j] . g.
         double A[3][3][3] = {};
         if (matrix != nullptr)
-          for (const auto &p : perm)
-            for (const auto &r : perm)
-              A[p[0]][p[1]][r[1]] += p[3] * r[3] * F[p[2]][r[2]] * N[r[0]];
+          area_derivative(F, N, A);
         for (unsigned int a = 0; a < n; ++a)
           {
             if (component[a] >= 3)

@@ -8,21 +8,35 @@
 namespace systole::Mechanics
 {
   void
+  area_derivative(const dealii::Tensor<2, 3> &F,
+                  const dealii::Tensor<1, 3> &N,
+                  double (&A)[3][3][3])
+  {
+    // Levi-Civita symbol as the six signed permutations.
+    static constexpr int perm[6][4] = {{0, 1, 2, 1},
+                                       {1, 2, 0, 1},
+                                       {2, 0, 1, 1},
+                                       {0, 2, 1, -1},
+                                       {2, 1, 0, -1},
+                                       {1, 0, 2, -1}};
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int K = 0; K < 3; ++K)
+          A[i][j][K] = 0.0;
+    for (const auto &p : perm)
+      for (const auto &r : perm)
+        A[p[0]][p[1]][r[1]] += p[3] * r[3] * F[p[2]][r[2]] * N[r[0]];
+  }
+
+  void
   add_volume_flux(const dealii::FEFaceValues<3, 3>        &fe_face,
                   const std::vector<dealii::Tensor<2, 3>> &grad_u,
                   const double                             scale,
                   dealii::Vector<double>                  &vector,
                   dealii::FullMatrix<double>              *matrix)
   {
-    const auto        &fe = fe_face.get_fe();
-    const unsigned int n  = fe.n_dofs_per_cell();
-    // Levi-Civita symbol as the six signed permutations.
-    static constexpr int              perm[6][4] = {{0, 1, 2, 1},
-                                                    {1, 2, 0, 1},
-                                                    {2, 0, 1, 1},
-                                                    {0, 2, 1, -1},
-                                                    {2, 1, 0, -1},
-                                                    {1, 0, 2, -1}};
+    const auto                       &fe = fe_face.get_fe();
+    const unsigned int                n  = fe.n_dofs_per_cell();
     std::vector<unsigned int>         component(n);
     std::vector<dealii::Tensor<1, 3>> grad(n);
     for (unsigned int b = 0; b < n; ++b)
@@ -35,17 +49,10 @@ namespace systole::Mechanics
         const double                JxW  = scale * fe_face.JxW(q);
         const dealii::Tensor<1, 3>  area = dealii::cofactor(F) * N;
 
-        // A[i][j][K] = eps_ijk eps_JKL F_kL N_J, so that
         // (dcof(F)[G] N)_i = A[i][j][K] G_jK.
         double A[3][3][3] = {};
         if (matrix != nullptr)
-          for (const auto &p : perm)
-            for (const auto &r : perm)
-              {
-                const int i = p[0], j = p[1], k = p[2];
-                const int J = r[0], K = r[1], L = r[2];
-                A[i][j][K] += p[3] * r[3] * F[k][L] * N[J];
-              }
+          area_derivative(F, N, A);
 
         // Only the displacement components (0-2) take part; a pressure field
         // of the mixed formulations (component 3) does not.

@@ -37,6 +37,14 @@ namespace systole::Mechanics
   /// @param[in] scale s
   /// @param[in,out] vector local vector v (size dofs_per_cell)
   /// @param[in,out] matrix local matrix M, or nullptr to skip it
+  /// The derivative of the area vector cof(F) N: A[i][j][K] = eps_ijk
+  /// eps_JKL F_kL N_J, so that (dcof(F)[e_j (x) g] N)_i = sum_K A[i][j][K]
+  /// g_K (cof F is quadratic in F).
+  void
+  area_derivative(const dealii::Tensor<2, 3> &F,
+                  const dealii::Tensor<1, 3> &N,
+                  double (&A)[3][3][3]);
+
   void
   add_volume_flux(const dealii::FEFaceValues<3, 3>        &fe_face,
                   const std::vector<dealii::Tensor<2, 3>> &grad_u,
