@@ -937,11 +937,41 @@ namespace systole::Mechanics
           }
       }
 
-    // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on
-    // every rim vertex (the rest of -p dV/du of the fan); with the matrix
-    // the rest of -p d2V/du2, -(p/3) sum_k (C_k A_k^T + A_k C_k^T) with
-    // C_k = dc_k/du (1/n_rim on the rim's DoFs of component k) and A_k =
-    // alpha_k: low_rank_u = -(p/3) [C, A], low_rank_v = [A, C].
+    add_lid_rim_terms(pressures, lid_area, lid_alpha, with_matrix);
+    if (with_matrix)
+      tangent.compress(dealii::VectorOperation::add);
+    if (with_pressure_matrix)
+      pressure_matrix->compress();
+    if (gamma > 0.0)
+      augmentation->compress(dealii::VectorOperation::add);
+    residual.compress(dealii::VectorOperation::add);
+    if (dynamic)
+      residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);
+    if (with_volume_derivative)
+      {
+        for (auto &b : volume_derivatives)
+          b.compress(dealii::VectorOperation::add);
+        update_volume_rows();
+      }
+
+    // An inverted element on any rank fails the step on every rank.
+    inverted = dealii::Utilities::MPI::max(inverted, comm);
+    AssertThrow(inverted == 0, ExcInvertedElement());
+    return residual.l2_norm();
+  }
+
+  // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on
+  // every rim vertex (the rest of -p dV/du of the fan); with the matrix
+  // the rest of -p d2V/du2, -(p/3) sum_k (C_k A_k^T + A_k C_k^T) with
+  // C_k = dc_k/du (1/n_rim on the rim's DoFs of component k) and A_k =
+  // alpha_k: low_rank_u = -(p/3) [C, A], low_rank_v = [A, C].
+  void
+  Problem::Impl::add_lid_rim_terms(
+    const dealii::Vector<double>                &pressures,
+    const std::vector<Tensor<1, 3>>             &lid_area,
+    std::vector<std::array<LA::MPI::Vector, 3>> &lid_alpha,
+    const bool                                   with_matrix)
+  {
     if (with_matrix)
       {
         low_rank_u.clear();
@@ -997,26 +1027,6 @@ namespace systole::Mechanics
               constraints.distribute_local_to_global(share, rim, residual);
             });
         }
-    if (with_matrix)
-      tangent.compress(dealii::VectorOperation::add);
-    if (with_pressure_matrix)
-      pressure_matrix->compress();
-    if (gamma > 0.0)
-      augmentation->compress(dealii::VectorOperation::add);
-    residual.compress(dealii::VectorOperation::add);
-    if (dynamic)
-      residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);
-    if (with_volume_derivative)
-      {
-        for (auto &b : volume_derivatives)
-          b.compress(dealii::VectorOperation::add);
-        update_volume_rows();
-      }
-
-    // An inverted element on any rank fails the step on every rank.
-    inverted = dealii::Utilities::MPI::max(inverted, comm);
-    AssertThrow(inverted == 0, ExcInvertedElement());
-    return residual.l2_norm();
   }
 
   void

@@ -287,6 +287,15 @@ namespace systole::Mechanics
     /// (I + V^T Z)^-1, applied by linear_solve().
     std::vector<LA::MPI::Vector> factorized_low_rank_v, factorized_low_rank_z;
     dealii::FullMatrix<double>   factorized_low_rank_inverse;
+    /// In assemble(), for every cavity whose lid is loaded: the lid's
+    /// force on the rim vertices into the residual (@p lid_area: this
+    /// rank's int cof(F) N dA of its wall) and, @p with_matrix, low_rank_u/v
+    /// from @p lid_alpha (this rank's int da[phi] dA, compressed here).
+    void
+    add_lid_rim_terms(const dealii::Vector<double>                &pressures,
+                      const std::vector<dealii::Tensor<1, 3>>     &lid_area,
+                      std::vector<std::array<LA::MPI::Vector, 3>> &lid_alpha,
+                      const bool                                   with_matrix);
     /// After linear_solver->setup(): the factorized low-rank data
     /// (collective; nothing without a low-rank part).
     void
