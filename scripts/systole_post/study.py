@@ -689,6 +689,7 @@ class Table:
     parameter_entries: dict[str, str]
     outputs: list[str]
     ranges: dict[str, tuple] = field(default_factory=dict)
+    logs: dict[str, bool] = field(default_factory=dict)
 
     @property
     def n_rows(self) -> int:
@@ -749,7 +750,8 @@ def gather(out_dir: str | Path, study: Study | None = None) -> Table:
                  parameter_entries={p.name: p.entry_text for p in study.parameters},
                  outputs=outputs,
                  ranges={p.name: (p.low, p.high) for p in study.parameters
-                         if p.low is not None})
+                         if p.low is not None},
+                 logs={p.name: p.log for p in study.parameters})
 
 
 def _study_from_meta(out_dir: Path, meta: dict) -> Study:
@@ -795,6 +797,7 @@ def write_table(out_dir: str | Path, table: Table) -> tuple[Path, Path]:
                 data.attrs["kind"] = "parameter"
                 if name in table.ranges:
                     data.attrs["range"] = np.asarray(table.ranges[name], dtype=float)
+                data.attrs["log"] = bool(table.logs.get(name, False))
             elif name in table.outputs:
                 data.attrs["kind"] = "output"
     os.replace(tmp, h5_path)
@@ -812,7 +815,7 @@ def read_table(path: str | Path) -> Table:
     path = Path(path)
     if path.is_dir():
         path = path / "table.h5"
-    columns, units, entries, outputs, ranges = {}, {}, {}, [], {}
+    columns, units, entries, outputs, ranges, logs = {}, {}, {}, [], {}, {}
     with h5py.File(path, "r") as h5file:
         for name, data in h5file["table"].items():
             if data.dtype.kind in "OSU":
@@ -825,9 +828,10 @@ def read_table(path: str | Path) -> Table:
                 entries[name] = str(data.attrs["entry"])
                 if "range" in data.attrs:
                     ranges[name] = tuple(float(v) for v in data.attrs["range"])
+                logs[name] = bool(data.attrs.get("log", False))
             elif kind == "output":
                 outputs.append(name)
-    return Table(columns, units, entries, outputs, ranges)
+    return Table(columns, units, entries, outputs, ranges, logs)
 
 
 # ----------------------------------------------------------------------------- command line
