@@ -14,6 +14,11 @@ A study file (TOML) names the base parameter file, the entries to vary and the d
     ranks = 1             # MPI ranks per case
     summary_rows = "last" # "last": one row per case (its last beat); "all": every beat
     timeseries_final = [] # /timeseries columns whose last value joins the table (final_<name>)
+    events = false        # true: the beat's valve events join the table, e.g.
+                          # valve1_closes_lv_pressure_mmHg (valve numbers as in /events)
+
+    [set]                 # entries set in every case (the same for all)
+    "Postprocess / List of postprocessors" = "ventricle function"
 
     [parameters.stiffness]               # column name in the table
     entry = "Material / Holzapfel-Ogden / a"
@@ -140,6 +145,8 @@ class Study:
     ranks: int = 1
     summary_rows: str = "last"
     timeseries_final: list[str] = field(default_factory=list)
+    events: bool = False
+    fixed: dict = field(default_factory=dict)
     text: str = ""
     base_text: str = ""
 
@@ -148,6 +155,7 @@ class Study:
         key = json.dumps({"design": self.design,
                           "parameters": [p.__dict__ | {"entry": list(p.entry)}
                                          for p in self.parameters],
+                          "set": {" / ".join(k): v for k, v in self.fixed.items()},
                           "base": self.base_text}, sort_keys=True, default=str)
         return hashlib.sha256(key.encode()).hexdigest()[:16]
 
@@ -198,7 +206,7 @@ def load_study(path: str | Path) -> Study:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise StudyError(f"{path}: {error}") from None
-    unknown = set(data) - {"base", "design", "run", "parameters", "description"}
+    unknown = set(data) - {"base", "design", "run", "parameters", "set", "description"}
     if unknown:
         raise StudyError(f"{path}: unknown key(s) {sorted(unknown)}")
     if "base" not in data:
@@ -223,7 +231,7 @@ def load_study(path: str | Path) -> Study:
     if clash:
         raise StudyError(f"{path}: parameter name(s) {sorted(clash)} are reserved")
     run = data.get("run", {})
-    unknown = set(run) - {"parallel", "ranks", "summary_rows", "timeseries_final"}
+    unknown = set(run) - {"parallel", "ranks", "summary_rows", "timeseries_final", "events"}
     if unknown:
         raise StudyError(f"{path}: unknown [run] key(s) {sorted(unknown)}")
     summary_rows = run.get("summary_rows", "last")
@@ -233,6 +241,8 @@ def load_study(path: str | Path) -> Study:
                  parallel=int(run.get("parallel", 1)), ranks=int(run.get("ranks", 1)),
                  summary_rows=summary_rows,
                  timeseries_final=list(run.get("timeseries_final", [])),
+                 events=bool(run.get("events", False)),
+                 fixed={split_entry(k): v for k, v in data.get("set", {}).items()},
                  text=text, base_text=base.read_text())
 
 
@@ -306,7 +316,8 @@ def set_entries(prm_text: str, entries: dict[tuple[str, ...], object],
             key = tuple(stack) + (" ".join(m.group(2).split()),)
             if key in norm:
                 found.add(key)
-                line = m.group(1) + m.group(2) + m.group(3) + format_value(norm[key])
+                line = (m.group(1) + m.group(2) + m.group(3) + format_value(norm[key])
+                        + m.group(5))
             elif base_dir is not None:
                 value = m.group(4)
                 if _looks_like_file(value) and (base_dir / value).is_file():
@@ -342,7 +353,8 @@ def _append_tree(out: list[str], entries: dict[tuple[str, ...], str], depth: int
 
 def case_prm(study: Study, values: dict, include_dir: Path) -> str:
     """The parameter file of one case: the base with its values and the study's output."""
-    entries = {p.entry: values[p.name] for p in study.parameters}
+    entries = dict(study.fixed)
+    entries.update({p.entry: values[p.name] for p in study.parameters})
     entries[("Output", "Directory")] = RESULTS_IN_CASE.parts[0]
     entries[("Output", "Run name")] = RESULTS_IN_CASE.parts[1]
     header = "# Written by systole-study from " + study.base.name + ": " + ", ".join(
@@ -737,6 +749,10 @@ def gather(out_dir: str | Path, study: Study | None = None) -> Table:
                     final["final_" + name] = float(results.timeseries[name][-1])
                     units.setdefault("final_" + name, results.units.get(name, ""))
             summary_rows = [row | final for row in summary_rows]
+            if study.events:
+                summary_rows = [row | _event_columns(case_dir / RESULTS_IN_CASE,
+                                                     row.get("beat"), units)
+                                for row in summary_rows]
         for row in summary_rows:
             for name in row:
                 if name not in outputs:
@@ -754,6 +770,32 @@ def gather(out_dir: str | Path, study: Study | None = None) -> Table:
                  logs={p.name: p.log for p in study.parameters})
 
 
+def _event_columns(path: Path, beat, units: dict) -> dict:
+    """The last event of each valve and direction in ``beat`` (all beats if None):
+    valve<V>_<opens|closes>_<column> for every /events column but beat, valve and opens
+    (valve<V>_<opens|closes>_time is the event's time)."""
+    row = {}
+    with h5py.File(path, "r") as h5file:
+        if "events" not in h5file:
+            return row
+        events = {name: data[()] for name, data in h5file["events"].items()}
+        event_units = {name: data.attrs.get("unit", b"") for name, data in
+                       h5file["events"].items()}
+    n = min(len(v) for v in events.values())
+    for i in range(n):
+        if beat is not None and events["beat"][i] != beat:
+            continue
+        prefix = f"valve{int(events['valve'][i])}_{'opens' if events['opens'][i] else 'closes'}"
+        for name, values in events.items():
+            if name in ("beat", "valve", "opens"):
+                continue
+            row[f"{prefix}_{name}"] = float(values[i])
+            unit = event_units[name]
+            units.setdefault(f"{prefix}_{name}",
+                             unit.decode() if isinstance(unit, bytes) else str(unit))
+    return row
+
+
 def _study_from_meta(out_dir: Path, meta: dict) -> Study:
     parameters = [Parameter(p["name"], split_entry(p["entry"]), p["low"], p["high"],
                             log=p["log"]) for p in meta["parameters"]]
@@ -762,7 +804,8 @@ def _study_from_meta(out_dir: Path, meta: dict) -> Study:
     return Study(path=out_dir / meta.get("study_file", "study.toml"), base=Path(meta["base"]),
                  parameters=parameters, design={}, text=text,
                  summary_rows=run.get("summary_rows", "last"),
-                 timeseries_final=list(run.get("timeseries_final", [])))
+                 timeseries_final=list(run.get("timeseries_final", [])),
+                 events=bool(run.get("events", False)))
 
 
 def _is_text_column(values: list) -> bool:

@@ -5,7 +5,7 @@ Usage: python fake_systole.py CASE.prm LAUNCH_LOG
 
 Subsection Fake of the .prm: x1, x2 (the inputs), Sleep (seconds before writing the
 results), Fail above (exit 1 with an error line on stderr when x1 exceeds it), Beats (rows
-of /summary). Every launch appends the case folder's name to LAUNCH_LOG.
+of /summary and valve events). Every launch appends the case folder's name to LAUNCH_LOG.
 """
 
 import sys
@@ -49,8 +49,14 @@ def main():
     summary = {"beat": list(range(beats)),
                "y": [x1 + 2 * x2 + beat for beat in range(beats)],
                "z_mL": [x1 * x2] * beats}
+    events = {"time": [], "beat": [], "valve": [], "opens": [], "lv_pressure_mmHg": []}
+    for beat in range(beats):  # valve 1 opens at pressure x1 and closes at x2 + beat
+        for opens, pressure in ((1, x1), (0, x2 + beat)):
+            for name, value in zip(events, (beat + 0.5 * opens, beat, 1, opens, pressure)):
+                events[name].append(value)
     write_results_file(out / "results.h5", {"time": [0.0, 1.0], "step": [0, 1],
-                                            "volume": [1.0, x1]}, summary=summary)
+                                            "volume": [1.0, x1]}, summary=summary,
+                       events=events)
     return 0
 
 

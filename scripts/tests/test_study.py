@@ -240,9 +240,23 @@ def test_table_gathers_parameters_and_summary_rows_in_csv_and_hdf5(tmp_path):
         assert h5file["table/x1"].attrs["entry"] == "Fake / x1"
         assert list(h5file["table/z_mL"][:4]) == [0.0, 1.0, 0.0, 2.0]
 
-    # summary_rows = "all": one row per case and beat.
+    # summary_rows = "all": one row per case and beat; with events, the beat's valve events.
     study_all = write_study(tmp_path, 'type = "grid"', GRID, fail_above=2.5, beats=2,
-                            run='summary_rows = "all"', name="all.toml")
+                            run='summary_rows = "all"\nevents = true', name="all.toml")
     table = st.gather(out, study_all)
     assert table.columns["case"][:3] == ["case_0000", "case_0000", "case_0001"]
     assert table.n_rows == 4 * 2 + 2
+    assert table.columns["valve1_closes_lv_pressure_mmHg"][2:4] == [1.0, 2.0]
+    assert table.columns["valve1_opens_time"][3] == 1.5
+    assert table.units["valve1_opens_lv_pressure_mmHg"] == "mmHg"
+
+
+def test_set_table_fixes_entries_of_every_case(tmp_path):
+    study = write_study(tmp_path, 'type = "grid"', GRID)
+    text = study.path.read_text() + '[set]\n"Fake / Beats" = 3\n"Time / End time" = 1.5\n'
+    study.path.write_text(text)
+    study = st.load_study(study.path)
+    st.prepare(study, tmp_path / "out")
+    prm = (tmp_path / "out" / "cases" / "case_0003" / "case.prm").read_text()
+    assert "  set Beats = 3\n" in prm and "  set x1 = 2   # the first input\n" in prm and "  set x2 = 1\n" in prm
+    assert "subsection Time\n  set End time = 1.5\nend\n" in prm
