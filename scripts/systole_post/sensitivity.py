@@ -50,6 +50,8 @@ class Emulator:
     high: np.ndarray
     log: np.ndarray
     gp: object
+    y_mean: float = 0.0
+    y_std: float = 1.0
     warnings: list[str] = field(default_factory=list)
 
     def to_unit(self, x: np.ndarray) -> np.ndarray:
@@ -61,7 +63,11 @@ class Emulator:
         return np.where(self.log, np.exp(x), x)
 
     def predict_unit(self, u: np.ndarray, return_std=False):
-        return self.gp.predict(np.atleast_2d(u), return_std=return_std)
+        """The emulator's mean (and standard deviation) at unit-cube points."""
+        if return_std:
+            mean, std = self.gp.predict(np.atleast_2d(u), return_std=True)
+            return mean * self.y_std + self.y_mean, std * self.y_std
+        return self.gp.predict(np.atleast_2d(u)) * self.y_std + self.y_mean
 
     def predict(self, x: np.ndarray, return_std=False):
         return self.predict_unit(self.to_unit(np.atleast_2d(x)), return_std)
@@ -88,13 +94,18 @@ def fit_emulator(x: np.ndarray, y: np.ndarray, low, high, log=None, seed: int = 
     kernel = (ConstantKernel(1.0, (1e-3, 1e3))
               * RBF(length_scale=np.full(d, 0.5), length_scale_bounds=(0.05, 1e3))
               + WhiteKernel(1e-4, (1e-8, 1e-1)))
-    gp = GaussianProcessRegressor(kernel=kernel, normalize_y=True,
+    # The outputs are standardized here rather than by normalize_y, so that
+    # latent_posterior can undo it without sklearn's private attributes.
+    y = np.asarray(y, float)
+    emulator.y_mean = float(y.mean())
+    emulator.y_std = float(y.std()) or 1.0
+    gp = GaussianProcessRegressor(kernel=kernel, normalize_y=False,
                                   n_restarts_optimizer=restarts, random_state=seed)
     with warnings.catch_warnings(record=True) as caught:
         # Hyperparameters at a bound (noise-free data: the smallest noise level) and
         # line-search stops of L-BFGS are expected; the cross-validation judges the fit.
         warnings.simplefilter("always", ConvergenceWarning)
-        gp.fit(u, np.asarray(y, float))
+        gp.fit(u, (y - emulator.y_mean) / emulator.y_std)
     emulator.gp = gp
     emulator.warnings = [str(w.message).splitlines()[0] for w in caught
                          if issubclass(w.category, ConvergenceWarning)]
@@ -234,12 +245,26 @@ def sobol_indices(function, d: int, n: int = 4096, seed: int = 0, confidence: fl
                         confidence, draws if posterior is not None else 0, extra)
 
 
+def latent_posterior(emulator: Emulator, points: np.ndarray):
+    """Mean and covariance of the emulated function at unit-cube ``points``, without the
+    white-noise term (which would add independent noise to every draw of the function)."""
+    from scipy.linalg import solve_triangular
+
+    gp = emulator.gp
+    signal_kernel = gp.kernel_.k1  # constant * RBF; k2 is the white noise
+    k_star = signal_kernel(points, gp.X_train_)
+    mean = k_star @ gp.alpha_
+    v = solve_triangular(gp.L_, k_star.T, lower=True)
+    cov = signal_kernel(points) - v.T @ v
+    return mean * emulator.y_std + emulator.y_mean, cov * emulator.y_std**2
+
+
 def emulator_sobol(emulator: Emulator, n: int = 4096, seed: int = 0, draws: int = 64,
                    **kwargs) -> SobolIndices:
     """Sobol indices of the emulator's mean, with its posterior uncertainty in the CIs."""
 
     def posterior(points):
-        return emulator.gp.predict(points, return_cov=True)
+        return latent_posterior(emulator, points)
 
     return sobol_indices(emulator.predict_unit, len(emulator.low), n, seed,
                          posterior=posterior if draws else None, draws=draws, **kwargs)
