@@ -881,7 +881,8 @@ def read_table(path: str | Path) -> Table:
 
 
 def check_entries(study: Study, systole: str) -> None:
-    """Refuse entries that Systole does not declare (``systole --print-parameters``)."""
+    """Refuse varied or [set] entries that Systole does not declare (``systole
+    --print-parameters``)."""
     try:
         text = subprocess.run([systole, "--print-parameters"], capture_output=True, text=True,
                               check=True, timeout=60).stdout
@@ -889,6 +890,7 @@ def check_entries(study: Study, systole: str) -> None:
         return  # no binary to ask: the cases will report the error
     known = parameter_paths(text)
     unknown = [p.entry_text for p in study.parameters if p.entry not in known]
+    unknown += [" / ".join(entry) for entry in study.fixed if entry not in known]
     if unknown:
         raise StudyError(f"Systole declares no entry {', '.join(unknown)}")
 

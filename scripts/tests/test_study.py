@@ -260,3 +260,13 @@ def test_set_table_fixes_entries_of_every_case(tmp_path):
     prm = (tmp_path / "out" / "cases" / "case_0003" / "case.prm").read_text()
     assert "  set Beats = 3\n" in prm and "  set x1 = 2   # the first input\n" in prm and "  set x2 = 1\n" in prm
     assert "subsection Time\n  set End time = 1.5\nend\n" in prm
+
+
+@pytest.mark.parametrize("recipe", sorted((SCRIPTS.parent / "parameters" / "studies")
+                                          .glob("*.toml")), ids=lambda p: p.stem)
+def test_every_recipe_loads_and_makes_its_design(recipe, tmp_path):
+    study = st.load_study(recipe)
+    design = st.make_design(study)
+    assert design and study.base.is_file()
+    prm = st.case_prm(study, design[0], tmp_path)
+    assert st.parameter_paths(prm) >= {p.entry for p in study.parameters} | set(study.fixed)
