@@ -619,13 +619,19 @@ def run_study(study: Study, out_dir: str | Path, parallel: int | None = None,
     running: list[_Running] = []
     counts = {"done": 0, "failed": 0, "skipped": skipped, "run": 0}
 
+    # The handler only records the signal: raising from it could interrupt Popen after
+    # the fork, leaving a case running that the study does not know about.
+    stop = []
+
     def on_signal(signum, frame):
-        raise Interrupted(signal.Signals(signum).name)
+        stop.append(signal.Signals(signum).name)
 
     old_handlers = {sig: signal.signal(sig, on_signal) for sig in (signal.SIGTERM, signal.SIGINT)}
     try:
         while pending or running:
-            while pending and len(running) < parallel:
+            if stop:
+                raise Interrupted(stop[0])
+            while pending and len(running) < parallel and not stop:
                 index = pending.pop(0)
                 case_dir = out_dir / "cases" / case_name(index)
                 (case_dir / "status.json").unlink(missing_ok=True)
