@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
 """Draw the pressure-volume loops and the cardiac-cycle traces of a Systole results file.
 
-    pv_loop.py RESULTS.h5 [-o OUT_PREFIX]
+    pv_loop.py RESULTS.h5 [-o OUT_PREFIX] [--full] [--report REPORT.html]
 
 Writes OUT_PREFIX_loop.png (one panel per cavity: its pressure against its volume, one
 curve per beat, segments coloured by the cavity's phase) and OUT_PREFIX_traces.png (the
 cavity and vessel pressures of the left and the right heart, the cavity volumes and the
 valve flows against time, the first ventricle's phases shaded), prints the paths written,
-then the per-beat /summary as aligned text: a table per ventricle, the pressures of the
-last beat, the other columns. Default OUT_PREFIX: "pv" next to the results file
-(pv_loop.png, pv_traces.png).
+then the per-beat /summary in at most 100 columns: a table per ventricle (split into column
+groups), the pressures of the last beat, what the blood-volume drift means, and where the
+other columns are (--full prints them all, wide). Default OUT_PREFIX: "pv" next to the
+results file (pv_loop.png, pv_traces.png).
 
 Reads the files of Problem = heartbeat and Problem = circulation: a cavity is every prefix
 c with time-series columns c_pressure_mmHg and c_volume_mL (optional c_phase,
@@ -264,6 +265,94 @@ def format_summary(results: Results) -> str:
     return "\n".join(lines)
 
 
+#: Width of the terminal summary (scripts/run's last screen), in characters.
+TERMINAL_WIDTH = 100
+
+
+def _split_table(title: str, headers: list[str], cells: list[list[str]], width: int
+                 ) -> list[str]:
+    """An aligned table split into column groups that fit ``width`` characters, the first
+    column (the beat) repeated in each; titles after the first say "(continued)"."""
+    widths = [max([len(h)] + [len(row[j]) for row in cells]) for j, h in enumerate(headers)]
+    groups, current, used = [], [], widths[0]
+    for j in range(1, len(headers)):
+        if current and used + 2 + widths[j] > width:
+            groups.append(current)
+            current, used = [], widths[0]
+        current.append(j)
+        used += 2 + widths[j]
+    groups.append(current)
+    lines = []
+    for k, group in enumerate(groups):
+        columns = [0] + group
+        lines.append(title if k == 0 else title.rstrip(":") + " (continued):")
+        lines += _aligned([headers[j] for j in columns],
+                          [[row[j] for j in columns] for row in cells])
+    return lines
+
+
+def _wrap(text: str, width: int, indent: str = "  ") -> list[str]:
+    import textwrap
+
+    return textwrap.wrap(text, width, subsequent_indent=indent, break_on_hyphens=False)
+
+
+def blood_volume_note(results: Results) -> str | None:
+    """What total_blood_volume_drift means for this run: a conservation check of the closed
+    loop, or the change of the blood in an open (Windkessel) model, not an error."""
+    summary = results.summary
+    if "total_blood_volume_drift" not in summary:
+        return None
+    drift = float(np.nanmax(summary["total_blood_volume_drift"]))
+    closed = len(find_cavities(results.timeseries)) > 1
+    if closed:
+        return (f"total blood volume: largest relative change within a beat {drift:.2g} "
+                "(the closed loop conserves it: this is a conservation check)")
+    return (f"total blood volume (ventricle + arteries) changes by up to {100 * drift:.3g} % "
+            "within a beat: the Windkessel is an open system (blood comes in from the "
+            "atrium, leaves through the peripheral resistance), not a conservation error")
+
+
+def format_terminal_summary(results: Results, width: int = TERMINAL_WIDTH,
+                            report: str | Path | None = None) -> str:
+    """The short summary for the terminal, no line longer than ``width``: the table per
+    ventricle (split into column groups), the pressures of the last beat, the meaning of the
+    blood-volume drift, and where the other per-beat columns are (the report and /summary)."""
+    summary = results.summary
+    if not summary:
+        return f"{results.path}: no /summary table"
+    n_rows = len(next(iter(summary.values())))
+    beats = summary.get("beat", np.arange(n_rows))
+    groups = summary_groups(summary)
+    units = results.summary_units
+    lines = []
+    for name, columns in groups.ventricles.items():
+        label = name.upper() if name else "cavity"
+        headers = ["beat [-]"] + [f"{heading} [{unit or units.get(column) or '-'}]"
+                                  for column, heading, unit in columns]
+        cells = [[_format_value(beats[row])] +
+                 [_format_value(summary[column][row]) for column, _, _ in columns]
+                 for row in range(n_rows)]
+        lines += _split_table(f"{label}, per beat:", headers, cells, width)
+    if groups.pressures:
+        cells = [[name] + [_format_value(summary[f"{name}_{s}_mmHg"][-1])
+                           for s in PRESSURE_STATISTICS] for name in groups.pressures]
+        lines += [f"pressures [mmHg] in beat {_format_value(beats[-1])}:"]
+        lines += _aligned(["pressure"] + list(PRESSURE_STATISTICS), cells, left_first=True)
+    note = blood_volume_note(results)
+    if note:
+        lines += _wrap(note, width)
+    if groups.others:
+        n = len(groups.others)
+        aha = sum(1 for c in groups.others if c.startswith("aha_"))
+        kinds = (f"{aha} of the AHA segments, " if aha else "") + \
+            "periodicity, cost, postprocessors"
+        where = f"the report ({report})" if report else "the report (scripts/report.py)"
+        lines += _wrap(f"{n} more per-beat column{'s' if n > 1 else ''} ({kinds}): in "
+                       f"{where} and in /summary of {results.path}", width)
+    return "\n".join(lines)
+
+
 def write_pv_plots(results: Results | str | Path, prefix: str | Path) -> list[Path]:
     """Write PREFIX_loop.png and PREFIX_traces.png; returns the paths written."""
     if not isinstance(results, Results):
@@ -283,6 +372,10 @@ def main(argv=None) -> int:
     parser.add_argument("results", type=Path, help="results file (HDF5)")
     parser.add_argument("-o", "--output", type=Path, metavar="OUT_PREFIX",
                         help="prefix of the PNGs (default: 'pv' next to RESULTS)")
+    parser.add_argument("--full", action="store_true",
+                        help="print every /summary column (wide tables) instead of the "
+                        f"summary that fits {TERMINAL_WIDTH} columns")
+    parser.add_argument("--report", help="where the report is (named in the summary)")
     args = parser.parse_args(argv)
     prefix = args.output or args.results.parent / "pv"
     try:
@@ -293,7 +386,10 @@ def main(argv=None) -> int:
         return 1
     for path in written:
         print(path)
-    print(format_summary(results))
+    if args.full:
+        print(format_summary(results))
+    else:
+        print(format_terminal_summary(results, report=args.report))
     return 0
 
 

@@ -27,7 +27,8 @@ from matplotlib.figure import Figure
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from pv_loop import format_summary, make_loop_figure, make_traces_figure  # noqa: E402
+from pv_loop import (blood_volume_note, format_summary, make_loop_figure,  # noqa: E402
+                     make_traces_figure)
 from systole_post.bullseye import has_aha, make_bullseye_figure  # noqa: E402
 from systole_post.results import Results, read_results  # noqa: E402
 
@@ -276,6 +277,9 @@ def build_report(path: str | Path) -> str:
         parts += ["<h2>AHA segments</h2>", png(make_bullseye_figure(results))]
     if results.summary:
         parts += ["<h2>Beats</h2>", beat_table(results)]
+        note = blood_volume_note(results)
+        if note:
+            parts.append(f"<p>{html.escape(note[0].upper() + note[1:])}.</p>")
         try:
             parts.append("<pre>" + html.escape(format_summary(results)) + "</pre>")
         except (KeyError, ValueError):

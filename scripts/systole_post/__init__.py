@@ -10,6 +10,9 @@ Modules:
 - :mod:`systole_post.fibres`: plots the helix-angle profile written by ``systole-fibres``.
 - :mod:`systole_post.bullseye`: AHA 17-segment bull's-eye plots of the "AHA segments"
   postprocessor's /summary columns.
+- :mod:`systole_post.study`: ``systole-study``: designed parameter studies of a base .prm,
+  run N at a time and resumable, gathered into one table.
+- :mod:`systole_post.sensitivity`: Gaussian-process emulator and Sobol indices of a study.
 """
 
 from systole_post.results import Results, ResultsError, read_results

@@ -120,8 +120,14 @@ def test_script_writes_pngs_and_prints_paths_and_table(cycle_file, tmp_path):
         data = (tmp_path / "out" / name).read_bytes()
         assert data[:8] == PNG_MAGIC
         assert len(data) > 5000
+    # The terminal summary: the cavity's table, then where the other column is.
     assert lines[2] == "cavity, per beat:"
-    assert len(lines) == 2 + 8
+    assert lines[2:6] == format_summary(read_results(cycle_file)).splitlines()[:4]
+    assert " ".join(lines[6:]).startswith("1 more per-beat column (periodicity")
+    # --full: every column, as in the report.
+    done = subprocess.run([sys.executable, str(SCRIPT), str(cycle_file), "-o", str(prefix),
+                           "--full"], cwd=tmp_path, capture_output=True, text=True)
+    assert done.stdout.splitlines()[2:] == format_summary(read_results(cycle_file)).splitlines()
 
 
 def test_script_default_prefix_next_to_results(make_results, tmp_path):

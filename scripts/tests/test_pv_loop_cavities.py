@@ -6,6 +6,7 @@ import re
 import subprocess
 import sys
 
+import h5py
 import numpy as np
 import pytest
 from matplotlib.colors import to_rgba
@@ -14,7 +15,8 @@ from circulation_files import (CLOSED_LOOP_PRESSURES, LV_SUMMARY, RV_PRESSURE_FA
                                RV_SUMMARY, RV_VOLUME_SHIFT, WINDKESSEL_PRESSURES,
                                closed_loop_file, heartbeat_file, windkessel_file)
 from conftest import SCRIPTS_DIR
-from pv_loop import NO_PHASE_COLOUR, PHASES, format_summary, make_loop_figure, make_traces_figure
+from pv_loop import (NO_PHASE_COLOUR, PHASES, format_summary,  # noqa: E402
+                     format_terminal_summary, make_loop_figure, make_traces_figure)
 from systole_post.cavities import Cavity, find_cavities, summary_groups, ventricles
 from systole_post.results import read_results
 
@@ -223,3 +225,30 @@ def test_script_on_a_closed_loop_file(tmp_path):
     assert "LV, per beat:" in lines and "RV, per beat:" in lines
     for name in ("cl_loop.png", "cl_traces.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("fixture", ["windkessel", "closed_loop", "heartbeat"])
+def test_terminal_summary_fits_100_columns_and_keeps_the_haemodynamics(fixture, request):
+    results = request.getfixturevalue(fixture)
+    with h5py.File(results.path, "a") as h5file:  # the AHA segments make the wide tables
+        for segment in range(1, 18):
+            data = h5file.create_dataset(f"summary/aha_{segment:02d}_activation_time",
+                                         data=np.full(2, 10.0 * segment))
+            data.attrs["unit"] = "ms"
+    results = read_results(results.path)
+    assert max(len(line) for line in format_summary(results).splitlines()) > 100
+    text = format_terminal_summary(results, report="results/run/report.html")
+    assert max(len(line) for line in text.splitlines()) <= 100
+    found = tables(text.split("pressures [mmHg]")[0])
+    # Every ventricle column of the wide table is in one of the split tables, per beat.
+    wide = tables(format_summary(results))
+    for title, rows in wide.items():
+        if title == "per beat:" or not title.endswith("per beat:"):
+            continue
+        parts = [rs for t, rs in found.items() if t.startswith(title[:-1])]
+        assert len(parts) >= 2  # split into column groups
+        assert [{k: v for part in parts for k, v in part[i].items()}
+                for i in range(len(rows))] == rows
+    assert "17 of the AHA segments" in text and "results/run/report.html" in text
+    conservation = "conservation check" in text
+    assert conservation == (fixture == "closed_loop")

@@ -44,12 +44,12 @@ namespace systole::Fibres
                     : std::to_string(iterations) + " CG iterations";
     };
     o << std::fixed << std::setprecision(2) << "Rule-based fibres: " << element
-      << ", " << n_dofs << " DOFs per solve; transmural "
+      << ", " << n_dofs << " DOFs per solve; apex at " << describe(apex)
+      << " mm\n  transmural "
       << solver(transmural_iterations, transmural_direct) << ", "
       << transmural_seconds << " s; apicobasal "
       << solver(apicobasal_iterations, apicobasal_direct) << ", "
-      << apicobasal_seconds << " s; set-up " << setup_seconds << " s; apex at "
-      << describe(apex) << " mm";
+      << apicobasal_seconds << " s; set-up " << setup_seconds << " s";
     if (n_tangled_cells > 0)
       o << ". WARNING: " << n_tangled_cells
         << " cell(s) of the mesh have a non-positive Jacobian at a quadrature "

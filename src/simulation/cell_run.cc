@@ -80,7 +80,7 @@ namespace systole
       std::ostringstream o;
       o << IO::code_version() << ": problem '" << run.problem << "', "
         << model.name() << " (" << model.n_states() << " states, "
-        << model.n_gates() << " gates by Rush-Larsen), step " << ep.time_step
+        << model.n_gates() << " gates by Rush-Larsen)\n  step " << ep.time_step
         << " ms, paced every " << pacing.period << " ms";
       if (with_tension)
         o << "; " << tension_model->name() << " tension at stretch "

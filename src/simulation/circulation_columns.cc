@@ -89,16 +89,19 @@ namespace systole
   {
     std::ostringstream o;
     o << std::fixed << std::setprecision(1) << "Beat " << beat << ":";
+    // One cavity per line after the first (the closed loop has four), so
+    // that no line exceeds 100 columns.
     for (const auto &cavity : model.cavities())
       {
         const std::string n = cavity.name + "_";
-        o << " " << cavity.name << " EDV "
-          << summary_value(summary, n + "EDV_mL") << " mL, ESV "
-          << summary_value(summary, n + "ESV_mL") << " mL, EF "
+        o << (&cavity == &model.cavities().front() ? " " : "\n  ")
+          << cavity.name << " EDV " << summary_value(summary, n + "EDV_mL")
+          << " mL, ESV " << summary_value(summary, n + "ESV_mL") << " mL, EF "
           << summary_value(summary, n + "EF") << " %, peak "
           << summary_value(summary, n + "peak_pressure_mmHg") << " mmHg;";
       }
-    o << " EDV change " << std::defaultfloat << std::setprecision(2)
+    o << (model.cavities().size() > 1 ? "\n  " : " ") << "EDV change "
+      << std::defaultfloat << std::setprecision(2)
       << 100 * summary_value(summary, "EDV_change") << " %";
     const double sv_difference = summary_value(summary, "SV_difference");
     if (!std::isnan(sv_difference))

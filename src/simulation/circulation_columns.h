@@ -41,10 +41,11 @@ namespace systole
                       const dealii::Vector<double> &y,
                       const dealii::Vector<double> &cavity_pressures);
 
-  /// "Beat k: lv EDV .. mL, ESV .. mL, EF .. %, peak .. mmHg; ... EDV change
+  /// "Beat k: lv EDV .. mL, ESV .. mL, EF .. %, peak .. mmHg; EDV change
   /// .. %[, stroke volumes .. % apart]" from a summary row of
   /// Circulation::ModelBeatRecorder (the stroke volumes for cavities in
-  /// series).
+  /// series); with several cavities, each after the first and the EDV change
+  /// on an indented line of its own (lines under 100 columns).
   std::string
   beat_log_line(const Circulation::Model                      &model,
                 const unsigned int                             beat,

@@ -47,12 +47,12 @@ namespace systole
     {
       std::ostringstream o;
       o << IO::code_version() << ": problem '" << run.problem << "', model '"
-        << model->name() << "', " << model->n_states() << " states, "
+        << model->name() << "'\n  " << model->n_states() << " states, "
         << model->n_cavities() << " cavities (";
       for (unsigned int c = 0; c < model->n_cavities(); ++c)
         o << (c > 0 ? ", " : "") << model->cavities()[c].name;
       o << "), up to " << circulation.n_max_beats << " beats of " << period
-        << " ms, output every " << interval << " ms, relative tolerance "
+        << " ms\n  output every " << interval << " ms, relative tolerance "
         << settings.relative_tolerance;
       logger.line(o.str());
     }
@@ -182,12 +182,13 @@ namespace systole
     std::ostringstream o;
     o << n_beats << " beat(s)" << (periodic ? ", periodic" : "") << "; "
       << stats.steps << " ARKode steps, " << stats.rhs_evaluations
-      << " right-hand sides, " << stats.jacobian_evaluations << " Jacobians, "
-      << stats.error_test_failures << " error test failures, " << n_events
-      << " valve events; " << std::setprecision(3) << wall
-      << " s; blood volume " << std::setprecision(6)
-      << Units::mm3_to_mL(total_volume_0) << " mL, largest relative change "
-      << std::setprecision(2) << std::scientific << largest_drift;
+      << " right-hand sides, " << stats.jacobian_evaluations
+      << " Jacobians,\n  " << stats.error_test_failures
+      << " error test failures, " << n_events << " valve events; "
+      << std::setprecision(3) << wall << " s\n  blood volume "
+      << std::setprecision(6) << Units::mm3_to_mL(total_volume_0)
+      << " mL, largest relative change " << std::setprecision(2)
+      << std::scientific << largest_drift;
     logger.line(o.str());
     results.write_statistics(
       {{"beats", "-", static_cast<double>(n_beats)},

@@ -60,7 +60,7 @@ namespace systole
         << tria.n_global_active_cells() << " " << kind.name() << ", "
         << (kind.simplex() ? "P" : "Q") << params.degree << ", " << ep.n_dofs()
         << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
-        << " rank(s), " << params.ionic_model->name();
+        << " rank(s)\n  " << params.ionic_model->name();
       logger.line(o.str());
     }
 

@@ -504,7 +504,9 @@ namespace systole
         postprocess.end_beat(&times_in_beat, row);
         results.append_summary(row);
         std::ostringstream o;
-        o << beat_log_line(model, beat, summary) << "; " << steps_in_beat
+        // Two lines (or one per cavity and one more), so that the last screen
+        // of a run fits 100 columns.
+        o << beat_log_line(model, beat, summary) << "\n  " << steps_in_beat
           << " steps, " << total_solves << " mechanics solves, "
           << total_iterations << " Newton iterations" << activation.str();
         logger.line(o.str());
@@ -796,7 +798,7 @@ namespace systole
       Circulation::create_model(prm, ventricle_names);
     const Circulation::Model &zero_d           = *circulation_model;
     const Vector              unloaded_volumes = problem.cavity_volumes();
-    std::string               unloaded         = ", unloaded cavit";
+    std::string               unloaded         = "\n  unloaded cavit";
     unloaded += unloaded_volumes.size() == 1 ? "y" : "ies";
     for (unsigned int a = 0; a < unloaded_volumes.size(); ++a)
       unloaded +=
@@ -1018,12 +1020,13 @@ namespace systole
     std::ostringstream o;
     o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
       << (stats.periodic ? ", periodic" : ", not yet periodic") << "; "
-      << stats.n_steps << " steps, " << stats.n_solves << " coupled solves ("
-      << stats.n_error_rejections << " redone for the error, "
-      << stats.n_event_rejections << " to locate valve events, "
-      << stats.n_failures << " failed), " << stats.n_newton_iterations
-      << " Newton iterations; " << ventricles.mechanics_seconds
-      << " s in the mechanics of " << wall << " s";
+      << stats.n_steps << " steps, " << stats.n_solves << " coupled solves, "
+      << stats.n_newton_iterations
+      << " Newton iterations\n  solves redone: " << stats.n_error_rejections
+      << " for the error, " << stats.n_event_rejections
+      << " to locate valve events; " << stats.n_failures << " failed\n  "
+      << ventricles.mechanics_seconds << " s in the mechanics of " << wall
+      << " s";
     logger.line(o.str());
     if (n_checkpoints > 0)
       {
@@ -1031,7 +1034,7 @@ namespace systole
         c << std::fixed << std::setprecision(3) << n_checkpoints
           << " checkpoint(s), " << checkpoint_seconds / n_checkpoints
           << " s per checkpoint, " << problem.n_dofs()
-          << " mechanics DOFs; the last in " << store.list().front();
+          << " mechanics DOFs;\n  the last in " << store.list().front();
         logger.line(c.str());
       }
     if (stats.interrupted)
@@ -1044,9 +1047,9 @@ namespace systole
         e << std::fixed << std::setprecision(2)
           << "Electrophysiology: " << s.steps << " ARKode steps ("
           << static_cast<double>(s.steps) / std::max(1ul, stats.n_steps)
-          << " per accepted mechanics step), " << s.seconds
+          << " per accepted mechanics step),\n  " << s.seconds
           << " s integrating, " << ep->transfer_seconds()
-          << " s reading it at the mechanics points; of the " << wall
+          << " s reading it at the mechanics points;\n  of the " << wall
           << " s of the cycle " << 100 * ventricles.ep_seconds / wall
           << " % in EP, " << 100 * ventricles.mechanics_seconds / wall
           << " % in the mechanics";

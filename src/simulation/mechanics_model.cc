@@ -107,12 +107,14 @@ namespace systole
   MechanicsModel::banner(const RunParameters &run) const
   {
     std::ostringstream o;
+    // Three lines, each under 100 columns (the start of a short run's only
+    // screen).
     o << IO::code_version() << ": problem '" << run.problem << "', "
-      << tria.n_global_active_cells() << " cells, "
-      << problem->discretization_name() << ", " << problem->n_dofs()
+      << tria.n_global_active_cells() << " cells, " << problem->n_dofs()
       << " DOFs, "
       << dealii::Utilities::MPI::n_mpi_processes(tria.get_communicator())
-      << " rank(s), " << passive->name() << ", linear solver "
+      << " rank(s)\n  " << problem->discretization_name() << ", "
+      << passive->name() << "\n  linear solver "
       << problem->linear_solver_name();
     return o.str();
   }
