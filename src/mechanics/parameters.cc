@@ -46,10 +46,10 @@ namespace systole::Mechanics
     parse_supports(const std::string &text)
     {
       const std::string form =
-        "' is not of the form 'part: normal|tangential|full, stiffness "
-        "[kPa/mm], damping [kPa ms/mm]' or 'part: normal|tangential|full, "
-        "stiffness, damping, taper h0 s_base' (0 <= h0 < 1, 0 <= s_base <= "
-        "1).";
+        "' is not of the form 'part: normal|tangential|full [r], stiffness "
+        "[kPa/mm], damping [kPa ms/mm]' or 'part: normal|tangential|full [r], "
+        "stiffness, damping, taper h0 s_base' (r >= 0, 0 <= h0 < 1, 0 <= "
+        "s_base <= 1).";
       std::vector<RobinSupport> supports;
       for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
         {
@@ -61,24 +61,36 @@ namespace systole::Mechanics
           s.boundary = dealii::Utilities::trim(item.substr(0, colon));
           const auto values =
             dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
+          const auto type =
+            values.empty() ?
+              std::vector<std::string>() :
+              dealii::Utilities::break_text_into_lines(values[0], 1);
           AssertThrow(!s.boundary.empty() &&
                         (values.size() == 3 || values.size() == 4) &&
-                        (values[0] == "normal" || values[0] == "tangential" ||
-                         values[0] == "full"),
+                        ((type.size() == 1 &&
+                          (type[0] == "normal" || type[0] == "tangential")) ||
+                         ((type.size() == 1 || type.size() == 2) &&
+                          type[0] == "full")),
                       dealii::ExcMessage("Mechanics / Robin supports: '" +
                                          item + form));
-          s.normal_only     = values[0] == "normal";
-          s.tangential_only = values[0] == "tangential";
+          s.normal_only     = type[0] == "normal";
+          s.tangential_only = type[0] == "tangential";
           bool valid        = true;
           try
             {
+              if (type.size() == 2)
+                {
+                  s.normal_fraction =
+                    dealii::Utilities::string_to_double(type[1]);
+                  valid = s.normal_fraction >= 0;
+                }
               s.stiffness = dealii::Utilities::string_to_double(values[1]);
               s.damping   = dealii::Utilities::string_to_double(values[2]);
               if (values.size() == 4)
                 {
                   const auto taper =
                     dealii::Utilities::break_text_into_lines(values[3], 1);
-                  valid = taper.size() == 3 && taper[0] == "taper";
+                  valid = valid && taper.size() == 3 && taper[0] == "taper";
                   if (valid)
                     {
                       s.taper_start =
@@ -177,7 +189,8 @@ namespace systole::Mechanics
       "traction -(alpha u + beta v) per reference area on the normal "
       "component (normal: ((alpha u + beta v).N) N), on the tangential ones "
       "(tangential: a base that may descend but not slide or turn) or on all "
-      "components (full). "
+      "components (full; 'full r' scales the normal stiffness and damping "
+      "by r: a base held against turning more than against descending). "
       "alpha in kPa/mm (1 Pa/m = 1e-6 kPa/mm), beta in kPa ms/mm "
       "(1 Pa s/m = 1e-3 kPa ms/mm); the benchmark of Arostica et al. 2025: "
       "'epicardium: normal, 100, 5; base: full, 0.1, 5'. An optional fourth "
@@ -538,7 +551,7 @@ namespace systole::Mechanics
     if (normal_only)
       return nn;
     const dealii::Tensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-    return tangential_only ? I - nn : I;
+    return tangential_only ? I - nn : I - (1.0 - normal_fraction) * nn;
   }
 
   double

@@ -36,8 +36,11 @@ namespace systole::Mechanics
     /// The tangential components only (a base that may descend along its
     /// normal but not slide or turn); normal_only is false then.
     bool tangential_only = false;
+    /// For a full support: the normal stiffness and damping as a fraction of
+    /// the tangential ones ('full r'; 1: the same in every direction).
+    double normal_fraction = 1.0;
     /// The projection onto the supported components at unit normal @p N:
-    /// N x N, I - N x N, or I.
+    /// N x N, I - N x N, or I - (1 - r) N x N.
     dealii::Tensor<2, 3>
     projection(const dealii::Tensor<1, 3> &N) const;
 

@@ -39,7 +39,8 @@ TEST_CASE("A support acts on the normal, the tangential or all components",
           "[mechanics]")
 {
   const auto supports = Mechanics::Parameters::parse_robin_supports(
-    "a: normal, 1, 0; b: tangential, 1, 0; c: full, 1, 0");
+    "a: normal, 1, 0; b: tangential, 1, 0; c: full, 1, 0; d: full 0.25, 1, "
+    "0, taper 0.5 0.2");
   const dealii::Tensor<1, 3> N({0.6, 0, 0.8});
   const dealii::Tensor<1, 3> u({1, 2, 3});
   // (u.N) N = 3 N; u - 3 N; u.
@@ -48,13 +49,21 @@ TEST_CASE("A support acts on the normal, the tangential or all components",
   CHECK((supports[0].projection(N) * u - normal).norm() < 1e-15);
   CHECK((supports[1].projection(N) * u - (u - normal)).norm() < 1e-15);
   CHECK((supports[2].projection(N) * u - u).norm() < 1e-15);
+  // 'full 0.25': a quarter of the stiffness along the normal.
+  REQUIRE(supports.size() == 4);
+  CHECK(supports[3].normal_fraction == 0.25);
+  CHECK(supports[3].base_scale == 0.2);
+  CHECK((supports[3].projection(N) * u - (u - 0.75 * normal)).norm() < 1e-15);
 }
 
 TEST_CASE("A malformed taper names the item and the form", "[mechanics]")
 {
   for (const std::string item : {"epicardium: normal, 1, 0, taper 1.2 0",
                                  "epicardium: normal, 1, 0, taper 0.5",
-                                 "epicardium: normal, 1, 0, slope 0.5 0"})
+                                 "epicardium: normal, 1, 0, slope 0.5 0",
+                                 "base: full -1, 1, 0, taper 0.5 0",
+                                 "base: tangential 0.5, 1, 0, taper 0.5 0",
+                                 "base: full x, 1, 0, taper 0.5 0"})
     {
       INFO(item);
       std::string message;
