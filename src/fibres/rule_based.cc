@@ -57,6 +57,41 @@ namespace systole::Fibres
     return o.str();
   }
 
+  WallFrame
+  wall_frame(const FieldValue       &phi,
+             const FieldValue       &psi,
+             const dealii::Point<3> &where,
+             const std::string      &what)
+  {
+    WallFrame w;
+    w.transmural   = phi.value;
+    w.apicobasal   = psi.value;
+    const double g = phi.gradient.norm();
+    AssertThrow(std::isfinite(g) && g > 0,
+                dealii::ExcMessage(
+                  what + ": the transmural gradient vanishes at " +
+                  describe(where) + " (is the wall connected?)."));
+    w.e_t = phi.gradient / g;
+    // The wall-tangent part of grad psi. It vanishes only on the long axis
+    // (the apex), where any tangent will do, as in the analytic rule.
+    const dealii::Tensor<1, 3> &grad_psi = psi.gradient;
+    dealii::Tensor<1, 3>        tangent = grad_psi - (grad_psi * w.e_t) * w.e_t;
+    w.degenerate = !(tangent.norm() > 1e-6 * grad_psi.norm());
+    if (w.degenerate)
+      {
+        unsigned int k = 0;
+        for (unsigned int d = 1; d < 3; ++d)
+          if (std::abs(w.e_t[d]) < std::abs(w.e_t[k]))
+            k = d;
+        dealii::Tensor<1, 3> axis;
+        axis[k] = 1.0;
+        tangent = axis - (axis * w.e_t) * w.e_t;
+      }
+    w.e_l = tangent / tangent.norm();
+    w.e_c = dealii::cross_product_3d(w.e_l, w.e_t);
+    return w;
+  }
+
   struct WallCoordinates::Impl
   {
     explicit Impl(const dealii::Triangulation<3, 3> &tria)
@@ -196,35 +231,7 @@ namespace systole::Fibres
 
     frames.resize(points.size());
     for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        WallFrame &w   = frames[i];
-        w.transmural   = phi[i].value;
-        w.apicobasal   = psi[i].value;
-        const double g = phi[i].gradient.norm();
-        AssertThrow(
-          std::isfinite(g) && g > 0,
-          dealii::ExcMessage(
-            "Rule-based fibres: the transmural gradient vanishes at " +
-            describe(points[i]) + " (is the wall connected?)."));
-        w.e_t = phi[i].gradient / g;
-        // The wall-tangent part of grad psi. It vanishes only on the long
-        // axis (the apex), where any tangent will do, as in the analytic rule.
-        const dealii::Tensor<1, 3> &grad_psi = psi[i].gradient;
-        dealii::Tensor<1, 3> tangent = grad_psi - (grad_psi * w.e_t) * w.e_t;
-        w.degenerate = !(tangent.norm() > 1e-6 * grad_psi.norm());
-        if (w.degenerate)
-          {
-            unsigned int k = 0;
-            for (unsigned int d = 1; d < 3; ++d)
-              if (std::abs(w.e_t[d]) < std::abs(w.e_t[k]))
-                k = d;
-            dealii::Tensor<1, 3> axis;
-            axis[k] = 1.0;
-            tangent = axis - (axis * w.e_t) * w.e_t;
-          }
-        w.e_l = tangent / tangent.norm();
-        w.e_c = dealii::cross_product_3d(w.e_l, w.e_t);
-      }
+      frames[i] = wall_frame(phi[i], psi[i], points[i], "Rule-based fibres");
   }
 
   RuleBased::RuleBased(const Parameters                  &params,

@@ -5,6 +5,7 @@
 #include <deal.II/grid/tria.h>
 
 #include "fibres/fibre_basis.h"
+#include "fibres/laplace_fields.h"
 #include "geometry/boundary_names.h"
 
 #include <memory>
@@ -35,6 +36,17 @@ namespace systole::Fibres
     /// apex: e_l is then an arbitrary tangent.
     bool degenerate = false;
   };
+
+  /// The wall frame at @p where of the transmural field @p phi and the
+  /// apicobasal field @p psi (values and gradients there): e_t along
+  /// grad phi, e_l the wall-tangent part of grad psi (any tangent where
+  /// grad psi is normal to the wall: degenerate), e_c = e_l x e_t. Throws if
+  /// grad phi vanishes (@p what names the caller in the message).
+  WallFrame
+  wall_frame(const FieldValue       &phi,
+             const FieldValue       &psi,
+             const dealii::Point<3> &where,
+             const std::string      &what);
 
   /// How the apicobasal coordinate psi is defined.
   enum class ApicobasalField

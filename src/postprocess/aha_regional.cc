@@ -33,6 +33,8 @@ namespace systole::Postprocess
     std::vector<double> sums(17 * 4, 0.0);
     for (unsigned int c = 0; c < data.points->size(); ++c)
       {
+        if (!data.in_wall(c))
+          continue;
         const auto &points = (*data.points)[c];
         for (unsigned int q = 0; q < points.size(); ++q)
           {
@@ -96,7 +98,7 @@ namespace systole::Postprocess
       for (unsigned int c = 0; c < data.points->size(); ++c)
         {
           const auto &points = (*data.points)[c];
-          if (points.empty())
+          if (points.empty() || !data.in_wall(c))
             continue;
           for (unsigned int q = 0; q < points.size(); ++q)
             {

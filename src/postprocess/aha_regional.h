@@ -17,7 +17,8 @@ namespace systole::Postprocess
   /// - aha_NN_activation_time: the volume-weighted mean activation time in
   ///   the beat [ms] of the segment's activated points (NaN if none or
   ///   without activation).
-  /// The segment of a quadrature point is that of its reference position.
+  /// The segment of a quadrature point is that of its reference position;
+  /// only the points of the LV wall count (StepData::in_wall()).
   class AhaRegional : public Postprocessor
   {
   public:
@@ -48,9 +49,9 @@ namespace systole::Postprocess
     using PointValues =
       std::function<std::array<double, 3>(unsigned int, unsigned int)>;
 
-    /// Means of @p value over every segment, weighted by the points'
-    /// reference volume (JxW), NaN for a segment without points
-    /// (collective): [segment - 1][component].
+    /// Means of @p value over every segment's points of the LV wall,
+    /// weighted by the points' reference volume (JxW), NaN for a segment
+    /// without points (collective): [segment - 1][component].
     static SegmentValues
     segment_means(const StepData &data, const PointValues &value);
 

@@ -11,11 +11,12 @@ namespace systole::Postprocess
 {
   namespace
   {
-    /// The point of the locally owned cells' vertices (on faces of @p id, or
-    /// all with id = invalid) farthest along -@p e from @p origin, over all
-    /// ranks: its distance and position.
+    /// The point of the vertices of the locally owned cells of @p wall (on
+    /// faces of @p id, or all with id = invalid) farthest along -@p e from
+    /// @p origin, over all ranks: its distance and position.
     std::pair<double, dealii::Point<3>>
     farthest(const dealii::Triangulation<3, 3> &tria,
+             const LvWall                      &wall,
              const dealii::types::boundary_id   id,
              const dealii::Point<3>            &origin,
              const dealii::Tensor<1, 3>        &e)
@@ -23,7 +24,7 @@ namespace systole::Postprocess
       double           best = -std::numeric_limits<double>::max();
       dealii::Point<3> where;
       for (const auto &cell : tria.active_cell_iterators())
-        if (cell->is_locally_owned())
+        if (cell->is_locally_owned() && wall.contains(cell))
           for (const unsigned int f : cell->face_indices())
             if (id == dealii::numbers::invalid_boundary_id ||
                 (cell->face(f)->at_boundary() &&
@@ -62,6 +63,7 @@ namespace systole::Postprocess
   AhaSegments::Axis
   AhaSegments::axis_of(const dealii::Triangulation<3, 3> &tria,
                        const Geometry::BoundaryNames     &names,
+                       const LvWall                      &wall,
                        const dealii::Tensor<1, 3>        &reference)
   {
     const auto base = Geometry::boundary_plane(tria, names.id("base"), "base");
@@ -69,10 +71,12 @@ namespace systole::Postprocess
     // The normal's sign is arbitrary: the apex lies below the base.
     axis.direction        = base.normal / base.normal.norm();
     auto       far        = farthest(tria,
+                        wall,
                         dealii::numbers::invalid_boundary_id,
                         base.point,
                         axis.direction);
     const auto other_side = farthest(tria,
+                                     wall,
                                      dealii::numbers::invalid_boundary_id,
                                      base.point,
                                      -axis.direction);
@@ -86,9 +90,12 @@ namespace systole::Postprocess
     AssertThrow(axis.length > 0,
                 dealii::ExcMessage("AHA segments: the mesh has no apex below "
                                    "its base plane."));
-    const auto endo =
-      farthest(tria, names.id("endocardium"), base.point, axis.direction);
-    axis.cap_level = 1.0 - endo.first / axis.length;
+    const auto endo = farthest(tria,
+                               wall,
+                               names.id(wall.endocardium()),
+                               base.point,
+                               axis.direction);
+    axis.cap_level  = 1.0 - endo.first / axis.length;
     const dealii::Tensor<1, 3> in_plane =
       reference - (reference * axis.direction) * axis.direction;
     AssertThrow(in_plane.norm() > 1e-6 * reference.norm() &&

@@ -6,6 +6,8 @@
 
 #include "geometry/boundary_names.h"
 
+#include "postprocess/lv_wall.h"
+
 #include <string>
 
 namespace systole::Postprocess
@@ -43,15 +45,16 @@ namespace systole::Postprocess
 
     explicit AhaSegments(const Axis &axis);
 
-    /// The axis of the ventricle @p tria with boundary parts "base" and
-    /// "endocardium": the base plane, its farthest vertex (the apex) and
-    /// the endocardium's farthest vertex (the cap level); @p reference
-    /// projected onto the plane orthogonal to the axis. Collective. Throws
-    /// if a part is missing or @p reference is (nearly) parallel to the
-    /// axis.
+    /// The axis of the left ventricle @p wall of @p tria: the plane of the
+    /// boundary part "base", the vertex of the LV wall's cells farthest from
+    /// it (the apex) and the farthest vertex of the LV endocardium (the cap
+    /// level); @p reference projected onto the plane orthogonal to the axis.
+    /// Collective. Throws if a part is missing or @p reference is (nearly)
+    /// parallel to the axis.
     static Axis
     axis_of(const dealii::Triangulation<3, 3> &tria,
             const Geometry::BoundaryNames     &names,
+            const LvWall                      &wall,
             const dealii::Tensor<1, 3>        &reference);
 
     const Axis &

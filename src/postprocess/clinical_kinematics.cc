@@ -169,6 +169,8 @@ namespace systole::Postprocess
           for (unsigned int k = 0; k < 3; ++k)
             e[k] = (p.F * directions[c][q][k]).norm() - 1.0;
           strains[c].push_back(e);
+          if (!data.in_wall(c))
+            continue;
           const bool endocardial =
             (*data.frames)[c][q].transmural < endocardial_layer;
           for (unsigned int k = 0; k < 3; ++k)

@@ -14,7 +14,10 @@ namespace systole::Postprocess
 {
   /// The kinematics of the left ventricle as echocardiography and MRI
   /// report them ("clinical kinematics"), referred to the end-diastolic (ED)
-  /// state of each beat (docs/architecture.md, "Clinical kinematics").
+  /// state of each beat (docs/architecture.md, "Clinical kinematics"). The
+  /// wall is the LV wall of StepData::in_wall() (of two ventricles: the LV
+  /// free wall and the septum), its rings, apex and base those of
+  /// VentricleShape, the volume that of the LV cavity.
   ///
   /// Strain along a unit direction e of the cardiac frame in the ED
   /// configuration: the Lagrangian engineering strain referred to ED,

@@ -9,11 +9,14 @@
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/numerics/data_out.h>
 
-#include "fibres/rule_based.h"
-
 #include "postprocess/factory.h"
+#include "postprocess/lv_wall.h"
 
+#include <algorithm>
+#include <iomanip>
 #include <optional>
+#include <set>
+#include <sstream>
 
 namespace systole::Postprocess
 {
@@ -31,7 +34,9 @@ namespace systole::Postprocess
         " Fields are written with the others every Output / Field output "
         "interval steps; strain, AHA segments, clinical kinematics and "
         "ventricle function need a left ventricle (boundary parts "
-        "endocardium, epicardium, base).");
+        "endocardium, epicardium, base) or two ventricles (lv_endocardium, "
+        "rv_endocardium, epicardium, base), where they measure the LV wall "
+        "(the LV free wall and the septum) and the first cavity (the LV).");
     prm.enter_subsection("AHA segments");
     prm.declare_entry(
       "Reference direction",
@@ -41,8 +46,9 @@ namespace systole::Postprocess
       "segments is measured from it (projected onto the plane normal to the "
       "long axis), counter-clockwise seen from the apex, so that 0 degrees "
       "is the centre of segments 1 (basal anterior), 7 and 13, and 90 "
-      "degrees the septum (segments 2-3, 8-9, 14). Units: - (a direction; "
-      "its length does not matter).");
+      "degrees the septum (segments 2-3, 8-9, 14; on two ventricles the "
+      "run stops if the RV lies outside 45 to 135 degrees). Units: - (a "
+      "direction; its length does not matter).");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -110,58 +116,89 @@ namespace systole::Postprocess
       if (postprocessors.empty())
         return;
       const bool ventricle =
-        needs.cardiac_frame || needs.segments || needs.areas;
+        needs.cardiac_frame || needs.segments || needs.areas || needs.vertices;
       if (ventricle)
-        for (const char *part : {"endocardium", "epicardium", "base"})
-          AssertThrow(names.has(part),
-                      dealii::ExcMessage(
-                        "Postprocess / List of postprocessors: strain, AHA "
-                        "segments, clinical kinematics and ventricle function "
-                        "need a left ventricle, "
-                        "but " +
-                        names.source() + " has no boundary part named '" +
-                        part + "'."));
+        lv_wall.emplace(tria, names, needs.cardiac_frame, logger);
       std::vector<std::vector<dealii::Point<3>>> points;
       problem.quadrature_points(points);
       if (needs.cardiac_frame)
         {
-          wall.emplace(Fibres::WallCoordinates::Parameters(),
-                       tria,
-                       names,
-                       logger);
           frames.assign(points.size(), {});
           std::vector<Fibres::WallFrame> wf;
           for (const auto &cell : tria.active_cell_iterators())
             if (cell->is_locally_owned())
               {
                 const auto c = cell->active_cell_index();
-                wall->evaluate(cell, points[c], wf);
+                lv_wall->frames(cell, points[c], wf);
                 for (const auto &w : wf)
                   frames[c].push_back({w.e_c, w.e_l, w.e_t, w.transmural});
               }
         }
       if (needs.segments)
         {
-          aha.emplace(
-            AhaSegments::axis_of(tria, names, params.reference_direction));
+          aha.emplace(AhaSegments::axis_of(tria,
+                                           names,
+                                           *lv_wall,
+                                           params.reference_direction));
+          if (lv_wall->biventricular())
+            check_septum();
           // The segment of a point: that of its reference position.
           std::vector<std::vector<Mechanics::PointState>> s;
           problem.point_states(s);
           point_segments.assign(points.size(), {});
-          for (unsigned int c = 0; c < s.size(); ++c)
-            {
-              std::array<bool, 17> in_cell{};
-              for (const auto &p : s[c])
-                {
-                  const unsigned int segment = aha->segment(p.position);
-                  point_segments[c].push_back(segment);
-                  segment_volume[segment - 1] += p.JxW;
-                  in_cell[segment - 1] = true;
-                }
-              for (unsigned int k = 0; k < 17; ++k)
-                segment_count[k] += in_cell[k] ? 1 : 0;
-            }
+          for (const auto &cell : tria.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                const auto           c       = cell->active_cell_index();
+                const bool           counted = lv_wall->contains(cell);
+                std::array<bool, 17> in_cell{};
+                for (const auto &p : s[c])
+                  {
+                    const unsigned int segment = aha->segment(p.position);
+                    point_segments[c].push_back(segment);
+                    if (counted)
+                      {
+                        segment_volume[segment - 1] += p.JxW;
+                        in_cell[segment - 1] = true;
+                      }
+                  }
+                for (unsigned int k = 0; k < 17; ++k)
+                  segment_count[k] += in_cell[k] ? 1 : 0;
+              }
         }
+      if (needs.vertices && lv_wall->biventricular())
+        for (const auto &cell : tria.active_cell_iterators())
+          if (!cell->is_artificial() && lv_wall->contains(cell))
+            for (const unsigned int v : cell->vertex_indices())
+              wall_vertices.insert(std::array<double, 3>{
+                {cell->vertex(v)[0], cell->vertex(v)[1], cell->vertex(v)[2]}});
+    }
+
+    /// Two ventricles: the septum (the side of the RV's centroid) must lie
+    /// in the septal segments, about 90 degrees from the reference
+    /// direction.
+    void
+    check_septum() const
+    {
+      const double degrees = aha->angle(lv_wall->rv_centroid()) * 180 / M_PI;
+      if (degrees >= 45 && degrees <= 135)
+        return;
+      // The reference that puts the septum at 90 degrees: s x (-e), s the
+      // septum's direction in the short-axis plane.
+      const auto          &axis = aha->axis();
+      dealii::Tensor<1, 3> s    = lv_wall->rv_centroid() - axis.apex;
+      s -= (s * axis.direction) * axis.direction;
+      const dealii::Tensor<1, 3> reference =
+        dealii::cross_product_3d(s / s.norm(), -axis.direction);
+      std::ostringstream o;
+      o << std::fixed << std::setprecision(3)
+        << "Postprocess / AHA segments / Reference "
+        << "direction: the septum of the two ventricles (toward the RV) lies "
+        << "at " << degrees << " degrees from it, outside the septal "
+        << "segments (45 to 135 degrees); set it to " << reference[0] << ", "
+        << reference[1] << ", " << reference[2]
+        << " to put the septum at 90 degrees.";
+      AssertThrow(false, dealii::ExcMessage(o.str()));
     }
 
     void
@@ -184,7 +221,19 @@ namespace systole::Postprocess
                                frames.empty() ? nullptr : &frames[c][q]));
           }
       if (needs.vertices)
-        vertices = problem.vertex_states();
+        {
+          vertices = problem.vertex_states();
+          if (lv_wall->biventricular())
+            vertices.erase(std::remove_if(vertices.begin(),
+                                          vertices.end(),
+                                          [&](const auto &v) {
+                                            return wall_vertices.count(
+                                                     {{v.reference[0],
+                                                       v.reference[1],
+                                                       v.reference[2]}}) == 0;
+                                          }),
+                           vertices.end());
+        }
       data               = StepData();
       data.time          = time;
       data.beat          = beat;
@@ -202,10 +251,15 @@ namespace systole::Postprocess
         }
       if (needs.vertices)
         data.vertices = &vertices;
+      if (lv_wall && lv_wall->biventricular())
+        data.wall_cells = &lv_wall->cells();
       if (needs.areas)
         {
-          data.endocardial_area = problem.deformed_area("endocardium");
-          data.epicardial_area  = problem.deformed_area("epicardium");
+          data.endocardial_area = problem.deformed_area(lv_wall->endocardium());
+          data.epicardial_area =
+            lv_wall->epicardium().empty()
+              ? 0.0
+              : problem.deformed_area(lv_wall->epicardium());
         }
     }
 
@@ -277,17 +331,19 @@ namespace systole::Postprocess
     Needs                                                 needs;
     std::vector<std::pair<Postprocessor *, unsigned int>> fields;
     std::vector<std::string>                              field_names;
-    std::optional<Fibres::WallCoordinates>                wall;
-    std::vector<std::vector<CardiacFrame>>                frames;
-    std::optional<AhaSegments>                            aha;
-    std::vector<std::vector<unsigned int>>                point_segments;
-    std::array<double, 17>                                segment_volume{};
-    std::array<unsigned int, 17>                          segment_count{};
-    std::vector<std::vector<Mechanics::PointState>>       states;
-    std::vector<std::vector<PointQuantities>>             quantities;
-    std::vector<Mechanics::VertexState>                   vertices;
-    StepData                                              data;
-    bool                                                  evaluated = false;
+    std::optional<LvWall>                                 lv_wall;
+    /// Two ventricles: the reference positions of the LV wall's vertices.
+    std::set<std::array<double, 3>>                 wall_vertices;
+    std::vector<std::vector<CardiacFrame>>          frames;
+    std::optional<AhaSegments>                      aha;
+    std::vector<std::vector<unsigned int>>          point_segments;
+    std::array<double, 17>                          segment_volume{};
+    std::array<unsigned int, 17>                    segment_count{};
+    std::vector<std::vector<Mechanics::PointState>> states;
+    std::vector<std::vector<PointQuantities>>       quantities;
+    std::vector<Mechanics::VertexState>             vertices;
+    StepData                                        data;
+    bool                                            evaluated = false;
 
     /// Nodal fields: continuous linear elements of the mesh's cell shape.
     const std::unique_ptr<dealii::FiniteElement<3, 3>> fe_storage =
@@ -422,6 +478,15 @@ namespace systole::Postprocess
     for (const auto i : v.locally_owned_elements())
       values.push_back(v(i));
     return values;
+  }
+
+  const LvWall &
+  Manager::wall() const
+  {
+    AssertThrow(impl->lv_wall.has_value(),
+                dealii::ExcMessage("Postprocess: no postprocessor needs the "
+                                   "ventricle."));
+    return *impl->lv_wall;
   }
 
   const AhaSegments &

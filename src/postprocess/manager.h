@@ -50,10 +50,13 @@ namespace systole::Postprocess
   class Manager
   {
   public:
-    /// @p problem and @p names must outlive this object. Solves for the
-    /// wall coordinates (Fibres::WallCoordinates) if a postprocessor needs
-    /// the cardiac frame; throws a clear error if the mesh has no
-    /// endocardium, epicardium or base and one needs them.
+    /// @p problem and @p names must outlive this object. If a postprocessor
+    /// needs the ventricle, finds the wall of the left ventricle (LvWall:
+    /// the whole mesh of a left ventricle, the LV free wall and the septum
+    /// of two ventricles) and solves for its frame if one needs the cardiac
+    /// frame; throws a clear error if the mesh has neither kind of
+    /// ventricle, or (two ventricles) if the RV lies outside the septal
+    /// segments of the AHA reference direction.
     Manager(const Parameters              &params,
             const Mechanics::Problem      &problem,
             const Geometry::BoundaryNames &names,
@@ -113,6 +116,11 @@ namespace systole::Postprocess
     /// attach_output(), this rank's owned nodes.
     std::vector<double>
     nodal_values(const std::string &name) const;
+
+    /// Verification: the wall of the left ventricle (throws unless a
+    /// postprocessor needs the ventricle).
+    const LvWall &
+    wall() const;
 
     /// The AHA segments (throws unless a postprocessor needs them).
     const AhaSegments &

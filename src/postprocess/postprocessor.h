@@ -19,8 +19,8 @@ namespace systole::Postprocess
   {
     bool cardiac_frame = false; ///< the wall coordinates' frame per point
     bool segments      = false; ///< the AHA geometry and the cell segments
-    bool vertices      = false; ///< reference and deformed vertices
-    bool areas         = false; ///< deformed endocardial, epicardial areas
+    bool vertices      = false; ///< reference and deformed vertices (LV wall)
+    bool areas         = false; ///< deformed LV endocardial, epicardial areas
   };
 
   /// The state of the run at one accepted step, as the postprocessors see
@@ -41,10 +41,27 @@ namespace systole::Postprocess
     const AhaSegments                            *segments = nullptr;
     /// The segment (1 ... 17) of every point (of its reference position).
     const std::vector<std::vector<unsigned int>> *point_segments = nullptr;
-    const std::vector<Mechanics::VertexState>    *vertices       = nullptr;
-    double   endocardial_area = 0; ///< deformed [mm^2]
-    double   epicardial_area  = 0; ///< deformed [mm^2]
-    MPI_Comm comm             = MPI_COMM_WORLD;
+    /// The reference and deformed vertices of the LV wall's cells.
+    const std::vector<Mechanics::VertexState> *vertices = nullptr;
+    /// Per active cell index, whether the cell is in the wall of the left
+    /// ventricle (LvWall: the LV free wall and the septum of two
+    /// ventricles); null: every cell (a left ventricle).
+    const std::vector<bool> *wall_cells = nullptr;
+    /// Deformed area of the LV endocardium [mm^2].
+    double endocardial_area = 0;
+    /// Deformed area of the LV's epicardium [mm^2]; 0 where the LV wall has
+    /// none of its own (two ventricles: the epicardium and the septum's RV
+    /// side bound it).
+    double   epicardial_area = 0;
+    MPI_Comm comm            = MPI_COMM_WORLD;
+
+    /// Whether the points of locally owned cell @p cell (active cell index)
+    /// are in the wall of the left ventricle.
+    bool
+    in_wall(const unsigned int cell) const
+    {
+      return wall_cells == nullptr || (*wall_cells)[cell];
+    }
   };
 
   /// One postprocessor: fields (a scalar per point of PointQuantities),

@@ -84,9 +84,10 @@ namespace systole::Postprocess
         sums[ring == 1 ? 9 : 11] += 1;
       }
     double volume = 0;
-    for (const auto &cell : *data.points)
-      for (const auto &p : cell)
-        volume += dealii::determinant(p.F) * p.JxW;
+    for (unsigned int c = 0; c < data.points->size(); ++c)
+      if (data.in_wall(c))
+        for (const auto &p : (*data.points)[c])
+          volume += dealii::determinant(p.F) * p.JxW;
     std::vector<double> totals(12);
     dealii::Utilities::MPI::sum(sums, data.comm, totals);
     volume = dealii::Utilities::MPI::sum(volume, data.comm);
@@ -104,7 +105,9 @@ namespace systole::Postprocess
     shape.apical_rotation = totals[8] / totals[9];
     shape.basal_rotation  = totals[10] / totals[11];
     shape.thickness =
-      2 * volume / (data.endocardial_area + data.epicardial_area);
+      data.epicardial_area > 0
+        ? 2 * volume / (data.endocardial_area + data.epicardial_area)
+        : volume / data.endocardial_area;
     return shape;
   }
 

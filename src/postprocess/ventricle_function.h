@@ -4,13 +4,15 @@
 
 namespace systole::Postprocess
 {
-  /// The shape of the ventricle at one step, from its vertices and its wall
-  /// (ventricle_shape()).
+  /// The shape of the left ventricle at one step, from the vertices and the
+  /// points of its wall (LvWall: the whole mesh of a left ventricle, the LV
+  /// free wall and the septum of two ventricles; ventricle_shape()).
   struct VentricleShape
   {
     /// The deformed epicardial apex (the vertex at the reference apex) [mm].
     dealii::Point<3> apex;
-    /// The mean deformed position of the base vertices [mm].
+    /// The mean deformed position of the LV wall's base vertices (of two
+    /// ventricles: the mitral side, without the RV free wall) [mm].
     dealii::Point<3> base;
     /// The mean rotation [rad] from the reference about the long axis
     /// (counter-clockwise seen from the apex) of the vertices of the apical
@@ -19,7 +21,8 @@ namespace systole::Postprocess
     double apical_rotation = 0, basal_rotation = 0;
     /// The mean wall thickness T = 2 V_wall / (A_endo + A_epi) [mm]: the
     /// deformed wall volume over the mean of the deformed endocardial and
-    /// epicardial areas.
+    /// epicardial areas; T = V_wall / A_endo for two ventricles (the LV
+    /// wall has no epicardium of its own: StepData::epicardial_area = 0).
     double thickness = 0;
   };
 

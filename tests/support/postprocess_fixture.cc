@@ -1,6 +1,7 @@
 #include "support/postprocess_fixture.h"
 
 #include "geometry/mesh.h"
+#include "geometry/mesh_file.h"
 #include "support/mechanics_fixture.h"
 #include "support/random_tensors.h"
 
@@ -33,7 +34,8 @@ namespace test_support
 
   PostprocessVentricle::PostprocessVentricle(
     const std::vector<std::string>    &names,
-    const systole::Fibres::FibreBasis &basis)
+    const systole::Fibres::FibreBasis &basis,
+    const std::string                 &mesh_file)
     : logger(MPI_COMM_WORLD, sink)
     , law(test_guccione_parameters())
     , volumetric(systole::Materials::VolumetricLaw::Form::simo_taylor, 100.0)
@@ -46,11 +48,19 @@ namespace test_support
     geometry.lv_shape.epi_long_radius   = 92;
     geometry.lv_cells.circumferential   = 16;
     geometry.lv_cells.longitudinal      = 5;
-    boundary_names           = systole::Geometry::create_mesh(geometry, tria);
-    params.fixed_boundaries  = {};
-    params.pressure_boundary = "endocardium";
-    params.linear_solver     = "direct";
-    problem                  = std::make_unique<systole::Mechanics::Problem>(
+    if (mesh_file.empty())
+      {
+        boundary_names = systole::Geometry::create_mesh(geometry, tria);
+        params.pressure_boundary = "endocardium";
+      }
+    else
+      {
+        boundary_names = systole::Geometry::read_gmsh(mesh_file, 1.0, tria);
+        params.pressure_boundary = "lv_endocardium, rv_endocardium";
+      }
+    params.fixed_boundaries = {};
+    params.linear_solver    = "direct";
+    problem                 = std::make_unique<systole::Mechanics::Problem>(
       params,
       tria,
       boundary_names,

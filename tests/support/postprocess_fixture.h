@@ -31,14 +31,16 @@ namespace test_support
     std::function<dealii::Tensor<1, 3>(const dealii::Point<3> &)>;
 
   /// The ventricle of the default run (parameters/lv_heartbeat.prm: 16 x 5
-  /// cells, Q2 on MappingQ2) with one uniform fibre frame, no Dirichlet
-  /// boundary (the prescribed displacements stay exact), and the
-  /// postprocessors @p names.
+  /// cells, Q2 on MappingQ2), or the gmsh mesh @p mesh_file (e.g. both
+  /// ventricles of meshes/biv_hex_coarse.msh, Q2 on its flat cells), with
+  /// one uniform fibre frame, no Dirichlet boundary (the prescribed
+  /// displacements stay exact), and the postprocessors @p names.
   struct PostprocessVentricle
   {
     explicit PostprocessVentricle(
       const std::vector<std::string>    &names,
-      const systole::Fibres::FibreBasis &basis = random_basis());
+      const systole::Fibres::FibreBasis &basis     = random_basis(),
+      const std::string                 &mesh_file = "");
 
     /// Set the displacement to @p u and run one step of beat @p beat at
     /// @p time [ms] with cavity volume @p volume [mm^3]; returns the
