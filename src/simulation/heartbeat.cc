@@ -505,7 +505,8 @@ namespace systole
               {
                 const std::size_t first = row.size();
                 ep->append_ecg_biomarkers(start, start + period, row);
-                activation << std::setprecision(0) << ", QRS "
+                // A line of its own: the second line fits 100 columns.
+                activation << std::setprecision(0) << "\n  ECG: QRS "
                            << row[first + 1].value << " ms, QT "
                            << row[first + 3].value << " ms";
               }
