@@ -134,8 +134,8 @@ namespace systole::Electrophysiology
 
   private:
     MPI_Comm comm;
-    /// Per electrode, the weights of the owned DoFs [mm^2/mm^3 ... i.e.
-    /// φ_e [mV] = w_e · V [mV]: dimensionless].
+    /// Per electrode, the weights of the owned DoFs (dimensionless: φ_e
+    /// [mV] = w_e · V [mV]).
     std::vector<std::vector<double>> weights;
   };
 

@@ -27,9 +27,9 @@ using namespace systole::Electrophysiology;
 
 namespace
 {
-  /// The slab [0, 10] x [0, 4] x [0, 2] mm and the front: V = -80 mV behind
-  /// (x < x0) +20 mV ... i.e. V = -80 + 50 (1 - tanh((x - x0)/delta)), the
-  /// activated tissue at x < x0 (a front moving towards +x).
+  /// The slab [0, 10] x [0, 4] x [0, 2] mm and the front V = -80 + 50 (1 -
+  /// tanh((x - x0)/delta)) mV: +20 mV in the activated tissue at x < x0, -80
+  /// mV ahead (a front moving towards +x).
   constexpr double Lx = 10, Ly = 4, Lz = 2, x0 = 5;
 
   double
