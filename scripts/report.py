@@ -7,9 +7,9 @@ The page holds every picture as an embedded base64 PNG and needs no network: pro
 (code version, ranks, wall time, peak memory), the pressure-volume loop(s) and traces of a
 heartbeat or circulation run, the global indices of the "ventricle function" postprocessor,
 the "clinical kinematics" (strains, twist and displacements referred to end-diastole) with
-each beat's peaks against normal adult ranges, the activation map, the AHA bull's-eye plots
-of peak strain and activation time, the beat table, the cost statistics and the parameters
-used. Sections whose data the run lacks are left out. Prints the report's path.
+each beat's peaks against normal adult ranges, the activation map, the 12-lead pseudo-ECG
+on the usual 3 x 4 grid, the AHA bull's-eye plots of peak strain and activation time, the
+beat table, the cost statistics and the parameters used. Sections whose data the run lacks are left out. Prints the report's path.
 """
 
 from __future__ import annotations
@@ -191,6 +191,35 @@ def clinical_figure(results: Results) -> Figure | None:
     return figure
 
 
+#: The 12 leads as printed on an ECG sheet: rows of (limb, augmented, precordial,
+#: precordial) leads.
+ECG_GRID = [["I", "aVR", "V1", "V4"],
+            ["II", "aVL", "V2", "V5"],
+            ["III", "aVF", "V3", "V6"]]
+
+
+def ecg_figure(results: Results) -> Figure | None:
+    """The 12 leads /timeseries/ecg_<lead> [mV] on the usual 3 x 4 grid (one scale for
+    all), or None when the run has no ECG."""
+    ts = results.timeseries
+    if any(f"ecg_{lead}" not in ts for row in ECG_GRID for lead in row):
+        return None
+    figure = Figure(figsize=(12.0, 6.0), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(3, 4, sharex=True, sharey=True)
+    for row, names in zip(axes, ECG_GRID):
+        for ax, lead in zip(row, names):
+            ax.plot(ts["time"], ts[f"ecg_{lead}"], color="black", linewidth=1.0)
+            ax.axhline(0.0, color="tab:red", linewidth=0.5, alpha=0.5)
+            ax.set_title(lead, fontsize=10, loc="left")
+            ax.grid(True, alpha=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("time [ms]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("mV")
+    return figure
+
+
 def has_activation_field(results: Results) -> bool:
     if not results.field_steps:
         return False
@@ -273,6 +302,14 @@ def build_report(path: str | Path) -> str:
         from systole_post.activation import make_activation_figure
 
         parts += ["<h2>Activation map</h2>", png(make_activation_figure(path, "x", 0.0))]
+    figure = ecg_figure(results)
+    if figure is not None:
+        parts += ["<h2>ECG</h2>",
+                  "<p>The pseudo-ECG (infinite homogeneous volume conductor) at the "
+                  "electrodes of Electrophysiology / ECG electrodes: limb leads, augmented "
+                  "limb leads and V1-V6 against Wilson's central terminal; QRS, QT and R "
+                  "amplitudes per beat in the beat table (docs/architecture.md, ECG).</p>",
+                  png(figure)]
     if has_aha(results):
         parts += ["<h2>AHA segments</h2>", png(make_bullseye_figure(results))]
     if results.summary:

@@ -17,7 +17,8 @@ import pytest
 from test_bullseye import aha_summary
 
 from conftest import write_results_file
-from report import build_report, clinical_figure, clinical_rows, write_report
+from report import (ECG_GRID, build_report, clinical_figure, clinical_rows, ecg_figure,
+                    write_report)
 from systole_post.results import read_results
 
 
@@ -76,6 +77,35 @@ def test_report_shows_the_clinical_peaks_against_the_normal_ranges(tmp_path):
     assert len(clinical_figure(read_results(path)).axes) == 2
 
 
+def test_report_shows_the_12_leads_on_the_usual_grid(tmp_path):
+    path = tmp_path / "run" / "results.h5"
+    path.parent.mkdir()
+    t = np.linspace(0, 400, 201)
+    leads = [lead for row in ECG_GRID for lead in row]
+    columns = {"time": t, "step": np.arange(201.0)}
+    for k, lead in enumerate(leads):
+        columns[f"ecg_{lead}"] = (k + 1) * np.exp(-((t - 40) / 10) ** 2)
+    write_results_file(path, columns, summary={"beat": [0.0], "ecg_QRS_duration": [62.5]})
+    figure = ecg_figure(read_results(path))
+    assert len(figure.axes) == 12
+    # Rows of limb, augmented and precordial leads, each panel its lead's trace.
+    assert [ax.get_title(loc="left") for ax in figure.axes] == [
+        "I", "aVR", "V1", "V4", "II", "aVL", "V2", "V5", "III", "aVF", "V3", "V6"]
+    for ax in figure.axes:
+        k = leads.index(ax.get_title(loc="left"))
+        assert np.max(ax.lines[0].get_ydata()) == pytest.approx(k + 1, rel=1e-3)
+    text = build_report(path)
+    assert "<h2>ECG</h2>" in text and "ecg_QRS_duration" in text
+    assert text.count('src="data:image/png;base64,') == 1
+    # Without one lead there is no ECG section.
+    del columns["ecg_V6"]
+    other = tmp_path / "other" / "results.h5"
+    other.parent.mkdir()
+    write_results_file(other, columns)
+    assert ecg_figure(read_results(other)) is None
+    assert "<h2>ECG</h2>" not in build_report(other)
+
+
 def test_report_without_clinical_columns_has_no_such_section(tmp_path):
     text = build_report(synthetic(tmp_path))
     assert "Clinical kinematics" not in text
@@ -129,11 +159,11 @@ def test_heartbeat_report_renders_with_every_section(tmp_path):
     html = write_report(results, tmp_path / "report.html")
     text = html.read_text()
     for title in ("Provenance", "Pressure-volume loop", "Traces", "Global indices",
-                  "Clinical kinematics", "Activation map", "AHA segments", "Beats", "Cost",
-                  "Parameters"):
+                  "Clinical kinematics", "Activation map", "ECG", "AHA segments", "Beats",
+                  "Cost", "Parameters"):
         assert f"<h2>{title}</h2>" in text, title
     assert "code version" in text and "wall time" in text
-    check_rendered(html, tmp_path, 6)
+    check_rendered(html, tmp_path, 7)
 
 
 def test_paraview_script_has_a_colour_map_for_every_postprocessor_field():

@@ -126,6 +126,26 @@ namespace systole::Electrophysiology
       }
     m.evaluate_fibres(fibres);
     m.assemble_stiffness(nullptr);
+    if (params.ecg.enabled)
+      {
+        std::vector<dealii::Point<3>> electrodes;
+        for (const auto &e : params.ecg.electrodes)
+          electrodes.push_back(e.position);
+        AssertThrow(electrodes.size() == electrode_names().size(),
+                    dealii::ExcMessage("Electrophysiology / ECG electrodes: "
+                                       "the 12 leads need nine electrodes."));
+        // One Gauss point more than the stiffness: 1/r varies over the
+        // cells of a coarse mesh near an electrode.
+        m.lead_field =
+          std::make_unique<LeadField>(m.dof_handler,
+                                      m.mapping,
+                                      m.kind.cell_quadrature(params.degree + 2),
+                                      fibres,
+                                      params.sigma_l,
+                                      params.sigma_t,
+                                      electrodes,
+                                      params.ecg.bath_conductivity);
+      }
     m.locate_stimuli(names);
     m.stimulus_on.assign(params.stimuli.size(), false);
 
@@ -151,6 +171,35 @@ namespace systole::Electrophysiology
 
 
   Monodomain::~Monodomain() = default;
+
+
+  bool
+  Monodomain::has_ecg() const
+  {
+    return impl->lead_field != nullptr;
+  }
+
+
+  std::vector<double>
+  Monodomain::electrode_potentials() const
+  {
+    const Impl &m = *impl;
+    if (!m.lead_field)
+      return {};
+    const LocalRead v(m.potential_mV);
+    return m.lead_field->potentials(
+      dealii::ArrayView<const double>(v.data(), m.n_owned));
+  }
+
+
+  std::array<double, 12>
+  Monodomain::ecg_leads() const
+  {
+    AssertThrow(has_ecg(),
+                dealii::ExcMessage("Monodomain::ecg_leads(): Electrophysiology "
+                                   "/ ECG is false."));
+    return leads_from_electrodes(electrode_potentials());
+  }
 
 
   double

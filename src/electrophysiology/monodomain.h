@@ -11,6 +11,7 @@
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -153,6 +154,23 @@ namespace systole::Electrophysiology
     /// for a point outside the mesh). Collective.
     PointValues
     values_at_points(const std::vector<dealii::Point<3>> &points) const;
+
+    /// Whether the pseudo-ECG is computed (Parameters::ecg.enabled).
+    bool
+    has_ecg() const;
+
+    /// The pseudo-ECG potential [mV] at the electrodes of Parameters::ecg
+    /// (the order of electrode_names()) at time(): one dot product of the
+    /// nodal potential with each electrode's lead field (LeadField,
+    /// assembled once on the reference mesh with the conductivity of the
+    /// potential equation). Empty without the ECG. Collective.
+    std::vector<double>
+    electrode_potentials() const;
+
+    /// The 12 leads [mV] (lead_names()) at time(). Throws without the ECG.
+    /// Collective.
+    std::array<double, 12>
+    ecg_leads() const;
 
     /// Volume fraction of the mesh activated so far (first upstroke
     /// recorded) [-]. Collective.

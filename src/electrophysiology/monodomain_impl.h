@@ -18,6 +18,7 @@
 #include "base/logger.h"
 #include "electrophysiology/activation.h"
 #include "electrophysiology/arkode_adapter.h"
+#include "electrophysiology/ecg.h"
 #include "electrophysiology/monodomain.h"
 #include "geometry/cell_kind.h"
 
@@ -216,6 +217,10 @@ namespace systole::Electrophysiology
       std::vector<double> first, latest, v_sample;
       bool                gate_half_step_pending = true;
     } saved;
+
+    /// The pseudo-ECG's lead field (Parameters::ecg enabled; null
+    /// otherwise).
+    std::unique_ptr<LeadField> lead_field;
 
     Statistics stats;
     /// ARKode steps before the integrator was last created (a restart).

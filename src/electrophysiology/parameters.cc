@@ -211,6 +211,7 @@ namespace systole::Electrophysiology
       "activation time is written to the summary: 'name: x, y, z; name: x, "
       "y, z'. Units: mm.");
     prm.leave_subsection();
+    EcgParameters::declare(prm);
   }
 
 
@@ -239,6 +240,7 @@ namespace systole::Electrophysiology
     p.stimulus_period         = prm.get_double(s, "Stimulus period");
     p.pull_back               = prm.get_bool(s, "Pull back conductivity");
     p.probes                  = parse_probes(prm.get(s, "Probes"));
+    p.ecg                     = EcgParameters::parse(prm);
 
     const auto positive = [](const double value, const std::string &entry) {
       AssertThrow(std::isfinite(value) && value > 0,

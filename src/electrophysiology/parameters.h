@@ -2,6 +2,7 @@
 
 #include <deal.II/base/point.h>
 
+#include "electrophysiology/ecg.h"
 #include "electrophysiology/ionic_model.h"
 #include "electrophysiology/stimulus.h"
 
@@ -62,6 +63,9 @@ namespace systole::Electrophysiology
     bool pull_back = false;
 
     std::vector<Probe> probes;
+
+    /// The pseudo-ECG (entries ECG ...).
+    EcgParameters ecg;
 
     /// Diffusivity along / across the fibres D = σ/(χ C_m) [mm²/ms].
     double

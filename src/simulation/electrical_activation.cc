@@ -19,6 +19,7 @@
 #include "geometry/mesh.h"
 #include "geometry/point_location.h"
 #include "mechanics/problem.h"
+#include "simulation/ecg_columns.h"
 #include "simulation/parameters.h"
 
 #include <boost/archive/binary_iarchive.hpp>
@@ -216,6 +217,9 @@ namespace systole
     bool                            keep_calcium = false;
     std::deque<double>              calcium_times;
     std::deque<std::vector<double>> calcium_samples;
+    /// The 12 leads of the pseudo-ECG at every sample since the last
+    /// forget_ecg_before() (Electrophysiology / ECG).
+    EcgBeat                                                  ecg;
     const dealii::parallel::DistributedTriangulationBase<3> &mech_tria;
     const Mechanics::Problem                                &problem;
 
@@ -403,6 +407,8 @@ namespace systole
       }
     sampled_potential = std::move(potential);
     sampled_time      = time;
+    if (monodomain->has_ecg())
+      ecg.add(time, monodomain->ecg_leads());
     transfer_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();
@@ -459,6 +465,11 @@ namespace systole
     std::vector<double> calcium_times(m.calcium_times.begin(),
                                       m.calcium_times.end());
     archive &m.keep_calcium &calcium_times;
+    // The ECG samples kept (the same on every rank), flattened.
+    std::vector<double> ecg_leads;
+    for (const auto &leads : m.ecg.leads)
+      ecg_leads.insert(ecg_leads.end(), leads.begin(), leads.end());
+    archive &m.ecg.times &ecg_leads;
     // Per mechanics point: first and latest upstroke of the tracker, the
     // last sample, the upstrokes, the calcium samples (keep_calcium()). (The
     // registration only lasts until the mechanics mesh is saved; it does not
@@ -497,6 +508,16 @@ namespace systole
     archive            &m.sampled_time;
     std::vector<double> calcium_times;
     archive &m.keep_calcium &calcium_times;
+    std::vector<double>      ecg_leads;
+    archive &m.ecg.times &ecg_leads;
+    AssertThrow(ecg_leads.size() == 12 * m.ecg.times.size(),
+                dealii::ExcMessage("The checkpoint's ECG samples are "
+                                   "incomplete."));
+    m.ecg.leads.resize(m.ecg.times.size());
+    for (unsigned int k = 0; k < m.ecg.times.size(); ++k)
+      std::copy(ecg_leads.begin() + 12 * k,
+                ecg_leads.begin() + 12 * (k + 1),
+                m.ecg.leads[k].begin());
     m.calcium_times.assign(calcium_times.begin(), calcium_times.end());
     m.calcium_samples.assign(calcium_times.size(),
                              std::vector<double>(m.n_points));
@@ -741,6 +762,37 @@ namespace systole
   ElectricalActivation::activated_fraction() const
   {
     return impl->monodomain->activated_fraction();
+  }
+
+
+  bool
+  ElectricalActivation::has_ecg() const
+  {
+    return impl->monodomain->has_ecg();
+  }
+
+
+  std::array<double, 12>
+  ElectricalActivation::ecg_leads(const double t) const
+  {
+    const Impl &m = *impl;
+    AssertThrow(m.monodomain->has_ecg(),
+                dealii::ExcMessage("ElectricalActivation: no ECG."));
+    Assert(t <= m.monodomain->time() + 1e-9 * m.params.time_step,
+           dealii::ExcMessage("ElectricalActivation: advance_to(t) first."));
+    return m.ecg.at(t);
+  }
+
+
+  void
+  ElectricalActivation::append_ecg_biomarkers(const double             start,
+                                              const double             end,
+                                              std::vector<IO::Column> &row)
+  {
+    Impl &m = *impl;
+    m.ecg.append_biomarkers(start, end, m.params.ecg.threshold, row);
+    // The next beat starts at end: its samples (EP may have run ahead) stay.
+    m.ecg.forget_before(end);
   }
 
 

@@ -5,7 +5,9 @@
 
 #include "electrophysiology/activation.h"
 #include "electrophysiology/monodomain.h"
+#include "io/results_file.h"
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -158,6 +160,25 @@ namespace systole
     /// Collective.
     double
     activated_fraction() const;
+
+    /// Whether the pseudo-ECG is computed (Electrophysiology / ECG).
+    bool
+    has_ecg() const;
+
+    /// The 12 leads of the pseudo-ECG [mV] (Electrophysiology::lead_names())
+    /// at @p t [ms], linear in time between the samples of the EP steps
+    /// around it (EP may be ahead of the mechanics). @p t must not lie
+    /// after time() nor before the last append_ecg_biomarkers()' end.
+    std::array<double, 12>
+    ecg_leads(const double t) const;
+
+    /// Append the ECG biomarkers of the beat [@p start, @p end] [ms] (from
+    /// the samples of every EP step; EcgBeat::append_biomarkers()) to the
+    /// /summary row @p row and forget the samples before @p end.
+    void
+    append_ecg_biomarkers(const double             start,
+                          const double             end,
+                          std::vector<IO::Column> &row);
 
     /// Summary of the latest upstrokes (the current beat). Collective.
     Electrophysiology::ActivationSummary

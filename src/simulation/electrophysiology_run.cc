@@ -12,6 +12,7 @@
 #include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
 #include "io/results_file.h"
+#include "simulation/ecg_columns.h"
 #include "simulation/parameters.h"
 
 #include <cmath>
@@ -77,6 +78,8 @@ namespace systole
     const unsigned int n_steps = static_cast<unsigned int>(
       std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
     Electrophysiology::Statistics last;
+    // The 12 leads of every row (the biomarkers at the end).
+    EcgBeat    ecg;
     const auto write_row = [&](const unsigned int step, const double time) {
       const auto              now = ep.statistics();
       std::vector<IO::Column> row = {
@@ -97,6 +100,12 @@ namespace systole
           row.push_back({params.probes[i].name + "_calcium_uM",
                          "µM",
                          values.calcium_uM[i]});
+      if (ep.has_ecg())
+        {
+          const auto leads = ep.ecg_leads();
+          append_ecg_columns(leads, row);
+          ecg.add(time, leads);
+        }
       results.append_timeseries(row);
 
       if (run.field_output_interval > 0 &&
@@ -145,6 +154,15 @@ namespace systole
       row.push_back({params.probes[i].name + "_activation_time",
                      "ms",
                      values.activation_time[i]});
+    // The ECG's biomarkers over the run (its first beat with a Stimulus
+    // period), in the run's clock from its start.
+    if (ep.has_ecg())
+      ecg.append_biomarkers(run.start_time,
+                            params.stimulus_period > 0
+                              ? run.start_time + params.stimulus_period
+                              : run.end_time,
+                            params.ecg.threshold,
+                            row);
     results.append_summary(row);
 
     std::ostringstream o;

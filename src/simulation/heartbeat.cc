@@ -21,6 +21,7 @@
 #include "materials/tension_factory.h"
 #include "mechanics/problem.h"
 #include "simulation/circulation_columns.h"
+#include "simulation/ecg_columns.h"
 #include "simulation/electrical_activation.h"
 #include "simulation/heartbeat_stepper.h"
 #include "simulation/mechanics_model.h"
@@ -415,6 +416,8 @@ namespace systole
             row.push_back(
               {"activated_fraction", "-", ep->activated_fraction()});
             ep_steps_written = ep_steps;
+            if (ep->has_ecg())
+              append_ecg_columns(ep->ecg_leads(s.time), row);
           }
         // The chosen postprocessors' columns (Postprocess / List of
         // postprocessors).
@@ -498,6 +501,15 @@ namespace systole
             activation << std::fixed << std::setprecision(1)
                        << ", 90 % active after " << a.fraction_time - start
                        << " ms";
+            if (ep->has_ecg())
+              {
+                const std::size_t first = row.size();
+                ep->append_ecg_biomarkers(start, start + period, row);
+                // A line of its own: the second line fits 100 columns.
+                activation << std::setprecision(0) << "\n  ECG: QRS "
+                           << row[first + 1].value << " ms, QT "
+                           << row[first + 3].value << " ms";
+              }
           }
         const auto times_in_beat =
           ventricles.activation_in_beat(summary_value(summary, "start_time"));

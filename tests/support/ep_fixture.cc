@@ -28,7 +28,9 @@ namespace test_support
              const double                         end_time,
              const double                         interval,
              const std::vector<dealii::Point<3>> &probes,
-             const MPI_Comm                       comm)
+             const MPI_Comm                       comm,
+             const std::function<void(const Electrophysiology::Monodomain &)>
+               &after_interval)
   {
     Geometry::Parameters geometry;
     geometry.type       = Geometry::Parameters::Type::box;
@@ -63,8 +65,14 @@ namespace test_support
                                      logger);
     const unsigned int            n =
       static_cast<unsigned int>(std::ceil(end_time / interval - 1e-9));
+    if (after_interval)
+      after_interval(ep);
     for (unsigned int k = 1; k <= n; ++k)
-      ep.advance(std::min(k * interval, end_time));
+      {
+        ep.advance(std::min(k * interval, end_time));
+        if (after_interval)
+          after_interval(ep);
+      }
     EPResult result;
     result.probes     = ep.values_at_points(probes);
     result.summary    = ep.activation_summary(0.9);

@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 /// @file
@@ -39,14 +40,18 @@ namespace test_support
 
   /// Run the monodomain model of @p params on @p box (distributed over
   /// @p comm) from 0 to @p end_time [ms], advancing in intervals of
-  /// @p interval [ms], and evaluate at @p probes.
+  /// @p interval [ms], and evaluate at @p probes. @p after_interval, if
+  /// given, is called with the model at the start and after every interval.
   EPResult
-  run_ep_box(const systole::Electrophysiology::Parameters &params,
-             const EPBox                                  &box,
-             const double                                  end_time,
-             const double                                  interval,
-             const std::vector<dealii::Point<3>>          &probes,
-             const MPI_Comm                                comm);
+  run_ep_box(
+    const systole::Electrophysiology::Parameters &params,
+    const EPBox                                  &box,
+    const double                                  end_time,
+    const double                                  interval,
+    const std::vector<dealii::Point<3>>          &probes,
+    const MPI_Comm                                comm,
+    const std::function<void(const systole::Electrophysiology::Monodomain &)>
+      &after_interval = {});
 
   /// Fibre direction e_x, e_y or e_z.
   dealii::Tensor<1, 3>

@@ -3,7 +3,7 @@
 
     check_activation.py RESULTS.h5 [NAME=VALUE:TOL ...] [--increasing A,B,...]
                         [--plateau T0:DIP] [--serial SERIAL.h5]
-                        [--closer-than OTHER.h5]
+                        [--closer-than OTHER.h5] [--ecg]
 
 - every time-series value is finite, the activated fraction lies in [0, 1] and never
   decreases, and the whole volume ends activated;
@@ -19,6 +19,10 @@
   threshold would count as a second upstroke;
 - --closer-than: each checked /summary column NAME lies closer to its VALUE than OTHER's
   (e.g. another discretization of the same problem at the same mesh size);
+- --ecg: the 12 ECG leads are written and obey Einthoven's law (I + III = II) and
+  aVR + aVL + aVF = 0 at every row; the QRS lasts as long as the activation (within 2 ms
+  plus a sample: the pseudo-ECG is zero before the first and after the last upstroke, on
+  a flat plateau), the T wave ends after it, and V1 ... V6 have an R wave;
 - --serial: every time-series and /summary column equals the serial run's to 1e-8
   relative (to the column's scale) plus 1e-10, except the iteration counts of the
   iterative solver, which depend on the partition.
@@ -76,8 +80,41 @@ def compare(name, values, reference, failures):
         failures.append(f"{name} differs from the serial run by {diff:.3g}")
 
 
+LEADS = ["I", "II", "III", "aVR", "aVL", "aVF", "V1", "V2", "V3", "V4", "V5", "V6"]
+
+
+def check_ecg(ts, summary, failures):
+    missing = [lead for lead in LEADS if f"ecg_{lead}" not in ts]
+    if missing:
+        failures.append("no ECG columns " + ", ".join(missing))
+        return
+    lead = {name: ts[f"ecg_{name}"] for name in LEADS}
+    scale = max(np.max(np.abs(v)) for v in lead.values())
+    einthoven = np.max(np.abs(lead["I"] + lead["III"] - lead["II"]))
+    goldberger = np.max(np.abs(lead["aVR"] + lead["aVL"] + lead["aVF"]))
+    print(f"ECG: largest |lead| {scale:.4g} mV, |I + III - II| <= {einthoven:.2g}, "
+          f"|aVR + aVL + aVF| <= {goldberger:.2g}")
+    if not (einthoven <= 1e-12 * scale and goldberger <= 1e-12 * scale):
+        failures.append("the leads break Einthoven's law or aVR + aVL + aVF = 0")
+    dt = np.max(np.diff(ts["time"]))
+    qrs, total = summary["ecg_QRS_duration"][-1], summary["total_activation_time"][-1]
+    qt = summary["ecg_QT_interval"][-1]
+    print(f"ECG: QRS {qrs:.2f} ms, total activation {total:.2f} ms, QT {qt:.1f} ms")
+    if not abs(qrs - total) <= 2.0 + dt:
+        failures.append(f"QRS {qrs:.2f} ms is not within {2 + dt} ms of the total "
+                        f"activation time {total:.2f} ms")
+    if not qt > qrs:
+        failures.append(f"QT {qt} ms is not longer than the QRS")
+    for v in ("V1", "V2", "V3", "V4", "V5", "V6"):
+        if not summary[f"ecg_R_amplitude_{v}"][-1] > 0:
+            failures.append(f"no R wave in {v}")
+
+
 def main(argv) -> int:
     args = argv[1:]
+    ecg = "--ecg" in args
+    if ecg:
+        args.remove("--ecg")
     serial, increasing = None, []
     if "--serial" in args:
         i = args.index("--serial")
@@ -125,6 +162,8 @@ def main(argv) -> int:
     print("increasing: " + ", ".join(f"{n} {t:.3f}" for n, t in zip(increasing, times)))
     if any(not b > a for a, b in zip(times, times[1:])):
         failures.append("activation times do not increase along " + ", ".join(increasing))
+    if ecg:
+        check_ecg(ts, summary, failures)
     if plateau is not None:
         plateau_dips(args[0], plateau[0], plateau[1], failures)
     if serial is not None:
