@@ -226,6 +226,12 @@ def _aligned(headers: list[str], rows: list[list[str]], left_first: bool = False
     return ["  ".join(cell(text, j) for j, text in enumerate(line)) for line in [headers] + rows]
 
 
+
+def _beats_and_groups(summary: dict):
+    """The beat numbers of the /summary rows and the columns grouped per ventricle."""
+    n_rows = len(next(iter(summary.values())))
+    return summary.get("beat", np.arange(n_rows)), summary_groups(summary)
+
 def format_summary(results: Results) -> str:
     """The /summary as aligned text.
 
@@ -238,9 +244,8 @@ def format_summary(results: Results) -> str:
     summary = results.summary
     if not summary:
         return f"{results.path}: no /summary table"
-    n_rows = len(next(iter(summary.values())))
-    beats = summary.get("beat", np.arange(n_rows))
-    groups = summary_groups(summary)
+    beats, groups = _beats_and_groups(summary)
+    n_rows = len(beats)
 
     def per_beat(title: str, columns: list[tuple[str, str, str | None]]) -> list[str]:
         headers = ["beat [-]"] + [f"{heading} [{unit or summary_units.get(column) or '-'}]"
@@ -321,9 +326,8 @@ def format_terminal_summary(results: Results, width: int = TERMINAL_WIDTH,
     summary = results.summary
     if not summary:
         return f"{results.path}: no /summary table"
-    n_rows = len(next(iter(summary.values())))
-    beats = summary.get("beat", np.arange(n_rows))
-    groups = summary_groups(summary)
+    beats, groups = _beats_and_groups(summary)
+    n_rows = len(beats)
     units = results.summary_units
     lines = []
     for name, columns in groups.ventricles.items():

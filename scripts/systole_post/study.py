@@ -288,6 +288,21 @@ def format_value(value) -> str:
     return str(value)
 
 
+def _walk(prm_text: str):
+    """Yield (line, entry path or None, the `set` match or None) for every line of a .prm
+    text, tracking its subsections."""
+    stack: list[str] = []
+    for line in prm_text.splitlines():
+        if m := _SUBSECTION.match(line):
+            stack.append(" ".join(m.group(1).split()))
+        elif _END.match(line) and stack:
+            stack.pop()
+        elif m := _SET.match(line):
+            yield line, tuple(stack) + (" ".join(m.group(2).split()),), m
+            continue
+        yield line, None, None
+
+
 def _looks_like_file(value: str) -> bool:
     return bool(re.fullmatch(r"[\w.+-]+(/[\w.+-]+)*\.\w+", value))
 
@@ -305,15 +320,9 @@ def set_entries(prm_text: str, entries: dict[tuple[str, ...], object],
     """
     norm = {tuple(" ".join(p.split()) for p in key): value for key, value in entries.items()}
     found = set()
-    stack: list[str] = []
     out = []
-    for line in prm_text.splitlines():
-        if m := _SUBSECTION.match(line):
-            stack.append(" ".join(m.group(1).split()))
-        elif _END.match(line) and stack:
-            stack.pop()
-        elif m := _SET.match(line):
-            key = tuple(stack) + (" ".join(m.group(2).split()),)
+    for line, key, m in _walk(prm_text):
+        if key is not None:
             if key in norm:
                 found.add(key)
                 line = (m.group(1) + m.group(2) + m.group(3) + format_value(norm[key])
@@ -323,7 +332,7 @@ def set_entries(prm_text: str, entries: dict[tuple[str, ...], object],
                 if _looks_like_file(value) and (base_dir / value).is_file():
                     line = (m.group(1) + m.group(2) + m.group(3)
                             + str((base_dir / value).resolve()) + m.group(5))
-        elif (m := _INCLUDE.match(line)) and include_dir is not None:
+        elif include_dir is not None and (m := _INCLUDE.match(line)):
             target = Path(m.group(2))
             if not target.is_absolute():
                 line = m.group(1) + str((include_dir / target).resolve())
@@ -364,16 +373,7 @@ def case_prm(study: Study, values: dict, include_dir: Path) -> str:
 
 def parameter_paths(prm_text: str) -> set[tuple[str, ...]]:
     """Every entry path of a .prm text (e.g. the output of ``systole --print-parameters``)."""
-    stack: list[str] = []
-    paths = set()
-    for line in prm_text.splitlines():
-        if m := _SUBSECTION.match(line):
-            stack.append(" ".join(m.group(1).split()))
-        elif _END.match(line) and stack:
-            stack.pop()
-        elif m := _SET.match(line):
-            paths.add(tuple(stack) + (" ".join(m.group(2).split()),))
-    return paths
+    return {key for _, key, _ in _walk(prm_text) if key is not None}
 
 
 # ----------------------------------------------------------------------------- running
