@@ -62,17 +62,15 @@ namespace systole::Mechanics
           const auto values =
             dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
           const auto type =
-            values.empty() ?
-              std::vector<std::string>() :
-              dealii::Utilities::break_text_into_lines(values[0], 1);
-          AssertThrow(!s.boundary.empty() &&
-                        (values.size() == 3 || values.size() == 4) &&
-                        ((type.size() == 1 &&
-                          (type[0] == "normal" || type[0] == "tangential")) ||
-                         ((type.size() == 1 || type.size() == 2) &&
-                          type[0] == "full")),
-                      dealii::ExcMessage("Mechanics / Robin supports: '" +
-                                         item + form));
+            values.empty()
+              ? std::vector<std::string>()
+              : dealii::Utilities::break_text_into_lines(values[0], 1);
+          AssertThrow(
+            !s.boundary.empty() && (values.size() == 3 || values.size() == 4) &&
+              ((type.size() == 1 &&
+                (type[0] == "normal" || type[0] == "tangential")) ||
+               ((type.size() == 1 || type.size() == 2) && type[0] == "full")),
+            dealii::ExcMessage("Mechanics / Robin supports: '" + item + form));
           s.normal_only     = type[0] == "normal";
           s.tangential_only = type[0] == "tangential";
           bool valid        = true;
