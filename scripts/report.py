@@ -272,6 +272,22 @@ def beat_table(results: Results) -> str:
     return "<table>" + head + "</tr>" + rows + "</table>"
 
 
+#: The picture scripts/run renders with ParaView (scripts/paraview_load.py) beside results.h5.
+PARAVIEW_PICTURE = "paraview.png"
+
+
+def paraview_section(path: str | Path) -> list[str]:
+    """The ParaView picture beside the results file, embedded, if there is one."""
+    picture = Path(path).resolve().parent / PARAVIEW_PICTURE
+    if not picture.is_file():
+        return []
+    data = base64.b64encode(picture.read_bytes()).decode("ascii")
+    return ["<h2>ParaView</h2>",
+            "<p>The last field step in ParaView (scripts/paraview_load.py: warped by the "
+            "displacement; open fields.xdmf with that script for every step and field).</p>",
+            f'<img alt="ParaView" src="data:image/png;base64,{data}">']
+
+
 def build_report(path: str | Path) -> str:
     """The HTML text of the report of one results file."""
     results = read_results(path)
@@ -312,6 +328,7 @@ def build_report(path: str | Path) -> str:
                   png(figure)]
     if has_aha(results):
         parts += ["<h2>AHA segments</h2>", png(make_bullseye_figure(results))]
+    parts += paraview_section(path)
     if results.summary:
         parts += ["<h2>Beats</h2>", beat_table(results)]
         note = blood_volume_note(results)

@@ -11,6 +11,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import matplotlib.figure
 import matplotlib.image
 import numpy as np
 import pytest
@@ -40,6 +41,17 @@ def test_report_embeds_its_pictures_and_names_no_url(tmp_path):
     assert not re.search(r'(src|href)="(https?:|//)', text)
     assert "AHA segments" in text and "Parameters" in text
     assert write_report(path) == path.parent / "report.html"
+
+
+def test_report_embeds_the_paraview_picture_beside_the_results(tmp_path):
+    path = synthetic(tmp_path)
+    assert "<h2>ParaView</h2>" not in build_report(path)
+    figure = matplotlib.figure.Figure(figsize=(2, 1))
+    figure.subplots().plot([0, 1], [1, 0])
+    figure.savefig(path.parent / "paraview.png")
+    text = build_report(path)
+    assert "<h2>ParaView</h2>" in text
+    assert text.count('src="data:image/png;base64,') == 3
 
 
 def test_report_shows_the_clinical_peaks_against_the_normal_ranges(tmp_path):

@@ -1,5 +1,7 @@
 """The XDMF files open with VTK's XDMF reader (the one ParaView uses): every field of the
-last step equals the HDF5 datasets, for a heartbeat, a Land problem and the EP slab.
+last step equals the HDF5 datasets, for a heartbeat, a Land problem and the EP slab. And in
+ParaView itself (pvpython under xvfb-run, through scripts/paraview_load.py): every field of
+every step, and a rendered picture.
 
 Needs SYSTOLE_APP (the built systole: the Land and EP runs are made here, with field
 output) and SYSTOLE_XDMF_HEARTBEAT (a heartbeat's results folder with fields, from ctest);
@@ -8,6 +10,7 @@ set by the ctest entry run.pytest_runs. Skips without them unless SYSTOLE_REQUIR
 
 import os
 import re
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -81,13 +84,71 @@ def test_heartbeat_xdmf_reads_every_field_of_the_last_step():
         assert name in names
 
 
-def test_land_problem_xdmf_reads_every_field_of_the_last_step(tmp_path):
-    assert "displacement" in check_xdmf(run_with_fields("land_problem2_coarse.prm", tmp_path))
+@pytest.fixture(scope="module")
+def land_run(tmp_path_factory):
+    return run_with_fields("land_problem2_coarse.prm", tmp_path_factory.mktemp("land"))
 
 
-def test_ep_slab_xdmf_reads_every_field_of_the_last_step(tmp_path):
-    names = check_xdmf(run_with_fields("ep_slab_coarse.prm", tmp_path))
-    assert "transmembrane_potential" in names
+@pytest.fixture(scope="module")
+def ep_slab_run(tmp_path_factory):
+    return run_with_fields("ep_slab_coarse.prm", tmp_path_factory.mktemp("ep_slab"))
+
+
+def test_land_problem_xdmf_reads_every_field_of_the_last_step(land_run):
+    assert "displacement" in check_xdmf(land_run)
+
+
+def test_ep_slab_xdmf_reads_every_field_of_the_last_step(ep_slab_run):
+    assert "transmembrane_potential" in check_xdmf(ep_slab_run)
+
+
+def pvpython():
+    """The command that runs pvpython without a display (xvfb-run), or skip/fail."""
+    tools = [shutil.which("xvfb-run"), shutil.which("pvpython")]
+    if None in tools:
+        if os.environ.get("SYSTOLE_REQUIRE_APP"):
+            pytest.fail("pvpython or xvfb-run not installed (scripts/lib/setup.sh installs them)")
+        pytest.skip("pvpython or xvfb-run not installed")
+    return [tools[0], "-a", tools[1]]
+
+
+def check_paraview(folder: Path, field: str, tmp_path: Path):
+    """scripts/paraview_load.py in pvpython: every field of every step as ParaView reads it
+    equals the HDF5 datasets, and the picture it renders is not blank."""
+    script = Path(__file__).resolve().parents[1] / "paraview_load.py"
+    dump, picture = tmp_path / "paraview.npz", tmp_path / "paraview.png"
+    subprocess.run(pvpython() + [str(script), str(folder / "fields.xdmf"), field,
+                                 "--dump", str(dump), "--screenshot", str(picture)],
+                   check=True, capture_output=True, timeout=300)
+    read = np.load(dump)
+    with h5py.File(folder / "results.h5", "r") as f:
+        steps = sorted(f["fields"])
+        assert len(read["times"]) == len(steps)
+        assert np.array_equal(read["points"], f["mesh/nodes"][()])
+        for i, step in enumerate(steps):
+            group = f["fields"][step]
+            assert np.isclose(read["times"][i], group.attrs["time"])
+            names = sorted(k.split("/", 1)[1] for k in read.files if k.startswith(f"{i}/"))
+            assert names == sorted(group), step
+            for name in names:
+                expected = group[name][()]
+                values = read[f"{i}/{name}"].reshape(expected.shape)
+                assert np.array_equal(values, expected, equal_nan=True), (step, name)
+    image = pytest.importorskip("matplotlib.image").imread(picture)
+    assert image.shape[:2] == (600, 800) and image[..., :3].std() > 0.05
+    return picture
+
+
+def test_heartbeat_in_paraview_every_field_and_step(tmp_path):
+    check_paraview(Path(need("SYSTOLE_XDMF_HEARTBEAT")), "fibre_stretch", tmp_path)
+
+
+def test_land_problem_in_paraview_every_field_and_step(land_run, tmp_path):
+    check_paraview(land_run, "displacement", tmp_path)
+
+
+def test_ep_slab_in_paraview_every_field_and_step(ep_slab_run, tmp_path):
+    check_paraview(ep_slab_run, "transmembrane_potential", tmp_path)
 
 
 def test_tetrahedral_land_problem_xdmf_reads_every_field_of_the_last_step(tmp_path):
