@@ -15,16 +15,16 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SYSTOLE_ROOT}
 # renders scripts/report.py's page in the pytest (scripts/tests/test_report.py). gmsh and its
 # Python module: scripts/make_biv_mesh.py regenerates meshes/biv_coarse.msh (the tests read
 # the shipped file and need neither). The gmsh C++ API (gmsh.h, libgmsh: reading .msh files)
-# comes with libdeal.ii-dev, which depends on libgmsh-dev. ParaView's pvpython (in
-# python3-paraview) under xvfb-run (xvfb, xauth): the ParaView tests of
-# scripts/tests/test_xdmf_vtk.py and the picture scripts/run puts in the report.
+# comes with libdeal.ii-dev, which depends on libgmsh-dev. Not Debian's ParaView: its
+# python3-paraview (pvpython) conflicts with python3-vtk9, which libvtk9-dev needs; where
+# pvpython and xvfb-run are installed, the ParaView tests of scripts/tests/test_xdmf_vtk.py
+# run and scripts/run puts a ParaView picture in the report.
 SYSTOLE_PACKAGES=(
   libdeal.ii-dev libsundials-dev libhdf5-mpi-dev libeigen3-dev libvtk9-dev libopenblas0-serial
   catch2 cmake ninja-build ccache mold clang-format-14 g++ git
   openmpi-bin python3 python3-venv
   chromium
   gmsh python3-gmsh
-  paraview python3-paraview xvfb xauth
 )
 
 say() { printf '[systole] %s\n' "$*"; }

@@ -106,8 +106,8 @@ def pvpython():
     """The command that runs pvpython without a display (xvfb-run), or skip/fail."""
     tools = [shutil.which("xvfb-run"), shutil.which("pvpython")]
     if None in tools:
-        if os.environ.get("SYSTOLE_REQUIRE_APP"):
-            pytest.fail("pvpython or xvfb-run not installed (scripts/lib/setup.sh installs them)")
+        # Not installed by the set-up: Debian 12's python3-paraview conflicts with
+        # python3-vtk9, which libvtk9-dev needs (scripts/lib/setup.sh).
         pytest.skip("pvpython or xvfb-run not installed")
     return [tools[0], "-a", tools[1]]
 
