@@ -186,6 +186,29 @@ namespace
   };
 } // namespace
 
+namespace
+{
+  /// Runs check(tria, 2) in one section per cup: the hexahedral cup (Q2 on
+  /// MappingQ2) and the tetrahedral one (P2).
+  template <typename Check>
+  void
+  on_both_cups(const Check &check)
+  {
+    SECTION("hexahedra, Q2 on MappingQ2")
+    {
+      dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+      test_support::make_cup(tria, 1);
+      check(tria, 2);
+    }
+    SECTION("tetrahedra, P2")
+    {
+      dealii::Triangulation<3> tria;
+      test_support::make_tet_cup(tria, 0);
+      check(tria, 2);
+    }
+  }
+} // namespace
+
 TEST_CASE("The rim-fan volume of a warped rim equals the volume of the closed "
           "polyhedral surface",
           "[mechanics][cavity][analytic]")
@@ -303,18 +326,7 @@ TEST_CASE("dV/du of the rim fan is the finite-difference derivative of V for "
       CHECK(order == Approx(2.0).margin(0.05));
     CHECK(study.errors.back() < 1e-3);
   };
-  SECTION("hexahedra, Q2 on MappingQ2")
-  {
-    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-    test_support::make_cup(tria, 1);
-    check(tria, 2);
-  }
-  SECTION("tetrahedra, P2")
-  {
-    dealii::Triangulation<3> tria;
-    test_support::make_tet_cup(tria, 0);
-    check(tria, 2);
-  }
+  on_both_cups(check);
 }
 
 TEST_CASE("For a planar rim the fan gives the plane lid's volume",
@@ -461,16 +473,5 @@ TEST_CASE("The rim fan's face Hessian is the derivative of its face vector",
         CHECK(error < 1e-10 * std::abs(exact) + 1e-14);
       }
   };
-  SECTION("hexahedra, Q2 on MappingQ2")
-  {
-    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-    test_support::make_cup(tria, 1);
-    check(tria, 2);
-  }
-  SECTION("tetrahedra, P2")
-  {
-    dealii::Triangulation<3> tria;
-    test_support::make_tet_cup(tria, 0);
-    check(tria, 2);
-  }
+  on_both_cups(check);
 }
