@@ -10,32 +10,10 @@ namespace systole::Circulation
 {
   namespace
   {
-    /// What every model gets from the shared entries of subsection
-    /// Circulation.
-    struct SharedInputs
-    {
-      double                       period;
-      ChamberElastance::Parameters left_ventricle, right_ventricle;
-      /// The kinds of the ventricles "lv" and "rv".
-      CavityKind left_kind  = CavityKind::elastance,
-                 right_kind = CavityKind::elastance;
-    };
-
-    /// One model: how users call it, what it is, how to declare its own
-    /// parameters (may be null) and build it.
-    struct Entry
-    {
-      const char *name;
-      const char *description; // one sentence + reference, for the docs
-      void (*declare)(dealii::ParameterHandler &);
-      std::unique_ptr<Model> (*create)(const dealii::ParameterHandler &,
-                                       const SharedInputs &);
-    };
-
     template <unsigned int n_elements>
     std::unique_ptr<Model>
     create_windkessel(const dealii::ParameterHandler &prm,
-                      const SharedInputs             &in)
+                      const ModelInputs              &in)
     {
       auto parameters                = WindkesselModel::Parameters::parse(prm,
                                                            n_elements,
@@ -53,11 +31,16 @@ namespace systole::Circulation
       prm.leave_subsection();
     }
 
-    /// Every model, in the order of the Selection (alphabetical).
-    const std::vector<Entry> &
-    table()
-    {
-      static const std::vector<Entry> entries = {
+  } // namespace
+
+
+  ModelRegistry &
+  models()
+  {
+    // Every model, in the order of the Selection (alphabetical).
+    static ModelRegistry registry(
+      "Circulation / Model",
+      {
         {"2-element Windkessel",
          "the left ventricle between a constant atrial pressure and a "
          "compliance parallel to the peripheral resistance (Frank 1899), "
@@ -81,7 +64,7 @@ namespace systole::Circulation
          "J. Comput. Phys. 457:111083); conserves the blood volume.",
          &declare_closed_loop,
          [](const dealii::ParameterHandler &prm,
-            const SharedInputs             &in) -> std::unique_ptr<Model> {
+            const ModelInputs              &in) -> std::unique_ptr<Model> {
            auto parameters                 = ClosedLoop::Parameters::parse(prm,
                                                            in.period,
                                                            in.left_ventricle,
@@ -90,48 +73,29 @@ namespace systole::Circulation
            parameters.right_ventricle_kind = in.right_kind;
            return std::make_unique<ClosedLoop>(parameters);
          }},
-      };
-      return entries;
-    }
-
-    std::string
-    joined_names(const char *separator)
-    {
-      std::string result;
-      for (const Entry &e : table())
-        result += (result.empty() ? "" : separator) + std::string(e.name);
-      return result;
-    }
-  } // namespace
+      });
+    return registry;
+  }
 
 
   std::vector<std::string>
   model_names()
   {
-    std::vector<std::string> names;
-    for (const Entry &e : table())
-      names.emplace_back(e.name);
-    return names;
+    return models().names();
   }
 
 
   void
   declare_model_parameters(dealii::ParameterHandler &prm)
   {
-    std::string help =
+    prm.enter_subsection("Circulation");
+    models().declare_selection(
+      prm,
+      "Model",
+      ClosedLoop::model_name,
       "The 0D circulation model: of Problem = circulation alone (with "
       "elastance ventricles), and the one Problem = heartbeat couples its 3D "
-      "left ventricle to (the model's lv; the other chambers stay 0D). "
-      "Choices:";
-    for (const Entry &e : table())
-      help += std::string(" ") + e.name + ": " + e.description;
-    help += " Units: none.";
-
-    prm.enter_subsection("Circulation");
-    prm.declare_entry("Model",
-                      ClosedLoop::model_name,
-                      dealii::Patterns::Selection(joined_names("|")),
-                      help);
+      "left ventricle to (the model's lv; the other chambers stay 0D).");
     prm.enter_subsection("Left ventricle");
     ChamberElastance::Parameters::declare(prm,
                                           default_left_ventricle(),
@@ -142,9 +106,7 @@ namespace systole::Circulation
                                           default_right_ventricle(),
                                           "right ventricle (0D elastance)");
     prm.leave_subsection();
-    for (const Entry &e : table())
-      if (e.declare != nullptr)
-        e.declare(prm);
+    models().declare_parameters(prm, /*own_subsections=*/false);
     prm.leave_subsection();
   }
 
@@ -153,7 +115,7 @@ namespace systole::Circulation
   create_model(const dealii::ParameterHandler &prm,
                const std::vector<std::string> &external)
   {
-    SharedInputs in;
+    ModelInputs in;
     for (const std::string &name : external)
       {
         AssertThrow(name == "lv" || name == "rv",
@@ -169,29 +131,20 @@ namespace systole::Circulation
     in.right_ventricle =
       ChamberElastance::Parameters::parse(prm,
                                           {"Circulation", "Right ventricle"});
-    const std::string name = prm.get({"Circulation"}, "Model");
-    for (const Entry &e : table())
-      if (name == e.name)
-        {
-          auto model = e.create(prm, in);
-          for (const std::string &cavity : external)
-            {
-              bool found = false;
-              for (const auto &c : model->cavities())
-                found = found || c.name == cavity;
-              AssertThrow(found,
-                          dealii::ExcMessage(
-                            "Circulation / Model = " + name +
-                            " has no ventricle '" + cavity +
-                            "' for the 3D one: choose a model with both "
-                            "ventricles (closed loop)."));
-            }
-          return model;
-        }
-    AssertThrow(false,
-                dealii::ExcMessage("Circulation / Model = \"" + name +
-                                   "\" is unknown; choose one of " +
-                                   joined_names(", ") + "."));
-    return nullptr;
+    const std::string name  = prm.get({"Circulation"}, "Model");
+    auto              model = models().create(name, prm, in);
+    for (const std::string &cavity : external)
+      {
+        bool found = false;
+        for (const auto &c : model->cavities())
+          found = found || c.name == cavity;
+        AssertThrow(found,
+                    dealii::ExcMessage(
+                      "Circulation / Model = " + name + " has no ventricle '" +
+                      cavity +
+                      "' for the 3D one: choose a model with both "
+                      "ventricles (closed loop)."));
+      }
+    return model;
   }
 } // namespace systole::Circulation

@@ -1,5 +1,7 @@
 #pragma once
 
+#include "base/registry.h"
+#include "circulation/chamber_elastance.h"
 #include "circulation/model.h"
 
 #include <memory>
@@ -18,6 +20,25 @@ namespace dealii
 
 namespace systole::Circulation
 {
+  /// What every model gets from the shared entries of subsection
+  /// Circulation.
+  struct ModelInputs
+  {
+    double                       period; ///< [ms]
+    ChamberElastance::Parameters left_ventricle, right_ventricle;
+    /// The kinds of the ventricles "lv" and "rv".
+    CavityKind left_kind  = CavityKind::elastance,
+               right_kind = CavityKind::elastance;
+  };
+
+  using ModelRegistry =
+    Registry<std::unique_ptr<Model>(const dealii::ParameterHandler &,
+                                    const ModelInputs &)>;
+
+  /// The table of circulation models (model_factory.cc).
+  ModelRegistry &
+  models();
+
   /// Declares, in subsection "Circulation":
   /// - "Model": a Patterns::Selection of model_names(), default "closed
   ///   loop", whose help lists every model;

@@ -8,19 +8,9 @@ namespace systole::Electrophysiology
 {
   namespace
   {
-    /// One ionic model: its name, what it is, how to declare its parameters
-    /// and how to build it (from a parameter file or with its defaults).
-    struct Entry
-    {
-      const char *name;
-      const char *description; // one sentence + reference, for the docs
-      void (*declare)(dealii::ParameterHandler &);
-      std::unique_ptr<IonicModel> (*create)(const dealii::ParameterHandler &);
-      std::unique_ptr<IonicModel> (*create_default)();
-    };
-
+    /// The table line of a model: its name, a sentence, its parameters.
     template <class Model>
-    Entry
+    IonicModelRegistry::Entry
     entry(const char *description)
     {
       return {
@@ -29,17 +19,18 @@ namespace systole::Electrophysiology
         &Model::Parameters::declare,
         [](const dealii::ParameterHandler &prm) -> std::unique_ptr<IonicModel> {
           return std::make_unique<Model>(Model::Parameters::parse(prm));
-        },
-        []() -> std::unique_ptr<IonicModel> {
-          return std::make_unique<Model>(typename Model::Parameters());
         }};
     }
+  } // namespace
 
-    /// Every ionic model, alphabetical by name.
-    const std::vector<Entry> &
-    table()
-    {
-      static const std::vector<Entry> entries = {
+
+  IonicModelRegistry &
+  ionic_models()
+  {
+    // Every ionic model, alphabetical by name.
+    static IonicModelRegistry registry(
+      "Electrophysiology / Ionic model",
+      {
         entry<AlievPanfilov>(
           "Two-variable phenomenological model, dimensionless potential "
           "u = (V + 80 mV)/100 mV and time unit 12.9 ms (Aliev and Panfilov "
@@ -55,77 +46,51 @@ namespace systole::Electrophysiology
           "(Cell type); the cell of the Niederer et al. 2011 benchmark "
           "(ten Tusscher and Panfilov 2006, Am. J. Physiol. Heart Circ. "
           "Physiol. 291:H1088)."),
-      };
-      return entries;
-    }
-
-    std::string
-    joined_names(const char *separator)
-    {
-      std::string result;
-      for (const Entry &e : table())
-        result += (result.empty() ? "" : separator) + std::string(e.name);
-      return result;
-    }
-  } // namespace
+      });
+    return registry;
+  }
 
 
   std::vector<std::string>
   ionic_model_names()
   {
-    std::vector<std::string> names;
-    for (const Entry &e : table())
-      names.emplace_back(e.name);
-    return names;
+    return ionic_models().names();
   }
 
 
   void
   declare_ionic_model_parameters(dealii::ParameterHandler &prm)
   {
-    std::string help = "Ionic model of the membrane; its parameters are in "
-                       "the subsection of the same name. Units: none. "
-                       "Choices:";
-    for (const Entry &e : table())
-      help += std::string(" ") + e.name + ": " + e.description;
-    prm.declare_entry("Ionic model",
-                      AlievPanfilov::model_name,
-                      dealii::Patterns::Selection(joined_names("|")),
-                      help);
-    for (const Entry &e : table())
-      {
-        prm.enter_subsection(e.name);
-        e.declare(prm);
-        prm.leave_subsection();
-      }
+    ionic_models().declare_selection(
+      prm,
+      "Ionic model",
+      AlievPanfilov::model_name,
+      "Ionic model of the membrane; its parameters are in the subsection of "
+      "the same name.");
+    ionic_models().declare_parameters(prm, /*own_subsections=*/true);
   }
 
 
   std::unique_ptr<IonicModel>
   create_ionic_model(const dealii::ParameterHandler &prm)
   {
-    const std::string name = prm.get({"Electrophysiology"}, "Ionic model");
-    for (const Entry &e : table())
-      if (name == e.name)
-        return e.create(prm);
-    AssertThrow(false,
-                dealii::ExcMessage("Electrophysiology / Ionic model = \"" +
-                                   name + "\" is unknown; choose one of " +
-                                   joined_names(", ") + "."));
-    return nullptr;
+    return ionic_models().create(prm.get({"Electrophysiology"}, "Ionic model"),
+                                 prm);
   }
 
 
   std::unique_ptr<IonicModel>
   create_ionic_model(const std::string &name)
   {
-    for (const Entry &e : table())
-      if (name == e.name)
-        return e.create_default();
-    AssertThrow(false,
-                dealii::ExcMessage("Unknown ionic model \"" + name +
-                                   "\"; choose one of " + joined_names(", ") +
-                                   "."));
-    return nullptr;
+    // The defaults of a model: its parameters declared alone.
+    const auto              &entry = ionic_models().find(name);
+    dealii::ParameterHandler prm;
+    prm.enter_subsection("Electrophysiology");
+    prm.declare_entry("Ionic model", name);
+    prm.enter_subsection(name);
+    entry.declare(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
+    return entry.create(prm);
   }
 } // namespace systole::Electrophysiology

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/registry.h"
 #include "electrophysiology/ionic_model.h"
 
 #include <memory>
@@ -14,6 +15,13 @@
 
 namespace systole::Electrophysiology
 {
+  using IonicModelRegistry =
+    Registry<std::unique_ptr<IonicModel>(const dealii::ParameterHandler &)>;
+
+  /// The table of ionic models (ionic_factory.cc).
+  IonicModelRegistry &
+  ionic_models();
+
   /// Declares, in the current subsection (the caller enters
   /// "Electrophysiology"), the entry "Ionic model" (a Patterns::Selection of
   /// ionic_model_names(), whose help lists every model with its reference)

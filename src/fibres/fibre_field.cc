@@ -109,30 +109,11 @@ namespace systole::Fibres
   {
     using namespace dealii::Patterns;
     prm.enter_subsection("Fibres");
-    prm.declare_entry(
-      "Generator",
-      "cartesian",
-      Selection("analytic|arostica|biventricular|cartesian|dti|rule-based|vtu"),
-      "cartesian: f = e_x, s = e_y, n = e_z everywhere (Land "
-      "problem 1, isotropic laws); analytic: the helix rule of "
-      "Land et al. 2015 problem 3 on the generated ellipsoid, "
-      "helix angle linear through the wall; rule-based: the "
-      "Laplace-Dirichlet rule of Bayer et al. 2012 on any LV mesh with "
-      "boundary parts endocardium, epicardium and base (helix angle linear "
-      "in the transmural Laplace coordinate, same conventions as analytic); "
-      "biventricular: Bayer et al. 2012 for two ventricles on a mesh with "
-      "boundary parts lv_endocardium, rv_endocardium, epicardium and base "
-      "(subsection Biventricular; the three angles above do not apply); "
-      "dti: principal eigenvectors of a diffusion-tensor image (subsection "
-      "DTI); arostica: the rule of the Arostica et al. 2025 benchmark on a "
-      "generated ventricle (Geometry / Type = arostica or ellipsoid): the "
-      "transmural coordinate from a Laplace solve (0 endocardium, 1 "
-      "epicardium, no flux on the base; Rule-based / Element degree), the "
-      "radii and the helix angle linear in it, f = sin(alpha) e_mu + "
-      "cos(alpha) e_theta, the sheet s = f x (e_mu x e_theta) in the wall "
-      "(the Sheet angle does not apply); vtu: one frame per cell of the mesh "
-      "from the vectors of a .vtu file with the mesh's cells (subsection "
-      "VTU). Units: -.");
+    fibre_generators().declare_selection(prm,
+                                         "Generator",
+                                         "cartesian",
+                                         "The fibre field.",
+                                         "Units: -.");
     prm.declare_entry("Helix angle endocardium",
                       "60",
                       Double(-90, 90),
@@ -199,8 +180,7 @@ namespace systole::Fibres
       "the coordinate axis least aligned with it, so laws that use s "
       "(Holzapfel-Ogden's sheet terms) need this array. Units: -.");
     prm.leave_subsection();
-    Biventricular::Parameters::declare(prm);
-    DTIParameters::declare(prm);
+    fibre_generators().declare_parameters(prm, /*own_subsections=*/false);
   }
 
   Parameters
@@ -292,6 +272,147 @@ namespace systole::Fibres
     }
   } // namespace
 
+  namespace
+  {
+    constexpr double degree = M_PI / 180.0;
+
+    /// A generator's own object, applied cell by cell.
+    template <class Rule>
+    FibreField
+    cellwise(const std::shared_ptr<const Rule> &rule)
+    {
+      return [rule](const auto &cell, const auto &points, auto &bases) {
+        (*rule)(cell, points, bases);
+      };
+    }
+
+    /// A rule of the point alone, every frame validated.
+    FibreField
+    pointwise(const std::function<FibreBasis(const dealii::Point<3> &)> &rule,
+              const std::string                                         &name)
+    {
+      return [rule, name](const auto &, const auto &points, auto &bases) {
+        bases.resize(points.size());
+        for (unsigned int i = 0; i < points.size(); ++i)
+          {
+            bases[i] = rule(points[i]);
+            validate(bases[i],
+                     "(" + std::to_string(points[i][0]) + ", " +
+                       std::to_string(points[i][1]) + ", " +
+                       std::to_string(points[i][2]) + ") (" + name +
+                       " generator)");
+          }
+      };
+    }
+
+    FibreField
+    rule_based(const Parameters &params, const GeneratorInputs &in)
+    {
+      RuleBased::Parameters p;
+      p.alpha_endo  = params.alpha_endo * degree;
+      p.alpha_epi   = params.alpha_epi * degree;
+      p.beta        = params.beta * degree;
+      p.coordinates = params.rule_based;
+      return cellwise(
+        std::make_shared<const RuleBased>(p, in.tria, in.names, in.logger));
+    }
+
+    FibreField
+    arostica(const Parameters &params, const GeneratorInputs &in)
+    {
+      Arostica::Parameters p;
+      p.alpha_endo = params.alpha_endo * degree;
+      p.alpha_epi  = params.alpha_epi * degree;
+      p.degree     = params.rule_based.degree;
+      return cellwise(std::make_shared<const Arostica>(p,
+                                                       in.shape,
+                                                       in.tria,
+                                                       in.names,
+                                                       in.logger));
+    }
+
+    FibreField
+    dti(const Parameters &params, const GeneratorInputs &in)
+    {
+      Logger *logger = in.logger;
+      return create_dti_fibre_field(params.dti,
+                                    in.tria,
+                                    [logger](const std::string &line) {
+                                      if (logger != nullptr)
+                                        logger->line(line);
+                                    });
+    }
+  } // namespace
+
+  FibreGeneratorRegistry &
+  fibre_generators()
+  {
+    // Every generator, alphabetical.
+    static FibreGeneratorRegistry registry(
+      "Fibres / Generator",
+      {{"analytic",
+        "the helix rule of Land et al. 2015 problem 3 on the generated "
+        "ellipsoid, helix angle linear through the wall;",
+        nullptr,
+        [](const Parameters &p, const GeneratorInputs &in) {
+          return pointwise(AnalyticHelix(in.shape,
+                                         p.alpha_endo * degree,
+                                         p.alpha_epi * degree,
+                                         p.beta * degree),
+                           "analytic");
+        }},
+       {Arostica::name,
+        "the rule of the Arostica et al. 2025 benchmark on a generated "
+        "ventricle (Geometry / Type = arostica or ellipsoid): the transmural "
+        "coordinate from a Laplace solve (0 endocardium, 1 epicardium, no "
+        "flux on the base; Rule-based / Element degree), the radii and the "
+        "helix angle linear in it, f = sin(alpha) e_mu + cos(alpha) e_theta, "
+        "the sheet s = f x (e_mu x e_theta) in the wall (the Sheet angle does "
+        "not apply);",
+        nullptr,
+        &arostica},
+       {Biventricular::name,
+        "Bayer et al. 2012 for two ventricles on a mesh with boundary parts "
+        "lv_endocardium, rv_endocardium, epicardium and base (subsection "
+        "Biventricular; the three angles above do not apply);",
+        &Biventricular::Parameters::declare,
+        [](const Parameters &p, const GeneratorInputs &in) {
+          return cellwise(std::make_shared<const Biventricular>(p.biventricular,
+                                                                in.tria,
+                                                                in.names,
+                                                                in.logger));
+        }},
+       {"cartesian",
+        "f = e_x, s = e_y, n = e_z everywhere (Land problem 1, isotropic "
+        "laws);",
+        nullptr,
+        [](const Parameters &, const GeneratorInputs &) {
+          return pointwise(
+            [](const dealii::Point<3> &) { return FibreBasis::cartesian(); },
+            "cartesian");
+        }},
+       {"dti",
+        "principal eigenvectors of a diffusion-tensor image (subsection "
+        "DTI);",
+        &DTIParameters::declare,
+        &dti},
+       {RuleBased::name,
+        "the Laplace-Dirichlet rule of Bayer et al. 2012 on any LV mesh with "
+        "boundary parts endocardium, epicardium and base (helix angle linear "
+        "in the transmural Laplace coordinate, same conventions as "
+        "analytic);",
+        nullptr,
+        &rule_based},
+       {"vtu",
+        "one frame per cell of the mesh from the vectors of a .vtu file with "
+        "the mesh's cells (subsection VTU).",
+        nullptr,
+        [](const Parameters &p, const GeneratorInputs &in) {
+          return vtu_fibre_field(p, in.tria);
+        }}});
+    return registry;
+  }
+
   FibreField
   create_fibre_field(const Parameters                  &params,
                      const Geometry::LVShape           &shape,
@@ -299,82 +420,9 @@ namespace systole::Fibres
                      const Geometry::BoundaryNames     &names,
                      Logger                            *logger)
   {
-    const double degree = M_PI / 180.0;
-
-    // Generators that solve on the mesh: their own (validated) fields.
-    if (params.generator == RuleBased::name)
-      {
-        RuleBased::Parameters p;
-        p.alpha_endo  = params.alpha_endo * degree;
-        p.alpha_epi   = params.alpha_epi * degree;
-        p.beta        = params.beta * degree;
-        p.coordinates = params.rule_based;
-        const auto rule =
-          std::make_shared<const RuleBased>(p, tria, names, logger);
-        return [rule](const auto &cell, const auto &points, auto &bases) {
-          (*rule)(cell, points, bases);
-        };
-      }
-    if (params.generator == Biventricular::name)
-      {
-        const auto rule =
-          std::make_shared<const Biventricular>(params.biventricular,
-                                                tria,
-                                                names,
-                                                logger);
-        return [rule](const auto &cell, const auto &points, auto &bases) {
-          (*rule)(cell, points, bases);
-        };
-      }
-    if (params.generator == Arostica::name)
-      {
-        Arostica::Parameters p;
-        p.alpha_endo = params.alpha_endo * degree;
-        p.alpha_epi  = params.alpha_epi * degree;
-        p.degree     = params.rule_based.degree;
-        const auto rule =
-          std::make_shared<const Arostica>(p, shape, tria, names, logger);
-        return [rule](const auto &cell, const auto &points, auto &bases) {
-          (*rule)(cell, points, bases);
-        };
-      }
-    if (params.generator == "vtu")
-      return vtu_fibre_field(params, tria);
-    if (params.generator == "dti")
-      return create_dti_fibre_field(params.dti,
-                                    tria,
-                                    [logger](const std::string &line) {
-                                      if (logger != nullptr)
-                                        logger->line(line);
-                                    });
-
-    // Pointwise rules.
-    std::function<FibreBasis(const dealii::Point<3> &)> pointwise;
-    if (params.generator == "cartesian")
-      pointwise = [](const dealii::Point<3> &) {
-        return FibreBasis::cartesian();
-      };
-    else if (params.generator == "analytic")
-      pointwise = AnalyticHelix(shape,
-                                params.alpha_endo * degree,
-                                params.alpha_epi * degree,
-                                params.beta * degree);
-    else
-      AssertThrow(false,
-                  dealii::ExcMessage("Fibres / Generator = " +
-                                     params.generator + " is unknown."));
-    const std::string name = params.generator;
-    return [pointwise, name](const auto &, const auto &points, auto &bases) {
-      bases.resize(points.size());
-      for (unsigned int i = 0; i < points.size(); ++i)
-        {
-          bases[i] = pointwise(points[i]);
-          validate(bases[i],
-                   "(" + std::to_string(points[i][0]) + ", " +
-                     std::to_string(points[i][1]) + ", " +
-                     std::to_string(points[i][2]) + ") (" + name +
-                     " generator)");
-        }
-    };
+    return fibre_generators().create(
+      params.generator,
+      params,
+      GeneratorInputs{shape, tria, names, logger});
   }
 } // namespace systole::Fibres

@@ -3,6 +3,7 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
 
+#include "base/registry.h"
 #include "fibres/biventricular.h"
 #include "fibres/dti_import.h"
 #include "fibres/fibre_basis.h"
@@ -115,6 +116,25 @@ namespace systole::Fibres
     parse(const dealii::ParameterHandler &prm,
           const std::string              &base_directory = "");
   };
+
+  /// What a generator builds its field on: the generated ellipsoid
+  /// (analytic and arostica rules only), the mesh (kept by reference), its
+  /// boundary parts, and a logger for the one-line cost report (may be null).
+  struct GeneratorInputs
+  {
+    const Geometry::LVShape           &shape;
+    const dealii::Triangulation<3, 3> &tria;
+    const Geometry::BoundaryNames     &names;
+    Logger                            *logger;
+  };
+
+  using FibreGeneratorRegistry =
+    Registry<FibreField(const Parameters &, const GeneratorInputs &)>;
+
+  /// The table of fibre generators (fibre_field.cc). A generator's entries
+  /// are fields of Parameters (shared angles) or a subsection it declares.
+  FibreGeneratorRegistry &
+  fibre_generators();
 
   /// The fibre field of the generator of @p params, on the mesh @p tria
   /// (kept by reference) whose boundary parts are @p names; @p shape is the

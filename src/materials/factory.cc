@@ -13,18 +13,9 @@ namespace systole::Materials
 {
   namespace
   {
-    /// One passive law: how users call it, what it is, and how to declare
-    /// its parameters and build it.
-    struct Entry
-    {
-      const char *name;
-      const char *description; // one sentence + reference, for the docs
-      void (*declare)(dealii::ParameterHandler &);
-      std::unique_ptr<PassiveLaw> (*create)(const dealii::ParameterHandler &);
-    };
-
+    /// The table line of a law: its name, a sentence, its parameters.
     template <class Law>
-    Entry
+    PassiveLawRegistry::Entry
     entry(const char *description)
     {
       return {
@@ -35,12 +26,16 @@ namespace systole::Materials
           return std::make_unique<Law>(Law::Parameters::parse(prm));
         }};
     }
+  } // namespace
 
-    /// Every passive law, alphabetical (case-insensitive) by name.
-    const std::vector<Entry> &
-    table()
-    {
-      static const std::vector<Entry> entries = {
+
+  PassiveLawRegistry &
+  passive_laws()
+  {
+    // Every passive law, alphabetical (case-insensitive) by name.
+    static PassiveLawRegistry registry(
+      "Material / Passive law",
+      {
         entry<FungAnisotropic>(
           "Transversely isotropic law: the Fung isotropic matrix plus the "
           "exponential fibre term of Holzapfel, Gasser and Ogden (2000, J. "
@@ -69,52 +64,30 @@ namespace systole::Materials
           "Isotropic isochoric exponential law in the first invariant with a "
           "linear second-invariant term (Veronda and Westman 1970, J. "
           "Biomech. 3:111)."),
-      };
-      return entries;
-    }
-
-    std::string
-    joined_names(const char *separator)
-    {
-      std::string result;
-      for (const Entry &e : table())
-        result += (result.empty() ? "" : separator) + std::string(e.name);
-      return result;
-    }
-  } // namespace
+      });
+    return registry;
+  }
 
 
   std::vector<std::string>
   passive_law_names()
   {
-    std::vector<std::string> names;
-    for (const Entry &e : table())
-      names.emplace_back(e.name);
-    return names;
+    return passive_laws().names();
   }
 
 
   void
   declare_parameters(dealii::ParameterHandler &prm)
   {
-    std::string help = "Passive (hyperelastic) law of the myocardium; its "
-                       "parameters are in the subsection of the same name. "
-                       "Units: none. Choices:";
-    for (const Entry &e : table())
-      help += std::string(" ") + e.name + ": " + e.description;
-
     prm.enter_subsection("Material");
     {
-      prm.declare_entry("Passive law",
-                        Guccione::law_name,
-                        dealii::Patterns::Selection(joined_names("|")),
-                        help);
-      for (const Entry &e : table())
-        {
-          prm.enter_subsection(e.name);
-          e.declare(prm);
-          prm.leave_subsection();
-        }
+      passive_laws().declare_selection(
+        prm,
+        "Passive law",
+        Guccione::law_name,
+        "Passive (hyperelastic) law of the myocardium; its parameters are in "
+        "the subsection of the same name.");
+      passive_laws().declare_parameters(prm, /*own_subsections=*/true);
       prm.enter_subsection("Volumetric");
       VolumetricLaw::Parameters::declare(prm);
       prm.leave_subsection();
@@ -126,15 +99,7 @@ namespace systole::Materials
   std::unique_ptr<PassiveLaw>
   create_passive_law(const dealii::ParameterHandler &prm)
   {
-    const std::string name = prm.get({"Material"}, "Passive law");
-    for (const Entry &e : table())
-      if (name == e.name)
-        return e.create(prm);
-    AssertThrow(false,
-                dealii::ExcMessage("Material / Passive law = \"" + name +
-                                   "\" is unknown; choose one of " +
-                                   joined_names(", ") + "."));
-    return nullptr;
+    return passive_laws().create(prm.get({"Material"}, "Passive law"), prm);
   }
 
 

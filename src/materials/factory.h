@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/registry.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
 
@@ -16,6 +17,13 @@
 
 namespace systole::Materials
 {
+  using PassiveLawRegistry =
+    Registry<std::unique_ptr<PassiveLaw>(const dealii::ParameterHandler &)>;
+
+  /// The table of passive laws (factory.cc).
+  PassiveLawRegistry &
+  passive_laws();
+
   /// Declares subsection "Material" with
   /// - "Passive law": a Patterns::Selection of passive_law_names(), default
   ///   "Guccione", whose help lists every law with its reference;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "base/registry.h"
 #include "materials/tension_model.h"
 
 #include <memory>
@@ -18,6 +19,15 @@ namespace dealii
 
 namespace systole::Materials
 {
+  /// Builds a model from the parameters and the beat period [ms].
+  using TensionModelRegistry =
+    Registry<std::unique_ptr<TensionModel>(const dealii::ParameterHandler &,
+                                           const double)>;
+
+  /// The table of tension models (tension_factory.cc).
+  TensionModelRegistry &
+  tension_models();
+
   /// Declares subsection "Active tension": "Model" (a selection of
   /// tension_model_names(), default "Bestel"), the Bestel entries
   /// (Bestel::Parameters, which stay at the subsection's top level) and one

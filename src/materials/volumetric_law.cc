@@ -12,18 +12,54 @@ namespace systole::Materials
   } // namespace
 
 
+  VolumetricFormRegistry &
+  volumetric_forms()
+  {
+    // Every form: U(J)/kappa, U'(J)/kappa, U''(J)/kappa; alphabetical
+    // (case-insensitive).
+    static VolumetricFormRegistry registry(
+      "Material / Volumetric / Form",
+      {{logarithmic_name,
+        "kappa/2 (ln J)^2;",
+        nullptr,
+        [] {
+          return VolumetricForm{
+            [](const double J) { return 0.5 * std::log(J) * std::log(J); },
+            [](const double J) { return std::log(J) / J; },
+            [](const double J) { return (1.0 - std::log(J)) / (J * J); }};
+        }},
+       {quadratic_name,
+        "kappa/2 (J-1)^2;",
+        nullptr,
+        [] {
+          return VolumetricForm{[](const double J) {
+                                  return 0.5 * (J - 1.0) * (J - 1.0);
+                                },
+                                [](const double J) { return J - 1.0; },
+                                [](const double) { return 1.0; }};
+        }},
+       {simo_taylor_name, "kappa/4 (J^2 - 1 - 2 ln J).", nullptr, [] {
+          return VolumetricForm{
+            [](const double J) {
+              return 0.25 * (J * J - 1.0 - 2.0 * std::log(J));
+            },
+            [](const double J) { return 0.5 * (J - 1.0 / J); },
+            [](const double J) { return 0.5 * (1.0 + 1.0 / (J * J)); }};
+        }}});
+    return registry;
+  }
+
+
   void
   VolumetricLaw::Parameters::declare(dealii::ParameterHandler &prm)
   {
     const Parameters defaults;
-    prm.declare_entry(
+    volumetric_forms().declare_selection(
+      prm,
       "Form",
       defaults.form,
-      dealii::Patterns::Selection(form_names()),
-      "Volumetric penalty energy U(J), J = det F: quadratic kappa/2 (J-1)^2, "
-      "logarithmic kappa/2 (ln J)^2, Simo-Taylor kappa/4 (J^2 - 1 - 2 ln J). "
-      "Units: none. Source: Simo and Taylor 1982 (CMAME 35:107); all three "
-      "have U''(1) = kappa.");
+      "Volumetric penalty energy U(J), J = det F; every form has U''(1) = "
+      "kappa (Simo and Taylor 1982, CMAME 35:107).");
     prm.declare_entry(
       "Bulk modulus",
       dealii::Patterns::Tools::to_string(defaults.bulk_modulus),
@@ -51,41 +87,13 @@ namespace systole::Materials
   void
   VolumetricLaw::Parameters::validate() const
   {
-    AssertThrow(form == quadratic_name || form == logarithmic_name ||
-                  form == simo_taylor_name,
-                dealii::ExcMessage("Material / Volumetric / Form = \"" + form +
-                                   "\" is unknown; choose one of " +
-                                   form_names() + "."));
+    volumetric_forms().find(form);
     AssertThrow(std::isfinite(bulk_modulus) && bulk_modulus >= 0.0,
                 dealii::ExcMessage(
                   "Material / Volumetric / Bulk modulus = " +
                   dealii::Patterns::Tools::to_string(bulk_modulus) +
                   " kPa must be >= 0; set e.g. 1000 kPa (about 100 x the "
                   "largest passive stiffness)."));
-  }
-
-
-  std::string
-  VolumetricLaw::form_names()
-  {
-    return std::string(logarithmic_name) + "|" + quadratic_name + "|" +
-           simo_taylor_name;
-  }
-
-
-  VolumetricLaw::Form
-  VolumetricLaw::form_from_name(const std::string &name)
-  {
-    if (name == quadratic_name)
-      return Form::quadratic;
-    if (name == logarithmic_name)
-      return Form::logarithmic;
-    if (name == simo_taylor_name)
-      return Form::simo_taylor;
-    AssertThrow(false,
-                dealii::ExcMessage("Unknown volumetric form \"" + name +
-                                   "\"; choose one of " + form_names() + "."));
-    return Form::quadratic;
   }
 
 
@@ -106,28 +114,23 @@ namespace systole::Materials
 
 
   VolumetricLaw::VolumetricLaw(const Form form, const double bulk_modulus)
-    : volumetric_form(form)
-    , kappa(bulk_modulus)
-  {
-    Parameters p;
-    p.form         = name_of(form);
-    p.bulk_modulus = bulk_modulus;
-    p.validate();
-  }
+    : VolumetricLaw(Parameters{name_of(form), bulk_modulus})
+  {}
 
 
   VolumetricLaw::VolumetricLaw(const Parameters &parameters)
-    : volumetric_form(form_from_name(parameters.form))
+    : name(parameters.form)
     , kappa(parameters.bulk_modulus)
   {
     parameters.validate();
+    form = volumetric_forms().create(name);
   }
 
 
-  VolumetricLaw::Form
-  VolumetricLaw::form() const
+  const std::string &
+  VolumetricLaw::form_name() const
   {
-    return volumetric_form;
+    return name;
   }
 
 
@@ -142,16 +145,7 @@ namespace systole::Materials
   VolumetricLaw::energy(const double J) const
   {
     AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-    switch (volumetric_form)
-      {
-        case Form::quadratic:
-          return 0.5 * kappa * (J - 1.0) * (J - 1.0);
-        case Form::logarithmic:
-          return 0.5 * kappa * std::log(J) * std::log(J);
-        case Form::simo_taylor:
-          return 0.25 * kappa * (J * J - 1.0 - 2.0 * std::log(J));
-      }
-    return 0.0;
+    return kappa * form.energy(J);
   }
 
 
@@ -159,16 +153,7 @@ namespace systole::Materials
   VolumetricLaw::first_derivative(const double J) const
   {
     AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-    switch (volumetric_form)
-      {
-        case Form::quadratic:
-          return kappa * (J - 1.0);
-        case Form::logarithmic:
-          return kappa * std::log(J) / J;
-        case Form::simo_taylor:
-          return 0.5 * kappa * (J - 1.0 / J);
-      }
-    return 0.0;
+    return kappa * form.first_derivative(J);
   }
 
 
@@ -176,16 +161,7 @@ namespace systole::Materials
   VolumetricLaw::second_derivative(const double J) const
   {
     AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-    switch (volumetric_form)
-      {
-        case Form::quadratic:
-          return kappa;
-        case Form::logarithmic:
-          return kappa * (1.0 - std::log(J)) / (J * J);
-        case Form::simo_taylor:
-          return 0.5 * kappa * (1.0 + 1.0 / (J * J));
-      }
-    return 0.0;
+    return kappa * form.second_derivative(J);
   }
 
 

@@ -4,6 +4,7 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
+#include "base/registry.h"
 #include "materials/passive_law.h"
 
 #include <string>
@@ -19,6 +20,23 @@ namespace systole::Materials
                  << "The volume ratio J = det F = " << arg1
                  << " is not positive: the element is inverted or degenerate."
                  << " Reduce the load or time step, or refine the mesh.");
+
+  /// A form of the volumetric energy per unit bulk modulus: U(J)/kappa and
+  /// its first and second derivatives in J.
+  struct VolumetricForm
+  {
+    double (*energy)(double J);
+    double (*first_derivative)(double J);
+    double (*second_derivative)(double J);
+  };
+
+  using VolumetricFormRegistry = Registry<VolumetricForm()>;
+
+  /// The table of volumetric forms (volumetric_law.cc). A new form is one
+  /// table line: its name, formula and three one-line functions with U(1) =
+  /// U'(1) = 0 and U''(1) = 1 (a unit test checks every entry).
+  VolumetricFormRegistry &
+  volumetric_forms();
 
   /// Volumetric (penalty) energy @f$U(J)@f$ of a nearly incompressible
   /// material, added to an isochoric or anisotropic PassiveLaw.
@@ -39,7 +57,7 @@ namespace systole::Materials
   class VolumetricLaw
   {
   public:
-    /// The available forms; see the class documentation.
+    /// The forms of the class documentation (shorthand of their names).
     enum class Form
     {
       quadratic,
@@ -70,30 +88,20 @@ namespace systole::Materials
       validate() const;
     };
 
-    /// Form names as shown to users, alphabetical (case-insensitive):
-    /// "logarithmic|quadratic|Simo-Taylor" (for Patterns::Selection).
-    static std::string
-    form_names();
-
-    /// The form called @p name (one of form_names()); throws ExcMessage
-    /// listing the valid names otherwise.
-    static Form
-    form_from_name(const std::string &name);
-
     /// Name of @p form as shown to users.
     static std::string
     name_of(const Form form);
 
-    /// @param[in] form the energy form.
+    /// @param[in] form one of the three forms above.
     /// @param[in] bulk_modulus @f$\kappa@f$ [kPa], >= 0.
     VolumetricLaw(const Form form, const double bulk_modulus);
 
     /// Law with the form named in @p parameters (validated first).
     explicit VolumetricLaw(const Parameters &parameters);
 
-    /// The form of this law.
-    Form
-    form() const;
+    /// The name of the form of this law (an entry of volumetric_forms()).
+    const std::string &
+    form_name() const;
 
     /// Bulk modulus @f$\kappa@f$ [kPa].
     double
@@ -130,8 +138,9 @@ namespace systole::Materials
     add_to(const dealii::Tensor<2, 3> &F, PassiveOutput &out) const;
 
   private:
-    Form   volumetric_form;
-    double kappa;
+    std::string    name;
+    double         kappa;
+    VolumetricForm form;
   };
 
   /// Adds the stress of a volumetric energy with the given derivatives at

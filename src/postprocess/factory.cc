@@ -7,19 +7,11 @@
 #include "postprocess/fields.h"
 #include "postprocess/ventricle_function.h"
 
-#include <functional>
 
 namespace systole::Postprocess
 {
   namespace
   {
-    struct Entry
-    {
-      const char                                     *name;
-      const char                                     *description;
-      std::function<std::unique_ptr<Postprocessor>()> create;
-    };
-
     std::unique_ptr<Postprocessor>
     fields(std::vector<std::pair<std::string, Fields::Getter>> f,
            const bool                                          frame = false)
@@ -27,18 +19,24 @@ namespace systole::Postprocess
       return std::make_unique<Fields>(std::move(f), frame);
     }
 
-    /// The one table of postprocessors (alphabetical).
-    const std::vector<Entry> &
-    table()
-    {
-      static const std::vector<Entry> entries = {
+  } // namespace
+
+  PostprocessorRegistry &
+  postprocessors()
+  {
+    // The one table of postprocessors (alphabetical).
+    static PostprocessorRegistry registry(
+      "Postprocess / List of postprocessors",
+      {
         {"AHA segments",
          "/summary per beat: aha_NN_peak_strain_circumferential, "
          "_longitudinal, _radial and aha_NN_activation_time [ms] of the 17 "
          "AHA segments (NN = 01 ... 17)",
+         nullptr,
          [] { return std::make_unique<AhaRegional>(); }},
         {"active tension",
          "field active_tension [kPa]",
+         nullptr,
          [] {
            return fields({{"active_tension", [](const PointQuantities &q) {
                              return q.active_tension;
@@ -54,9 +52,11 @@ namespace systole::Postprocess
          "apex_displacement [mm], wall_thickening_ed; /summary per beat: "
          "peak_<column>, end_diastolic_time [ms] and "
          "aha_NN_peak_ed_strain_circumferential, _longitudinal, _radial",
+         nullptr,
          [] { return std::make_unique<ClinicalKinematics>(); }},
         {"fibre stretch",
          "field fibre_stretch = |F f0| [-]",
+         nullptr,
          [] {
            return fields({{"fibre_stretch", [](const PointQuantities &q) {
                              return q.fibre_stretch;
@@ -66,6 +66,7 @@ namespace systole::Postprocess
          "fields strain_circumferential, strain_longitudinal, strain_radial: "
          "the Green-Lagrange strain in the cardiac frame of the wall "
          "coordinates [-]",
+         nullptr,
          [] {
            return fields(
              {{"strain_circumferential",
@@ -80,6 +81,7 @@ namespace systole::Postprocess
          }},
         {"stress",
          "fields first_principal_stress and fibre_stress (Cauchy) [kPa]",
+         nullptr,
          [] {
            return fields({{"first_principal_stress",
                            [](const PointQuantities &q) {
@@ -93,31 +95,29 @@ namespace systole::Postprocess
          "/timeseries every step: long_axis_shortening, wall_thickening, "
          "torsion [deg] (apex to base), ejection_fraction (so far in the "
          "beat)",
+         nullptr,
          [] { return std::make_unique<VentricleFunction>(); }},
         {"volume ratio",
          "field J = det F [-]",
+         nullptr,
          [] {
            return fields({{"J", [](const PointQuantities &q) { return q.J; }}});
          }},
-      };
-      return entries;
-    }
-  } // namespace
+      });
+    return registry;
+  }
 
   std::vector<std::string>
   postprocessor_names()
   {
-    std::vector<std::string> names;
-    for (const auto &e : table())
-      names.emplace_back(e.name);
-    return names;
+    return postprocessors().names();
   }
 
   std::string
   postprocessor_descriptions()
   {
     std::string text;
-    for (const auto &e : table())
+    for (const auto &e : postprocessors().all())
       text += std::string(text.empty() ? "" : " ") + "'" + e.name +
               "': " + e.description + ".";
     return text;
@@ -126,18 +126,6 @@ namespace systole::Postprocess
   std::unique_ptr<Postprocessor>
   create_postprocessor(const std::string &name)
   {
-    std::string known;
-    for (const auto &e : table())
-      {
-        if (name == e.name)
-          return e.create();
-        known += (known.empty() ? "" : ", ") + std::string(e.name);
-      }
-    AssertThrow(false,
-                dealii::ExcMessage(
-                  "Postprocess / List of postprocessors: "
-                  "unknown postprocessor '" +
-                  name + "'; the postprocessors are: " + known + "."));
-    return nullptr;
+    return postprocessors().create(name);
   }
 } // namespace systole::Postprocess

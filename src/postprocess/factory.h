@@ -1,5 +1,7 @@
 #pragma once
 
+#include "base/registry.h"
+
 #include "postprocess/postprocessor.h"
 
 #include <memory>
@@ -8,6 +10,14 @@
 
 namespace systole::Postprocess
 {
+  /// Postprocessors take no parameters of their own (they are listed in
+  /// Postprocess / List of postprocessors).
+  using PostprocessorRegistry = Registry<std::unique_ptr<Postprocessor>()>;
+
+  /// The table of postprocessors (factory.cc).
+  PostprocessorRegistry &
+  postprocessors();
+
   /// The names of the postprocessors, alphabetical (the choices of
   /// Postprocess / List of postprocessors).
   std::vector<std::string>

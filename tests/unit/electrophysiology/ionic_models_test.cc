@@ -194,7 +194,7 @@ TEST_CASE("The ionic model factory knows every model and rejects others",
   for (const auto &name : ionic_model_names())
     CHECK(create_ionic_model(name)->name() == name);
   CHECK_THROWS_WITH(create_ionic_model("FitzHugh"),
-                    Catch::Contains("Unknown ionic model \"FitzHugh\""));
+                    Catch::Contains("Ionic model = \"FitzHugh\" is unknown"));
 
   MitchellSchaeffer::Parameters bad;
   bad.tau_out = 1.0; // < 4 tau_in: not excitable
