@@ -60,4 +60,10 @@ namespace systole::Materials
   {
     return bestel;
   }
+
+  double
+  BestelTension::onset_delay() const
+  {
+    return law().onset();
+  }
 } // namespace systole::Materials

@@ -36,6 +36,10 @@ namespace systole::Materials
     double
     tension_of_state(const double *state, const double stretch) const override;
 
+    /// The Bestel curve's onset [ms].
+    double
+    onset_delay() const override;
+
     /// The underlying curve.
     const Bestel &
     law() const;

@@ -96,5 +96,16 @@ namespace systole::Materials
     /// The tension of a state without stepping, at stretch @p stretch [kPa].
     virtual double
     tension_of_state(const double *state, const double stretch) const = 0;
+
+    /// Time from a point's activation to the start of its tension rise [ms]
+    /// (a prescribed curve's onset; 0 for a model that rises from the
+    /// activation or the calcium transient). The heartbeat starts the beat's
+    /// isovolumetric contraction no earlier than the earliest activation
+    /// plus this delay.
+    virtual double
+    onset_delay() const
+    {
+      return 0;
+    }
   };
 } // namespace systole::Materials

@@ -44,13 +44,11 @@ namespace systole
     // fixed stretch Cell / Fibre stretch: one implicit step per cell step,
     // driven by the calcium at its end. The prescribed models (Bestel) need
     // an activation time and are not run here.
-    std::unique_ptr<Materials::TensionModel> tension_model;
-    if (Materials::tension_model_name(prm) != "Bestel")
-      tension_model =
-        Materials::create_tension_model(prm,
-                                        pacing.period > 0
-                                          ? pacing.period
-                                          : std::max(run.end_time, 1.0));
+    const std::unique_ptr<Materials::TensionModel> tension_model =
+      Materials::create_tension_model(prm,
+                                      pacing.period > 0
+                                        ? pacing.period
+                                        : std::max(run.end_time, 1.0));
     const bool with_tension =
       tension_model &&
       tension_model->drive() == Materials::TensionDrive::calcium;

@@ -16,7 +16,7 @@
 #include "geometry/mesh.h"
 #include "io/checkpoint.h"
 #include "io/results_file.h"
-#include "materials/bestel_tension.h"
+#include "materials/bestel.h"
 #include "materials/factory.h"
 #include "materials/tension_factory.h"
 #include "mechanics/problem.h"
@@ -685,15 +685,8 @@ namespace systole
     const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
     const auto tension_model =
       Materials::create_tension_model(prm, circulation.period);
-    const auto *bestel =
-      dynamic_cast<const Materials::BestelTension *>(tension_model.get());
     const bool calcium_driven =
       tension_model->drive() == Materials::TensionDrive::calcium;
-    AssertThrow(bestel != nullptr || calcium_driven,
-                dealii::ExcMessage(
-                  "Problem = heartbeat: Active tension / Model = " +
-                  tension_model->name() +
-                  " is neither Bestel nor calcium-driven (Land)."));
     AssertThrow(!calcium_driven ||
                   Electrophysiology::create_ionic_model(prm)->has_calcium(),
                 dealii::ExcMessage(
@@ -879,11 +872,9 @@ namespace systole
     settings.max_step_cuts        = circulation.max_step_cuts;
 
     // The tension starts to rise at the earliest activation plus the
-    // Bestel onset, taken within the beat.
-    // (A calcium-driven tension rises smoothly after the stimulus.)
+    // model's onset delay, taken within the beat.
     const double onset =
-      std::fmod(earliest + (bestel != nullptr ? bestel->law().onset() : 0.0),
-                circulation.period);
+      std::fmod(earliest + tension_model->onset_delay(), circulation.period);
     MechanicsVentricles ventricles(problem,
                                    *tension_model,
                                    times,

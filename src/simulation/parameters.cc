@@ -5,7 +5,6 @@
 #include "circulation/model_factory.h"
 #include "circulation/parameters.h"
 #include "electrophysiology/parameters.h"
-#include "electrophysiology/single_cell.h"
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "materials/bestel.h"
@@ -13,10 +12,7 @@
 #include "materials/land.h"
 #include "materials/tension_factory.h"
 #include "mechanics/parameters.h"
-#include "simulation/calibration.h"
-#include "simulation/elastodynamics.h"
-#include "simulation/kinematics.h"
-#include "simulation/unloading.h"
+#include "simulation/problem_type.h"
 
 #include "postprocess/manager.h"
 
@@ -87,44 +83,11 @@ namespace systole
   declare_all_parameters(dealii::ParameterHandler &prm)
   {
     using namespace dealii::Patterns;
-    prm.declare_entry(
-      "Problem",
-      "cavity volume",
-      Selection(
-        "cavity volume|mechanics|elastodynamics|heartbeat|electrophysiology|"
-        "circulation|cell|unloading|calibration"),
-      "What to simulate. 'cavity volume': build the mesh and follow the "
-      "cavity volume under a prescribed uniform stretch about the base centre "
-      "(subsection Kinematics), a check of geometry, volume and output. "
-      "'mechanics': quasi-static finite-strain mechanics, the "
-      "pressure and active tension ramped in load steps "
-      "(subsections Material, Mechanics). 'elastodynamics': the same "
-      "mechanics with inertia (Mechanics / Density), Kelvin-Voigt viscosity, "
-      "Rayleigh damping and spring-dashpot supports, integrated in time by "
-      "the generalized-alpha method from rest, from Time / Start time to End "
-      "time in steps of Time / Time step, under the follower pressure and "
-      "the fibre active stress of subsection Elastodynamics (Mechanics / "
-      "Pressure and Active tension are not used); time series of the loads, "
-      "cavity volume, tracked points and energies. 'heartbeat': the beating "
-      "ventricle coupled to a Windkessel afterload through the four-phase "
-      "cardiac cycle (subsections Circulation, Active tension, Material, "
-      "Mechanics). 'electrophysiology': the monodomain model alone, "
-      "activation times and their summary (subsections Electrophysiology, "
-      "Fibres). 'circulation': the 0D circulation model of Circulation / "
-      "Model alone, with elastance ventricles, for Circulation / Number of "
-      "beats beats; a time-series row every Time / Time step (subsection "
-      "Circulation). 'cell': one cell of Electrophysiology / Ionic model, "
-      "paced as subsection Cell says and integrated with the time step and "
-      "method of subsection Electrophysiology; the potential and calcium "
-      "every Time / Time step and the resting and peak potential, APD90 and "
-      "peak calcium of every beat. 'unloading': the stress-free reference "
-      "of the geometry imaged at Unloading / Image pressure (backward "
-      "displacement fixed point; writes the unloaded gmsh mesh; subsections "
-      "Unloading, Material, Mechanics). 'calibration': fit passive parameters "
-      "of the Material to an end-diastolic pressure-volume relation (pairs, "
-      "Klotz's EDPVR, or synthetic data) by bounded least squares, each "
-      "evaluation a pressure inflation (subsections Calibration, Material, "
-      "Mechanics).");
+    problem_types().declare_selection(prm,
+                                      "Problem",
+                                      "cavity volume",
+                                      "What to simulate.");
+    problem_types().declare_parameters(prm, /*own_subsections=*/false);
 
     prm.enter_subsection("Time");
     prm.declare_entry("Start time",
@@ -220,7 +183,6 @@ namespace systole
     prm.leave_subsection();
 
     Geometry::Parameters::declare(prm);
-    KinematicsParameters::declare(prm);
     Fibres::Parameters::declare(prm);
     Materials::declare_parameters(prm);
     prm.enter_subsection("Material");
@@ -231,11 +193,7 @@ namespace systole
     Circulation::Parameters::declare(prm);
     Circulation::declare_model_parameters(prm);
     Electrophysiology::Parameters::declare(prm);
-    Electrophysiology::SingleCell::Pacing::declare(prm);
     Postprocess::Parameters::declare(prm);
-    UnloadingParameters::declare(prm);
-    CalibrationParameters::declare(prm);
-    declare_elastodynamics_parameters(prm);
   }
 
   void
@@ -268,7 +226,6 @@ namespace systole
     const std::string directory =
       std::filesystem::absolute(file).parent_path().string();
     Geometry::Parameters::parse(prm, directory);
-    KinematicsParameters::parse(prm);
     const auto fibres = Fibres::Parameters::parse(prm, directory);
     if (fibres.generator == "dti")
       Fibres::DTIField check(fibres.dti); // reads the file: errors now
@@ -289,12 +246,8 @@ namespace systole
     Circulation::Parameters::parse(prm);
     Circulation::create_model(prm);
     Electrophysiology::Parameters::parse(prm);
-    Electrophysiology::SingleCell::Pacing::parse(prm);
     Postprocess::Parameters::parse(prm);
-    UnloadingParameters::parse(prm);
-    if (prm.get("Problem") == "calibration")
-      CalibrationParameters::parse(prm);
-    validate_elastodynamics_parameters(prm);
+    problem_types().create(prm.get("Problem"))->parse_parameters(prm);
   }
 
   RunParameters

@@ -7,16 +7,8 @@
 #include "base/logger.h"
 #include "io/checkpoint.h"
 #include "io/results_file.h"
-#include "simulation/calibration.h"
-#include "simulation/cell_run.h"
-#include "simulation/circulation_run.h"
-#include "simulation/elastodynamics.h"
-#include "simulation/electrophysiology_run.h"
-#include "simulation/heartbeat.h"
-#include "simulation/kinematics.h"
 #include "simulation/parameters.h"
-#include "simulation/quasi_static.h"
-#include "simulation/unloading.h"
+#include "simulation/problem_type.h"
 
 #include <chrono>
 #include <filesystem>
@@ -99,64 +91,9 @@ namespace systole
     impl->logger.set_details(
       impl->run.solver_log == "on" ||
       (impl->run.solver_log == "auto" && impl->run.problem != "heartbeat"));
-    if (impl->run.problem == "cavity volume")
-      run_cavity_volume_problem(impl->prm,
-                                impl->run,
-                                impl->text,
-                                impl->logger,
-                                impl->comm);
-    else if (impl->run.problem == "mechanics")
-      run_quasi_static_problem(impl->prm,
-                               impl->run,
-                               impl->text,
-                               impl->logger,
-                               impl->comm);
-    else if (impl->run.problem == "elastodynamics")
-      run_elastodynamics_problem(impl->prm,
-                                 impl->run,
-                                 impl->text,
-                                 impl->logger,
-                                 impl->comm);
-    else if (impl->run.problem == "heartbeat")
-      run_heartbeat_problem(impl->prm,
-                            impl->run,
-                            impl->text,
-                            impl->logger,
-                            impl->comm);
-    else if (impl->run.problem == "circulation")
-      run_circulation_problem(impl->prm,
-                              impl->run,
-                              impl->text,
-                              impl->logger,
-                              impl->comm);
-    else if (impl->run.problem == "electrophysiology")
-      run_electrophysiology_problem(impl->prm,
-                                    impl->run,
-                                    impl->text,
-                                    impl->logger,
-                                    impl->comm);
-    else if (impl->run.problem == "unloading")
-      run_unloading_problem(impl->prm,
-                            impl->run,
-                            impl->text,
-                            impl->logger,
-                            impl->comm);
-    else if (impl->run.problem == "cell")
-      run_cell_problem(impl->prm,
-                       impl->run,
-                       impl->text,
-                       impl->logger,
-                       impl->comm);
-    else if (impl->run.problem == "calibration")
-      run_calibration_problem(impl->prm,
-                              impl->run,
-                              impl->text,
-                              impl->logger,
-                              impl->comm);
-    else
-      AssertThrow(false,
-                  dealii::ExcMessage("Problem '" + impl->run.problem +
-                                     "' is not implemented."));
+    problem_types()
+      .create(impl->run.problem)
+      ->run({impl->prm, impl->run, impl->text, impl->logger, impl->comm});
 
     // Cost of the run, for benchmarks: wall time and peak resident memory.
     dealii::Utilities::System::MemoryStats memory;
