@@ -672,6 +672,430 @@ namespace systole
         return value == nullptr ? -1 : std::atol(value);
       }
     };
+
+    /// The options of the tension model and the inertia the heartbeat
+    /// supports; one clear message otherwise.
+    void
+    check_heartbeat_options(const dealii::ParameterHandler &prm,
+                            const Materials::TensionModel  &tension_model)
+    {
+      AssertThrow(tension_model.drive() != Materials::TensionDrive::calcium ||
+                    Electrophysiology::create_ionic_model(prm)->has_calcium(),
+                  dealii::ExcMessage(
+                    "Problem = heartbeat: Active tension / Model = " +
+                    tension_model.name() +
+                    " is driven by the intracellular calcium of the cell "
+                    "model, and Electrophysiology / Ionic model = " +
+                    prm.get({"Electrophysiology"}, "Ionic model") +
+                    " has none: set it to ten Tusscher-Panfilov."));
+      // Mechanics / Inertia: the dynamic mechanics (penalty formulation).
+      const bool inertia = prm.get_bool({"Mechanics"}, "Inertia");
+      AssertThrow(!inertia ||
+                    prm.get({"Material"}, "Incompressibility") == "penalty",
+                  dealii::ExcMessage(
+                    "Problem = heartbeat: Mechanics / Inertia = true is "
+                    "implemented for Material / Incompressibility = penalty "
+                    "only (it is " +
+                    prm.get({"Material"}, "Incompressibility") +
+                    "): set Incompressibility = penalty or Inertia = false."));
+      AssertThrow(!inertia || prm.get_double({"Mechanics"}, "Density") > 0.0,
+                  dealii::ExcMessage(
+                    "Problem = heartbeat: Mechanics / Inertia = true needs a "
+                    "positive Mechanics / Density (kg/m^3; the tissue's is "
+                    "1000)."));
+    }
+
+    /// Resume: the newest valid checkpoint of the run, written for the same
+    /// problem (every entry outside subsection Output equal to
+    /// @p all_entries); "" when the run does not resume.
+    std::string
+    resume_checkpoint(const RunParameters &run,
+                      IO::CheckpointStore &store,
+                      const std::string   &all_entries,
+                      Logger              &logger)
+    {
+      if (!run.resume)
+        return "";
+      std::ostringstream faults;
+      const std::string  checkpoint = store.newest_valid(faults);
+      std::istringstream fault_lines(faults.str());
+      for (std::string line; std::getline(fault_lines, line);)
+        logger.line(line);
+      AssertThrow(!checkpoint.empty(),
+                  dealii::ExcMessage(
+                    "Output / Resume: there is no valid checkpoint in '" +
+                    run.output_directory +
+                    "' (set Output / Checkpoint interval when starting "
+                    "the run)."));
+      std::ifstream      in(checkpoint + "/parameters.prm");
+      std::ostringstream saved;
+      saved << in.rdbuf();
+      const auto differences =
+        IO::parameter_differences(saved.str(), all_entries, {"Output"});
+      if (!differences.empty())
+        {
+          std::string message =
+            "The checkpoint " + checkpoint +
+            " was written for another problem: " + differences[0];
+          if (differences.size() > 1)
+            message += " (and " + std::to_string(differences.size() - 1) +
+                       " more difference(s))";
+          AssertThrow(false,
+                      dealii::ExcMessage(
+                        message +
+                        ". Only subsection Output may change when a run "
+                        "resumes."));
+        }
+      logger.line("Resuming from " + checkpoint);
+      return checkpoint;
+    }
+
+    /// The 3D ventricles of the mesh: "lv", or "lv" and "rv" of a
+    /// biventricular mesh; the other chambers of the model are 0D.
+    std::vector<std::string>
+    ventricle_names_of(const Mechanics::Problem      &problem,
+                       const Geometry::BoundaryNames &names)
+    {
+      AssertThrow(names.has("base"),
+                  dealii::ExcMessage(
+                    names.source() +
+                    " has no boundary part named 'base': the "
+                    "cavity volume is closed by the base plane."));
+      bool on_endocardium = problem.n_cavities() > 0;
+      for (const std::string &name : problem.cavity_names())
+        on_endocardium =
+          on_endocardium && name.find("endocardium") != std::string::npos;
+      AssertThrow(on_endocardium,
+                  dealii::ExcMessage(
+                    "Problem = heartbeat needs Mechanics / Pressure boundary "
+                    "= endocardium (the cavity pressure acts there; a part "
+                    "whose name contains 'endocardium')."));
+      const auto cavity_names = problem.cavity_names();
+      if (cavity_names.size() == 1)
+        return {"lv"};
+      AssertThrow(cavity_names.size() == 2 && cavity_names[0].find("lv") == 0 &&
+                    cavity_names[1].find("rv") == 0,
+                  dealii::ExcMessage(
+                    "Problem = heartbeat couples the left ventricle, or the "
+                    "left and the right ventricle of a biventricular mesh; "
+                    "Mechanics / Pressure boundary lists " +
+                    std::to_string(cavity_names.size()) +
+                    " parts. Name the endocardium, or lv_endocardium, "
+                    "rv_endocardium in this order."));
+      return {"lv", "rv"};
+    }
+
+    /// "unloaded cavity 101.2 mL" or "unloaded cavities lv ..., rv ...".
+    std::string
+    unloaded_text(const Vector                   &volumes,
+                  const std::vector<std::string> &ventricle_names)
+    {
+      std::string text = "\n  unloaded cavit";
+      text += volumes.size() == 1 ? "y" : "ies";
+      for (unsigned int a = 0; a < volumes.size(); ++a)
+        text +=
+          (a == 0 ? " " : ", ") +
+          (volumes.size() == 1 ? std::string() : ventricle_names[a] + " ") +
+          dealii::Utilities::to_string(Units::mm3_to_mL(volumes[a])) + " mL";
+      return text;
+    }
+
+    /// Where the activation times come from: the electrophysiology (@p ep)
+    /// or a prescribed map (@p times per quadrature point); @p earliest the
+    /// earliest activation [ms].
+    struct Activation
+    {
+      std::unique_ptr<ElectricalActivation> ep;
+      std::vector<std::vector<double>>      times;
+      double earliest = std::numeric_limits<double>::max();
+    };
+
+    Activation
+    create_activation(const dealii::ParameterHandler &prm,
+                      const RunParameters            &run,
+                      MechanicsModel                 &model,
+                      const bool                      calcium_driven,
+                      const double                    period,
+                      const std::string              &checkpoint,
+                      Logger                         &logger,
+                      const MPI_Comm                  comm)
+    {
+      Activation a;
+      const auto bestel = Materials::Bestel::Parameters::parse(prm);
+      // (A calcium-driven tension always runs the electrophysiology.)
+      if (calcium_driven || bestel.activation_map == "electrophysiology")
+        {
+          a.ep = std::make_unique<ElectricalActivation>(prm,
+                                                        run,
+                                                        model.geometry,
+                                                        model.tria,
+                                                        *model.problem,
+                                                        period,
+                                                        logger,
+                                                        comm,
+                                                        checkpoint);
+          logger.line(a.ep->description());
+          a.earliest = a.ep->earliest_stimulus();
+          return a;
+        }
+      a.times = activation_times(
+        *model.problem,
+        bestel,
+        Geometry::boundary_plane(model.tria, model.names.id("base"), "base"),
+        comm);
+      for (const auto &cell : a.times)
+        for (const double t : cell)
+          a.earliest = std::min(a.earliest, t);
+      a.earliest = dealii::Utilities::MPI::min(a.earliest, comm);
+      return a;
+    }
+
+    HeartbeatStepper::Settings
+    stepper_settings(const Circulation::Parameters &circulation)
+    {
+      HeartbeatStepper::Settings settings;
+      settings.period                = circulation.period;
+      settings.n_max_beats           = circulation.n_max_beats;
+      settings.periodicity_tolerance = circulation.periodicity_tolerance;
+      settings.relative_tolerance    = circulation.relative_tolerance;
+      settings.absolute_volume_tolerance =
+        circulation.absolute_volume_tolerance;
+      settings.absolute_pressure_tolerance =
+        circulation.absolute_pressure_tolerance;
+      settings.max_step             = circulation.max_time_step;
+      settings.initial_step         = circulation.initial_time_step;
+      settings.event_time_tolerance = circulation.event_time_tolerance;
+      settings.max_step_cuts        = circulation.max_step_cuts;
+      return settings;
+    }
+
+    /// The small state of a checkpoint (state.bin) as a string on every
+    /// rank (read on rank 0).
+    std::string
+    read_state_bytes(const std::string &checkpoint, const MPI_Comm comm)
+    {
+      std::string bytes;
+      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+        {
+          std::ifstream      in(checkpoint + "/state.bin", std::ios::binary);
+          std::ostringstream o;
+          o << in.rdbuf();
+          bytes = o.str();
+        }
+      return dealii::Utilities::MPI::broadcast(comm, bytes, 0);
+    }
+
+    /// The parts of a running heartbeat whose state a checkpoint holds, in
+    /// the order of state.bin (after the rows of the results file and the
+    /// step).
+    struct HeartbeatState
+    {
+      Mechanics::Problem   &problem;
+      ElectricalActivation *ep;
+      HeartbeatStepper     &stepper;
+      MechanicsVentricles  &ventricles;
+      Writer               &writer;
+      Postprocess::Manager &postprocess;
+
+      void
+      load(boost::archive::binary_iarchive &archive)
+      {
+        problem.load_checkpoint(archive);
+        if (ep != nullptr)
+          ep->load_checkpoint(archive);
+        stepper.load(archive);
+        ventricles.serialize(archive);
+        writer.serialize(archive);
+        std::array<double, 5> beat_seconds;
+        archive              &beat_seconds;
+        writer.set_beat_seconds(beat_seconds);
+        std::vector<double> postprocess_state;
+        archive            &postprocess_state;
+        postprocess.set_state(postprocess_state);
+      }
+
+      void
+      save(boost::archive::binary_oarchive &archive, const std::string &folder)
+      {
+        problem.prepare_checkpoint(archive);
+        if (ep != nullptr)
+          ep->save_checkpoint(archive, folder);
+        stepper.save(archive);
+        ventricles.serialize(archive);
+        writer.serialize(archive);
+        std::array<double, 5> beat_seconds = writer.beat_seconds();
+        archive              &beat_seconds;
+        // The postprocessors' reference values and peaks of the beat.
+        std::vector<double> postprocess_state = postprocess.state();
+        archive            &postprocess_state;
+      }
+    };
+
+    /// Writes checkpoints: the meshes with their cell data (the mechanics'
+    /// states, the EP state, the activation at the mechanics points)
+    /// through p::d::Triangulation::save, the small state through boost
+    /// serialization, the parameters; into a temporary folder that is
+    /// renamed when complete.
+    struct Checkpointer
+    {
+      IO::CheckpointStore                                     &store;
+      const IO::ResultsFile                                   &results;
+      HeartbeatState                                           state;
+      const dealii::parallel::DistributedTriangulationBase<3> *tria;
+      const std::string                                       &all_entries;
+      const RunParameters                                     &run;
+      Logger                                                  &logger;
+      MPI_Comm                                                 comm;
+      double                                                   seconds = 0;
+      unsigned int                                             count   = 0;
+      /// Test hook (Writer::environment_integer): die by SIGKILL halfway
+      /// through the state of the checkpoint of this step.
+      long kill_at_step =
+        Writer::environment_integer("SYSTOLE_TEST_KILL_IN_CHECKPOINT");
+
+      void
+      write(const unsigned int step)
+      {
+        const auto         begin  = std::chrono::steady_clock::now();
+        const std::string  folder = store.begin(step);
+        std::ostringstream bytes;
+        {
+          boost::archive::binary_oarchive archive(bytes);
+          const auto                      rows = results.rows();
+          archive &rows.timeseries &rows.summary &rows.events &step;
+          state.save(archive, folder);
+        }
+        tria->save(folder + "mechanics.mesh");
+        state.problem.finish_checkpoint();
+        if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+          write_files(folder, bytes.str(), step);
+        const std::string path = store.commit();
+        seconds += std::chrono::duration<double>(
+                     std::chrono::steady_clock::now() - begin)
+                     .count();
+        ++count;
+        logger.detail() << "  checkpoint " << path << std::endl;
+      }
+
+      void
+      write_files(const std::string &folder,
+                  const std::string &data,
+                  const unsigned int step) const
+      {
+        std::ofstream state_file(folder + "state.bin", std::ios::binary);
+        if (kill_at_step == static_cast<long>(step))
+          {
+            state_file.write(data.data(), data.size() / 2);
+            state_file.flush();
+            std::raise(SIGKILL);
+          }
+        state_file.write(data.data(), data.size());
+        std::ofstream(folder + "parameters.prm") << all_entries;
+        std::ofstream(folder + "parameter_file") << run.parameter_file;
+        AssertThrow(state_file.good(),
+                    dealii::ExcMessage("Cannot write " + folder +
+                                       "state.bin."));
+      }
+    };
+
+    /// The log lines of the end of a run.
+    void
+    log_run(const HeartbeatStepper::Statistics &stats,
+            const MechanicsVentricles          &ventricles,
+            const ElectricalActivation         *ep,
+            const Checkpointer                 &checkpointer,
+            const Mechanics::Problem           &problem,
+            const double                        wall,
+            Logger                             &logger)
+    {
+      std::ostringstream o;
+      o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
+        << (stats.periodic ? ", periodic" : ", not yet periodic") << "; "
+        << stats.n_steps << " steps, " << stats.n_solves << " coupled solves, "
+        << stats.n_newton_iterations
+        << " Newton iterations\n  solves redone: " << stats.n_error_rejections
+        << " for the error, " << stats.n_event_rejections
+        << " to locate valve events; " << stats.n_failures << " failed\n  "
+        << ventricles.mechanics_seconds << " s in the mechanics of " << wall
+        << " s";
+      logger.line(o.str());
+      if (checkpointer.count > 0)
+        {
+          std::ostringstream c;
+          c << std::fixed << std::setprecision(3) << checkpointer.count
+            << " checkpoint(s), " << checkpointer.seconds / checkpointer.count
+            << " s per checkpoint, " << problem.n_dofs()
+            << " mechanics DOFs;\n  the last in "
+            << checkpointer.store.list().front();
+          logger.line(c.str());
+        }
+      if (stats.interrupted)
+        logger.line("Interrupted: continue with systole --resume " +
+                    checkpointer.run.output_directory);
+      if (ep == nullptr)
+        return;
+      const auto         s = ep->statistics();
+      std::ostringstream e;
+      e << std::fixed << std::setprecision(2)
+        << "Electrophysiology: " << s.steps << " ARKode steps ("
+        << static_cast<double>(s.steps) / std::max(1ul, stats.n_steps)
+        << " per accepted mechanics step),\n  " << s.seconds
+        << " s integrating, " << ep->transfer_seconds()
+        << " s reading it at the mechanics points;\n  of the " << wall
+        << " s of the cycle " << 100 * ventricles.ep_seconds / wall
+        << " % in EP, " << 100 * ventricles.mechanics_seconds / wall
+        << " % in the mechanics";
+      logger.line(e.str());
+    }
+
+    /// The cost of the run as numbers in /statistics (scripts/bench reads
+    /// them).
+    void
+    write_statistics(const HeartbeatStepper::Statistics &stats,
+                     const MechanicsVentricles          &ventricles,
+                     const ElectricalActivation         *ep,
+                     const Checkpointer                 &checkpointer,
+                     const MechanicsModel               &model,
+                     const double                        wall,
+                     IO::ResultsFile                    &results)
+    {
+      std::vector<std::pair<std::string, std::string>> texts;
+      auto       statistics = model.statistics(texts);
+      const auto count = [](const auto n) { return static_cast<double>(n); };
+      statistics.insert(
+        statistics.end(),
+        {{"beats", "-", count(stats.n_beats)},
+         {"periodic", "-", stats.periodic ? 1.0 : 0.0},
+         {"steps", "-", count(stats.n_steps)},
+         {"coupled_solves", "-", count(stats.n_solves)},
+         {"newton_iterations", "-", count(stats.n_newton_iterations)},
+         {"linear_iterations", "-", count(ventricles.linear_iterations)},
+         {"error_rejections", "-", count(stats.n_error_rejections)},
+         {"event_rejections", "-", count(stats.n_event_rejections)},
+         {"failed_solves", "-", count(stats.n_failures)},
+         {"cycle_seconds", "s", wall},
+         {"mechanics_seconds", "s", ventricles.mechanics_seconds},
+         {"ep_seconds", "s", ventricles.ep_seconds}});
+      if (ep != nullptr)
+        {
+          const auto s = ep->statistics();
+          statistics.insert(
+            statistics.end(),
+            {{"ep_steps", "-", count(s.steps)},
+             {"ep_integration_seconds", "s", s.seconds},
+             {"ep_transfer_seconds", "s", ep->transfer_seconds()},
+             {"ep_nodes", "-", count(ep->n_nodes())}});
+        }
+      statistics.insert(
+        statistics.end(),
+        {{"checkpoints", "-", count(checkpointer.count)},
+         {"checkpoint_seconds", "s", checkpointer.seconds},
+         {"mechanics_dofs", "-", count(model.problem->n_dofs())}});
+      if (checkpointer.count > 0)
+        texts.emplace_back("last_checkpoint",
+                           checkpointer.store.list().front());
+      results.write_statistics(statistics, texts);
+    }
   } // namespace
 
   void
@@ -681,172 +1105,46 @@ namespace systole
                         Logger                         &logger,
                         const MPI_Comm                  comm)
   {
-    const auto circulation   = Circulation::Parameters::parse(prm);
-    const auto bestel_params = Materials::Bestel::Parameters::parse(prm);
+    const auto circulation = Circulation::Parameters::parse(prm);
     const auto tension_model =
       Materials::create_tension_model(prm, circulation.period);
-    const bool calcium_driven =
-      tension_model->drive() == Materials::TensionDrive::calcium;
-    AssertThrow(!calcium_driven ||
-                  Electrophysiology::create_ionic_model(prm)->has_calcium(),
-                dealii::ExcMessage(
-                  "Problem = heartbeat: Active tension / Model = " +
-                  tension_model->name() +
-                  " is driven by the intracellular calcium of the cell model, "
-                  "and Electrophysiology / Ionic model = " +
-                  prm.get({"Electrophysiology"}, "Ionic model") +
-                  " has none: set it to ten Tusscher-Panfilov."));
-
-    // Mechanics / Inertia: the dynamic mechanics (penalty formulation).
+    check_heartbeat_options(prm, *tension_model);
     const bool inertia = prm.get_bool({"Mechanics"}, "Inertia");
-    AssertThrow(!inertia ||
-                  prm.get({"Material"}, "Incompressibility") == "penalty",
-                dealii::ExcMessage(
-                  "Problem = heartbeat: Mechanics / Inertia = true is "
-                  "implemented for Material / Incompressibility = penalty "
-                  "only (it is " +
-                  prm.get({"Material"}, "Incompressibility") +
-                  "): set Incompressibility = penalty or Inertia = false."));
-    AssertThrow(!inertia || prm.get_double({"Mechanics"}, "Density") > 0.0,
-                dealii::ExcMessage(
-                  "Problem = heartbeat: Mechanics / Inertia = true needs a "
-                  "positive Mechanics / Density (kg/m^3; the tissue's is "
-                  "1000)."));
 
-    // Resume: the newest valid checkpoint of the run, written for the same
-    // problem (every entry outside subsection Output equal).
-    std::ostringstream all_entries;
-    prm.print_parameters(all_entries, dealii::ParameterHandler::ShortPRM);
+    std::ostringstream entries;
+    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    const std::string   all_entries = entries.str();
     IO::CheckpointStore store(run.output_directory, comm);
-    std::string         checkpoint;
-    double              checkpoint_seconds = 0;
-    unsigned int        n_checkpoints      = 0;
-    if (run.resume)
-      {
-        std::ostringstream faults;
-        checkpoint = store.newest_valid(faults);
-        std::istringstream fault_lines(faults.str());
-        for (std::string line; std::getline(fault_lines, line);)
-          logger.line(line);
-        AssertThrow(!checkpoint.empty(),
-                    dealii::ExcMessage(
-                      "Output / Resume: there is no valid checkpoint in '" +
-                      run.output_directory +
-                      "' (set Output / Checkpoint interval when starting "
-                      "the run)."));
-        std::ifstream      in(checkpoint + "/parameters.prm");
-        std::ostringstream saved;
-        saved << in.rdbuf();
-        const auto differences =
-          IO::parameter_differences(saved.str(), all_entries.str(), {"Output"});
-        if (!differences.empty())
-          {
-            std::string message =
-              "The checkpoint " + checkpoint +
-              " was written for another problem: " + differences[0];
-            if (differences.size() > 1)
-              message += " (and " + std::to_string(differences.size() - 1) +
-                         " more difference(s))";
-            AssertThrow(false,
-                        dealii::ExcMessage(
-                          message +
-                          ". Only subsection Output may change when a run "
-                          "resumes."));
-          }
-        logger.line("Resuming from " + checkpoint);
-      }
+    const std::string   checkpoint =
+      resume_checkpoint(run, store, all_entries, logger);
 
-    MechanicsModel model(prm,
+    MechanicsModel      model(prm,
                          run,
                          logger,
                          comm,
                          checkpoint.empty() ? ""
-                                            : checkpoint + "/mechanics.mesh");
-    const auto    &tria  = model.tria;
-    const auto    &names = model.names;
-    AssertThrow(names.has("base"),
-                dealii::ExcMessage(
-                  names.source() +
-                  " has no boundary part named 'base': the "
-                  "cavity volume is closed by the base plane."));
-    Mechanics::Problem &problem        = *model.problem;
-    bool                on_endocardium = problem.n_cavities() > 0;
-    for (const std::string &name : problem.cavity_names())
-      on_endocardium =
-        on_endocardium && name.find("endocardium") != std::string::npos;
-    AssertThrow(on_endocardium,
-                dealii::ExcMessage(
-                  "Problem = heartbeat needs Mechanics / Pressure boundary = "
-                  "endocardium (the cavity pressure acts there; a part "
-                  "whose name contains 'endocardium')."));
-    // The 3D ventricles: one (the left) or two (left and right, a
-    // biventricular mesh); the other chambers of the model are 0D.
-    const auto               cavity_names = problem.cavity_names();
-    std::vector<std::string> ventricle_names;
-    if (cavity_names.size() == 1)
-      ventricle_names = {"lv"};
-    else
-      {
-        AssertThrow(cavity_names.size() == 2 &&
-                      cavity_names[0].find("lv") == 0 &&
-                      cavity_names[1].find("rv") == 0,
-                    dealii::ExcMessage(
-                      "Problem = heartbeat couples the left ventricle, or the "
-                      "left and the right ventricle of a biventricular mesh; "
-                      "Mechanics / Pressure boundary lists " +
-                      std::to_string(cavity_names.size()) +
-                      " parts. Name the endocardium, or lv_endocardium, "
-                      "rv_endocardium in this order."));
-        ventricle_names = {"lv", "rv"};
-      }
+                                                 : checkpoint + "/mechanics.mesh");
+    Mechanics::Problem &problem = *model.problem;
+    const auto ventricle_names  = ventricle_names_of(problem, model.names);
     const auto circulation_model =
       Circulation::create_model(prm, ventricle_names);
     const Circulation::Model &zero_d           = *circulation_model;
     const Vector              unloaded_volumes = problem.cavity_volumes();
-    std::string               unloaded         = "\n  unloaded cavit";
-    unloaded += unloaded_volumes.size() == 1 ? "y" : "ies";
-    for (unsigned int a = 0; a < unloaded_volumes.size(); ++a)
-      unloaded +=
-        (a == 0 ? " " : ", ") +
-        (unloaded_volumes.size() == 1 ? std::string()
-                                      : ventricle_names[a] + " ") +
-        dealii::Utilities::to_string(Units::mm3_to_mL(unloaded_volumes[a])) +
-        " mL";
-    logger.line(model.banner(run) + unloaded + "; circulation '" +
-                zero_d.name() + "'");
+    logger.line(model.banner(run) +
+                unloaded_text(unloaded_volumes, ventricle_names) +
+                "; circulation '" + zero_d.name() + "'");
 
-    // The activation times: from the electrophysiology, or prescribed.
-    std::unique_ptr<ElectricalActivation> ep;
-    std::vector<std::vector<double>>      times;
-    double earliest = std::numeric_limits<double>::max();
-    // (A calcium-driven tension always runs the electrophysiology.)
-    if (calcium_driven || bestel_params.activation_map == "electrophysiology")
-      {
-        ep = std::make_unique<ElectricalActivation>(prm,
-                                                    run,
-                                                    model.geometry,
-                                                    tria,
-                                                    problem,
-                                                    circulation.period,
-                                                    logger,
-                                                    comm,
-                                                    checkpoint);
-        logger.line(ep->description());
-        earliest = ep->earliest_stimulus();
-      }
-    else
-      {
-        times = activation_times(problem,
-                                 bestel_params,
-                                 Geometry::boundary_plane(tria,
-                                                          names.id("base"),
-                                                          "base"),
-                                 comm);
-        for (const auto &cell : times)
-          for (const double t : cell)
-            earliest = std::min(earliest, t);
-        earliest = dealii::Utilities::MPI::min(earliest, comm);
-      }
+    const bool calcium_driven =
+      tension_model->drive() == Materials::TensionDrive::calcium;
+    Activation            activation = create_activation(prm,
+                                              run,
+                                              model,
+                                              calcium_driven,
+                                              circulation.period,
+                                              checkpoint,
+                                              logger,
+                                              comm);
+    ElectricalActivation *ep         = activation.ep.get();
 
     // The initial state: the 0D model's, with the 3D cavity unloaded (u =
     // 0, p = 0) and its volume that of the mesh.
@@ -858,27 +1156,15 @@ namespace systole
         y0[cavity.volume_state] = unloaded_volumes[a++];
     zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
 
-    HeartbeatStepper::Settings settings;
-    settings.period                    = circulation.period;
-    settings.n_max_beats               = circulation.n_max_beats;
-    settings.periodicity_tolerance     = circulation.periodicity_tolerance;
-    settings.relative_tolerance        = circulation.relative_tolerance;
-    settings.absolute_volume_tolerance = circulation.absolute_volume_tolerance;
-    settings.absolute_pressure_tolerance =
-      circulation.absolute_pressure_tolerance;
-    settings.max_step             = circulation.max_time_step;
-    settings.initial_step         = circulation.initial_time_step;
-    settings.event_time_tolerance = circulation.event_time_tolerance;
-    settings.max_step_cuts        = circulation.max_step_cuts;
-
     // The tension starts to rise at the earliest activation plus the
     // model's onset delay, taken within the beat.
     const double onset =
-      std::fmod(earliest + tension_model->onset_delay(), circulation.period);
+      std::fmod(activation.earliest + tension_model->onset_delay(),
+                circulation.period);
     MechanicsVentricles ventricles(problem,
                                    *tension_model,
-                                   times,
-                                   ep.get(),
+                                   activation.times,
+                                   ep,
                                    onset,
                                    inertia,
                                    logger);
@@ -887,21 +1173,13 @@ namespace systole
     std::istringstream                               saved_state;
     std::unique_ptr<boost::archive::binary_iarchive> state_in;
     std::unique_ptr<IO::ResultsFile>                 results_file;
-    unsigned int                                     resumed_step = 0;
     if (!checkpoint.empty())
       {
-        std::string bytes;
-        if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          {
-            std::ifstream      in(checkpoint + "/state.bin", std::ios::binary);
-            std::ostringstream o;
-            o << in.rdbuf();
-            bytes = o.str();
-          }
-        saved_state.str(dealii::Utilities::MPI::broadcast(comm, bytes, 0));
+        saved_state.str(read_state_bytes(checkpoint, comm));
         state_in =
           std::make_unique<boost::archive::binary_iarchive>(saved_state);
         IO::ResultsFile::Rows rows;
+        unsigned int          resumed_step = 0;
         *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
         results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
                                                          rows,
@@ -915,7 +1193,7 @@ namespace systole
     IO::ResultsFile     &results = *results_file;
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
                                      problem,
-                                     names,
+                                     model.names,
                                      &logger);
     Progress             progress(logger,
                       Progress::parse_mode(run.progress),
@@ -925,88 +1203,34 @@ namespace systole
                   results,
                   ventricles,
                   problem,
-                  ep.get(),
+                  ep,
                   run,
                   logger,
                   progress,
                   postprocess,
                   circulation.period,
                   comm);
-    HeartbeatStepper     stepper(zero_d, ventricles, settings, y0, p0);
+    HeartbeatStepper     stepper(zero_d,
+                             ventricles,
+                             stepper_settings(circulation),
+                             y0,
+                             p0);
     writer.inertia = inertia;
 
+    HeartbeatState state{problem, ep, stepper, ventricles, writer, postprocess};
     if (state_in)
-      {
-        boost::archive::binary_iarchive &archive = *state_in;
-        problem.load_checkpoint(archive);
-        if (ep != nullptr)
-          ep->load_checkpoint(archive);
-        stepper.load(archive);
-        ventricles.serialize(archive);
-        writer.serialize(archive);
-        std::array<double, 5> beat_seconds;
-        archive              &beat_seconds;
-        writer.set_beat_seconds(beat_seconds);
-        std::vector<double> postprocess_state;
-        archive            &postprocess_state;
-        postprocess.set_state(postprocess_state);
-        state_in.reset();
-      }
-
-    // A checkpoint: the meshes with their cell data (the mechanics' states,
-    // the EP state, the activation at the mechanics points) through
-    // p::d::Triangulation::save, the small state through boost
-    // serialization, the parameters; written to a temporary folder that is
-    // renamed when complete.
-    const long test_kill_in_checkpoint =
-      Writer::environment_integer("SYSTOLE_TEST_KILL_IN_CHECKPOINT");
+      state.load(*state_in);
+    state_in.reset();
+    Checkpointer checkpointer{store,
+                              results,
+                              state,
+                              &model.tria,
+                              all_entries,
+                              run,
+                              logger,
+                              comm};
     writer.checkpoint = [&](const unsigned int step) {
-      const auto         begin  = std::chrono::steady_clock::now();
-      const std::string  folder = store.begin(step);
-      std::ostringstream bytes;
-      {
-        boost::archive::binary_oarchive archive(bytes);
-        const auto                      rows = results.rows();
-        archive &rows.timeseries &rows.summary &rows.events &step;
-        problem.prepare_checkpoint(archive);
-        if (ep != nullptr)
-          ep->save_checkpoint(archive, folder);
-        stepper.save(archive);
-        ventricles.serialize(archive);
-        writer.serialize(archive);
-        std::array<double, 5> beat_seconds = writer.beat_seconds();
-        archive              &beat_seconds;
-        // The postprocessors' reference values and peaks of the beat.
-        std::vector<double> postprocess_state = postprocess.state();
-        archive            &postprocess_state;
-      }
-      model.tria.save(folder + "mechanics.mesh");
-      problem.finish_checkpoint();
-      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-        {
-          std::ofstream     state(folder + "state.bin", std::ios::binary);
-          const std::string data = bytes.str();
-          // Test hook (SYSTOLE_TEST_KILL_IN_CHECKPOINT=N): die by SIGKILL
-          // halfway through the state of the checkpoint of step N.
-          if (test_kill_in_checkpoint == static_cast<long>(step))
-            {
-              state.write(data.data(), data.size() / 2);
-              state.flush();
-              std::raise(SIGKILL);
-            }
-          state.write(data.data(), data.size());
-          std::ofstream(folder + "parameters.prm") << all_entries.str();
-          std::ofstream(folder + "parameter_file") << run.parameter_file;
-          AssertThrow(state.good(),
-                      dealii::ExcMessage("Cannot write " + folder +
-                                         "state.bin."));
-        }
-      const std::string path = store.commit();
-      checkpoint_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - begin)
-          .count();
-      ++n_checkpoints;
-      logger.detail() << "  checkpoint " << path << std::endl;
+      checkpointer.write(step);
     };
     // The electrophysiology on tetrahedra cannot be checkpointed yet (nor
     // can the mechanics there resume): an interrupted run stops without one.
@@ -1019,84 +1243,8 @@ namespace systole
     const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();
-
-    std::ostringstream o;
-    o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
-      << (stats.periodic ? ", periodic" : ", not yet periodic") << "; "
-      << stats.n_steps << " steps, " << stats.n_solves << " coupled solves, "
-      << stats.n_newton_iterations
-      << " Newton iterations\n  solves redone: " << stats.n_error_rejections
-      << " for the error, " << stats.n_event_rejections
-      << " to locate valve events; " << stats.n_failures << " failed\n  "
-      << ventricles.mechanics_seconds << " s in the mechanics of " << wall
-      << " s";
-    logger.line(o.str());
-    if (n_checkpoints > 0)
-      {
-        std::ostringstream c;
-        c << std::fixed << std::setprecision(3) << n_checkpoints
-          << " checkpoint(s), " << checkpoint_seconds / n_checkpoints
-          << " s per checkpoint, " << problem.n_dofs()
-          << " mechanics DOFs;\n  the last in " << store.list().front();
-        logger.line(c.str());
-      }
-    if (stats.interrupted)
-      logger.line("Interrupted: continue with systole --resume " +
-                  run.output_directory);
-    if (ep != nullptr)
-      {
-        const auto         s = ep->statistics();
-        std::ostringstream e;
-        e << std::fixed << std::setprecision(2)
-          << "Electrophysiology: " << s.steps << " ARKode steps ("
-          << static_cast<double>(s.steps) / std::max(1ul, stats.n_steps)
-          << " per accepted mechanics step),\n  " << s.seconds
-          << " s integrating, " << ep->transfer_seconds()
-          << " s reading it at the mechanics points;\n  of the " << wall
-          << " s of the cycle " << 100 * ventricles.ep_seconds / wall
-          << " % in EP, " << 100 * ventricles.mechanics_seconds / wall
-          << " % in the mechanics";
-        logger.line(e.str());
-      }
-    // The cost of the run as numbers (scripts/bench reads them).
-    std::vector<std::pair<std::string, std::string>> texts;
-    auto statistics = model.statistics(texts);
-    statistics.insert(
-      statistics.end(),
-      {{"beats", "-", static_cast<double>(stats.n_beats)},
-       {"periodic", "-", stats.periodic ? 1.0 : 0.0},
-       {"steps", "-", static_cast<double>(stats.n_steps)},
-       {"coupled_solves", "-", static_cast<double>(stats.n_solves)},
-       {"newton_iterations",
-        "-",
-        static_cast<double>(stats.n_newton_iterations)},
-       {"linear_iterations",
-        "-",
-        static_cast<double>(ventricles.linear_iterations)},
-       {"error_rejections", "-", static_cast<double>(stats.n_error_rejections)},
-       {"event_rejections", "-", static_cast<double>(stats.n_event_rejections)},
-       {"failed_solves", "-", static_cast<double>(stats.n_failures)},
-       {"cycle_seconds", "s", wall},
-       {"mechanics_seconds", "s", ventricles.mechanics_seconds},
-       {"ep_seconds", "s", ventricles.ep_seconds}});
-    if (ep != nullptr)
-      {
-        const auto s = ep->statistics();
-        statistics.insert(
-          statistics.end(),
-          {{"ep_steps", "-", static_cast<double>(s.steps)},
-           {"ep_integration_seconds", "s", s.seconds},
-           {"ep_transfer_seconds", "s", ep->transfer_seconds()},
-           {"ep_nodes", "-", static_cast<double>(ep->n_nodes())}});
-      }
-    statistics.insert(
-      statistics.end(),
-      {{"checkpoints", "-", static_cast<double>(n_checkpoints)},
-       {"checkpoint_seconds", "s", checkpoint_seconds},
-       {"mechanics_dofs", "-", static_cast<double>(problem.n_dofs())}});
-    if (n_checkpoints > 0)
-      texts.emplace_back("last_checkpoint", store.list().front());
-    results.write_statistics(statistics, texts);
+    log_run(stats, ventricles, ep, checkpointer, problem, wall, logger);
+    write_statistics(stats, ventricles, ep, checkpointer, model, wall, results);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole
