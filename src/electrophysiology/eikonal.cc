@@ -68,13 +68,13 @@ namespace systole::Electrophysiology
     {
       const dealii::Tensor<1, 3> e0 = y0 - y2, e1 = y1 - y2, d = x - y2;
       const dealii::Tensor<1, 3> Ae0 = A * e0, Ae1 = A * e1;
-      const double Q00 = e0 * Ae0, Q01 = e0 * Ae1, Q11 = e1 * Ae1;
-      const double det = Q00 * Q11 - Q01 * Q01;
+      const double               Q00 = e0 * Ae0, Q01 = e0 * Ae1, Q11 = e1 * Ae1;
+      const double               det = Q00 * Q11 - Q01 * Q01;
       if (!(det > 1e-12 * Q00 * Q11))
         return infinity; // degenerate triangle
       const double g0 = T0 - T2, g1 = T1 - T2;
       const double b0 = Ae0 * d, b1 = Ae1 * d;
-      const double c  = d * (A * d);
+      const double c = d * (A * d);
       // Q^-1 g and Q^-1 b.
       const double w0 = (Q11 * g0 - Q01 * g1) / det;
       const double w1 = (Q00 * g1 - Q01 * g0) / det;
@@ -160,8 +160,9 @@ namespace systole::Electrophysiology
         for (unsigned int l = k + 1; l < n; ++l)
           best = std::min(best, edge_update(A, x, *y[k], *y[l], T[k], T[l]));
     if (n == 3)
-      best = std::min(
-        best, triangle_update(A, x, *y[0], *y[1], *y[2], T[0], T[1], T[2]));
+      best =
+        std::min(best,
+                 triangle_update(A, x, *y[0], *y[1], *y[2], T[0], T[1], T[2]));
     return best;
   }
 
@@ -204,7 +205,7 @@ namespace systole::Electrophysiology
       AssertThrow(v > 0,
                   dealii::ExcMessage("Electrophysiology: the conduction "
                                      "velocities must be > 0."));
-    nodes_per_cell = fe.n_dofs_per_cell();
+    nodes_per_cell     = fe.n_dofs_per_cell();
     const bool simplex = nodes_per_cell == 4;
 
     locally_owned = dofs.locally_owned_dofs();
@@ -212,14 +213,14 @@ namespace systole::Electrophysiology
     n_owned = locally_owned.n_elements();
     times.reinit(locally_owned, locally_relevant, comm);
     const auto        &partitioner = *times.get_partitioner();
-    const unsigned int n_local     = times.locally_owned_size() +
-                                 partitioner.n_ghost_indices();
+    const unsigned int n_local =
+      times.locally_owned_size() + partitioner.n_ghost_indices();
 
     // The fast endocardial layer: the distance of each owned cell's centre
     // to the boundary part (to its faces' vertices and centres, gathered
     // from every rank).
-    const bool layer = !settings.endocardial_part.empty() &&
-                       settings.endocardial_thickness > 0;
+    const bool layer =
+      !settings.endocardial_part.empty() && settings.endocardial_thickness > 0;
     dealii::RTree<dealii::Point<3>> tree;
     if (layer)
       {
@@ -229,7 +230,7 @@ namespace systole::Electrophysiology
                       "must be > 0."));
         const auto &tria = dofs.get_triangulation();
         Geometry::require_boundary(tria, names, settings.endocardial_part);
-        const auto id = names.id(settings.endocardial_part);
+        const auto                    id = names.id(settings.endocardial_part);
         std::vector<dealii::Point<3>> local_points;
         for (const auto &cell : tria.active_cell_iterators())
           if (cell->is_locally_owned())
@@ -275,12 +276,13 @@ namespace systole::Electrophysiology
               const auto &b = bases.at(0);
               for (unsigned int i = 0; i < 3; ++i)
                 for (unsigned int j = i; j < 3; ++j)
-                  A[i][j] = b.f[i] * b.f[j] / (settings.velocity_fibre *
-                                               settings.velocity_fibre) +
-                            b.s[i] * b.s[j] / (settings.velocity_sheet *
-                                               settings.velocity_sheet) +
-                            b.n[i] * b.n[j] / (settings.velocity_normal *
-                                               settings.velocity_normal);
+                  A[i][j] =
+                    b.f[i] * b.f[j] /
+                      (settings.velocity_fibre * settings.velocity_fibre) +
+                    b.s[i] * b.s[j] /
+                      (settings.velocity_sheet * settings.velocity_sheet) +
+                    b.n[i] * b.n[j] /
+                      (settings.velocity_normal * settings.velocity_normal);
             }
           metric[cell->active_cell_index()] = A;
         }
@@ -333,11 +335,11 @@ namespace systole::Electrophysiology
   double
   EikonalSolver::update(const unsigned int c, const unsigned int vertex) const
   {
-    const auto         &triangles = tables(nodes_per_cell == 4).triangles;
-    const unsigned int *nodes     = &cell_nodes[c * nodes_per_cell];
-    const auto         &A         = cell_metric[c];
-    const auto         &x         = position[nodes[vertex]];
-    double              best      = infinity;
+    const auto             &triangles = tables(nodes_per_cell == 4).triangles;
+    const unsigned int     *nodes     = &cell_nodes[c * nodes_per_cell];
+    const auto             &A         = cell_metric[c];
+    const auto             &x         = position[nodes[vertex]];
+    double                  best      = infinity;
     const dealii::Point<3> *y[3];
     double                  T[3];
     for (const auto &triangle : triangles[vertex])

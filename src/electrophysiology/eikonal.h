@@ -6,6 +6,7 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/la_parallel_vector.h>
 
+#include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
 
@@ -16,22 +17,6 @@
 
 namespace systole::Electrophysiology
 {
-  /// Conduction velocities of the eikonal model and its fast endocardial
-  /// layer (Parameters, entries "Conduction velocity ..." and "Fast
-  /// endocardial layer ...").
-  struct EikonalSettings
-  {
-    double velocity_fibre  = 0.611; ///< along f [mm/ms]
-    double velocity_sheet  = 0.222; ///< along s, across the fibres [mm/ms]
-    double velocity_normal = 0.222; ///< along n = f x s [mm/ms]
-    /// The cells whose centre lies within @p endocardial_thickness of this
-    /// boundary part conduct isotropically at @p endocardial_velocity (a
-    /// fast endocardial, Purkinje-like layer); empty: none.
-    std::string endocardial_part;
-    double      endocardial_thickness = 0; ///< [mm]
-    double      endocardial_velocity  = 0; ///< [mm/ms]
-  };
-
   /// Counters of the last EikonalSolver::solve().
   struct EikonalStatistics
   {
@@ -81,8 +66,9 @@ namespace systole::Electrophysiology
   /// off the sources any order of updates converges to the same (the
   /// largest) fixed point of the discrete equations: the result does not
   /// depend on the partition or the number of ranks (to round-off; 1, 2 and
-  /// 3 ranks agree to 1e-12 ms in tests/mpi/electrophysiology/eikonal_test.cc). Fast sweeping would need
-  /// structured orderings, and fast marching a sequential global heap.
+  /// 3 ranks agree to 1e-12 ms in tests/mpi/electrophysiology/eikonal_test.cc).
+  /// Fast sweeping would need structured orderings, and fast marching a
+  /// sequential global heap.
   class EikonalSolver
   {
   public:
@@ -134,13 +120,13 @@ namespace systole::Electrophysiology
     std::vector<dealii::Point<3>>                      owned_position;
     /// The owned and ghost cells: their nodes (local numbers) and metric
     /// V^{-1}.
-    unsigned int                                  nodes_per_cell;
-    std::vector<unsigned int>                     cell_nodes;
-    std::vector<dealii::SymmetricTensor<2, 3>>    cell_metric;
-    std::vector<unsigned int>                     node_cells_start;
-    std::vector<unsigned int>                     node_cells;
-    std::vector<double>                           owned;
-    EikonalStatistics                             stats;
+    unsigned int                               nodes_per_cell;
+    std::vector<unsigned int>                  cell_nodes;
+    std::vector<dealii::SymmetricTensor<2, 3>> cell_metric;
+    std::vector<unsigned int>                  node_cells_start;
+    std::vector<unsigned int>                  node_cells;
+    std::vector<double>                        owned;
+    EikonalStatistics                          stats;
 
     /// The update of local node @p i (local vertex @p vertex) from cell
     /// @p c.

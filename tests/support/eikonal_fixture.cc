@@ -21,7 +21,7 @@ namespace test_support
   eikonal_block_frame()
   {
     // f, s, n: the axes rotated by 30 degrees about z, then 20 about x.
-    const double a = M_PI / 6, b = M_PI / 9;
+    const double         a = M_PI / 6, b = M_PI / 9;
     dealii::Tensor<1, 3> f, s;
     f[0] = std::cos(a), f[1] = std::sin(a);
     s[0] = -std::sin(a), s[1] = std::cos(a);
@@ -53,12 +53,11 @@ namespace test_support
     dealii::DoFHandler<3>    dofs(*mesh.tria);
     dofs.distribute_dofs(*fe);
 
-    const Fibres::FibreBasis frame  = eikonal_block_frame();
-    const Fibres::FibreField fibres = [frame](const auto &,
-                                              const auto &points,
-                                              auto       &bases) {
-      bases.assign(points.size(), frame);
-    };
+    const Fibres::FibreBasis frame = eikonal_block_frame();
+    const Fibres::FibreField fibres =
+      [frame](const auto &, const auto &points, auto &bases) {
+        bases.assign(points.size(), frame);
+      };
     Electrophysiology::EikonalSettings settings;
     settings.velocity_fibre  = block.v_f;
     settings.velocity_sheet  = block.v_s;
@@ -66,8 +65,8 @@ namespace test_support
     Electrophysiology::EikonalSolver solver(dofs, fibres, mesh.names, settings);
 
     // The exact arrival time sqrt((x - x0) V^-1 (x - x0)).
-    const bool   plane = block.plane_normal.norm() > 0;
-    const auto   V_of  = [&](const dealii::Tensor<1, 3> &v) {
+    const bool plane = block.plane_normal.norm() > 0;
+    const auto V_of  = [&](const dealii::Tensor<1, 3> &v) {
       const double vf = v * frame.f, vs = v * frame.s, vn = v * frame.n;
       return vf * vf * block.v_f * block.v_f + vs * vs * block.v_s * block.v_s +
              vn * vn * block.v_n * block.v_n;
@@ -117,14 +116,15 @@ namespace test_support
       local.push_back(
         {{x[i][0], x[i][1], x[i][2], solver.owned_times()[i], exact(x[i])}});
     std::vector<std::array<double, 5>> all;
-    for (const auto &from_rank : dealii::Utilities::MPI::all_gather(comm, local))
+    for (const auto &from_rank :
+         dealii::Utilities::MPI::all_gather(comm, local))
       all.insert(all.end(), from_rank.begin(), from_rank.end());
     std::sort(all.begin(), all.end());
     for (const auto &node : all)
       {
         result.times.push_back(node[3]);
         result.exact.push_back(node[4]);
-        const double e = std::abs(node[3] - node[4]);
+        const double e   = std::abs(node[3] - node[4]);
         result.max_error = std::max(result.max_error, e);
         result.mean_error += e / all.size();
       }

@@ -35,7 +35,7 @@ TEST_CASE("The eikonal solver on several ranks equals the serial run",
       CHECK(difference <= 1e-10);
       WARN((tets ? "P1" : "Q1")
            << " on " << dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
-           << " ranks: largest difference from 1 rank " << difference
-           << " ms, " << parallel.rounds << " exchange rounds");
+           << " ranks: largest difference from 1 rank " << difference << " ms, "
+           << parallel.rounds << " exchange rounds");
     }
 }

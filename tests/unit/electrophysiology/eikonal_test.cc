@@ -18,9 +18,9 @@ TEST_CASE("The local eikonal update minimizes over the simplex",
           "[ep][eikonal]")
 {
   const dealii::SymmetricTensor<2, 3> I = dealii::unit_symmetric_tensor<3>();
-  const dealii::Point<3> x(0, 0, 1);
-  const dealii::Point<3> a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
-  const dealii::Point<3> *y[3] = {&a, &b, &c};
+  const dealii::Point<3>              x(0, 0, 1);
+  const dealii::Point<3>              a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  const dealii::Point<3>             *y[3] = {&a, &b, &c};
   // Equal times on the face: the foot of the perpendicular.
   double T[3] = {1, 1, 1};
   CHECK(eikonal_simplex_update(I, x, y, T, 3) == Approx(2).epsilon(1e-14));
@@ -34,14 +34,13 @@ TEST_CASE("The local eikonal update minimizes over the simplex",
   // One known vertex: the distance; an anisotropic metric A = V^-1.
   dealii::SymmetricTensor<2, 3> A;
   A[0][0] = 1 / 4.0, A[1][1] = 1, A[2][2] = 1 / 9.0;
-  const dealii::Point<3> far(2, 0, 3);
+  const dealii::Point<3>  far(2, 0, 3);
   const dealii::Point<3> *one[1] = {&a};
   CHECK(eikonal_simplex_update(A, far, one, T, 1) ==
         Approx(1 + std::sqrt(2.0)).epsilon(1e-14));
 }
 
-TEST_CASE("Plane fronts are exact on hexahedra and tetrahedra",
-          "[ep][eikonal]")
+TEST_CASE("Plane fronts are exact on hexahedra and tetrahedra", "[ep][eikonal]")
 {
   for (const bool tets : {false, true})
     {
@@ -68,47 +67,47 @@ TEST_CASE("A point source gives ellipsoidal fronts, converging under "
   std::ostringstream out;
   out << std::setprecision(4);
   for (const double radius : {0.0, 0.5})
-  for (const bool tets : {false, true})
-    {
-      out << "exact times within " << (radius > 0 ? "0.5 mm" : "one cell")
-          << " of the source:\n";
-      std::vector<double> max_error, mean_error;
-      for (const unsigned int k : {1u, 2u, 4u, 8u})
-        {
-          EikonalBlock block;
-          block.tetrahedra   = tets;
-          block.exact_radius = radius;
-          block.cells        = {{8 * k, 6 * k, 4 * k}};
-          if (tets && k == 8)
-            break;
-          const auto r = run_eikonal_block(block, MPI_COMM_SELF);
-          max_error.push_back(r.max_error);
-          mean_error.push_back(r.mean_error);
-          out << (tets ? "P1" : "Q1") << " h = " << 0.5 / k << " mm: "
-              << r.n_nodes << " nodes, max error " << r.max_error
-              << " ms, mean " << r.mean_error << " ms";
-          if (max_error.size() > 1)
-            out << ", orders "
-                << std::log2(max_error[max_error.size() - 2] /
-                             max_error.back())
-                << " (max), "
-                << std::log2(mean_error[mean_error.size() - 2] /
-                             mean_error.back())
-                << " (mean)";
-          out << "\n";
-        }
-      // Measured (mean error orders): one cell, 0.80, 0.49, 0.84 (Q1) and
-      // 0.52, 0.54 (P1): the point source's singularity, resolved by ever
-      // fewer nodes; a fixed 0.5 mm, 1.55, 1.05, 1.04 (Q1) and 1.15, 1.00
-      // (P1): first order, the scheme's.
-      for (unsigned int k = 1; k < max_error.size(); ++k)
-        {
-          CHECK(max_error[k] < 0.8 * max_error[k - 1]);
-          CHECK(mean_error[k] < 0.8 * mean_error[k - 1]);
-        }
-      if (radius > 0)
-        CHECK(std::log2(mean_error[max_error.size() - 2] /
-                        mean_error.back()) > 0.95);
-    }
+    for (const bool tets : {false, true})
+      {
+        out << "exact times within " << (radius > 0 ? "0.5 mm" : "one cell")
+            << " of the source:\n";
+        std::vector<double> max_error, mean_error;
+        for (const unsigned int k : {1u, 2u, 4u, 8u})
+          {
+            EikonalBlock block;
+            block.tetrahedra   = tets;
+            block.exact_radius = radius;
+            block.cells        = {{8 * k, 6 * k, 4 * k}};
+            if (tets && k == 8)
+              break;
+            const auto r = run_eikonal_block(block, MPI_COMM_SELF);
+            max_error.push_back(r.max_error);
+            mean_error.push_back(r.mean_error);
+            out << (tets ? "P1" : "Q1") << " h = " << 0.5 / k
+                << " mm: " << r.n_nodes << " nodes, max error " << r.max_error
+                << " ms, mean " << r.mean_error << " ms";
+            if (max_error.size() > 1)
+              out << ", orders "
+                  << std::log2(max_error[max_error.size() - 2] /
+                               max_error.back())
+                  << " (max), "
+                  << std::log2(mean_error[mean_error.size() - 2] /
+                               mean_error.back())
+                  << " (mean)";
+            out << "\n";
+          }
+        // Measured (mean error orders): one cell, 0.80, 0.49, 0.84 (Q1) and
+        // 0.52, 0.54 (P1): the point source's singularity, resolved by ever
+        // fewer nodes; a fixed 0.5 mm, 1.55, 1.05, 1.04 (Q1) and 1.15, 1.00
+        // (P1): first order, the scheme's.
+        for (unsigned int k = 1; k < max_error.size(); ++k)
+          {
+            CHECK(max_error[k] < 0.8 * max_error[k - 1]);
+            CHECK(mean_error[k] < 0.8 * mean_error[k - 1]);
+          }
+        if (radius > 0)
+          CHECK(std::log2(mean_error[max_error.size() - 2] /
+                          mean_error.back()) > 0.95);
+      }
   WARN(out.str());
 }
