@@ -2,6 +2,7 @@
 // fronts, and the ellipsoidal arrival times of a point source in a
 // homogeneous anisotropic block with their order of convergence.
 #include "electrophysiology/eikonal.h"
+#include "support/ep_fixture.h"
 #include "support/eikonal_fixture.h"
 
 #include <catch2/catch.hpp>
@@ -110,4 +111,54 @@ TEST_CASE("A point source gives ellipsoidal fronts, converging under "
                           mean_error.back()) > 0.95);
       }
   WARN(out.str());
+}
+
+TEST_CASE("The reaction-eikonal models activate the nodes at their eikonal "
+          "times",
+          "[ep][eikonal][monodomain]")
+{
+  // A 4 x 2 x 1 mm slab, fibres along x, corner stimulus: the eikonal model
+  // alone, RE- (the ionic model at the nodes, stimulated from its latency
+  // before the eikonal time) and RE+ (with the diffusion). RE- upstrokes
+  // at the eikonal times up to the time sampling; RE+ earlier or equal
+  // (the diffusion adds to the stimulus).
+  test_support::EPBox box;
+  box.upper    = dealii::Point<3>(4, 2, 1);
+  box.cells    = {{16, 8, 4}};
+  box.fibre    = test_support::unit_vector(0);
+  Parameters p = Parameters::defaults("Mitchell-Schaeffer");
+  p.stimuli = parse_stimuli("corner: box 0 0 0 0.5 0.5 0.5 from 1 for 2 at 50");
+  p.time_step = 0.05;
+  p.eikonal.velocity_fibre  = 0.5;
+  p.eikonal.velocity_sheet  = 0.2;
+  p.eikonal.velocity_normal = 0.2;
+  const std::vector<dealii::Point<3>> probes = {dealii::Point<3>(4, 2, 1),
+                                                dealii::Point<3>(2, 1, 0.5),
+                                                dealii::Point<3>(4, 0, 0)};
+  const auto run = [&](const Parameters::Model model, const bool diffusion) {
+    p.model                      = model;
+    p.reaction_eikonal_diffusion = diffusion;
+    return test_support::run_ep_box(p, box, 30, 5, probes, MPI_COMM_SELF);
+  };
+  const auto eikonal = run(Parameters::Model::eikonal, false);
+  const auto minus   = run(Parameters::Model::reaction_eikonal, false);
+  const auto plus    = run(Parameters::Model::reaction_eikonal, true);
+  // Far corner: sqrt((3.5/0.5)^2 + (1.5/0.2)^2 + (0.5/0.2)^2) = 10.56 ms
+  // after the stimulated cube's activation.
+  CHECK(eikonal.probes.activation_time[0] > 11.5);
+  CHECK(eikonal.probes.activation_time[0] < 13.5);
+  for (unsigned int i = 0; i < probes.size(); ++i)
+    {
+      INFO("probe " << i << ": eikonal " << eikonal.probes.activation_time[i]
+                    << ", RE- " << minus.probes.activation_time[i] << ", RE+ "
+                    << plus.probes.activation_time[i] << " ms");
+      CHECK(std::abs(minus.probes.activation_time[i] -
+                     eikonal.probes.activation_time[i]) < 0.05);
+      CHECK(plus.probes.activation_time[i] <
+            eikonal.probes.activation_time[i] + 0.05);
+      CHECK(plus.probes.activation_time[i] >
+            eikonal.probes.activation_time[i] - 1.5);
+    }
+  CHECK(minus.statistics.linear_solves == 0);
+  CHECK(eikonal.statistics.steps == 0);
 }
