@@ -333,7 +333,9 @@ namespace systole::Electrophysiology
 
 
   double
-  EikonalSolver::update(const unsigned int c, const unsigned int vertex) const
+  EikonalSolver::update(const unsigned int c,
+                        const unsigned int vertex,
+                        const unsigned int changed) const
   {
     const auto             &triangles = tables(nodes_per_cell == 4).triangles;
     const unsigned int     *nodes     = &cell_nodes[c * nodes_per_cell];
@@ -344,6 +346,10 @@ namespace systole::Electrophysiology
     double                  T[3];
     for (const auto &triangle : triangles[vertex])
       {
+        // Only the triangles of the node that changed give anything new.
+        if (triangle[0] != changed && triangle[1] != changed &&
+            triangle[2] != changed)
+          continue;
         unsigned int n = 0;
         for (const unsigned int v : triangle)
           {
@@ -402,13 +408,16 @@ namespace systole::Electrophysiology
                  ++k)
               {
                 const unsigned int c = node_cells[k];
+                unsigned int       jv = 0;
+                while (cell_nodes[c * nodes_per_cell + jv] != j)
+                  ++jv;
                 for (unsigned int v = 0; v < nodes_per_cell; ++v)
                   {
                     const unsigned int i = cell_nodes[c * nodes_per_cell + v];
                     if (i == j || i >= n_owned)
                       continue;
                     ++stats.local_updates;
-                    const double candidate = update(c, v);
+                    const double candidate = update(c, v, jv);
                     if (decreases(candidate, times.local_element(i)))
                       {
                         times.local_element(i) = candidate;

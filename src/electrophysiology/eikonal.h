@@ -128,10 +128,13 @@ namespace systole::Electrophysiology
     std::vector<double>                        owned;
     EikonalStatistics                          stats;
 
-    /// The update of local node @p i (local vertex @p vertex) from cell
-    /// @p c.
+    /// The update of the node at local vertex @p vertex of cell @p c from
+    /// the far triangles that hold local vertex @p changed (the others did
+    /// not change since they were last used).
     double
-    update(const unsigned int c, const unsigned int vertex) const;
+    update(const unsigned int c,
+           const unsigned int vertex,
+           const unsigned int changed) const;
   };
 
   /// min over the simplex of the @p n points @p y (n = 1, 2, 3) of
