@@ -407,7 +407,7 @@ namespace systole::Electrophysiology
                  k < node_cells_start[j + 1];
                  ++k)
               {
-                const unsigned int c = node_cells[k];
+                const unsigned int c  = node_cells[k];
                 unsigned int       jv = 0;
                 while (cell_nodes[c * nodes_per_cell + jv] != j)
                   ++jv;

@@ -59,9 +59,12 @@ namespace test_support
         bases.assign(points.size(), frame);
       };
     Electrophysiology::EikonalSettings settings;
-    settings.velocity_fibre  = block.v_f;
-    settings.velocity_sheet  = block.v_s;
-    settings.velocity_normal = block.v_n;
+    settings.velocity_fibre        = block.v_f;
+    settings.velocity_sheet        = block.v_s;
+    settings.velocity_normal       = block.v_n;
+    settings.endocardial_part      = block.layer_part;
+    settings.endocardial_thickness = block.layer_thickness;
+    settings.endocardial_velocity  = block.layer_velocity;
     Electrophysiology::EikonalSolver solver(dofs, fibres, mesh.names, settings);
 
     // The exact arrival time sqrt((x - x0) V^-1 (x - x0)).

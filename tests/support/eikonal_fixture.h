@@ -8,6 +8,7 @@
 #include <mpi.h>
 
 #include <array>
+#include <string>
 #include <vector>
 
 /// @file
@@ -30,6 +31,9 @@ namespace test_support
     /// Instead of the point source: a plane front with this normal
     /// (not zero), the exact times given at every boundary node.
     dealii::Tensor<1, 3> plane_normal;
+    /// A fast layer along a boundary part (EikonalSettings); empty: none.
+    std::string layer_part;
+    double      layer_thickness = 0, layer_velocity = 0;
   };
 
   struct EikonalBlockResult
