@@ -147,6 +147,8 @@ namespace systole::Electrophysiology
                                       params.ecg.bath_conductivity);
       }
     m.locate_stimuli(names);
+    if (params.model != Parameters::Model::monodomain)
+      m.setup_eikonal(fibres, names);
     m.stimulus_on.assign(params.stimuli.size(), false);
 
     m.initialize_state();
@@ -158,6 +160,27 @@ namespace systole::Electrophysiology
     save();
 
     std::ostringstream o;
+    if (params.model != Parameters::Model::monodomain)
+      {
+        const double last = dealii::Utilities::MPI::max(
+          m.eikonal_times.empty()
+            ? 0.0
+            : *std::max_element(m.eikonal_times.begin(), m.eikonal_times.end()),
+          m.comm);
+        o << "Electrophysiology: "
+          << (params.model == Parameters::Model::eikonal
+                ? "eikonal"
+                : (params.reaction_eikonal_diffusion ? "reaction-eikonal RE+"
+                                                     : "reaction-eikonal RE-"))
+          << ", conduction velocities " << params.eikonal.velocity_fibre
+          << " / " << params.eikonal.velocity_sheet << " / "
+          << params.eikonal.velocity_normal
+          << " mm/ms (fibre / sheet / normal), last activation " << last
+          << " ms, eikonal solve " << m.eikonal_statistics.seconds << " s ("
+          << m.eikonal_statistics.rounds << " exchange rounds)";
+        logger.line(o.str());
+        o.str("");
+      }
     o << "Electrophysiology: monodomain, " << m.model.name() << ", "
       << (m.kind.simplex() ? "P" : "Q") << params.degree << ", "
       << m.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()

@@ -19,6 +19,7 @@
 #include "electrophysiology/activation.h"
 #include "electrophysiology/arkode_adapter.h"
 #include "electrophysiology/ecg.h"
+#include "electrophysiology/eikonal.h"
 #include "electrophysiology/monodomain.h"
 #include "geometry/cell_kind.h"
 
@@ -99,6 +100,50 @@ namespace systole::Electrophysiology
     /// For each stimulus, the owned nodes in its region.
     void
     locate_stimuli(const Geometry::BoundaryNames &names);
+
+    // --- reaction_eikonal.cc (Model = reaction-eikonal or eikonal) ---
+    /// Solve the eikonal equation from the stimuli (each stimulus's nodes
+    /// start at its start time plus the cell's stimulus latency) and set up
+    /// the nodal stimulus of the reaction-eikonal model (which replaces the
+    /// stimuli: stimulus_nodes are emptied).
+    void
+    setup_eikonal(const Fibres::FibreField      &fibres,
+                  const Geometry::BoundaryNames &names);
+    /// Reaction-eikonal: the nodal stimulus rates of the step [@p t0,
+    /// @p t1] (the charge of each node's window inside it, spread evenly).
+    void
+    eikonal_step_stimulus(const double t0, const double t1);
+    /// Reaction-eikonal: the times in (@p t0, @p t1) at which steps end so
+    /// that steps are at most a quarter of the stimulus long while nodes
+    /// are being stimulated.
+    std::vector<double>
+    eikonal_breakpoints(const double t0, const double t1) const;
+    /// Model = eikonal: the activation times and the square-wave potential
+    /// at @p t_end.
+    void
+    advance_eikonal_only(const double t_end);
+
+    /// Eikonal activation time of the first beat at the owned nodes [ms]
+    /// (+inf: not reached).
+    std::vector<double> eikonal_times;
+    /// Reaction-eikonal: the nodal stimulus onsets T - latency in ascending
+    /// order and their nodes; its duration and dv/dt.
+    std::vector<double>       eikonal_onsets;
+    std::vector<unsigned int> eikonal_onset_nodes;
+    double                    eikonal_duration = 0, eikonal_rate = 0;
+    /// The onset time's span over all ranks (first, last) [ms].
+    double eikonal_first_onset = 0, eikonal_last_onset = 0;
+    /// Nodes stimulated during the current step and their dv/dt.
+    std::vector<std::pair<unsigned int, double>> eikonal_stimulus;
+    EikonalStatistics                            eikonal_statistics;
+
+    /// Whether the potential diffuses (not with RE-).
+    bool
+    diffusion() const
+    {
+      return params.model != Parameters::Model::reaction_eikonal ||
+             params.reaction_eikonal_diffusion;
+    }
 
     // --- time_stepping.cc ---
     /// The ImexIntegrator's callbacks on the interleaved state.

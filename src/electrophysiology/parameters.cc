@@ -67,6 +67,72 @@ namespace systole::Electrophysiology
     using Tools::to_string;
     const Parameters d;
     prm.enter_subsection(section);
+    prm.declare_entry(
+      "Model",
+      "monodomain",
+      Selection("monodomain|reaction-eikonal|eikonal"),
+      "How the activation is computed. monodomain: the reaction-diffusion "
+      "model (the entries below). reaction-eikonal: the activation times "
+      "come from the anisotropic eikonal equation (Conduction velocity "
+      "entries, from the Stimuli with their start times), and the ionic "
+      "model runs at every node, excited at its eikonal time by a stimulus "
+      "current of the first stimulus's amplitude and duration, with the "
+      "diffusion (Reaction-eikonal variant = RE+) or without (RE-) (Neic et "
+      "al. 2017, J Comput Phys 346); accurate on coarse meshes. eikonal: the "
+      "activation times alone (no ionic model: for the prescribed-shape "
+      "tension, Active tension / Activation map = electrophysiology; the "
+      "potential is a square wave for display). Degree 1 only. Units: -.");
+    prm.declare_entry(
+      "Reaction-eikonal variant",
+      "RE+",
+      Selection("RE+|RE-"),
+      "Model = reaction-eikonal: RE+ keeps the diffusion of the monodomain "
+      "(the eikonal-timed stimulus only starts the upstroke where the "
+      "diffusion has not: smooth fronts and repolarisation), RE- drops it "
+      "(the ionic ODEs at the nodes only: no linear solves; the potential "
+      "has no electrotonic coupling). Units: -.");
+    prm.declare_entry(
+      "Conduction velocity along fibres",
+      to_string(d.eikonal.velocity_fibre),
+      Double(0.0),
+      "Eikonal models: speed of a plane front along the fibres f. Units: "
+      "mm/ms (= m/s). Default: the converged monodomain speed of the "
+      "Niederer et al. 2011 tissue (ten Tusscher-Panfilov epicardial, "
+      "sigma_l = 0.1334 mS/mm, chi = 140 /mm, C_m = 0.01 µF/mm²) on a cable "
+      "of 0.025 mm cells, 0.610-0.612 (docs/verification.md).");
+    prm.declare_entry(
+      "Conduction velocity across fibres",
+      to_string(d.eikonal.velocity_sheet),
+      Double(0.0),
+      "Eikonal models: speed along the sheet direction s. Units: mm/ms. "
+      "Default: the fibre speed times sqrt(sigma_t/sigma_l) of the Niederer "
+      "tissue (the monodomain speed scales with sqrt(D)): 0.611 x 0.3632.");
+    prm.declare_entry(
+      "Conduction velocity normal to sheets",
+      to_string(d.eikonal.velocity_normal),
+      Double(0.0),
+      "Eikonal models: speed along the sheet normal n = f x s. Units: mm/ms. "
+      "Default: as across the fibres (transversely isotropic tissue).");
+    prm.declare_entry(
+      "Fast endocardial layer",
+      "",
+      Anything(),
+      "Eikonal models: name of a boundary part (e.g. endocardium) whose "
+      "cells within Fast endocardial layer thickness conduct isotropically "
+      "at Fast endocardial layer velocity (a Purkinje-like layer); empty: "
+      "none. Units: -.");
+    prm.declare_entry(
+      "Fast endocardial layer thickness",
+      "0",
+      Double(0.0),
+      "Eikonal models: thickness of the fast layer, measured from the "
+      "boundary part to the cell centres. Units: mm.");
+    prm.declare_entry(
+      "Fast endocardial layer velocity",
+      "2",
+      Double(0.0),
+      "Eikonal models: isotropic conduction velocity in the fast layer "
+      "(Purkinje-like; 2-4 mm/ms in the literature). Units: mm/ms.");
     declare_ionic_model_parameters(prm);
     prm.declare_entry(
       "Longitudinal conductivity",
@@ -241,6 +307,26 @@ namespace systole::Electrophysiology
     p.pull_back               = prm.get_bool(s, "Pull back conductivity");
     p.probes                  = parse_probes(prm.get(s, "Probes"));
     p.ecg                     = EcgParameters::parse(prm);
+    {
+      const std::string model = prm.get(s, "Model");
+      p.model                 = model == "monodomain" ? Model::monodomain
+                                : model == "reaction-eikonal" ? Model::reaction_eikonal
+                                                              : Model::eikonal;
+    }
+    p.reaction_eikonal_diffusion =
+      prm.get(s, "Reaction-eikonal variant") == "RE+";
+    p.eikonal.velocity_fibre =
+      prm.get_double(s, "Conduction velocity along fibres");
+    p.eikonal.velocity_sheet =
+      prm.get_double(s, "Conduction velocity across fibres");
+    p.eikonal.velocity_normal =
+      prm.get_double(s, "Conduction velocity normal to sheets");
+    p.eikonal.endocardial_part =
+      dealii::Utilities::trim(prm.get(s, "Fast endocardial layer"));
+    p.eikonal.endocardial_thickness =
+      prm.get_double(s, "Fast endocardial layer thickness");
+    p.eikonal.endocardial_velocity =
+      prm.get_double(s, "Fast endocardial layer velocity");
 
     const auto positive = [](const double value, const std::string &entry) {
       AssertThrow(std::isfinite(value) && value > 0,
@@ -252,6 +338,21 @@ namespace systole::Electrophysiology
     positive(p.chi, "Surface to volume ratio");
     positive(p.C_m, "Membrane capacitance");
     positive(p.time_step, "Time step");
+    if (p.model != Model::monodomain)
+      {
+        positive(p.eikonal.velocity_fibre, "Conduction velocity along fibres");
+        positive(p.eikonal.velocity_sheet, "Conduction velocity across fibres");
+        positive(p.eikonal.velocity_normal,
+                 "Conduction velocity normal to sheets");
+        AssertThrow(p.degree == 1,
+                    dealii::ExcMessage(
+                      "Electrophysiology / Model = " + prm.get(s, "Model") +
+                      " needs Polynomial degree = 1 (the eikonal solver "
+                      "works on the vertices)."));
+        if (!p.eikonal.endocardial_part.empty())
+          positive(p.eikonal.endocardial_velocity,
+                   "Fast endocardial layer velocity");
+      }
     AssertThrow(!p.adaptive ||
                   (p.relative_tolerance > 0 && p.absolute_tolerance > 0),
                 dealii::ExcMessage(

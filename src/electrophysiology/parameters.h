@@ -24,11 +24,44 @@ namespace systole::Electrophysiology
     dealii::Point<3> position; ///< reference position [mm]
   };
 
+  /// Conduction velocities of the eikonal model and its fast endocardial
+  /// layer (Parameters, entries "Conduction velocity ..." and "Fast
+  /// endocardial layer ...").
+  struct EikonalSettings
+  {
+    double velocity_fibre  = 0.611; ///< along f [mm/ms]
+    double velocity_sheet  = 0.222; ///< along s, across the fibres [mm/ms]
+    double velocity_normal = 0.222; ///< along n = f x s [mm/ms]
+    /// The cells whose centre lies within @p endocardial_thickness of this
+    /// boundary part conduct isotropically at @p endocardial_velocity (a
+    /// fast endocardial, Purkinje-like layer); empty: none.
+    std::string endocardial_part;
+    double      endocardial_thickness = 0; ///< [mm]
+    double      endocardial_velocity  = 2; ///< [mm/ms]
+  };
+
   /// Subsection "Electrophysiology": the monodomain model, its
   /// discretization and time integration, the stimulation protocol.
   /// Defaults: physiology.md (Niederer et al. 2011 tissue values).
   struct Parameters
   {
+    /// "Model": how the activation is computed. monodomain: the
+    /// reaction-diffusion model; reaction_eikonal: the ionic model at every
+    /// node excited at its eikonal activation time (with the diffusion: RE+,
+    /// without: RE-; Neic et al. 2017); eikonal: the activation times alone.
+    enum class Model
+    {
+      monodomain,
+      reaction_eikonal,
+      eikonal
+    };
+    Model model = Model::monodomain;
+    /// Reaction-eikonal: keep the diffusion (RE+) or not (RE-).
+    bool reaction_eikonal_diffusion = true;
+    /// Conduction velocities and fast endocardial layer of the eikonal
+    /// model.
+    EikonalSettings eikonal;
+
     /// The ionic model ("Ionic model" and its subsection); never null.
     std::shared_ptr<const IonicModel> ionic_model;
 

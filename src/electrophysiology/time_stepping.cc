@@ -85,6 +85,9 @@ namespace systole::Electrophysiology
           for (const unsigned int i : stimulus_nodes[s])
             f.data()[i * n_components] += dv_dt;
         }
+    // Reaction-eikonal: the nodal stimulus of this step.
+    for (const auto &[i, dv_dt] : eikonal_stimulus)
+      f.data()[i * n_components] += dv_dt;
   }
 
 
@@ -92,6 +95,11 @@ namespace systole::Electrophysiology
   Monodomain::Impl::implicit_rhs(const LA::MPI::Vector &y_vector,
                                  LA::MPI::Vector       &f_vector)
   {
+    if (!diffusion())
+      {
+        f_vector = 0;
+        return;
+      }
     {
       const LocalRead  y(y_vector);
       const LocalWrite v(v_work);
@@ -237,6 +245,11 @@ namespace systole::Electrophysiology
     // (I - gamma J) x = b with J = diag(-M^-1 K, 0):
     // (M + gamma K) x_v = M b_v, and x_s = b_s for the ionic states (M the
     // lumped or the consistent mass).
+    if (!diffusion())
+      {
+        x_vector = b_vector;
+        return;
+      }
     prepare_stage(gamma);
 
     {
@@ -413,6 +426,8 @@ namespace systole::Electrophysiology
                       y.data());
       }
     gate_half_step_pending = false;
+    if (params.model == Parameters::Model::reaction_eikonal)
+      eikonal_step_stimulus(t, t_next);
     integrator->evolve(state, t_next);
     extract_potential(v_new);
     tracker.update(t, v_sample.data(), t_next, v_new.data());
@@ -435,8 +450,23 @@ namespace systole::Electrophysiology
     // those breakpoints they are equal and at most Time step long (up to
     // 1e-9 of a step longer, so that a whole number of steps is not split by
     // round-off).
+    if (m.params.model == Parameters::Model::eikonal)
+      {
+        m.advance_eikonal_only(t_end);
+        m.update_output_vectors();
+        m.stats.seconds += std::chrono::duration<double>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
+        return;
+      }
     std::vector<double> breakpoints =
       switching_times(m.params.stimuli, m.params.stimulus_period, m.t, t_end);
+    // Reaction-eikonal: short steps while nodes are being stimulated.
+    const auto eikonal = m.eikonal_breakpoints(m.t, t_end);
+    breakpoints.insert(breakpoints.end(), eikonal.begin(), eikonal.end());
+    std::sort(breakpoints.begin(), breakpoints.end());
+    breakpoints.erase(std::unique(breakpoints.begin(), breakpoints.end()),
+                      breakpoints.end());
     breakpoints.push_back(t_end);
     std::vector<double> v_new;
     double              segment_start = m.t;

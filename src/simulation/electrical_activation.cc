@@ -383,7 +383,24 @@ namespace systole
     std::vector<double> potential(n_points);
     for (unsigned int i = 0; i < n_points; ++i)
       potential[i] = values[i][0];
-    if (!sampled_potential.empty() && time > sampled_time)
+    if (params.model == Electrophysiology::Parameters::Model::eikonal &&
+        time > sampled_time)
+      {
+        // The eikonal model alone: its activation times are the upstrokes
+        // (interpolated from the nodes; NaN while the beat's front crosses
+        // the cell), not sampled from a potential.
+        std::vector<double> first(n_points), latest(n_points);
+        for (unsigned int i = 0; i < n_points; ++i)
+          {
+            first[i]  = values[i][1];
+            latest[i] = values[i][2];
+            if (!std::isnan(latest[i]) &&
+                (upstrokes[i].empty() || latest[i] > upstrokes[i].back()))
+              upstrokes[i].push_back(latest[i]);
+          }
+        tracker.set(first, latest);
+      }
+    else if (!sampled_potential.empty() && time > sampled_time)
       {
         tracker.update(sampled_time,
                        sampled_potential.data(),
