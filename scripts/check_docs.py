@@ -10,7 +10,8 @@ Every backticked name is checked by its kind:
 - anything else (values, formulas, prose) is not checked.
 Links to `verification.md#anchor` must match a heading of docs/verification.md (GitHub's anchor
 rules), and a markdown link to a file must point to an existing file.
-Usage: python3 scripts/check_docs.py [FILE.md ...]; exit status 1 lists every stale name.
+Usage: python3 scripts/check_docs.py [--max-lines N] [FILE.md ...]; exit status 1 lists every
+stale name (and a file longer than N lines: the map must stay a map).
 """
 
 import re
@@ -135,8 +136,15 @@ def check(doc: Path) -> list[str]:
 
 
 def main() -> int:
-    docs = [Path(a).resolve() for a in sys.argv[1:]] or [ROOT / "docs" / "architecture.md"]
+    args = sys.argv[1:]
+    max_lines = None
+    if args[:1] == ["--max-lines"]:
+        max_lines, args = int(args[1]), args[2:]
+    docs = [Path(a).resolve() for a in args] or [ROOT / "docs" / "architecture.md"]
     problems = [p for doc in docs for p in check(doc)]
+    if max_lines is not None:
+        problems += [f"{doc.name}: {n} lines, more than {max_lines}" for doc in docs
+                     if (n := len(doc.read_text().splitlines())) > max_lines]
     for problem in problems:
         print(problem, file=sys.stderr)
     if not problems:
