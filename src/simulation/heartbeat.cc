@@ -37,7 +37,6 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -549,7 +548,7 @@ namespace systole
             last_checkpoint = std::chrono::steady_clock::now();
           }
         // Test hook (the checkpoint tests): SIGKILL after this step.
-        if (test_kill_at_step == static_cast<long>(step_index))
+        if (run.test_kill_after_step == static_cast<long>(step_index))
           std::raise(SIGKILL);
       }
 
@@ -659,18 +658,6 @@ namespace systole
       bool         stop            = false;
       std::chrono::steady_clock::time_point last_checkpoint =
         std::chrono::steady_clock::now();
-      /// Test hook: SYSTOLE_TEST_KILL_AT_STEP=N kills the run with SIGKILL
-      /// after step N (and its checkpoint, if one is due).
-      const long test_kill_at_step =
-        environment_integer("SYSTOLE_TEST_KILL_AT_STEP");
-
-    public:
-      static long
-      environment_integer(const char *name)
-      {
-        const char *value = std::getenv(name);
-        return value == nullptr ? -1 : std::atol(value);
-      }
     };
 
     /// The options of the tension model and the inertia the heartbeat
@@ -948,10 +935,6 @@ namespace systole
       MPI_Comm                                                 comm;
       double                                                   seconds = 0;
       unsigned int                                             count   = 0;
-      /// Test hook (Writer::environment_integer): die by SIGKILL halfway
-      /// through the state of the checkpoint of this step.
-      long kill_at_step =
-        Writer::environment_integer("SYSTOLE_TEST_KILL_IN_CHECKPOINT");
 
       void
       write(const unsigned int step)
@@ -983,7 +966,9 @@ namespace systole
                   const unsigned int step) const
       {
         std::ofstream state_file(folder + "state.bin", std::ios::binary);
-        if (kill_at_step == static_cast<long>(step))
+        // Test hook (Output / Test kill in checkpoint): die by SIGKILL
+        // halfway through the state of the checkpoint of this step.
+        if (run.test_kill_in_checkpoint == static_cast<long>(step))
           {
             state_file.write(data.data(), data.size() / 2);
             state_file.flush();

@@ -163,6 +163,20 @@ namespace systole
       Selection("auto|on|off"),
       "Progress line on the console (step, time, activity, elapsed, ETA). "
       "auto: on when the output is a terminal and the CI variable is unset.");
+    prm.declare_entry(
+      "Test kill after step",
+      "-1",
+      Integer(-1),
+      "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
+      "SIGKILL after this accepted step (and its checkpoint, if one is due), "
+      "as a crash would; -1: never. Units: steps.");
+    prm.declare_entry(
+      "Test kill in checkpoint",
+      "-1",
+      Integer(-1),
+      "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
+      "SIGKILL halfway through writing the checkpoint of this step; -1: "
+      "never. Units: steps.");
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
@@ -287,6 +301,10 @@ namespace systole
     p.parameter_file = std::filesystem::absolute(prm_file).string();
     p.progress       = prm.get({"Output"}, "Progress");
     p.solver_log     = prm.get({"Output"}, "Solver log");
+    p.test_kill_after_step =
+      prm.get_integer({"Output"}, "Test kill after step");
+    p.test_kill_in_checkpoint =
+      prm.get_integer({"Output"}, "Test kill in checkpoint");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

@@ -36,6 +36,10 @@ namespace systole
     std::string parameter_file;
     std::string progress   = "auto";
     std::string solver_log = "auto"; ///< auto, on or off
+    /// Test-only hooks (Problem = heartbeat): SIGKILL after this accepted
+    /// step, or halfway through writing the checkpoint of this step; -1:
+    /// never.
+    long test_kill_after_step = -1, test_kill_in_checkpoint = -1;
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;

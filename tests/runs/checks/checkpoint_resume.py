@@ -7,7 +7,7 @@ PRM writes a checkpoint every 20 steps. Every mode works in the current folder, 
 its own (an Output subsection appended to a copy of PRM; only Output may differ on resume):
 
 - reference: the uninterrupted run (1 rank), results/reference.
-- chain: killed with SIGKILL after step 30, resumed (systole --resume) and killed halfway
+- chain: killed with SIGKILL after step 30, resumed (Output / Resume = true) and killed halfway
   through writing the checkpoint of step 60, resumed (from step 40: the unfinished
   checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
   /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
@@ -23,16 +23,15 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
 - ranks-2-1-refused: a copy of the ranks-2-2 run resumed on 1 rank fails with one line
   naming both rank counts (a fully distributed mesh cannot be repartitioned on load).
 - corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
-  resuming (Output / Resume = true) prints one line naming that file and falls back to the
+  resuming (systole --resume) prints one line naming that file and falls back to the
   previous checkpoint; the results equal the reference to 1e-12.
 - wrong-parameters: resuming a copy of the reference run with a parameter file of another
   mesh (Geometry / Global refinements = 1) fails with a message naming that entry.
 
-The kills use the test hooks SYSTOLE_TEST_KILL_AT_STEP (SIGKILL after a step) and
-SYSTOLE_TEST_KILL_IN_CHECKPOINT (SIGKILL while writing that step's checkpoint).
+The kills use the test-only entries Output / Test kill after step (SIGKILL after a step) and
+Output / Test kill in checkpoint (SIGKILL while writing that step's checkpoint).
 """
 
-import os
 import re
 import shutil
 import subprocess
@@ -45,8 +44,8 @@ import numpy as np
 GROUPS = ("timeseries", "events", "summary")
 
 
-def prm_for(prm: Path, run: str, extra: str = "") -> Path:
-    out = Path(f"{run}.prm")
+def prm_for(prm: Path, run: str, extra: str = "", file: str = "") -> Path:
+    out = Path(f"{file or run}.prm")
     # A mesh file named relative to PRM's folder, named from here.
     text = re.sub(r"(set Mesh file\s*=\s*)(\S+)",
                   lambda m: m.group(1) + str((prm.parent / m.group(2)).resolve()),
@@ -55,12 +54,15 @@ def prm_for(prm: Path, run: str, extra: str = "") -> Path:
     return out
 
 
-def run(cmd, env_extra=None, expect_kill=False, expect_fail=False):
-    env = dict(os.environ)
-    env.pop("SYSTOLE_TEST_KILL_AT_STEP", None)
-    env.pop("SYSTOLE_TEST_KILL_IN_CHECKPOINT", None)
-    env.update(env_extra or {})
-    p = subprocess.run([str(c) for c in cmd], env=env, capture_output=True, text=True)
+def kill_after(step) -> str:
+    return f"  set Test kill after step = {step}\n"
+
+
+RESUME = "  set Resume = true\n"
+
+
+def run(cmd, expect_kill=False, expect_fail=False):
+    p = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
     log = p.stdout + p.stderr
     if expect_kill:
         # SIGKILL: -9 directly, 137 through mpirun.
@@ -120,15 +122,18 @@ def main() -> None:
 
     if mode == "chain":
         shutil.rmtree("results/chain", ignore_errors=True)
-        run([systole, prm_for(prm, "chain")], {"SYSTOLE_TEST_KILL_AT_STEP": "30"}, expect_kill=True)
-        log = run([systole, "--resume", "results/chain"], {"SYSTOLE_TEST_KILL_IN_CHECKPOINT": "60"},
-                  expect_kill=True)
+        # The kills are test-only entries of subsection Output (which may differ on a resume),
+        # so every run here names its own file (systole --resume would read the file the run
+        # was started with, its kill included).
+        run([systole, prm_for(prm, "chain", kill_after(30), "chain_kill30")], expect_kill=True)
+        log = run([systole, prm_for(prm, "chain", RESUME + "  set Test kill in checkpoint = 60\n",
+                                    "chain_kill60")], expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000020" in log, log[-2000:]
         assert Path("results/chain/checkpoint.tmp").is_dir(), "no unfinished checkpoint left"
-        log = run([systole, "--resume", "results/chain"], {"SYSTOLE_TEST_KILL_AT_STEP": "90"},
+        log = run([systole, prm_for(prm, "chain", RESUME + kill_after(90), "chain_kill90")],
                   expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000040" in log, log[-2000:]
-        log = run([systole, "--resume", "results/chain"])
+        log = run([systole, prm_for(prm, "chain", RESUME, "chain_resume")])
         assert "Resuming from results/chain/checkpoint_000080" in log, log[-2000:]
         compare(reference, Path("results/chain/results.h5"), 1e-12)
         return
@@ -139,8 +144,8 @@ def main() -> None:
         first, then, step = (mpi2, [systole], "25") if mode == "ranks-2-1" else \
             ([systole], mpi2, "105")
         step = kill_step or step
-        run(first + [prm_for(prm, name)], {"SYSTOLE_TEST_KILL_AT_STEP": step}, expect_kill=True)
-        log = run(then + ["--resume", f"results/{name}"])
+        run(first + [prm_for(prm, name, kill_after(step), name + "_kill")], expect_kill=True)
+        log = run(then + [prm_for(prm, name, RESUME, name + "_resume")])
         assert "Resuming from" in log, log[-2000:]
         # Another rank count: 1e-8 relative, the drift columns 1e-10 absolute besides.
         compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10)
@@ -153,9 +158,9 @@ def main() -> None:
 
     if mode == "ranks-2-2":
         shutil.rmtree("results/ranks_2_2", ignore_errors=True)
-        run(mpi2 + [prm_for(prm, "ranks_2_2")], {"SYSTOLE_TEST_KILL_AT_STEP": kill_step or "45"},
+        run(mpi2 + [prm_for(prm, "ranks_2_2", kill_after(kill_step or 45), "ranks_2_2_kill")],
             expect_kill=True)
-        log = run(mpi2 + ["--resume", "results/ranks_2_2"])
+        log = run(mpi2 + [prm_for(prm, "ranks_2_2", RESUME, "ranks_2_2_resume")])
         assert "Resuming from" in log, log[-2000:]
         compare(Path("results/reference_2/results.h5"), Path("results/ranks_2_2/results.h5"),
                 1e-12)
@@ -179,7 +184,8 @@ def main() -> None:
         state = checkpoints[-1] / "state.bin"
         data = state.read_bytes()
         state.write_bytes(data[: len(data) // 2])
-        log = run([systole, prm_for(prm, "corrupt", "  set Resume = true\n")])
+        # systole --resume: the parameter file the run was started with (reference's).
+        log = run([systole, "--resume", "results/corrupt"])
         lines = [line for line in log.splitlines() if "Checkpoint fault" in line]
         expected = f"{state} is truncated or corrupt"
         assert len(lines) == 1 and expected in lines[0] and \
