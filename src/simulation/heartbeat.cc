@@ -1,6 +1,7 @@
 #include "simulation/heartbeat.h"
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
 #include <deal.II/numerics/data_out.h>
 
@@ -49,6 +50,16 @@ namespace systole
   namespace
   {
     using Vector = dealii::Vector<double>;
+
+    /// The section @p name of @p timer for the lifetime of the returned
+    /// object (nothing without a timer).
+    std::unique_ptr<dealii::TimerOutput::Scope>
+    section(dealii::TimerOutput *timer, const char *name)
+    {
+      return timer == nullptr
+               ? nullptr
+               : std::make_unique<dealii::TimerOutput::Scope>(*timer, name);
+    }
 
     /// The 3D ventricle(s) as the heartbeat stepper sees them: the
     /// mechanics with its cavity volumes constrained (Mechanics::Problem::
@@ -105,7 +116,8 @@ namespace systole
       void
       set_time(const double t) override
       {
-        time = t;
+        const auto timed = section(timer, "Heartbeat / EP and tension");
+        time             = t;
         // With inertia every solve after the first accepted step is one
         // generalized-alpha step from the accepted state (redone steps start
         // there again).
@@ -157,6 +169,7 @@ namespace systole
       void
       predict(const double ratio) override
       {
+        const auto timed = section(timer, "Heartbeat / mechanics");
         // Extrapolate the displacement from the last two accepted states
         // (the step may double at most).
         problem.predict(std::clamp(ratio, 0.0, 2.0));
@@ -165,6 +178,7 @@ namespace systole
       unsigned int
       solve(const CavityVolumeTarget &target, Vector &p) override
       {
+        const auto timed = section(timer, "Heartbeat / mechanics");
         logger.detail() << "    mechanics at t = " << std::fixed
                         << std::setprecision(3) << time << " ms"
                         << std::defaultfloat << std::endl;
@@ -181,6 +195,7 @@ namespace systole
       void
       accept() override
       {
+        const auto timed = section(timer, "Heartbeat / accept");
         // The dynamic state first: its residual takes the step's tension
         // (before the tension model's state moves on). The first step is
         // quasi-static: the dynamics starts at its end with the velocity of
@@ -220,6 +235,7 @@ namespace systole
       void
       reject() override
       {
+        const auto timed = section(timer, "Heartbeat / accept");
         problem.restore();
       }
 
@@ -259,6 +275,8 @@ namespace systole
       /// Wall times [s]: the mechanics solves, the electrophysiology
       /// (advancing, reading).
       double mechanics_seconds = 0, ep_seconds = 0;
+      /// The heartbeat's sections (none: not timed).
+      dealii::TimerOutput *timer = nullptr;
       /// Krylov iterations of the mechanics solves (0 with the direct
       /// solver).
       unsigned long linear_iterations = 0;
@@ -359,6 +377,7 @@ namespace systole
       void
       on_step(const HeartbeatStepper::Step &s) override
       {
+        const auto timed = section(timer, "Heartbeat / output");
         total_iterations += s.newton_iterations;
         total_solves += s.mechanics_solves;
         total_rejected += s.rejected;
@@ -437,6 +456,7 @@ namespace systole
                const bool                    opens,
                const HeartbeatStepper::Step &s) override
       {
+        const auto timed = section(timer, "Heartbeat / output");
         results.append_event(valve_event_columns(model,
                                                  s.time,
                                                  s.beat,
@@ -460,6 +480,7 @@ namespace systole
       on_beat(const unsigned int                             beat,
               const std::vector<Circulation::SummaryColumn> &summary) override
       {
+        const auto              timed = section(timer, "Heartbeat / output");
         std::vector<IO::Column> row;
         for (const auto &c : summary)
           row.push_back({c.name, c.unit, c.value});
@@ -544,6 +565,7 @@ namespace systole
                             run.checkpoint_minutes);
         if (due && checkpoint)
           {
+            const auto timed = section(timer, "Heartbeat / checkpoint");
             checkpoint(step_index);
             last_checkpoint = std::chrono::steady_clock::now();
           }
@@ -560,6 +582,8 @@ namespace systole
 
       /// Writes a checkpoint of the step with the given index.
       std::function<void(unsigned int)> checkpoint;
+      /// The heartbeat's sections (none: not timed).
+      dealii::TimerOutput *timer = nullptr;
       /// Mechanics / Inertia: a kinetic_energy column [µJ].
       bool inertia = false;
 
@@ -1042,10 +1066,17 @@ namespace systole
                      const Checkpointer                 &checkpointer,
                      const MechanicsModel               &model,
                      const double                        wall,
+                     const dealii::TimerOutput          &timer,
                      IO::ResultsFile                    &results)
     {
       std::vector<std::pair<std::string, std::string>> texts;
-      auto       statistics = model.statistics(texts);
+      auto statistics = model.statistics(texts);
+      for (const auto &[name, seconds] :
+           timer.get_summary_data(dealii::TimerOutput::total_wall_time))
+        statistics.push_back(
+          {"timer: " + dealii::Utilities::replace_in_string(name, " / ", ": "),
+           "s",
+           seconds});
       const auto count = [](const auto n) { return static_cast<double>(n); };
       statistics.insert(
         statistics.end(),
@@ -1090,6 +1121,14 @@ namespace systole
                         Logger                         &logger,
                         const MPI_Comm                  comm)
   {
+    // The sections of the run (written to /statistics as "timer: Heartbeat:
+    // ..."); the mechanics' own sections are inside "mechanics".
+    // (Without a communicator: this rank's times, no collective calls.)
+    std::ostringstream  no_output;
+    dealii::TimerOutput timer(no_output,
+                              dealii::TimerOutput::never,
+                              dealii::TimerOutput::wall_times);
+    timer.enter_subsection("Heartbeat / set-up");
     const auto circulation = Circulation::Parameters::parse(prm);
     const auto tension_model =
       Materials::create_tension_model(prm, circulation.period);
@@ -1222,14 +1261,27 @@ namespace systole
     if (ep != nullptr && !ep->checkpointable())
       writer.checkpoint = nullptr;
 
+    ventricles.timer = &timer;
+    writer.timer     = &timer;
+    timer.leave_subsection("Heartbeat / set-up");
     const auto start = std::chrono::steady_clock::now();
     const auto stats = stepper.run(writer);
-    writer.finish();
+    {
+      const auto timed = section(&timer, "Heartbeat / output");
+      writer.finish();
+    }
     const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();
     log_run(stats, ventricles, ep, checkpointer, problem, wall, logger);
-    write_statistics(stats, ventricles, ep, checkpointer, model, wall, results);
+    write_statistics(stats,
+                     ventricles,
+                     ep,
+                     checkpointer,
+                     model,
+                     wall,
+                     timer,
+                     results);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole
