@@ -1,7 +1,7 @@
 #include "fibres/arostica.h"
 
 #include "base/logger.h"
-#include "fibres/fibre_field.h"
+#include "fibres/frames.h"
 #include "fibres/laplace_fields.h"
 #include "geometry/mesh.h"
 

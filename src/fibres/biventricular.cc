@@ -3,7 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "base/logger.h"
-#include "fibres/fibre_field.h"
+#include "fibres/frames.h"
 #include "fibres/laplace_fields.h"
 #include "geometry/mesh.h"
 

@@ -7,7 +7,7 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/reference_cell.h>
 
-#include "fibres/fibre_field.h"
+#include "fibres/frames.h"
 #include "geometry/vtk_messages.h"
 
 #include <Eigen/Dense>

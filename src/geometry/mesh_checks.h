@@ -3,7 +3,7 @@
 #include <deal.II/base/types.h>
 
 #include "geometry/boundary_names.h"
-#include "geometry/mesh_file.h"
+#include "geometry/mesh_data.h"
 
 #include <string>
 

@@ -230,13 +230,6 @@ namespace systole::Geometry
       }
   }
 
-  std::string
-  MeshData::cell_kind() const
-  {
-    return cell_type == dealii::ReferenceCells::Tetrahedron ? "tetrahedra"
-                                                            : "hexahedra";
-  }
-
   BoundaryNameTable
   parse_boundary_name_table(const std::string &text, const std::string &entry)
   {

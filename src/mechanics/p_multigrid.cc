@@ -8,7 +8,7 @@
 #include <deal.II/lac/full_matrix.h>
 
 #include "mechanics/field_layout.h"
-#include "mechanics/linear_solver.h"
+#include "mechanics/petsc_tools.h"
 
 #include <petscksp.h>
 

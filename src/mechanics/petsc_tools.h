@@ -1,0 +1,42 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include "base/linear_algebra.h"
+
+#include <petscsys.h>
+
+#include <array>
+#include <string>
+
+/// @file
+/// PETSc helpers of the mechanics' linear solvers (linear_solver.cc) and
+/// preconditioners (p_multigrid.cc).
+
+namespace dealii
+{
+  template <int dim, int spacedim>
+  class DoFHandler;
+  template <int dim, int spacedim>
+  class Mapping;
+} // namespace dealii
+
+namespace systole::Mechanics
+{
+  /// The six rigid-body modes of the displacement (translations, rotations
+  /// about the axes) at the support points of the displacement components
+  /// (0-2) of @p dof_handler, on its locally owned DoFs, zero on other
+  /// components, orthonormalized (as PETSc requires of a near-null space).
+  std::array<LA::MPI::Vector, 6>
+  rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
+                   const dealii::DoFHandler<3, 3> &dof_handler);
+
+  /// Throws naming @p what (the PETSc call) unless @p code is 0.
+  void
+  check_petsc(const PetscErrorCode code, const char *what);
+
+  /// Sets the PETSc option @p name (with its leading '-') to @p value unless
+  /// it is set already (by the user, or by an earlier call).
+  void
+  set_default_petsc_option(const std::string &name, const std::string &value);
+} // namespace systole::Mechanics
