@@ -861,6 +861,24 @@ namespace systole
       return a;
     }
 
+    /// The initial state @p y0 (and cavity pressures @p p0): the 0D
+    /// model's, with the 3D cavities unloaded (u = 0, p = 0) and their
+    /// volumes @p unloaded_volumes, those of the mesh.
+    void
+    initial_state(const Circulation::Model &zero_d,
+                  const Vector             &unloaded_volumes,
+                  Vector                   &y0,
+                  Vector                   &p0)
+    {
+      Vector no_pressures(zero_d.n_cavities());
+      zero_d.initial_state(y0);
+      unsigned int a = 0;
+      for (const auto &cavity : zero_d.cavities())
+        if (cavity.kind == Circulation::CavityKind::external)
+          y0[cavity.volume_state] = unloaded_volumes[a++];
+      zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
+    }
+
     HeartbeatStepper::Settings
     stepper_settings(const Circulation::Parameters &circulation)
     {
@@ -894,6 +912,32 @@ namespace systole
           bytes = o.str();
         }
       return dealii::Utilities::MPI::broadcast(comm, bytes, 0);
+    }
+
+    /// The results file: new, or (resuming from @p checkpoint) reopened
+    /// with the rows of its small state, whose rest @p state_in then reads
+    /// from @p saved_state.
+    std::unique_ptr<IO::ResultsFile>
+    open_results(const std::string   &checkpoint,
+                 const RunParameters &run,
+                 const std::string   &parameter_text,
+                 std::istringstream  &saved_state,
+                 std::unique_ptr<boost::archive::binary_iarchive> &state_in,
+                 const MPI_Comm                                    comm)
+    {
+      if (checkpoint.empty())
+        return std::make_unique<IO::ResultsFile>(run.output_directory,
+                                                 parameter_text,
+                                                 comm);
+      saved_state.str(read_state_bytes(checkpoint, comm));
+      state_in = std::make_unique<boost::archive::binary_iarchive>(saved_state);
+      IO::ResultsFile::Rows rows;
+      unsigned int          resumed_step = 0;
+      *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
+      return std::make_unique<IO::ResultsFile>(run.output_directory,
+                                               rows,
+                                               resumed_step,
+                                               comm);
     }
 
     /// The parts of a running heartbeat whose state a checkpoint holds, in
@@ -1170,15 +1214,8 @@ namespace systole
                                               comm);
     ElectricalActivation *ep         = activation.ep.get();
 
-    // The initial state: the 0D model's, with the 3D cavity unloaded (u =
-    // 0, p = 0) and its volume that of the mesh.
-    Vector y0, p0, no_pressures(zero_d.n_cavities());
-    zero_d.initial_state(y0);
-    unsigned int a = 0;
-    for (const auto &cavity : zero_d.cavities())
-      if (cavity.kind == Circulation::CavityKind::external)
-        y0[cavity.volume_state] = unloaded_volumes[a++];
-    zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
+    Vector y0, p0;
+    initial_state(zero_d, unloaded_volumes, y0, p0);
 
     // The tension starts to rise at the earliest activation plus the
     // model's onset delay, taken within the beat.
@@ -1196,25 +1233,13 @@ namespace systole
     // file and the last step first, then the components in a fixed order.
     std::istringstream                               saved_state;
     std::unique_ptr<boost::archive::binary_iarchive> state_in;
-    std::unique_ptr<IO::ResultsFile>                 results_file;
-    if (!checkpoint.empty())
-      {
-        saved_state.str(read_state_bytes(checkpoint, comm));
-        state_in =
-          std::make_unique<boost::archive::binary_iarchive>(saved_state);
-        IO::ResultsFile::Rows rows;
-        unsigned int          resumed_step = 0;
-        *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
-        results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
-                                                         rows,
-                                                         resumed_step,
-                                                         comm);
-      }
-    else
-      results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
-                                                       parameter_text,
-                                                       comm);
-    IO::ResultsFile     &results = *results_file;
+    const auto           results_file = open_results(checkpoint,
+                                           run,
+                                           parameter_text,
+                                           saved_state,
+                                           state_in,
+                                           comm);
+    IO::ResultsFile     &results      = *results_file;
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
                                      problem,
                                      model.names,
