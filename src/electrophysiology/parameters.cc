@@ -60,6 +60,84 @@ namespace systole::Electrophysiology
   }
 
 
+  namespace
+  {
+    /// The entries of the eikonal models (in subsection Electrophysiology).
+    void
+    declare_eikonal(dealii::ParameterHandler &prm, const Parameters &d)
+    {
+      using namespace dealii::Patterns;
+      using Tools::to_string;
+      prm.declare_entry(
+        "Model",
+        "monodomain",
+        Selection("monodomain|reaction-eikonal|eikonal"),
+        "How the activation is computed. monodomain: the reaction-diffusion "
+        "model (the entries below). reaction-eikonal: the activation times "
+        "come from the anisotropic eikonal equation (Conduction velocity "
+        "entries, from the Stimuli with their start times), and the ionic "
+        "model runs at every node, excited at its eikonal time by a stimulus "
+        "current of the first stimulus's amplitude and duration, with the "
+        "diffusion (Reaction-eikonal variant = RE+) or without (RE-) (Neic et "
+        "al. 2017, J Comput Phys 346); accurate on coarse meshes. eikonal: the "
+        "activation times alone (no ionic model: for the prescribed-shape "
+        "tension, Active tension / Activation map = electrophysiology; the "
+        "potential is a square wave for display). Degree 1 only. Units: -.");
+      prm.declare_entry(
+        "Reaction-eikonal variant",
+        "RE+",
+        Selection("RE+|RE-"),
+        "Model = reaction-eikonal: RE+ keeps the diffusion of the monodomain "
+        "(the eikonal-timed stimulus only starts the upstroke where the "
+        "diffusion has not: smooth fronts and repolarisation), RE- drops it "
+        "(the ionic ODEs at the nodes only: no linear solves; the potential "
+        "has no electrotonic coupling). Units: -.");
+      prm.declare_entry(
+        "Conduction velocity along fibres",
+        to_string(d.eikonal.velocity_fibre),
+        Double(0.0),
+        "Eikonal models: speed of a plane front along the fibres f. Units: "
+        "mm/ms (= m/s). Default: the converged monodomain speed of the "
+        "Niederer et al. 2011 tissue (ten Tusscher-Panfilov epicardial, "
+        "sigma_l = 0.1334 mS/mm, chi = 140 /mm, C_m = 0.01 µF/mm²) on a cable "
+        "of 0.025 mm cells, 0.610-0.612 (docs/verification.md).");
+      prm.declare_entry(
+        "Conduction velocity across fibres",
+        to_string(d.eikonal.velocity_sheet),
+        Double(0.0),
+        "Eikonal models: speed along the sheet direction s. Units: mm/ms. "
+        "Default: the fibre speed times sqrt(sigma_t/sigma_l) of the Niederer "
+        "tissue (the monodomain speed scales with sqrt(D)): 0.611 x 0.3632.");
+      prm.declare_entry(
+        "Conduction velocity normal to sheets",
+        to_string(d.eikonal.velocity_normal),
+        Double(0.0),
+        "Eikonal models: speed along the sheet normal n = f x s. Units: mm/ms. "
+        "Default: as across the fibres (transversely isotropic tissue).");
+      prm.declare_entry(
+        "Fast endocardial layer",
+        "",
+        Anything(),
+        "Eikonal models: name of a boundary part (e.g. endocardium) whose "
+        "cells within Fast endocardial layer thickness conduct isotropically "
+        "at Fast endocardial layer velocity (a Purkinje-like layer); empty: "
+        "none. Units: -.");
+      prm.declare_entry(
+        "Fast endocardial layer thickness",
+        "0",
+        Double(0.0),
+        "Eikonal models: thickness of the fast layer, measured from the "
+        "boundary part to the cell centres. Units: mm.");
+      prm.declare_entry(
+        "Fast endocardial layer velocity",
+        "2",
+        Double(0.0),
+        "Eikonal models: isotropic conduction velocity in the fast layer "
+        "(Purkinje-like; 2-4 mm/ms in the literature). Units: mm/ms.");
+    }
+  } // namespace
+
+
   void
   Parameters::declare(dealii::ParameterHandler &prm)
   {
@@ -67,72 +145,7 @@ namespace systole::Electrophysiology
     using Tools::to_string;
     const Parameters d;
     prm.enter_subsection(section);
-    prm.declare_entry(
-      "Model",
-      "monodomain",
-      Selection("monodomain|reaction-eikonal|eikonal"),
-      "How the activation is computed. monodomain: the reaction-diffusion "
-      "model (the entries below). reaction-eikonal: the activation times "
-      "come from the anisotropic eikonal equation (Conduction velocity "
-      "entries, from the Stimuli with their start times), and the ionic "
-      "model runs at every node, excited at its eikonal time by a stimulus "
-      "current of the first stimulus's amplitude and duration, with the "
-      "diffusion (Reaction-eikonal variant = RE+) or without (RE-) (Neic et "
-      "al. 2017, J Comput Phys 346); accurate on coarse meshes. eikonal: the "
-      "activation times alone (no ionic model: for the prescribed-shape "
-      "tension, Active tension / Activation map = electrophysiology; the "
-      "potential is a square wave for display). Degree 1 only. Units: -.");
-    prm.declare_entry(
-      "Reaction-eikonal variant",
-      "RE+",
-      Selection("RE+|RE-"),
-      "Model = reaction-eikonal: RE+ keeps the diffusion of the monodomain "
-      "(the eikonal-timed stimulus only starts the upstroke where the "
-      "diffusion has not: smooth fronts and repolarisation), RE- drops it "
-      "(the ionic ODEs at the nodes only: no linear solves; the potential "
-      "has no electrotonic coupling). Units: -.");
-    prm.declare_entry(
-      "Conduction velocity along fibres",
-      to_string(d.eikonal.velocity_fibre),
-      Double(0.0),
-      "Eikonal models: speed of a plane front along the fibres f. Units: "
-      "mm/ms (= m/s). Default: the converged monodomain speed of the "
-      "Niederer et al. 2011 tissue (ten Tusscher-Panfilov epicardial, "
-      "sigma_l = 0.1334 mS/mm, chi = 140 /mm, C_m = 0.01 µF/mm²) on a cable "
-      "of 0.025 mm cells, 0.610-0.612 (docs/verification.md).");
-    prm.declare_entry(
-      "Conduction velocity across fibres",
-      to_string(d.eikonal.velocity_sheet),
-      Double(0.0),
-      "Eikonal models: speed along the sheet direction s. Units: mm/ms. "
-      "Default: the fibre speed times sqrt(sigma_t/sigma_l) of the Niederer "
-      "tissue (the monodomain speed scales with sqrt(D)): 0.611 x 0.3632.");
-    prm.declare_entry(
-      "Conduction velocity normal to sheets",
-      to_string(d.eikonal.velocity_normal),
-      Double(0.0),
-      "Eikonal models: speed along the sheet normal n = f x s. Units: mm/ms. "
-      "Default: as across the fibres (transversely isotropic tissue).");
-    prm.declare_entry(
-      "Fast endocardial layer",
-      "",
-      Anything(),
-      "Eikonal models: name of a boundary part (e.g. endocardium) whose "
-      "cells within Fast endocardial layer thickness conduct isotropically "
-      "at Fast endocardial layer velocity (a Purkinje-like layer); empty: "
-      "none. Units: -.");
-    prm.declare_entry(
-      "Fast endocardial layer thickness",
-      "0",
-      Double(0.0),
-      "Eikonal models: thickness of the fast layer, measured from the "
-      "boundary part to the cell centres. Units: mm.");
-    prm.declare_entry(
-      "Fast endocardial layer velocity",
-      "2",
-      Double(0.0),
-      "Eikonal models: isotropic conduction velocity in the fast layer "
-      "(Purkinje-like; 2-4 mm/ms in the literature). Units: mm/ms.");
+    declare_eikonal(prm, d);
     declare_ionic_model_parameters(prm);
     prm.declare_entry(
       "Longitudinal conductivity",
