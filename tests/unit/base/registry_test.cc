@@ -17,6 +17,7 @@
 #include "materials/factory.h"
 #include "materials/tension_factory.h"
 #include "materials/volumetric_law.h"
+#include "support/toy_tension.h"
 
 #include "postprocess/factory.h"
 #include "postprocess/fields.h"
@@ -139,48 +140,6 @@ namespace
       return 0;
     }
     double tau;
-  };
-
-  /// A constant tension T0 [kPa].
-  class ToyTension : public Materials::TensionModel
-  {
-  public:
-    explicit ToyTension(const double T0)
-      : T0(T0)
-    {}
-    std::string
-    name() const override
-    {
-      return "toy";
-    }
-    Materials::TensionDrive
-    drive() const override
-    {
-      return Materials::TensionDrive::activation_time;
-    }
-    unsigned int
-    n_states() const override
-    {
-      return 0;
-    }
-    void
-    initial_state(double *) const override
-    {}
-    void
-    step(const double *,
-         const Materials::TensionInput &,
-         double *,
-         Materials::TensionOutput &out) const override
-    {
-      out.tension           = T0;
-      out.dtension_dstretch = 0;
-    }
-    double
-    tension_of_state(const double *, const double) const override
-    {
-      return T0;
-    }
-    double T0;
   };
 
   /// Declares entry "Toy value" (default @p value) in the current subsection.
@@ -326,21 +285,24 @@ TEST_CASE("A toy ionic model is one table line", "[base][registry]")
 
 TEST_CASE("A toy tension model is one table line", "[base][registry]")
 {
-  ToyEntry                 toy(Materials::tension_models(),
-               {"toy",
-                                "a constant tension;",
-                                [](dealii::ParameterHandler &prm) {
-                  prm.enter_subsection("Active tension");
-                  prm.enter_subsection("toy");
-                  declare_toy_value(prm, 1.0);
-                  prm.leave_subsection();
-                  prm.leave_subsection();
-                },
-                                [](const dealii::ParameterHandler &prm,
-                   const double) -> std::unique_ptr<Materials::TensionModel> {
-                  return std::make_unique<ToyTension>(
-                    prm.get_double({"Active tension", "toy"}, "Toy value"));
-                }});
+  ToyEntry toy(
+    Materials::tension_models(),
+    {"toy",
+     "a constant tension;",
+     [](dealii::ParameterHandler &prm) {
+       prm.enter_subsection("Active tension");
+       prm.enter_subsection("toy");
+       declare_toy_value(prm, 1.0);
+       prm.leave_subsection();
+       prm.leave_subsection();
+     },
+     [](const dealii::ParameterHandler &prm,
+        const double) -> std::unique_ptr<Materials::TensionModel> {
+       const double T0 = prm.get_double({"Active tension", "toy"}, "Toy value");
+       return std::make_unique<test_support::ToyTension>(
+         "toy",
+         [T0](const Materials::TensionInput &) { return T0; });
+     }});
   dealii::ParameterHandler prm;
   Materials::declare_tension_parameters(prm);
   parse(prm,

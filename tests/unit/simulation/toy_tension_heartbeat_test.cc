@@ -6,6 +6,7 @@
 
 #include "materials/tension_factory.h"
 #include "simulation/simulation.h"
+#include "support/toy_tension.h"
 
 #include <catch2/catch.hpp>
 
@@ -20,54 +21,16 @@ using namespace systole;
 namespace
 {
   /// T = T_max sin^2(pi s / duration) for 0 < s < duration, s the time
-  /// since activation; 0 otherwise.
-  class Twitch : public Materials::TensionModel
+  /// since activation; 0 otherwise. T_max = 100 kPa, duration 350 ms.
+  double
+  twitch(const Materials::TensionInput &in)
   {
-  public:
-    std::string
-    name() const override
-    {
-      return "twitch";
-    }
-    Materials::TensionDrive
-    drive() const override
-    {
-      return Materials::TensionDrive::activation_time;
-    }
-    unsigned int
-    n_states() const override
-    {
-      return 0;
-    }
-    void
-    initial_state(double *) const override
-    {}
-    void
-    step(const double *,
-         const Materials::TensionInput &in,
-         double *,
-         Materials::TensionOutput &out) const override
-    {
-      const double s        = in.time - in.activation_time;
-      out.tension           = (std::isfinite(s) && s > 0 && s < duration)
-                                ? T_max * std::pow(std::sin(M_PI * s / duration), 2)
-                                : 0.0;
-      out.dtension_dstretch = 0;
-    }
-    double
-    tension_of_state(const double *, const double) const override
-    {
-      return 0;
-    }
-    double
-    onset_delay() const override
-    {
-      return 20;
-    }
-
-  private:
     const double T_max = 100, duration = 350; // [kPa], [ms]
-  };
+    const double s = in.time - in.activation_time;
+    return (std::isfinite(s) && s > 0 && s < duration)
+             ? T_max * std::pow(std::sin(M_PI * s / duration), 2)
+             : 0.0;
+  }
 
   const char *parameter_file = R"(set Problem = heartbeat
 subsection Geometry
@@ -125,13 +88,14 @@ TEST_CASE("A tension model added through the table alone drives a heartbeat",
           "[simulation][registry]")
 {
   auto &table = Materials::tension_models();
-  table.add({"twitch",
-             "a test twitch;",
-             nullptr,
-             [](const dealii::ParameterHandler &, const double) {
-               return std::unique_ptr<Materials::TensionModel>(
-                 std::make_unique<Twitch>());
-             }});
+  table.add(
+    {"twitch",
+     "a test twitch;",
+     nullptr,
+     [](const dealii::ParameterHandler &, const double) {
+       return std::unique_ptr<Materials::TensionModel>(
+         std::make_unique<test_support::ToyTension>("twitch", &twitch, 20.0));
+     }});
   const auto folder =
     std::filesystem::temp_directory_path() / "systole_toy_tension";
   std::filesystem::remove_all(folder);
