@@ -5,6 +5,7 @@
 
 #include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_butcher.h>
+#include <petscvec.h>
 #include <sundials/sundials_linearsolver.h>
 
 #include <algorithm>
@@ -27,7 +28,8 @@
 // The after_step callback is ARKStep's post-processing hook, which ARKode
 // calls with the user data of the ARKStep memory: the wrapper sets it to the
 // wrapper object itself (checked in custom_setup), which is a Wrapper here,
-// a derived class that knows its Impl.
+// a derived class that knows its Impl. So does ARKode's error-weight
+// function (error_weights below).
 
 namespace systole::Electrophysiology
 {
@@ -167,6 +169,17 @@ namespace systole::Electrophysiology
     static int
     postprocess_step(realtype time, N_Vector y, void *user_data);
 
+    /// ARKode's error weights (ARKEwtFn) w_i = 1/(rtol |y_i| + atol) of
+    /// @p y, computed as ARKode's own scalar-tolerance weights (arkEwtSetSS:
+    /// N_VAbs, N_VScale, N_VAddConst, N_VInv, the same operations in the
+    /// same order, so the same weights) but on PETSc's local arrays: deal.II
+    /// 9.4's N_Vector abs and inverse of PETSc vectors go element by element
+    /// through VecGetValues and VecSetValues, which cost a quarter of the
+    /// monodomain's time with ten Tusscher-Panfilov's 19 values per node
+    /// (ARKode sets the weights at every step, fixed steps too).
+    static int
+    error_weights(N_Vector y, N_Vector weights, void *user_data);
+
     /// ARKode's explicit stability function (ARKExpStabFn): the largest
     /// stable step beta / rho at @p y, or -1 (no bound) when rho = 0.
     static int
@@ -267,19 +280,21 @@ namespace systole::Electrophysiology
     ode->custom_setup = [this](void *arkode_memory) {
       check(ARKStepSetErrHandlerFn(arkode_memory, &error_handler, this),
             "ARKStepSetErrHandlerFn");
+      void *user_data = nullptr;
+      check(ARKStepGetUserData(arkode_memory, &user_data),
+            "ARKStepGetUserData");
+      AssertThrow(user_data == static_cast<ARKode *>(ode.get()),
+                  dealii::ExcMessage(
+                    "ImexIntegrator: deal.II's ARKode wrapper does not "
+                    "pass itself as ARKode's user data; the after-step "
+                    "callback and the error weights cannot find their "
+                    "integrator."));
+      // Instead of the wrapper's scalar tolerances (the same weights).
+      check(ARKStepWFtolerances(arkode_memory, &error_weights),
+            "ARKStepWFtolerances");
       if (callbacks.after_step)
-        {
-          void *user_data = nullptr;
-          check(ARKStepGetUserData(arkode_memory, &user_data),
-                "ARKStepGetUserData");
-          AssertThrow(user_data == static_cast<ARKode *>(ode.get()),
-                      dealii::ExcMessage(
-                        "ImexIntegrator: deal.II's ARKode wrapper does not "
-                        "pass itself as ARKode's user data; the after-step "
-                        "callback cannot find its integrator."));
-          check(ARKStepSetPostprocessStepFn(arkode_memory, &postprocess_step),
-                "ARKStepSetPostprocessStepFn");
-        }
+        check(ARKStepSetPostprocessStepFn(arkode_memory, &postprocess_step),
+              "ARKStepSetPostprocessStepFn");
       if (callbacks.explicit_stiffness && settings.adaptive)
         {
           check(ARKStepSetStabilityFn(arkode_memory, &explicit_stability, this),
@@ -341,6 +356,48 @@ namespace systole::Electrophysiology
       Vector &state = *dealii::SUNDIALS::internal::unwrap_nvector<Vector>(y);
       self.callbacks.after_step(time, time - self.t_accepted, state);
       self.t_accepted = time;
+    });
+  }
+
+
+  int
+  ImexIntegrator::Impl::error_weights(N_Vector y,
+                                      N_Vector weights,
+                                      void    *user_data)
+  {
+    Impl &self =
+      static_cast<Wrapper *>(static_cast<ARKode *>(user_data))->owner;
+    return self.guarded([&]() {
+      const Vec y_vec = static_cast<const Vec &>(
+        *dealii::SUNDIALS::internal::unwrap_nvector_const<Vector>(y));
+      const Vec w_vec = static_cast<const Vec &>(
+        *dealii::SUNDIALS::internal::unwrap_nvector<Vector>(weights));
+      PetscInt       n = 0, n_w = 0;
+      PetscErrorCode ierr = VecGetLocalSize(y_vec, &n);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      ierr = VecGetLocalSize(w_vec, &n_w);
+      AssertThrow(ierr == 0 && n_w == n, dealii::ExcInternalError());
+      const double *y_values = nullptr;
+      double       *w_values = nullptr;
+      ierr                   = VecGetArrayRead(y_vec, &y_values);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      ierr = VecGetArray(w_vec, &w_values);
+      AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      const double rtol     = self.settings.relative_tolerance;
+      const double atol     = self.settings.absolute_tolerance;
+      bool         positive = true;
+      for (PetscInt i = 0; i < n; ++i)
+        {
+          const double tolerance = rtol * std::abs(y_values[i]) + atol;
+          positive               = positive && tolerance > 0;
+          w_values[i]            = 1.0 / tolerance;
+        }
+      VecRestoreArray(w_vec, &w_values);
+      VecRestoreArrayRead(y_vec, &y_values);
+      AssertThrow(positive,
+                  dealii::ExcMessage("ImexIntegrator: an error weight is "
+                                     "infinite (absolute tolerance 0 at a "
+                                     "zero component)."));
     });
   }
 

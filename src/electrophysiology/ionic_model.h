@@ -13,7 +13,9 @@ namespace systole::Electrophysiology
   /// ms: a model with its own time unit (Aliev-Panfilov) scales its rates.
   ///
   /// The monodomain solver owns the per-point data (v and the states, all
-  /// nodal, in one ARKode state vector) and calls the model point by point:
+  /// nodal, in one ARKode state vector) and evaluates the model over all its
+  /// points at once (the batched functions below, one call per right-hand
+  /// side; their defaults loop over the per-point functions):
   /// @f[ \frac{dv}{dt} = \nabla\cdot(D\nabla v) - I_{ion}(v, s)
   ///       + \frac{I_{stim}}{\chi C_m A},\qquad
   ///     \frac{ds}{dt} = g(v, s), @f]
@@ -30,6 +32,16 @@ namespace systole::Electrophysiology
   /// leaves the gates' entries at 0. Without gates (n_gates() = 0, the
   /// default) ARKode integrates every state.
   ///
+  /// **Batches.** rhs_batch(), ionic_current_batch() and
+  /// advance_gates_batch() evaluate n points stored one after the other in
+  /// the solvers' interleaved layout (point i at y + i stride: v, then the
+  /// n_states() states). The defaults call the per-point functions point by
+  /// point (a virtual call each); a model whose cost matters overrides them
+  /// with loops the compiler vectorizes (ten Tusscher-Panfilov: the same
+  /// expressions to round-off, tests/unit/electrophysiology/
+  /// ionic_batch_test.cc). The solvers (Monodomain, SingleCell) call only
+  /// the batched functions.
+  ///
   /// Implementations are immutable after construction and thread safe.
   ///
   /// How to add a model:
@@ -40,7 +52,11 @@ namespace systole::Electrophysiology
   /// 2. add one line to the table in electrophysiology/ionic_factory.cc;
   /// 3. add tests/unit/electrophysiology/<model>_test.cc: the resting state
   ///    is a fixed point, a supra-threshold stimulus gives an upstroke, a
-  ///    sub-threshold one decays.
+  ///    sub-threshold one decays;
+  /// 4. if its cost matters, override the batched functions (a loop without
+  ///    the virtual call; for a biophysical model a vectorized kernel as
+  ///    ten_tusscher_panfilov_batch.cc) and compare them with the per-point
+  ///    ones in tests/unit/electrophysiology/ionic_batch_test.cc.
   class IonicModel
   {
   public:
@@ -99,6 +115,38 @@ namespace systole::Electrophysiology
                double * /*steady*/,
                double * /*tau*/) const
     {}
+
+    /// f = (-I_ion(v, s), g(v, s)) at each of @p n_points points: point i
+    /// reads y + i @p stride (v, then the n_states() states) and writes
+    /// f + i @p stride (the gates' entries 0), as
+    /// ionic_current_and_state_rhs() point by point (the default).
+    /// @p stride >= 1 + n_states().
+    virtual void
+    rhs_batch(const unsigned int n_points,
+              const unsigned int stride,
+              const double      *y,
+              double            *f) const;
+
+    /// current[i] = I_ion(v_i + @p dv, s_i) at each of @p n_points points
+    /// (layout as rhs_batch()), as ionic_current() point by point (the
+    /// default).
+    virtual void
+    ionic_current_batch(const unsigned int n_points,
+                        const unsigned int stride,
+                        const double      *y,
+                        const double       dv,
+                        double            *current) const;
+
+    /// The Rush-Larsen step of @p dt [ms] of the n_gates() gates of each of
+    /// @p n_points points in place (layout as rhs_batch()), the rates at the
+    /// point's v and states: s <- s_inf + (s - s_inf) e^{-dt/tau}, as
+    /// gate_rates() and rush_larsen() point by point (the default; nothing
+    /// without gates).
+    virtual void
+    advance_gates_batch(const double       dt,
+                        const unsigned int n_points,
+                        const unsigned int stride,
+                        double            *y) const;
 
     /// Whether the model has an intracellular calcium concentration
     /// (calcium_uM()), the input of a calcium-driven tension model.

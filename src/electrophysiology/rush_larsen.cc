@@ -1,7 +1,6 @@
 #include "electrophysiology/rush_larsen.h"
 
 #include <cmath>
-#include <vector>
 
 namespace systole::Electrophysiology
 {
@@ -22,16 +21,6 @@ namespace systole::Electrophysiology
                 const unsigned int stride,
                 double            *y)
   {
-    const unsigned int n_gates = model.n_gates();
-    if (n_gates == 0)
-      return;
-    std::vector<double> steady(n_gates), tau(n_gates);
-    for (unsigned int i = 0; i < n_points; ++i)
-      {
-        double *point = y + i * stride;
-        model.gate_rates(point[0], point + 1, steady.data(), tau.data());
-        for (unsigned int g = 0; g < n_gates; ++g)
-          point[1 + g] = rush_larsen(point[1 + g], steady[g], tau[g], dt);
-      }
+    model.advance_gates_batch(dt, n_points, stride, y);
   }
 } // namespace systole::Electrophysiology

@@ -25,7 +25,8 @@ namespace systole::Electrophysiology
   /// Advance the gates of @p n_points points by @p dt [ms] with rush_larsen(),
   /// the rates from @p model at each point's current potential and states.
   /// @p y holds the points one after the other, @p stride values each: the
-  /// potential, then the model's states (the gates first).
+  /// potential, then the model's states (the gates first). The model's
+  /// IonicModel::advance_gates_batch().
   void
   advance_gates(const IonicModel  &model,
                 const double       dt,

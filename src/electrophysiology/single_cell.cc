@@ -138,18 +138,18 @@ namespace systole::Electrophysiology
     ImexIntegrator::Callbacks callbacks;
     // The reads and writes go through PETSc's local arrays (one rank owns
     // all entries): dv/dt = -I_ion + stimulus, ds/dt of the non-gates.
-    callbacks.explicit_rhs = [this](const double,
-                                    const LA::MPI::Vector &z,
-                                    LA::MPI::Vector       &f) {
-      const double *zi = nullptr;
-      double       *fi = nullptr;
-      VecGetArrayRead(static_cast<const Vec &>(z), &zi);
-      VecGetArray(static_cast<const Vec &>(f), &fi);
-      fi[0] = -this->model.ionic_current_and_state_rhs(zi[0], zi + 1, fi + 1) +
-              stimulus_dv_dt;
-      VecRestoreArray(static_cast<const Vec &>(f), &fi);
-      VecRestoreArrayRead(static_cast<const Vec &>(z), &zi);
-    };
+    callbacks.explicit_rhs =
+      [this](const double, const LA::MPI::Vector &z, LA::MPI::Vector &f) {
+        const double *zi = nullptr;
+        double       *fi = nullptr;
+        VecGetArrayRead(static_cast<const Vec &>(z), &zi);
+        VecGetArray(static_cast<const Vec &>(f), &fi);
+        // The batched kernel, as the monodomain's (one point).
+        this->model.rhs_batch(1, n_components, zi, fi);
+        fi[0] += stimulus_dv_dt;
+        VecRestoreArray(static_cast<const Vec &>(f), &fi);
+        VecRestoreArrayRead(static_cast<const Vec &>(z), &zi);
+      };
     callbacks.implicit_rhs = [](const LA::MPI::Vector &, LA::MPI::Vector &f) {
       f = 0;
     };

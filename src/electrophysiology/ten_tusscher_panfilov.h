@@ -139,6 +139,27 @@ namespace systole::Electrophysiology
                double       *steady,
                double       *tau) const override;
 
+    /// The batched kernel (ten_tusscher_panfilov_batch.cc): the per-point
+    /// functions' expressions to round-off, vectorized over the points.
+    void
+    rhs_batch(const unsigned int n_points,
+              const unsigned int stride,
+              const double      *y,
+              double            *f) const override;
+
+    void
+    ionic_current_batch(const unsigned int n_points,
+                        const unsigned int stride,
+                        const double      *y,
+                        const double       dv,
+                        double            *current) const override;
+
+    void
+    advance_gates_batch(const double       dt,
+                        const unsigned int n_points,
+                        const unsigned int stride,
+                        double            *y) const override;
+
     bool
     has_calcium() const override;
 

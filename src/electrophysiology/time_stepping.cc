@@ -70,12 +70,8 @@ namespace systole::Electrophysiology
   {
     const LocalRead  y(y_vector);
     const LocalWrite f(f_vector);
-    for (unsigned int i = 0; i < n_owned; ++i)
-      {
-        const double *yi = y.data() + i * n_components;
-        double       *fi = f.data() + i * n_components;
-        fi[0] = -model.ionic_current_and_state_rhs(yi[0], yi + 1, fi + 1);
-      }
+    // All owned nodes in one call: the model's batched kernel.
+    model.rhs_batch(n_owned, n_components, y.data(), f.data());
     // On or off for the whole step (advance() ends steps at the switching
     // times), not by the stage time.
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
@@ -171,13 +167,17 @@ namespace systole::Electrophysiology
     const double    dv = 1e-4 / model.potential_scale_mV();
     const LocalRead y(y_vector);
     double          rho = 0;
-    for (unsigned int i = 0; i < n_owned; ++i)
+    // The model's batched currents, a block of nodes at a time.
+    constexpr unsigned int block = 256;
+    double                 above[block], below[block];
+    for (unsigned int start = 0; start < n_owned; start += block)
       {
-        const double *yi    = y.data() + i * n_components;
-        const double  slope = (model.ionic_current(yi[0] + dv, yi + 1) -
-                              model.ionic_current(yi[0] - dv, yi + 1)) /
-                             (2 * dv);
-        rho = std::max(rho, slope);
+        const unsigned int count = std::min(block, n_owned - start);
+        const double      *y0    = y.data() + std::size_t(start) * n_components;
+        model.ionic_current_batch(count, n_components, y0, dv, above);
+        model.ionic_current_batch(count, n_components, y0, -dv, below);
+        for (unsigned int i = 0; i < count; ++i)
+          rho = std::max(rho, (above[i] - below[i]) / (2 * dv));
       }
     return dealii::Utilities::MPI::max(rho, comm);
   }
