@@ -1,11 +1,10 @@
 #include "electrophysiology/arkode_adapter.h"
 
-#include <deal.II/sundials/arkode.h>
-#include <deal.II/sundials/n_vector.h>
-
 #include <arkode/arkode_arkstep.h>
 #include <arkode/arkode_butcher.h>
+#include <nvector/nvector_petsc.h>
 #include <petscvec.h>
+#include <sundials/sundials_context.h>
 #include <sundials/sundials_linearsolver.h>
 
 #include <algorithm>
@@ -14,30 +13,25 @@
 #include <limits>
 #include <vector>
 
-// deal.II 9.4's ARKode wrapper calls std::function objects that return int
-// (0 ok, > 0 recoverable, < 0 fatal) from inside SUNDIALS' C code, where an
-// exception must not pass. Every callback below is wrapped in guarded(),
-// which turns our typed exceptions into those codes and keeps the exception
-// for evolve() to rethrow.
+// ARKStep through SUNDIALS' own C interface, on SUNDIALS' PETSc N_Vector
+// (nvector_petsc): its operations are PETSc's (VecAXPBYPCZ, one
+// MPI_Allreduce per norm). deal.II 9.4's ARKode wrapper did the same
+// steps on its own N_Vector of PETSc vectors, whose weighted RMS norm copies
+// the vector (a new MPI vector and two reductions per norm, twice a step)
+// and whose other operations go through deal.II's vector interface: on 2
+// ranks of the reaction-eikonal model that was most of the time of a step
+// (docs/verification.md, "Electrophysiology: the ARKode adapter").
 //
-// The 9.4 wrapper checks ARKStepEvolve's return flag with Assert (debug
-// builds only) and, in a release build, calls ARKStepEvolve again and again
-// after a failure. Its output_step hook runs in plain C++ after every
-// ARKStepEvolve: there we throw when ARKode stopped short of the end time.
-
-// The after_step callback is ARKStep's post-processing hook, which ARKode
-// calls with the user data of the ARKStep memory: the wrapper sets it to the
-// wrapper object itself (checked in custom_setup), which is a Wrapper here,
-// a derived class that knows its Impl. So does ARKode's error-weight
-// function (error_weights below).
+// The callbacks see LA::MPI::Vector (deal.II's PETSc vectors): views whose
+// storage is ARKode's vector's for the duration of a call (VecPlaceArray).
+// SUNDIALS' C code must not see an exception: every callback goes through
+// guarded(), which maps our typed exceptions to SUNDIALS' return codes and
+// keeps them for evolve() to rethrow.
 
 namespace systole::Electrophysiology
 {
   namespace
   {
-    using Vector = LA::MPI::Vector;
-    using ARKode = dealii::SUNDIALS::ARKode<Vector>;
-
     void
     check(const int flag, const char *function)
     {
@@ -45,6 +39,17 @@ namespace systole::Electrophysiology
                   dealii::ExcMessage(std::string("ARKode: ") + function +
                                      " failed with flag " +
                                      std::to_string(flag) + "."));
+    }
+
+
+    /// ARKStep's default explicit table of the IMEX method of @p order (3
+    /// to 5): the explicit half of the ARK pair.
+    int
+    explicit_table_of_order(const unsigned int order)
+    {
+      return order == 3   ? ARKSTEP_DEFAULT_ARK_ETABLE_3
+             : order == 4 ? ARKSTEP_DEFAULT_ARK_ETABLE_4
+                          : ARKSTEP_DEFAULT_ARK_ETABLE_5;
     }
 
 
@@ -94,21 +99,75 @@ namespace systole::Electrophysiology
         }
       return -inside;
     }
+
+
+    /// sum_i (x_i w_i)^2 over the local entries, in four interleaved partial
+    /// sums (the compiler vectorizes it; SUNDIALS' PETSc vector sums one
+    /// entry after the other: a fifth of a ten Tusscher-Panfilov step).
+    realtype
+    weighted_square_sum_local(N_Vector x, N_Vector w)
+    {
+      const Vec x_vec = N_VGetVector_Petsc(x), w_vec = N_VGetVector_Petsc(w);
+      PetscInt  n      = 0;
+      const double *xd = nullptr, *wd = nullptr;
+      VecGetLocalSize(x_vec, &n);
+      VecGetArrayRead(x_vec, &xd);
+      VecGetArrayRead(w_vec, &wd);
+      double         sum[4] = {0, 0, 0, 0};
+      const PetscInt n4     = n - n % 4;
+      for (PetscInt i = 0; i < n4; i += 4)
+        for (unsigned int k = 0; k < 4; ++k)
+          sum[k] += (xd[i + k] * wd[i + k]) * (xd[i + k] * wd[i + k]);
+      for (PetscInt i = n4; i < n; ++i)
+        sum[0] += (xd[i] * wd[i]) * (xd[i] * wd[i]);
+      VecRestoreArrayRead(w_vec, &wd);
+      VecRestoreArrayRead(x_vec, &xd);
+      return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+    }
+
+
+    /// The weighted RMS norm, sqrt(sum_i (x_i w_i)^2 / N): one reduction.
+    realtype
+    weighted_rms_norm(N_Vector x, N_Vector w)
+    {
+      const double local  = weighted_square_sum_local(x, w);
+      double       global = 0;
+      MPI_Comm     comm   = MPI_COMM_NULL;
+      PetscObjectGetComm(reinterpret_cast<PetscObject>(N_VGetVector_Petsc(x)),
+                         &comm);
+      MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, comm);
+      return std::sqrt(global / static_cast<double>(N_VGetLength(x)));
+    }
+
+
+    /// A deal.II vector whose storage is an N_Vector's for its lifetime.
+    class View
+    {
+    public:
+      View(LA::MPI::Vector &view, N_Vector v)
+        : view(static_cast<const Vec &>(view))
+        , source(N_VGetVector_Petsc(v))
+      {
+        PetscErrorCode ierr = VecGetArray(source, &values);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+        ierr = VecPlaceArray(this->view, values);
+        AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
+      }
+      ~View()
+      {
+        VecResetArray(view);
+        VecRestoreArray(source, &values);
+      }
+
+    private:
+      Vec     view, source;
+      double *values = nullptr;
+    };
   } // namespace
 
 
   struct ImexIntegrator::Impl
   {
-    /// The wrapper, so that the post-processing hook can find its Impl.
-    struct Wrapper : public ARKode
-    {
-      Wrapper(const AdditionalData &data, const MPI_Comm comm, Impl &owner)
-        : ARKode(data, comm)
-        , owner(owner)
-      {}
-      Impl &owner;
-    };
-
     Impl(const Settings  &settings,
          const Callbacks &callbacks,
          const double     t0,
@@ -117,7 +176,15 @@ namespace systole::Electrophysiology
       , callbacks(callbacks)
       , comm(comm)
       , t(t0)
-    {}
+    {
+      check(SUNContext_Create(&this->comm, &context), "SUNContext_Create");
+    }
+
+    ~Impl()
+    {
+      free_memory();
+      SUNContext_Free(&context);
+    }
 
     /// Run @p f; map a recoverable failure to @p recoverable_code and any
     /// other exception to -1, keeping it for evolve().
@@ -143,19 +210,39 @@ namespace systole::Electrophysiology
         }
     }
 
-    /// A new ARKode object starting at time t (the wrapper restarts ARKStep
-    /// at its first solve_ode_incrementally()).
-    void
-    create();
+    bool
+    has_implicit_part() const
+    {
+      return static_cast<bool>(callbacks.implicit_rhs);
+    }
 
-    /// Fixed step / stop time for the step to t_end; called by custom_setup
-    /// on a (re)start and before every later evolve.
+    /// ARKStep's memory for the state @p y at time t, set up as configured.
     void
-    configure(void *arkode_memory) const;
+    start(LA::MPI::Vector &y);
 
-    /// Add the counters of the current ARKStep memory to the totals.
+    /// The implicit stages' solver: (I - gamma J) x = b by callbacks.solve.
+    SUNLinearSolver
+    create_linear_solver();
+
+    /// Fixed step / stop time for the step to t_end.
     void
-    accumulate_counters();
+    configure() const;
+
+    /// Add the counters of the current ARKStep memory to the totals, free it.
+    void
+    free_memory();
+
+    static int
+    explicit_rhs(realtype time, N_Vector y, N_Vector f, void *data);
+    static int
+    implicit_rhs(realtype time, N_Vector y, N_Vector f, void *data);
+    static int
+    solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype);
+    static SUNLinearSolver_Type
+    solver_type(SUNLinearSolver)
+    {
+      return SUNLINEARSOLVER_MATRIX_EMBEDDED;
+    }
 
     /// ARKode's error handler: keep the last message.
     static void
@@ -167,169 +254,211 @@ namespace systole::Electrophysiology
 
     /// ARKStep's post-processing hook: calls callbacks.after_step.
     static int
-    postprocess_step(realtype time, N_Vector y, void *user_data);
+    postprocess_step(realtype time, N_Vector y, void *data);
 
     /// ARKode's error weights (ARKEwtFn) w_i = 1/(rtol |y_i| + atol) of
-    /// @p y, computed as ARKode's own scalar-tolerance weights (arkEwtSetSS:
-    /// N_VAbs, N_VScale, N_VAddConst, N_VInv, the same operations in the
-    /// same order, so the same weights) but on PETSc's local arrays: deal.II
-    /// 9.4's N_Vector abs and inverse of PETSc vectors go element by element
-    /// through VecGetValues and VecSetValues, which cost a quarter of the
-    /// monodomain's time with ten Tusscher-Panfilov's 19 values per node
-    /// (ARKode sets the weights at every step, fixed steps too).
+    /// @p y, as ARKode's own scalar-tolerance weights (arkEwtSetSS), on
+    /// PETSc's local arrays, with a clear error for a zero tolerance.
     static int
-    error_weights(N_Vector y, N_Vector weights, void *user_data);
+    error_weights(N_Vector y, N_Vector weights, void *data);
 
     /// ARKode's explicit stability function (ARKExpStabFn): the largest
     /// stable step beta / rho at @p y, or -1 (no bound) when rho = 0.
     static int
     explicit_stability(N_Vector y, realtype t, realtype *h_stable, void *data);
 
-    Settings                settings;
-    Callbacks               callbacks;
-    MPI_Comm                comm;
-    double                  t;         ///< current time
-    double                  t_end = 0; ///< end of the evolve() in progress
-    std::unique_ptr<ARKode> ode;
-    double t_accepted     = 0;     ///< end of the last accepted ARKode step
-    bool   started        = false; ///< ARKStep memory exists
-    bool   initial_output = false; ///< next output_step is the initial one
+    Settings        settings;
+    Callbacks       callbacks;
+    MPI_Comm        comm;
+    double          t;             ///< current time
+    double          t_end     = 0; ///< end of the evolve() in progress
+    SUNContext      context   = nullptr;
+    void           *memory    = nullptr; ///< ARKStep's
+    N_Vector        state     = nullptr; ///< the caller's state, wrapped
+    Vec             state_vec = nullptr;
+    SUNLinearSolver solver    = nullptr;
+    /// Views of ARKode's vectors for the callbacks (same layout as the
+    /// state).
+    LA::MPI::Vector in_view, out_view;
+    double          t_accepted = 0; ///< end of the last accepted step
 
     std::exception_ptr fatal, recoverable;
     std::string        arkode_message; ///< last ARKode error message
 
     unsigned long steps = 0, explicit_evaluations = 0, implicit_evaluations = 0;
-    /// Steps set by the stability bound before the last create().
+    /// Steps set by the stability bound before the last free_memory().
     unsigned long stability_limited = 0;
     /// beta of the explicit table: of ARKode's default table of the order
     /// until the first step, then of the table in use.
     double beta                 = 0;
     bool   beta_of_table_in_use = false;
-    /// The first step after create() (ARKode's initial step is not subject
-    /// to the stability function): Settings::max_step, or less (evolve()).
-    double initial_step = 0;
   };
 
 
-  void
-  ImexIntegrator::Impl::create()
+  SUNLinearSolver
+  ImexIntegrator::Impl::create_linear_solver()
   {
-    // Output period: longer than any evolve(), so the wrapper calls
-    // ARKStepEvolve once per evolve(). Tolerances matter for adaptive steps
-    // only.
-    const ARKode::AdditionalData data(
-      t,
-      t,
-      settings.max_step,
-      std::numeric_limits<double>::max(),
-      1e-10,
-      settings.order,
-      3,
-      /*implicit_function_is_linear=*/true,
-      /*implicit_function_is_time_independent=*/true,
-      /*mass_is_time_independent=*/true,
-      3,
-      settings.absolute_tolerance,
-      settings.relative_tolerance);
-    ode        = std::make_unique<Wrapper>(data, comm, *this);
-    started    = false;
-    t_accepted = t;
+    SUNLinearSolver s = SUNLinSolNewEmpty(context);
+    AssertThrow(s != nullptr, dealii::ExcMessage("SUNLinSolNewEmpty failed."));
+    s->content      = this;
+    s->ops->gettype = &solver_type;
+    s->ops->solve   = &Impl::solve;
+    return s;
+  }
 
-    ode->explicit_function =
-      [this](const double time, const Vector &y, Vector &f) -> int {
-      return guarded([&]() {
-        callbacks.explicit_rhs(time, y, f);
-        ++explicit_evaluations;
-      });
-    };
-    ode->implicit_function =
-      [this](const double, const Vector &y, Vector &f) -> int {
-      return guarded([&]() {
-        callbacks.implicit_rhs(y, f);
-        ++implicit_evaluations;
-      });
-    };
-    // J v: only ARKode's operator (unused by our solver) applies it, but the
-    // wrapper needs it to install solve_linearized_system.
-    ode->jacobian_times_vector = [this](const Vector &v,
-                                        Vector       &Jv,
-                                        const double,
-                                        const Vector &,
-                                        const Vector &) -> int {
-      return guarded([&]() { callbacks.implicit_rhs(v, Jv); });
-    };
-    // (I - gamma J) x = b with ARKode's current gamma: the implicit part is
-    // linear, so one exact solve per stage is the whole Newton iteration.
-    ode->solve_linearized_system =
-      [this](dealii::SUNDIALS::SundialsOperator<Vector> &,
-             dealii::SUNDIALS::SundialsPreconditioner<Vector> &,
-             Vector       &x,
-             const Vector &b,
-             const double) -> int {
-      return guarded(
-        [&]() {
-          double gamma = 0;
-          check(ARKStepGetCurrentGamma(ode->get_arkode_memory(), &gamma),
-                "ARKStepGetCurrentGamma");
-          callbacks.solve(gamma, b, x);
-        },
-        // The wrapper hands this code to ARKode's linear solver interface
-        // unchanged, which knows SUNLS_* codes only (1 would pass as success).
-        SUNLS_CONV_FAIL);
-    };
-    ode->custom_setup = [this](void *arkode_memory) {
-      check(ARKStepSetErrHandlerFn(arkode_memory, &error_handler, this),
-            "ARKStepSetErrHandlerFn");
-      void *user_data = nullptr;
-      check(ARKStepGetUserData(arkode_memory, &user_data),
-            "ARKStepGetUserData");
-      AssertThrow(user_data == static_cast<ARKode *>(ode.get()),
-                  dealii::ExcMessage(
-                    "ImexIntegrator: deal.II's ARKode wrapper does not "
-                    "pass itself as ARKode's user data; the after-step "
-                    "callback and the error weights cannot find their "
-                    "integrator."));
-      // Instead of the wrapper's scalar tolerances (the same weights).
-      check(ARKStepWFtolerances(arkode_memory, &error_weights),
-            "ARKStepWFtolerances");
-      if (callbacks.after_step)
-        check(ARKStepSetPostprocessStepFn(arkode_memory, &postprocess_step),
-              "ARKStepSetPostprocessStepFn");
-      if (callbacks.explicit_stiffness && settings.adaptive)
-        {
-          check(ARKStepSetStabilityFn(arkode_memory, &explicit_stability, this),
-                "ARKStepSetStabilityFn");
-          check(ARKStepSetCFLFraction(arkode_memory, stability_fraction),
-                "ARKStepSetCFLFraction");
-          check(ARKStepSetInitStep(arkode_memory, initial_step),
-                "ARKStepSetInitStep");
-        }
-      configure(arkode_memory);
-      started = true;
-      // The wrapper calls output_step once right after this set-up, at the
-      // start time: that call is not the end of an ARKStepEvolve.
-      initial_output = true;
-    };
-    // Called (in C++, outside SUNDIALS) after every ARKStepEvolve: a return
-    // before the end time is a failure.
-    ode->output_step = [this](const double time, const Vector &, unsigned int) {
-      if (fatal)
-        std::rethrow_exception(fatal);
-      if (initial_output)
-        {
-          initial_output = false;
-          return;
-        }
-      if (std::abs(time - t_end) > 1e-12 * std::max(1.0, std::abs(t_end)))
-        {
-          if (recoverable)
-            std::rethrow_exception(recoverable);
-          AssertThrow(false,
-                      dealii::ExcMessage(
-                        "ARKode stopped at t = " + std::to_string(time) +
-                        " ms: " + arkode_message));
-        }
-    };
+
+  void
+  ImexIntegrator::Impl::start(LA::MPI::Vector &y)
+  {
+    state_vec = static_cast<const Vec &>(y);
+    state     = N_VMake_Petsc(state_vec, context);
+    AssertThrow(state != nullptr, dealii::ExcMessage("N_VMake_Petsc failed."));
+    // ARKode's clones copy these.
+    state->ops->nvwsqrsumlocal = &weighted_square_sum_local;
+    state->ops->nvwrmsnorm     = &weighted_rms_norm;
+    in_view.reinit(y);
+    out_view.reinit(y);
+    memory = ARKStepCreate(&explicit_rhs,
+                           has_implicit_part() ? &implicit_rhs : nullptr,
+                           t,
+                           state,
+                           context);
+    AssertThrow(memory != nullptr, dealii::ExcMessage("ARKStepCreate failed."));
+    t_accepted = t;
+    check(ARKStepSetUserData(memory, this), "ARKStepSetUserData");
+    check(ARKStepSetErrHandlerFn(memory, &error_handler, this),
+          "ARKStepSetErrHandlerFn");
+    check(ARKStepWFtolerances(memory, &error_weights), "ARKStepWFtolerances");
+    check(ARKStepSetMinStep(memory, 1e-10), "ARKStepSetMinStep");
+    check(ARKStepSetOrder(memory, settings.order), "ARKStepSetOrder");
+    if (has_implicit_part())
+      {
+        // Linear and time independent: one Newton iteration per stage, one
+        // solve; no Jacobian (the solver knows J).
+        solver = create_linear_solver();
+        check(ARKStepSetLinearSolver(memory, solver, nullptr),
+              "ARKStepSetLinearSolver");
+        check(ARKStepSetLinear(memory, 0), "ARKStepSetLinear");
+        check(ARKStepSetMaxNonlinIters(memory, 3), "ARKStepSetMaxNonlinIters");
+      }
+    else
+      // The explicit table of the ARK method alone: the same method with J
+      // = 0, without implicit stages.
+      check(ARKStepSetTableNum(memory,
+                               ARKODE_DIRK_NONE,
+                               static_cast<ARKODE_ERKTableID>(
+                                 explicit_table_of_order(settings.order))),
+            "ARKStepSetTableNum");
+    if (callbacks.after_step)
+      check(ARKStepSetPostprocessStepFn(memory, &postprocess_step),
+            "ARKStepSetPostprocessStepFn");
+    double initial_step = settings.max_step;
+    if (callbacks.explicit_stiffness && settings.adaptive)
+      {
+        check(ARKStepSetStabilityFn(memory, &explicit_stability, this),
+              "ARKStepSetStabilityFn");
+        check(ARKStepSetCFLFraction(memory, stability_fraction),
+              "ARKStepSetCFLFraction");
+        // ARKode's initial step is not subject to the stability function:
+        // keep it within the bound too.
+        const double rho = callbacks.explicit_stiffness(y);
+        if (rho > 0)
+          initial_step =
+            std::min(initial_step, stability_fraction * beta / rho);
+      }
+    check(ARKStepSetInitStep(memory, initial_step), "ARKStepSetInitStep");
+  }
+
+
+  void
+  ImexIntegrator::Impl::configure() const
+  {
+    check(ARKStepSetMaxNumSteps(memory, 100000), "ARKStepSetMaxNumSteps");
+    if (settings.adaptive)
+      check(ARKStepSetMaxStep(memory, settings.max_step), "ARKStepSetMaxStep");
+    else
+      check(ARKStepSetFixedStep(memory, t_end - t), "ARKStepSetFixedStep");
+    check(ARKStepSetStopTime(memory, t_end), "ARKStepSetStopTime");
+    if (has_implicit_part())
+      check(ARKStepSetDeduceImplicitRhs(memory,
+                                        settings.deduce_implicit_rhs
+                                          ? SUNTRUE
+                                          : SUNFALSE),
+            "ARKStepSetDeduceImplicitRhs");
+  }
+
+
+  void
+  ImexIntegrator::Impl::free_memory()
+  {
+    if (memory != nullptr)
+      {
+        long int n = 0;
+        if (ARKStepGetNumSteps(memory, &n) >= 0)
+          steps += n;
+        if (callbacks.explicit_stiffness && settings.adaptive &&
+            ARKStepGetNumExpSteps(memory, &n) >= 0)
+          stability_limited += n;
+        ARKStepFree(&memory);
+      }
+    if (state != nullptr)
+      N_VDestroy(state); // not the caller's Vec (N_VMake_Petsc)
+    if (solver != nullptr)
+      SUNLinSolFreeEmpty(solver);
+    memory = nullptr;
+    state  = nullptr;
+    solver = nullptr;
+  }
+
+
+  int
+  ImexIntegrator::Impl::explicit_rhs(const realtype time,
+                                     N_Vector       y,
+                                     N_Vector       f,
+                                     void          *data)
+  {
+    Impl &self = *static_cast<Impl *>(data);
+    return self.guarded([&]() {
+      const View in(self.in_view, y), out(self.out_view, f);
+      self.callbacks.explicit_rhs(time, self.in_view, self.out_view);
+      ++self.explicit_evaluations;
+    });
+  }
+
+
+  int
+  ImexIntegrator::Impl::implicit_rhs(const realtype,
+                                     N_Vector y,
+                                     N_Vector f,
+                                     void    *data)
+  {
+    Impl &self = *static_cast<Impl *>(data);
+    return self.guarded([&]() {
+      const View in(self.in_view, y), out(self.out_view, f);
+      self.callbacks.implicit_rhs(self.in_view, self.out_view);
+      ++self.implicit_evaluations;
+    });
+  }
+
+
+  int
+  ImexIntegrator::Impl::solve(SUNLinearSolver solver,
+                              SUNMatrix,
+                              N_Vector x,
+                              N_Vector b,
+                              realtype)
+  {
+    Impl &self = *static_cast<Impl *>(solver->content);
+    return self.guarded(
+      [&]() {
+        double gamma = 0;
+        check(ARKStepGetCurrentGamma(self.memory, &gamma),
+              "ARKStepGetCurrentGamma");
+        const View in(self.in_view, b), out(self.out_view, x);
+        self.callbacks.solve(gamma, self.in_view, self.out_view);
+      },
+      // ARKode's linear solver interface knows SUNLS_* codes only.
+      SUNLS_CONV_FAIL);
   }
 
 
@@ -348,30 +477,24 @@ namespace systole::Electrophysiology
   int
   ImexIntegrator::Impl::postprocess_step(const realtype time,
                                          N_Vector       y,
-                                         void          *user_data)
+                                         void          *data)
   {
-    Impl &self =
-      static_cast<Wrapper *>(static_cast<ARKode *>(user_data))->owner;
+    Impl &self = *static_cast<Impl *>(data);
     return self.guarded([&]() {
-      Vector &state = *dealii::SUNDIALS::internal::unwrap_nvector<Vector>(y);
-      self.callbacks.after_step(time, time - self.t_accepted, state);
+      const View view(self.in_view, y);
+      self.callbacks.after_step(time, time - self.t_accepted, self.in_view);
       self.t_accepted = time;
     });
   }
 
 
   int
-  ImexIntegrator::Impl::error_weights(N_Vector y,
-                                      N_Vector weights,
-                                      void    *user_data)
+  ImexIntegrator::Impl::error_weights(N_Vector y, N_Vector weights, void *data)
   {
-    Impl &self =
-      static_cast<Wrapper *>(static_cast<ARKode *>(user_data))->owner;
+    Impl &self = *static_cast<Impl *>(data);
     return self.guarded([&]() {
-      const Vec y_vec = static_cast<const Vec &>(
-        *dealii::SUNDIALS::internal::unwrap_nvector_const<Vector>(y));
-      const Vec w_vec = static_cast<const Vec &>(
-        *dealii::SUNDIALS::internal::unwrap_nvector<Vector>(weights));
+      const Vec      y_vec = N_VGetVector_Petsc(y);
+      const Vec      w_vec = N_VGetVector_Petsc(weights);
       PetscInt       n = 0, n_w = 0;
       PetscErrorCode ierr = VecGetLocalSize(y_vec, &n);
       AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
@@ -414,52 +537,17 @@ namespace systole::Electrophysiology
         {
           // ARKode picks its tables at the first step.
           ARKodeButcherTable implicit_table = nullptr, explicit_table = nullptr;
-          check(ARKStepGetCurrentButcherTables(self.ode->get_arkode_memory(),
+          check(ARKStepGetCurrentButcherTables(self.memory,
                                                &implicit_table,
                                                &explicit_table),
                 "ARKStepGetCurrentButcherTables");
           self.beta                 = real_stability_interval(explicit_table);
           self.beta_of_table_in_use = true;
         }
-      const double rho = self.callbacks.explicit_stiffness(
-        *dealii::SUNDIALS::internal::unwrap_nvector_const<Vector>(y));
-      *h_stable = rho > 0 ? self.beta / rho : -1.0;
+      const View   view(self.in_view, y);
+      const double rho = self.callbacks.explicit_stiffness(self.in_view);
+      *h_stable        = rho > 0 ? self.beta / rho : -1.0;
     });
-  }
-
-
-  void
-  ImexIntegrator::Impl::configure(void *arkode_memory) const
-  {
-    check(ARKStepSetMaxNumSteps(arkode_memory, 100000),
-          "ARKStepSetMaxNumSteps");
-    if (settings.adaptive)
-      check(ARKStepSetMaxStep(arkode_memory, settings.max_step),
-            "ARKStepSetMaxStep");
-    else
-      check(ARKStepSetFixedStep(arkode_memory, t_end - t),
-            "ARKStepSetFixedStep");
-    check(ARKStepSetStopTime(arkode_memory, t_end), "ARKStepSetStopTime");
-    check(ARKStepSetDeduceImplicitRhs(arkode_memory,
-                                      settings.deduce_implicit_rhs ? SUNTRUE
-                                                                   : SUNFALSE),
-          "ARKStepSetDeduceImplicitRhs");
-  }
-
-
-  void
-  ImexIntegrator::Impl::accumulate_counters()
-  {
-    if (!started)
-      return;
-    long int n = 0;
-    check(ARKStepGetNumSteps(ode->get_arkode_memory(), &n),
-          "ARKStepGetNumSteps");
-    steps += n;
-    check(ARKStepGetNumExpSteps(ode->get_arkode_memory(), &n),
-          "ARKStepGetNumExpSteps");
-    if (callbacks.explicit_stiffness && settings.adaptive)
-      stability_limited += n;
   }
 
 
@@ -471,19 +559,19 @@ namespace systole::Electrophysiology
   {
     AssertThrow(settings.order >= 3 && settings.order <= 5,
                 dealii::ExcMessage("ARKode order must be 3, 4 or 5."));
+    AssertThrow(!callbacks.implicit_rhs || callbacks.solve,
+                dealii::ExcMessage("ImexIntegrator: an implicit part needs "
+                                   "its solve callback."));
     if (callbacks.explicit_stiffness && settings.adaptive)
       {
-        // ARKStep's default IMEX table of the order, for the first step
+        // ARKStep's default explicit table of the order, for the first step
         // (its stability function takes the table in use after it).
-        const int id = settings.order == 3   ? ARKSTEP_DEFAULT_ARK_ETABLE_3
-                       : settings.order == 4 ? ARKSTEP_DEFAULT_ARK_ETABLE_4
-                                             : ARKSTEP_DEFAULT_ARK_ETABLE_5;
         ARKodeButcherTable table =
-          ARKodeButcherTable_LoadERK(static_cast<ARKODE_ERKTableID>(id));
+          ARKodeButcherTable_LoadERK(static_cast<ARKODE_ERKTableID>(
+            explicit_table_of_order(settings.order)));
         impl->beta = real_stability_interval(table);
         ARKodeButcherTable_Free(table);
       }
-    impl->create();
   }
 
   ImexIntegrator::~ImexIntegrator() = default;
@@ -497,23 +585,32 @@ namespace systole::Electrophysiology
                 dealii::ExcMessage("ImexIntegrator::evolve: the end time must "
                                    "lie after the current time."));
     m.t_end = t_end;
-    if (m.started)
-      m.configure(m.ode->get_arkode_memory());
+    if (m.memory == nullptr)
+      m.start(y);
+    AssertThrow(static_cast<const Vec &>(y) == m.state_vec,
+                dealii::ExcMessage("ImexIntegrator::evolve: the state is not "
+                                   "the vector of the first evolve(); call "
+                                   "reset() first."));
+    m.configure();
     m.fatal       = nullptr;
     m.recoverable = nullptr;
     m.arkode_message.clear();
-    if (!m.started && m.settings.adaptive && m.callbacks.explicit_stiffness)
+    realtype  reached = m.t;
+    const int flag =
+      ARKStepEvolve(m.memory, t_end, m.state, &reached, ARK_NORMAL);
+    if (m.fatal)
+      std::rethrow_exception(m.fatal);
+    // A recoverable failure that ARKode cured by a smaller step is no error.
+    if (flag < 0 ||
+        std::abs(reached - t_end) > 1e-12 * std::max(1.0, std::abs(t_end)))
       {
-        // ARKode starts (after create()) with this step, which its
-        // stability function does not see: keep it within the bound too.
-        const double rho = m.callbacks.explicit_stiffness(y);
-        m.initial_step   = std::min(m.settings.max_step,
-                                  rho > 0 ? stability_fraction * m.beta / rho
-                                            : m.settings.max_step);
+        if (m.recoverable)
+          std::rethrow_exception(m.recoverable);
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "ARKode stopped at t = " + std::to_string(reached) +
+                      " ms: " + m.arkode_message));
       }
-    // Throws (from output_step) when ARKode stops short of t_end; a
-    // recoverable failure that ARKode cured by a smaller step is no error.
-    m.ode->solve_ode_incrementally(y, t_end);
     m.t = t_end;
   }
 
@@ -521,9 +618,8 @@ namespace systole::Electrophysiology
   void
   ImexIntegrator::reset(const double t)
   {
-    impl->accumulate_counters();
+    impl->free_memory();
     impl->t = t;
-    impl->create();
   }
 
 
@@ -538,9 +634,8 @@ namespace systole::Electrophysiology
   ImexIntegrator::n_steps() const
   {
     long int n = 0;
-    if (impl->started)
-      check(ARKStepGetNumSteps(impl->ode->get_arkode_memory(), &n),
-            "ARKStepGetNumSteps");
+    if (impl->memory != nullptr)
+      check(ARKStepGetNumSteps(impl->memory, &n), "ARKStepGetNumSteps");
     return impl->steps + n;
   }
 
@@ -563,10 +658,9 @@ namespace systole::Electrophysiology
   ImexIntegrator::n_stability_limited_steps() const
   {
     long int n = 0;
-    if (impl->started && impl->callbacks.explicit_stiffness &&
+    if (impl->memory != nullptr && impl->callbacks.explicit_stiffness &&
         impl->settings.adaptive)
-      check(ARKStepGetNumExpSteps(impl->ode->get_arkode_memory(), &n),
-            "ARKStepGetNumExpSteps");
+      check(ARKStepGetNumExpSteps(impl->memory, &n), "ARKStepGetNumExpSteps");
     return impl->stability_limited + n;
   }
 

@@ -21,18 +21,20 @@ namespace systole::Electrophysiology
 
   /// IMEX additive Runge-Kutta integration of
   /// @f[ \frac{dy}{dt} = f_E(t, y) + J y @f]
-  /// with SUNDIALS ARKode (ARKStep) through deal.II 9.4's
-  /// SUNDIALS::ARKode wrapper: f_E explicit, the linear, time-independent
-  /// J y implicit (ARKode is told so: one Newton iteration per stage, no
-  /// Jacobian updates). The stage systems (I - gamma J) x = b are solved by
-  /// the caller's solve(), which gets ARKode's current gamma.
+  /// with SUNDIALS ARKode (ARKStep) through its C interface, on SUNDIALS'
+  /// PETSc N_Vector: f_E explicit, the linear, time-independent J y
+  /// implicit (ARKode is told so: one Newton iteration per stage, no
+  /// Jacobian), or no implicit part at all (the explicit table alone). The
+  /// stage systems (I - gamma J) x = b are solved by the caller's solve(),
+  /// which gets ARKode's current gamma (a matrix-embedded SUNLinearSolver).
   ///
-  /// This is the only file that knows deal.II 9.4's callback convention
-  /// (int return: 0 ok, > 0 recoverable, < 0 fatal): the callbacks here are
-  /// plain functions that throw; ExcRecoverableStepFailure maps to 1, any
+  /// This is the only file that knows ARKode: the callbacks here are plain
+  /// functions on deal.II's PETSc vectors that throw;
+  /// ExcRecoverableStepFailure maps to SUNDIALS' recoverable codes, any
   /// other exception to -1 and is rethrown by evolve() once ARKode returns.
-  /// Upgrading to deal.II >= 9.5 (void callbacks,
-  /// RecoverableUserCallbackError) touches this file only.
+  /// Not deal.II 9.4's SUNDIALS::ARKode wrapper: its N_Vector of PETSc
+  /// vectors copies the vector in every weighted RMS norm (two reductions
+  /// each) and was most of a reaction-eikonal step on 2 ranks.
   class ImexIntegrator
   {
   public:
@@ -56,7 +58,10 @@ namespace systole::Electrophysiology
       std::function<
         void(const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f)>
         explicit_rhs;
-      /// f = J y.
+      /// f = J y. Empty: no implicit part (J = 0; then solve is unused). The
+      /// explicit table of the ARK method of the order then runs alone: the
+      /// same method and error estimate, without the implicit stages (their
+      /// right-hand sides, solves and norms).
       std::function<void(const LA::MPI::Vector &y, LA::MPI::Vector &f)>
         implicit_rhs;
       /// x = (I - gamma J)^-1 b to the caller's own tolerance.

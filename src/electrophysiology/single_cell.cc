@@ -150,11 +150,7 @@ namespace systole::Electrophysiology
         VecRestoreArray(static_cast<const Vec &>(f), &fi);
         VecRestoreArrayRead(static_cast<const Vec &>(z), &zi);
       };
-    callbacks.implicit_rhs = [](const LA::MPI::Vector &, LA::MPI::Vector &f) {
-      f = 0;
-    };
-    callbacks.solve =
-      [](const double, const LA::MPI::Vector &b, LA::MPI::Vector &x) { x = b; };
+    // No implicit part: the explicit table of the ARK method alone.
     if (model.n_gates() > 0)
       callbacks.after_step =
         [this](const double, const double h, LA::MPI::Vector &z) {

@@ -322,11 +322,19 @@ namespace systole::Electrophysiology
       [this](const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f) {
         explicit_rhs(t, y, f);
       };
-    callbacks.implicit_rhs = [this](const LA::MPI::Vector &y,
-                                    LA::MPI::Vector &f) { implicit_rhs(y, f); };
-    callbacks.solve        = [this](const double           gamma,
-                             const LA::MPI::Vector &b,
-                             LA::MPI::Vector &x) { solve_stage(gamma, b, x); };
+    // Without diffusion (reaction-eikonal RE-) no implicit part at all.
+    if (diffusion())
+      {
+        callbacks.implicit_rhs = [this](const LA::MPI::Vector &y,
+                                        LA::MPI::Vector       &f) {
+          implicit_rhs(y, f);
+        };
+        callbacks.solve = [this](const double           gamma,
+                                 const LA::MPI::Vector &b,
+                                 LA::MPI::Vector       &x) {
+          solve_stage(gamma, b, x);
+        };
+      }
     // The ionic currents are explicit: their stiffness bounds the step.
     callbacks.explicit_stiffness = [this](const LA::MPI::Vector &y) {
       return explicit_stiffness(y);
