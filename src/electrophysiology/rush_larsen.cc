@@ -13,14 +13,4 @@ namespace systole::Electrophysiology
     return steady + (s - steady) * std::exp(-dt / tau);
   }
 
-
-  void
-  advance_gates(const IonicModel  &model,
-                const double       dt,
-                const unsigned int n_points,
-                const unsigned int stride,
-                double            *y)
-  {
-    model.advance_gates_batch(dt, n_points, stride, y);
-  }
 } // namespace systole::Electrophysiology

@@ -1,7 +1,5 @@
 #pragma once
 
-#include "electrophysiology/ionic_model.h"
-
 /// @file
 /// The Rush-Larsen update of gating variables (Rush and Larsen 1978, IEEE
 /// Trans. Biomed. Eng. 25:389): over a step dt with the potential and the
@@ -10,7 +8,8 @@
 /// @f[ s(t + dt) = s_\infty + (s(t) - s_\infty)\, e^{-dt/\tau} @f]
 /// is the update. It is unconditionally stable and keeps s between s(t) and
 /// s_inf, however small tau is (the m gate of ten Tusscher-Panfilov has
-/// tau < 0.01 ms at rest, far below any explicit step).
+/// tau < 0.01 ms at rest, far below any explicit step). The models apply it
+/// to their gates in IonicModel::advance_gates_batch().
 
 namespace systole::Electrophysiology
 {
@@ -21,16 +20,4 @@ namespace systole::Electrophysiology
               const double steady,
               const double tau,
               const double dt);
-
-  /// Advance the gates of @p n_points points by @p dt [ms] with rush_larsen(),
-  /// the rates from @p model at each point's current potential and states.
-  /// @p y holds the points one after the other, @p stride values each: the
-  /// potential, then the model's states (the gates first). The model's
-  /// IonicModel::advance_gates_batch().
-  void
-  advance_gates(const IonicModel  &model,
-                const double       dt,
-                const unsigned int n_points,
-                const unsigned int stride,
-                double            *y);
 } // namespace systole::Electrophysiology

@@ -4,7 +4,6 @@
 #include <deal.II/lac/petsc_vector.h>
 
 #include "electrophysiology/arkode_adapter.h"
-#include "electrophysiology/rush_larsen.h"
 
 #include <algorithm>
 #include <cmath>
@@ -156,7 +155,7 @@ namespace systole::Electrophysiology
         [this](const double, const double h, LA::MPI::Vector &z) {
           double *zi = nullptr;
           VecGetArray(static_cast<const Vec &>(z), &zi);
-          advance_gates(this->model, h, 1, n_components, zi);
+          this->model.advance_gates_batch(h, 1, n_components, zi);
           VecRestoreArray(static_cast<const Vec &>(z), &zi);
         };
     integrator =
@@ -207,11 +206,10 @@ namespace systole::Electrophysiology
                 // Before ARKode's first step (it reads the state then).
                 double *zi = nullptr;
                 VecGetArray(static_cast<const Vec &>(m.y), &zi);
-                advance_gates(m.model,
-                              0.5 * (t_next - m.t),
-                              1,
-                              m.n_components,
-                              zi);
+                m.model.advance_gates_batch(0.5 * (t_next - m.t),
+                                            1,
+                                            m.n_components,
+                                            zi);
                 VecRestoreArray(static_cast<const Vec &>(m.y), &zi);
               }
             m.gate_half_step_pending = false;

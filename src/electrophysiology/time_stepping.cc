@@ -5,7 +5,6 @@
 #include <deal.II/lac/solver_control.h>
 
 #include "electrophysiology/monodomain_impl.h"
-#include "electrophysiology/rush_larsen.h"
 
 #include <petscmat.h>
 
@@ -352,7 +351,7 @@ namespace systole::Electrophysiology
       callbacks.after_step =
         [this](const double, const double h, LA::MPI::Vector &y) {
           const LocalWrite values(y);
-          advance_gates(model, h, n_owned, n_components, values.data());
+          model.advance_gates_batch(h, n_owned, n_components, values.data());
         };
     return std::make_unique<ImexIntegrator>(settings, callbacks, t0, comm);
   }
@@ -427,11 +426,10 @@ namespace systole::Electrophysiology
       {
         // Before ARKode's first step (it reads the state then).
         const LocalWrite y(state);
-        advance_gates(model,
-                      0.5 * (t_next - t),
-                      n_owned,
-                      n_components,
-                      y.data());
+        model.advance_gates_batch(0.5 * (t_next - t),
+                                  n_owned,
+                                  n_components,
+                                  y.data());
       }
     gate_half_step_pending = false;
     if (params.model == Parameters::Model::reaction_eikonal)

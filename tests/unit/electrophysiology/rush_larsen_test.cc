@@ -37,7 +37,7 @@ TEST_CASE("A Rush-Larsen step is the exact solution of a gate at constant "
       const unsigned int  n_steps =
         static_cast<unsigned int>(std::round(t_end / dt));
       for (unsigned int k = 0; k < n_steps; ++k)
-        advance_gates(model, dt, 1, n, y.data());
+        model.advance_gates_batch(dt, 1, n, y.data());
       INFO("dt = " << dt);
       for (unsigned int g = 0; g < model.n_gates(); ++g)
         {
