@@ -33,7 +33,7 @@ namespace systole::Electrophysiology
                   dealii::ExcMessage(
                     "The electrophysiology on a tetrahedral mesh cannot be "
                     "checkpointed yet: set Output / Checkpoint interval = 0 "
-                    "and Output / Checkpoint minutes = 0."));
+                    "and Output / Checkpoint wall time interval = 0."));
     }
   } // namespace
 
