@@ -221,6 +221,7 @@ namespace systole::Fibres
     LA::MPI::PreconditionAMG::AdditionalData amg_data;
     amg_data.symmetric_operator = true;
     amg_data.strong_threshold   = 0.5;
+    amg_data.aggressive_coarsening_num_levels = 1;
     const LA::MPI::PreconditionAMG amg(matrix, amg_data);
     SolveResult                    result;
     try
