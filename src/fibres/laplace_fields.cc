@@ -219,8 +219,8 @@ namespace systole::Fibres
                                   1e-10 * rhs.l2_norm());
     LA::SolverCG          cg(control, comm);
     LA::MPI::PreconditionAMG::AdditionalData amg_data;
-    amg_data.symmetric_operator = true;
-    amg_data.strong_threshold   = 0.5;
+    amg_data.symmetric_operator               = true;
+    amg_data.strong_threshold                 = 0.5;
     amg_data.aggressive_coarsening_num_levels = 1;
     const LA::MPI::PreconditionAMG amg(matrix, amg_data);
     SolveResult                    result;

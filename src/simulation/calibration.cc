@@ -326,103 +326,264 @@ namespace systole
     return p;
   }
 
-  void
-  run_calibration_problem(const dealii::ParameterHandler &prm,
-                          const RunParameters            &run,
-                          const std::string              &parameter_text,
-                          Logger                         &logger,
-                          const MPI_Comm                  comm)
+  namespace
   {
-    // Hundreds of Newton solves: their histories only on request.
-    logger.set_details(run.solver_log == "on");
-    const auto         start = std::chrono::steady_clock::now();
-    const auto         cal   = CalibrationParameters::parse(prm);
-    const unsigned int n     = cal.parameters.size();
+    /// One calibration run: the targets, the least-squares fit of the
+    /// law's entries (through PassiveInflation, and the unloading of the
+    /// image for each evaluation with Reference = unloaded) and its output.
+    class CalibrationRun
+    {
+    public:
+      CalibrationRun(const dealii::ParameterHandler &prm,
+                     const RunParameters            &run,
+                     const std::string              &parameter_text,
+                     Logger                         &logger,
+                     const MPI_Comm                  comm);
 
-    const bool                unloaded = cal.reference == "unloaded";
-    const UnloadingParameters up       = UnloadingParameters::parse(prm);
-    if (unloaded)
-      {
-        AssertThrow(cal.target != "Klotz" ||
-                      std::abs(cal.klotz_edp_mmHg -
-                               Units::kPa_to_mmHg(up.image_pressure)) <=
-                        1e-9 * cal.klotz_edp_mmHg,
+      /// Fit, report, write the tables, calibrated.prm and the statistics.
+      void
+      run();
+
+    private:
+      /// The initial values of the fitted entries, checked positive.
+      std::vector<double>
+      checked_initial_values() const;
+
+      /// The adjustable law of the mechanics (law points to it).
+      std::unique_ptr<Inverse::AdjustableLaw>
+      make_law();
+
+      /// Subsection Unloading, checked against the targets: with Reference
+      /// = unloaded and Target = Klotz the image pressure is the Klotz
+      /// pressure.
+      UnloadingParameters
+      checked_unloading(const dealii::ParameterHandler &prm) const;
+
+      /// The unloader, the image and the given mesh (Reference = unloaded).
+      void
+      set_up_unloading(const dealii::ParameterHandler &prm);
+
+      /// The inflation of the current mechanics to @p pressures [kPa].
+      Inverse::PassiveInflation
+      inflation_over(const std::vector<double> &pressures);
+
+      /// The inflation counts over every reference.
+      Inverse::InflationCounts
+      counts() const;
+
+      /// The same numbers on every rank, bit for bit (TAO runs on each).
+      void
+      broadcast(std::vector<double> &v) const;
+
+      /// target_mL from the target (pairs, the Klotz curve, or synthetic).
+      void
+      set_target_volumes();
+      void
+      set_klotz_targets();
+      void
+      set_synthetic_targets();
+
+      /// Unload the image with @p values from @p start and inflate the
+      /// reference: the volumes [mm^3].
+      std::vector<double>
+      unload_and_inflate(const std::vector<double>           &values,
+                         const std::vector<dealii::Point<3>> &start,
+                         UnloadingResult                     &u);
+
+      /// The volumes [mm^3] (and their derivatives) of @p values on the
+      /// unloaded reference of each; @p stats: fixed-point iterations,
+      /// reference volume [mL], reload error [mm].
+      std::vector<double>
+      unloaded_volumes(const std::vector<double> &values,
+                       std::vector<double>       *dV,
+                       std::vector<double>       &stats);
+
+      /// The least-squares residuals (and Jacobian) at scale factors @p x.
+      void
+      evaluate(const std::vector<double> &x,
+               std::vector<double>       &r,
+               std::vector<double>       *J);
+
+      /// The evaluation's row of /timeseries and its console line.
+      void
+      record_evaluation(const std::vector<double> &values,
+                        const double               rss,
+                        std::vector<double>        reference_stats);
+
+      /// The console report and the calibration/ tables of @p fit.
+      void
+      report(const Inverse::LeastSquaresResult &fit, const double seconds);
+
+      /// calibrated.prm (and the unloaded mesh): what a later run includes.
+      std::string
+      write_fragment(const std::vector<double> &fitted,
+                     const std::string         &mesh_path) const;
+
+      void
+      write_statistics(const unsigned int tao_iterations, const double seconds);
+
+      const RunParameters                  &run_params;
+      Logger                               &logger;
+      const MPI_Comm                        comm;
+      std::chrono::steady_clock::time_point start;
+      const CalibrationParameters           cal;
+      const unsigned int                    n;
+      const bool                            unloaded;
+      const UnloadingParameters             up;
+      Inverse::LawRebuilder                 rebuilder;
+      const std::vector<double>             initial;
+      Inverse::AdjustableLaw               *law = nullptr;
+      MechanicsModel                        model;
+      IO::ResultsFile                       results;
+
+      // Reference = unloaded: the mesh is the image; the unloader moves
+      // the mesh's vertices to the unloaded reference of the current
+      // parameters (and rebuilds model.problem on it: use *model.problem
+      // afresh).
+      std::unique_ptr<ReferenceUnloader> unloader;
+      std::vector<dealii::Point<3>>      image, given;
+      double                             image_volume = 0;
+
+      std::vector<double> p_mmHg; ///< target pressures (ascending)
+      unsigned int        m = 0;
+      std::vector<double> p_kPa;
+      /// One inflation per reference (it holds the mechanics built on it);
+      /// the counts of the earlier ones.
+      std::unique_ptr<Inverse::PassiveInflation> inflation;
+      Inverse::InflationCounts                   earlier;
+
+      std::vector<double> target_mL; ///< target volumes
+      double              klotz_edv = 0, klotz_v0 = 0, klotz_v30 = 0;
+      unsigned int        extra_solves = 0;
+
+      UnloadingResult               unloading_total;
+      unsigned int                  fixed_point_iterations = 0;
+      std::vector<dealii::Point<3>> last_reference;
+      std::vector<double>           last_reference_stats;
+
+      std::vector<double> initial_model_mL;
+      unsigned int        evaluation = 0;
+    };
+
+
+    CalibrationRun::CalibrationRun(const dealii::ParameterHandler &prm,
+                                   const RunParameters            &run,
+                                   const std::string &parameter_text,
+                                   Logger            &logger,
+                                   const MPI_Comm     comm)
+      : run_params(run)
+      , logger(logger)
+      , comm(comm)
+      , start(std::chrono::steady_clock::now())
+      , cal(CalibrationParameters::parse(prm))
+      , n(cal.parameters.size())
+      , unloaded(cal.reference == "unloaded")
+      , up(checked_unloading(prm))
+      , rebuilder(prm, cal.parameters, "Calibration / Parameters")
+      , initial(checked_initial_values())
+      , model(prm, run, logger, comm, "", make_law())
+      , results(run.output_directory, parameter_text, comm)
+    {
+      logger.line(model.banner(run));
+      set_up_unloading(prm);
+      p_mmHg = cal.pressures_mmHg;
+      if (cal.target == "pressure-volume pairs")
+        {
+          p_mmHg.clear();
+          for (const auto &[p, v] : cal.pairs)
+            p_mmHg.push_back(p);
+        }
+      m = p_mmHg.size();
+      for (const double p : p_mmHg)
+        p_kPa.push_back(Units::mmHg_to_kPa(p));
+      inflation =
+        std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+      set_target_volumes();
+      last_reference = image;
+    }
+
+
+    std::vector<double>
+    CalibrationRun::checked_initial_values() const
+    {
+      const std::vector<double> values = rebuilder.initial_values();
+      for (unsigned int i = 0; i < n; ++i)
+        AssertThrow(values[i] > 0,
                     dealii::ExcMessage(
-                      section +
-                      "Reference = unloaded with Target = Klotz: the image is "
-                      "the end-diastolic geometry, so Calibration / Klotz "
-                      "end-diastolic pressure (" +
-                      fixed(cal.klotz_edp_mmHg, 3) +
-                      " mmHg) must equal Unloading / Image pressure (" +
-                      fixed(Units::kPa_to_mmHg(up.image_pressure), 3) +
-                      " mmHg)."));
-      }
+                      "Calibration / Parameters: Material / " +
+                      rebuilder.law_name() + " / " + cal.parameters[i] +
+                      " is 0 in the file; a fitted entry is a scale factor "
+                      "of its value there, so give it a positive starting "
+                      "value."));
+      return values;
+    }
 
-    Inverse::LawRebuilder     rebuilder(prm,
-                                    cal.parameters,
-                                    "Calibration / Parameters");
-    const std::vector<double> initial = rebuilder.initial_values();
-    for (unsigned int i = 0; i < n; ++i)
-      AssertThrow(initial[i] > 0,
+
+    std::unique_ptr<Inverse::AdjustableLaw>
+    CalibrationRun::make_law()
+    {
+      auto adjustable =
+        std::make_unique<Inverse::AdjustableLaw>(rebuilder.build(initial));
+      law = adjustable.get();
+      return adjustable;
+    }
+
+
+    UnloadingParameters
+    CalibrationRun::checked_unloading(const dealii::ParameterHandler &prm) const
+    {
+      const UnloadingParameters unloading = UnloadingParameters::parse(prm);
+      AssertThrow(!unloaded || cal.target != "Klotz" ||
+                    std::abs(cal.klotz_edp_mmHg -
+                             Units::kPa_to_mmHg(unloading.image_pressure)) <=
+                      1e-9 * cal.klotz_edp_mmHg,
                   dealii::ExcMessage(
-                    "Calibration / Parameters: Material / " +
-                    rebuilder.law_name() + " / " + cal.parameters[i] +
-                    " is 0 in the file; a fitted entry is a scale factor of "
-                    "its value there, so give it a positive starting value."));
-    auto adjustable =
-      std::make_unique<Inverse::AdjustableLaw>(rebuilder.build(initial));
-    Inverse::AdjustableLaw &law = *adjustable;
-    MechanicsModel model(prm, run, logger, comm, "", std::move(adjustable));
-    logger.line(model.banner(run));
-    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+                    section +
+                    "Reference = unloaded with Target = Klotz: the image is "
+                    "the end-diastolic geometry, so Calibration / Klotz "
+                    "end-diastolic pressure (" +
+                    fixed(cal.klotz_edp_mmHg, 3) +
+                    " mmHg) must equal Unloading / Image pressure (" +
+                    fixed(Units::kPa_to_mmHg(unloading.image_pressure), 3) +
+                    " mmHg)."));
+      return unloading;
+    }
 
-    // Reference = unloaded: the mesh is the image; the unloader moves the
-    // mesh's vertices to the unloaded reference of the current parameters
-    // (and rebuilds model.problem on it: use *model.problem afresh).
-    std::unique_ptr<ReferenceUnloader> unloader;
-    std::vector<dealii::Point<3>>      image, given;
-    double                             image_volume = 0;
-    if (unloaded)
-      {
-        unloader = std::make_unique<ReferenceUnloader>(
-          model,
-          run,
-          Fibres::Parameters::parse(prm, run.parameter_directory),
-          logger,
-          comm);
-        image        = unloader->vertices();
-        given        = image;
-        image_volume = model.problem->cavity_volume();
-      }
 
-    // The target pressures [mmHg] (ascending).
-    std::vector<double> p_mmHg = cal.pressures_mmHg;
-    if (cal.target == "pressure-volume pairs")
-      {
-        p_mmHg.clear();
-        for (const auto &[p, v] : cal.pairs)
-          p_mmHg.push_back(p);
-      }
-    const unsigned int  m = p_mmHg.size();
-    std::vector<double> p_kPa(m);
-    for (unsigned int j = 0; j < m; ++j)
-      p_kPa[j] = Units::mmHg_to_kPa(p_mmHg[j]);
-    const auto inflation_over = [&](const std::vector<double> &pressures) {
+    void
+    CalibrationRun::set_up_unloading(const dealii::ParameterHandler &prm)
+    {
+      if (!unloaded)
+        return;
+      unloader = std::make_unique<ReferenceUnloader>(
+        model,
+        run_params,
+        Fibres::Parameters::parse(prm, run_params.parameter_directory),
+        logger,
+        comm);
+      image        = unloader->vertices();
+      given        = image;
+      image_volume = model.problem->cavity_volume();
+    }
+
+
+    Inverse::PassiveInflation
+    CalibrationRun::inflation_over(const std::vector<double> &pressures)
+    {
       return Inverse::PassiveInflation(*model.problem,
-                                       law,
+                                       *law,
                                        rebuilder,
                                        pressures,
                                        Units::mmHg_to_kPa(
                                          cal.pressure_step_mmHg),
                                        model.params.max_step_cuts,
                                        logger);
-    };
-    // One inflation per reference (it holds the mechanics built on it); the
-    // counts of the earlier ones.
-    auto inflation =
-      std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
-    Inverse::InflationCounts earlier;
-    const auto               counts = [&]() {
+    }
+
+
+    Inverse::InflationCounts
+    CalibrationRun::counts() const
+    {
       Inverse::InflationCounts c = inflation->counts();
       c.inflations += earlier.inflations;
       c.load_steps += earlier.load_steps;
@@ -432,84 +593,99 @@ namespace systole
       c.newton_iterations += earlier.newton_iterations;
       c.chord_iterations += earlier.chord_iterations;
       return c;
-    };
-    // The same numbers on every rank, bit for bit (TAO runs on each).
-    const auto broadcast = [&](std::vector<double> &v) {
-      MPI_Bcast(v.data(), v.size(), MPI_DOUBLE, 0, comm);
-    };
+    }
 
-    // The target volumes [mL].
-    std::vector<double> target_mL(m);
-    double       klotz_edv = cal.klotz_edv_mL, klotz_v0 = 0, klotz_v30 = 0;
-    unsigned int extra_solves = 0;
-    if (cal.target == "pressure-volume pairs")
+
+    void
+    CalibrationRun::broadcast(std::vector<double> &v) const
+    {
+      MPI_Bcast(v.data(), v.size(), MPI_DOUBLE, 0, comm);
+    }
+
+
+    void
+    CalibrationRun::set_target_volumes()
+    {
+      target_mL.assign(m, 0.0);
+      klotz_edv = cal.klotz_edv_mL;
+      if (cal.target == "pressure-volume pairs")
+        for (unsigned int j = 0; j < m; ++j)
+          target_mL[j] = cal.pairs[j].second;
+      else if (cal.target == "Klotz")
+        set_klotz_targets();
+      else
+        set_synthetic_targets();
+    }
+
+
+    void
+    CalibrationRun::set_klotz_targets()
+    {
+      if (klotz_edv == 0 && unloaded)
+        {
+          klotz_edv = Units::mm3_to_mL(image_volume);
+          logger.line("Klotz: the image's cavity volume at " +
+                      fixed(cal.klotz_edp_mmHg, 2) +
+                      " mmHg (its vertices, trilinear cells): " +
+                      fixed(klotz_edv, 3) + " mL");
+        }
+      else if (klotz_edv == 0)
+        {
+          auto own = inflation_over({Units::mmHg_to_kPa(cal.klotz_edp_mmHg)});
+          std::vector<double> v = own.volumes(initial, nullptr, 0.0);
+          broadcast(v);
+          klotz_edv = Units::mm3_to_mL(v[0]);
+          extra_solves += own.counts().forward_solves;
+          logger.line("Klotz: the model's own volume at " +
+                      fixed(cal.klotz_edp_mmHg, 2) +
+                      " mmHg with the "
+                      "parameters of the file: " +
+                      fixed(klotz_edv, 3) + " mL");
+        }
+      const Inverse::KlotzCurve curve(cal.klotz_edp_mmHg, klotz_edv);
+      klotz_v0  = curve.v0_mL();
+      klotz_v30 = curve.v30_mL();
       for (unsigned int j = 0; j < m; ++j)
-        target_mL[j] = cal.pairs[j].second;
-    else if (cal.target == "Klotz")
-      {
-        if (klotz_edv == 0 && unloaded)
-          {
-            klotz_edv = Units::mm3_to_mL(image_volume);
-            logger.line("Klotz: the image's cavity volume at " +
-                        fixed(cal.klotz_edp_mmHg, 2) +
-                        " mmHg (its vertices, trilinear cells): " +
-                        fixed(klotz_edv, 3) + " mL");
-          }
-        else if (klotz_edv == 0)
-          {
-            auto own = inflation_over({Units::mmHg_to_kPa(cal.klotz_edp_mmHg)});
-            std::vector<double> v = own.volumes(initial, nullptr, 0.0);
-            broadcast(v);
-            klotz_edv = Units::mm3_to_mL(v[0]);
-            extra_solves += own.counts().forward_solves;
-            logger.line("Klotz: the model's own volume at " +
-                        fixed(cal.klotz_edp_mmHg, 2) +
-                        " mmHg with the "
-                        "parameters of the file: " +
-                        fixed(klotz_edv, 3) + " mL");
-          }
-        const Inverse::KlotzCurve curve(cal.klotz_edp_mmHg, klotz_edv);
-        klotz_v0  = curve.v0_mL();
-        klotz_v30 = curve.v30_mL();
-        for (unsigned int j = 0; j < m; ++j)
-          target_mL[j] = curve.volume_mL(p_mmHg[j]);
-        logger.line("Klotz EDPVR through (" + fixed(cal.klotz_edp_mmHg, 2) +
-                    " mmHg, " + fixed(klotz_edv, 3) +
-                    " mL): V0 = " + fixed(klotz_v0, 3) +
-                    " mL, V30 = " + fixed(klotz_v30, 3) + " mL");
-      }
-    else
-      {
-        auto                truth = inflation_over(p_kPa);
-        std::vector<double> v =
-          truth.volumes(cal.synthetic_values, nullptr, 0.0);
-        broadcast(v);
-        extra_solves += truth.counts().forward_solves;
-        std::mt19937                     rng(cal.noise_seed);
-        std::normal_distribution<double> normal(0.0, 1.0);
-        for (unsigned int j = 0; j < m; ++j)
-          target_mL[j] =
-            Units::mm3_to_mL(v[j]) * (1 + cal.synthetic_noise * normal(rng));
-        if (unloaded)
-          {
-            // The round trip: the given mesh is the true reference; the
-            // image is its inflation with the true values to the image
-            // pressure (its vertices), from which the calibration starts.
-            law.set(rebuilder.build(cal.synthetic_values));
-            unloader->set_vertices(given);
-            const auto r = unloader->inflate(up.image_pressure);
-            extra_solves += r.load_steps;
-            image_volume = model.problem->cavity_volume();
-            const auto u = unloader->displacements();
-            for (unsigned int i = 0; i < image.size(); ++i)
-              image[i] = given[i] + u[i];
-            law.set(rebuilder.build(initial));
-            logger.line("Synthetic image: the true reference inflated to " +
-                        fixed(Units::kPa_to_mmHg(up.image_pressure), 2) +
-                        " mmHg holds " +
-                        fixed(Units::mm3_to_mL(image_volume), 3) + " mL");
-          }
-      }
+        target_mL[j] = curve.volume_mL(p_mmHg[j]);
+      logger.line("Klotz EDPVR through (" + fixed(cal.klotz_edp_mmHg, 2) +
+                  " mmHg, " + fixed(klotz_edv, 3) +
+                  " mL): V0 = " + fixed(klotz_v0, 3) +
+                  " mL, V30 = " + fixed(klotz_v30, 3) + " mL");
+    }
+
+
+    void
+    CalibrationRun::set_synthetic_targets()
+    {
+      auto                truth = inflation_over(p_kPa);
+      std::vector<double> v = truth.volumes(cal.synthetic_values, nullptr, 0.0);
+      broadcast(v);
+      extra_solves += truth.counts().forward_solves;
+      std::mt19937                     rng(cal.noise_seed);
+      std::normal_distribution<double> normal(0.0, 1.0);
+      for (unsigned int j = 0; j < m; ++j)
+        target_mL[j] =
+          Units::mm3_to_mL(v[j]) * (1 + cal.synthetic_noise * normal(rng));
+      if (!unloaded)
+        return;
+      // The round trip: the given mesh is the true reference; the image is
+      // its inflation with the true values to the image pressure (its
+      // vertices), from which the calibration starts.
+      law->set(rebuilder.build(cal.synthetic_values));
+      unloader->set_vertices(given);
+      const auto r = unloader->inflate(up.image_pressure);
+      extra_solves += r.load_steps;
+      image_volume = model.problem->cavity_volume();
+      const auto u = unloader->displacements();
+      for (unsigned int i = 0; i < image.size(); ++i)
+        image[i] = given[i] + u[i];
+      law->set(rebuilder.build(initial));
+      logger.line("Synthetic image: the true reference inflated to " +
+                  fixed(Units::kPa_to_mmHg(up.image_pressure), 2) +
+                  " mmHg holds " + fixed(Units::mm3_to_mL(image_volume), 3) +
+                  " mL");
+    }
+
 
     // Reference = unloaded: every evaluation unloads the image with its
     // values (the fixed point started from the reference of the last
@@ -517,88 +693,81 @@ namespace systole
     // difference whole unload-and-inflate evaluations, the reference
     // unloaded anew for each perturbed value (started from the unperturbed
     // one's).
-    UnloadingResult               unloading_total;
-    unsigned int                  fixed_point_iterations = 0;
-    std::vector<dealii::Point<3>> last_reference         = image;
-    std::vector<double>           last_reference_stats;
-    const auto                    unload_and_inflate =
-      [&](const std::vector<double>           &values,
-          const std::vector<dealii::Point<3>> &start,
-          UnloadingResult                     &u) {
-        law.set(rebuilder.build(values));
-        unloader->set_vertices(start);
-        u = unloader->unload(image,
-                             up.image_pressure,
-                             up.tolerance,
-                             up.tolerance,
-                             up.max_iterations,
-                             up.acceleration ==
-                               UnloadingParameters::Acceleration::aitken,
-                             cal.target == "synthetic" ? &given : nullptr,
-                             [&](const UnloadingIteration &it) {
-                               logger.detail()
-                                 << "    unloading iteration " << it.iteration
-                                 << ": reference "
-                                 << Units::mm3_to_mL(it.reference_volume)
-                                 << " mL, reload error " << it.reload_error
-                                 << " mm" << std::endl;
-                             });
-        fixed_point_iterations += u.iterations;
-        unloading_total.forward_solves += u.forward_solves;
-        unloading_total.totals += u.totals;
-        earlier = counts();
-        inflation =
-          std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
-        auto V = inflation->volumes(values, nullptr, 0.0);
-        broadcast(V);
-        return V;
-      };
-    std::function<std::vector<double>(const std::vector<double> &,
-                                      std::vector<double> *,
-                                      std::vector<double> &)>
-      unloaded_volumes = [&](const std::vector<double> &values,
-                             std::vector<double>       *dV,
-                             std::vector<double>       &stats) {
-        UnloadingResult u;
-        const auto      V = unload_and_inflate(values, last_reference, u);
-        const std::vector<dealii::Point<3>> reference = unloader->vertices();
-        last_reference                                = reference;
-        unloading_total.last                          = u.last;
-        stats                = {static_cast<double>(u.iterations),
-                                Units::mm3_to_mL(u.last.reference_volume),
-                                u.last.reload_error};
-        last_reference_stats = stats;
-        if (dV)
-          {
-            const double h = cal.finite_difference_step;
-            dV->assign(m * n, 0.0);
-            for (unsigned int i = 0; i < n; ++i)
-              {
-                std::vector<double> perturbed = values;
-                perturbed[i] *= 1 + h;
-                UnloadingResult up_i;
-                const auto Vi = unload_and_inflate(perturbed, reference, up_i);
-                for (unsigned int j = 0; j < m; ++j)
-                  (*dV)[j * n + i] = (Vi[j] - V[j]) / (h * values[i]);
-              }
-            // Back to the unperturbed reference (the next evaluation starts
-            // there; the mechanics is rebuilt then).
-            law.set(rebuilder.build(values));
-          }
-        return V;
-      };
+    std::vector<double>
+    CalibrationRun::unload_and_inflate(
+      const std::vector<double>           &values,
+      const std::vector<dealii::Point<3>> &start,
+      UnloadingResult                     &u)
+    {
+      law->set(rebuilder.build(values));
+      unloader->set_vertices(start);
+      u = unloader->unload(image,
+                           up.image_pressure,
+                           up.tolerance,
+                           up.tolerance,
+                           up.max_iterations,
+                           up.acceleration ==
+                             UnloadingParameters::Acceleration::aitken,
+                           cal.target == "synthetic" ? &given : nullptr,
+                           [&](const UnloadingIteration &it) {
+                             logger.detail()
+                               << "    unloading iteration " << it.iteration
+                               << ": reference "
+                               << Units::mm3_to_mL(it.reference_volume)
+                               << " mL, reload error " << it.reload_error
+                               << " mm" << std::endl;
+                           });
+      fixed_point_iterations += u.iterations;
+      unloading_total.forward_solves += u.forward_solves;
+      unloading_total.totals += u.totals;
+      earlier = counts();
+      inflation =
+        std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+      auto V = inflation->volumes(values, nullptr, 0.0);
+      broadcast(V);
+      return V;
+    }
 
-    // The least-squares problem in the scale factors x (value = x initial).
-    Inverse::LeastSquaresProblem ls;
-    ls.n_residuals = m;
-    ls.initial.assign(n, 1.0);
-    ls.lower = cal.lower;
-    ls.upper = cal.upper;
-    std::vector<double> initial_model_mL;
-    unsigned int        evaluation = 0;
-    ls.evaluate                    = [&](const std::vector<double> &x,
-                      std::vector<double>       &r,
-                      std::vector<double>       *J) {
+
+    std::vector<double>
+    CalibrationRun::unloaded_volumes(const std::vector<double> &values,
+                                     std::vector<double>       *dV,
+                                     std::vector<double>       &stats)
+    {
+      UnloadingResult u;
+      const auto      V = unload_and_inflate(values, last_reference, u);
+      const std::vector<dealii::Point<3>> reference = unloader->vertices();
+      last_reference                                = reference;
+      unloading_total.last                          = u.last;
+      stats                = {static_cast<double>(u.iterations),
+                              Units::mm3_to_mL(u.last.reference_volume),
+                              u.last.reload_error};
+      last_reference_stats = stats;
+      if (!dV)
+        return V;
+      const double h = cal.finite_difference_step;
+      dV->assign(m * n, 0.0);
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          std::vector<double> perturbed = values;
+          perturbed[i] *= 1 + h;
+          UnloadingResult up_i;
+          const auto      Vi = unload_and_inflate(perturbed, reference, up_i);
+          for (unsigned int j = 0; j < m; ++j)
+            (*dV)[j * n + i] = (Vi[j] - V[j]) / (h * values[i]);
+        }
+      // Back to the unperturbed reference (the next evaluation starts
+      // there; the mechanics is rebuilt then).
+      law->set(rebuilder.build(values));
+      return V;
+    }
+
+
+    void
+    CalibrationRun::evaluate(const std::vector<double> &x,
+                             std::vector<double>       &r,
+                             std::vector<double>       *J)
+    {
       std::vector<double> values(n);
       for (unsigned int i = 0; i < n; ++i)
         values[i] = x[i] * initial[i];
@@ -647,6 +816,16 @@ namespace systole
       if (initial_model_mL.empty() && !failed)
         for (const double v : V)
           initial_model_mL.push_back(Units::mm3_to_mL(v));
+      record_evaluation(values, rss, reference_stats);
+      ++evaluation;
+    }
+
+
+    void
+    CalibrationRun::record_evaluation(const std::vector<double> &values,
+                                      const double               rss,
+                                      std::vector<double> reference_stats)
+    {
       std::vector<IO::Column> row = {
         {"evaluation", "-", static_cast<double>(evaluation)}};
       std::ostringstream line;
@@ -676,203 +855,254 @@ namespace systole
            << std::sqrt(rss);
       results.append_timeseries(row);
       logger.line(line.str());
-      ++evaluation;
-    };
-    Inverse::LeastSquaresSettings settings;
-    settings.max_iterations     = cal.max_iterations;
-    settings.residual_tolerance = cal.residual_tolerance;
+    }
 
-    const auto         fit = Inverse::solve_least_squares(ls, settings);
-    const unsigned int tao_iterations = fit.iterations;
-    if (unloaded)
-      {
-        // The mechanics on the unloaded reference of the fitted values.
-        std::vector<double> values(n);
-        for (unsigned int i = 0; i < n; ++i)
-          values[i] = fit.x[i] * initial[i];
-        unloaded_volumes(values, nullptr, last_reference_stats);
-      }
-    const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-        .count();
 
-    // Report: the parameters (values in the entries' units) and the EDPVR.
-    std::vector<std::string> names;
-    std::vector<double>      fitted(n), sd(n), lo(n), hi(n), lower(n), upper(n),
-      at_bound(n);
-    for (unsigned int i = 0; i < n; ++i)
-      {
-        fitted[i]   = fit.x[i] * initial[i];
-        sd[i]       = fit.standard_deviation[i] * initial[i];
-        lo[i]       = fit.lower_95[i] * initial[i];
-        hi[i]       = fit.upper_95[i] * initial[i];
-        lower[i]    = cal.lower[i] * initial[i];
-        upper[i]    = cal.upper[i] * initial[i];
-        at_bound[i] = fit.at_bound[i] ? 1.0 : 0.0;
-      }
-    std::vector<double> fitted_mL(m), residuals = fit.residual;
-    for (unsigned int j = 0; j < m; ++j)
-      fitted_mL[j] = (1 + fit.residual[j]) * target_mL[j];
-    if (initial_model_mL.empty())
-      initial_model_mL = fitted_mL;
+    void
+    CalibrationRun::run()
+    {
+      // The least-squares problem in the scale factors x (value = x
+      // initial).
+      Inverse::LeastSquaresProblem ls;
+      ls.n_residuals = m;
+      ls.initial.assign(n, 1.0);
+      ls.lower    = cal.lower;
+      ls.upper    = cal.upper;
+      ls.evaluate = [this](const std::vector<double> &x,
+                           std::vector<double>       &r,
+                           std::vector<double>       *J) { evaluate(x, r, J); };
+      Inverse::LeastSquaresSettings settings;
+      settings.max_iterations     = cal.max_iterations;
+      settings.residual_tolerance = cal.residual_tolerance;
 
-    std::ostringstream o;
-    o << "Calibration of Material / " << rebuilder.law_name() << " ("
-      << fit.reason << " after " << tao_iterations << " TAO iterations, "
-      << evaluation << " inflations, " << counts().forward_solves + extra_solves
-      << " forward solves";
-    if (unloaded)
-      o << ", " << fixed_point_iterations
-        << " fixed-point iterations of the unloading in "
-        << unloading_total.forward_solves << " unloading inflations";
-    o << ", " << fixed(seconds, 1) << " s):\n"
-      << "  parameter      initial       fitted    std. dev.   95 % interval\n";
-    for (unsigned int i = 0; i < n; ++i)
-      o << "  " << std::left << std::setw(8) << cal.parameters[i] << std::right
-        << std::setprecision(6) << std::setw(13) << initial[i] << std::setw(13)
-        << fitted[i] << std::setw(13) << sd[i] << "   [" << lo[i] << ", "
-        << hi[i] << "]" << (fit.at_bound[i] ? " at a bound" : "") << "\n";
-    o << "  relative residual norm " << std::scientific << std::setprecision(4)
-      << fit.residual_norm << ", sigma^2 = " << fit.sigma2 << " (" << m - n
-      << " degrees of freedom)\n"
-      << std::fixed
-      << "  p [mmHg]   target [mL]   fitted [mL]   initial [mL]   error [%]";
-    for (unsigned int j = 0; j < m; ++j)
-      o << "\n  " << std::setw(8) << std::setprecision(2) << p_mmHg[j]
-        << std::setw(14) << std::setprecision(3) << target_mL[j]
-        << std::setw(14) << fitted_mL[j] << std::setw(15) << initial_model_mL[j]
-        << std::setw(12) << std::setprecision(3) << 100 * fit.residual[j];
-    logger.line(o.str());
+      const auto fit = Inverse::solve_least_squares(ls, settings);
+      if (unloaded)
+        {
+          // The mechanics on the unloaded reference of the fitted values.
+          std::vector<double> values(n);
+          for (unsigned int i = 0; i < n; ++i)
+            values[i] = fit.x[i] * initial[i];
+          unloaded_volumes(values, nullptr, last_reference_stats);
+        }
+      const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+      report(fit, seconds);
+      write_statistics(fit.iterations, seconds);
+    }
 
-    results.write_table("calibration/parameters",
-                        {{"name", "", {}, cal.parameters},
-                         {"initial", "entry units", initial, {}},
-                         {"fitted", "entry units", fitted, {}},
-                         {"standard_deviation", "entry units", sd, {}},
-                         {"lower_95", "entry units", lo, {}},
-                         {"upper_95", "entry units", hi, {}},
-                         {"scale_factor", "-", fit.x, {}},
-                         {"lower_bound", "entry units", lower, {}},
-                         {"upper_bound", "entry units", upper, {}},
-                         {"at_bound", "-", at_bound, {}}});
-    results.write_table("calibration/edpvr",
-                        {{"pressure_mmHg", "mmHg", p_mmHg, {}},
-                         {"volume_mL", "mL", fitted_mL, {}},
-                         {"target_volume_mL", "mL", target_mL, {}},
-                         {"initial_volume_mL", "mL", initial_model_mL, {}},
-                         {"relative_residual", "-", residuals, {}}});
-    std::vector<double> covariance(n * n);
-    for (unsigned int a = 0; a < n; ++a)
-      for (unsigned int b = 0; b < n; ++b)
-        covariance[a * n + b] =
-          fit.covariance[a * n + b] * initial[a] * initial[b];
-    std::vector<IO::TableColumn> fit_columns = {
-      {"target", "", {}, {cal.target}},
-      {"residuals", "", {}, {"relative: V_model / V_target - 1"}},
-      {"reason", "", {}, {fit.reason}},
-      {"converged", "-", {fit.converged ? 1.0 : 0.0}, {}},
-      {"residual_norm", "-", {fit.residual_norm}, {}},
-      {"sigma2", "-", {fit.sigma2}, {}},
-      {"degrees_of_freedom", "-", {static_cast<double>(m - n)}, {}},
-      {"t_quantile", "-", {fit.t_quantile}, {}},
-      {"tao_iterations", "-", {static_cast<double>(tao_iterations)}, {}},
-      {"evaluations", "-", {static_cast<double>(evaluation)}, {}},
-      {"reference", "", {}, {cal.reference}},
-      {"covariance", "entry units^2", covariance, {}}};
-    if (cal.target == "Klotz")
-      fit_columns.insert(fit_columns.end(),
-                         {{"klotz_edp_mmHg", "mmHg", {cal.klotz_edp_mmHg}, {}},
-                          {"klotz_edv_mL", "mL", {klotz_edv}, {}},
-                          {"klotz_v0_mL", "mL", {klotz_v0}, {}},
-                          {"klotz_v30_mL", "mL", {klotz_v30}, {}}});
-    results.write_table("calibration/fit", fit_columns);
 
-    // Reference = unloaded: the unloaded mesh of the fitted values.
-    std::string mesh_path;
-    if (unloaded)
-      {
-        mesh_path = run.output_directory + "/" + up.mesh_file;
-        Geometry::write_gmsh(model.tria, model.names, mesh_path);
-      }
+    void
+    CalibrationRun::report(const Inverse::LeastSquaresResult &fit,
+                           const double                       seconds)
+    {
+      const unsigned int tao_iterations = fit.iterations;
+      // Report: the parameters (values in the entries' units) and the
+      // EDPVR.
+      std::vector<double> fitted(n), sd(n), lo(n), hi(n), lower(n), upper(n),
+        at_bound(n);
+      for (unsigned int i = 0; i < n; ++i)
+        {
+          fitted[i]   = fit.x[i] * initial[i];
+          sd[i]       = fit.standard_deviation[i] * initial[i];
+          lo[i]       = fit.lower_95[i] * initial[i];
+          hi[i]       = fit.upper_95[i] * initial[i];
+          lower[i]    = cal.lower[i] * initial[i];
+          upper[i]    = cal.upper[i] * initial[i];
+          at_bound[i] = fit.at_bound[i] ? 1.0 : 0.0;
+        }
+      std::vector<double> fitted_mL(m), residuals = fit.residual;
+      for (unsigned int j = 0; j < m; ++j)
+        fitted_mL[j] = (1 + fit.residual[j]) * target_mL[j];
+      if (initial_model_mL.empty())
+        initial_model_mL = fitted_mL;
 
-    // calibrated.prm: what a later run includes to start from the fitted
-    // values (and the unloaded mesh).
-    const std::string fragment = run.output_directory + "/calibrated.prm";
-    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-      {
-        std::ofstream out(fragment);
-        out << "# Written by Problem = calibration (" << run.run_name
-            << "): the fitted entries of Material / " << rebuilder.law_name()
-            << (unloaded ? " and the unloaded reference mesh" : "")
-            << ".\n# A parameter file starts from them with the line\n"
-            << "#   include <path of this file>\n"
-            << "# after its own entries (deal.II's ParameterHandler: the "
-               "path is taken from the\n# current directory; the last "
-               "value of an entry wins). The other entries of the law\n"
-            << "# must be those of the calibration's file.\n";
-        if (unloaded)
-          out
-            << "subsection Geometry\n  set Type = gmsh\n"
+      std::ostringstream o;
+      o << "Calibration of Material / " << rebuilder.law_name() << " ("
+        << fit.reason << " after " << tao_iterations << " TAO iterations, "
+        << evaluation << " inflations, "
+        << counts().forward_solves + extra_solves << " forward solves";
+      if (unloaded)
+        o << ", " << fixed_point_iterations
+          << " fixed-point iterations of the unloading in "
+          << unloading_total.forward_solves << " unloading inflations";
+      o << ", " << fixed(seconds, 1) << " s):\n"
+        << "  parameter      initial       fitted    std. dev.   95 % "
+           "interval\n";
+      for (unsigned int i = 0; i < n; ++i)
+        o << "  " << std::left << std::setw(8) << cal.parameters[i]
+          << std::right << std::setprecision(6) << std::setw(13) << initial[i]
+          << std::setw(13) << fitted[i] << std::setw(13) << sd[i] << "   ["
+          << lo[i] << ", " << hi[i] << "]"
+          << (fit.at_bound[i] ? " at a bound" : "") << "\n";
+      o << "  relative residual norm " << std::scientific
+        << std::setprecision(4) << fit.residual_norm
+        << ", sigma^2 = " << fit.sigma2 << " (" << m - n
+        << " degrees of freedom)\n"
+        << std::fixed
+        << "  p [mmHg]   target [mL]   fitted [mL]   initial [mL]   error [%]";
+      for (unsigned int j = 0; j < m; ++j)
+        o << "\n  " << std::setw(8) << std::setprecision(2) << p_mmHg[j]
+          << std::setw(14) << std::setprecision(3) << target_mL[j]
+          << std::setw(14) << fitted_mL[j] << std::setw(15)
+          << initial_model_mL[j] << std::setw(12) << std::setprecision(3)
+          << 100 * fit.residual[j];
+      logger.line(o.str());
+
+      results.write_table("calibration/parameters",
+                          {{"name", "", {}, cal.parameters},
+                           {"initial", "entry units", initial, {}},
+                           {"fitted", "entry units", fitted, {}},
+                           {"standard_deviation", "entry units", sd, {}},
+                           {"lower_95", "entry units", lo, {}},
+                           {"upper_95", "entry units", hi, {}},
+                           {"scale_factor", "-", fit.x, {}},
+                           {"lower_bound", "entry units", lower, {}},
+                           {"upper_bound", "entry units", upper, {}},
+                           {"at_bound", "-", at_bound, {}}});
+      results.write_table("calibration/edpvr",
+                          {{"pressure_mmHg", "mmHg", p_mmHg, {}},
+                           {"volume_mL", "mL", fitted_mL, {}},
+                           {"target_volume_mL", "mL", target_mL, {}},
+                           {"initial_volume_mL", "mL", initial_model_mL, {}},
+                           {"relative_residual", "-", residuals, {}}});
+      std::vector<double> covariance(n * n);
+      for (unsigned int a = 0; a < n; ++a)
+        for (unsigned int b = 0; b < n; ++b)
+          covariance[a * n + b] =
+            fit.covariance[a * n + b] * initial[a] * initial[b];
+      std::vector<IO::TableColumn> fit_columns = {
+        {"target", "", {}, {cal.target}},
+        {"residuals", "", {}, {"relative: V_model / V_target - 1"}},
+        {"reason", "", {}, {fit.reason}},
+        {"converged", "-", {fit.converged ? 1.0 : 0.0}, {}},
+        {"residual_norm", "-", {fit.residual_norm}, {}},
+        {"sigma2", "-", {fit.sigma2}, {}},
+        {"degrees_of_freedom", "-", {static_cast<double>(m - n)}, {}},
+        {"t_quantile", "-", {fit.t_quantile}, {}},
+        {"tao_iterations", "-", {static_cast<double>(tao_iterations)}, {}},
+        {"evaluations", "-", {static_cast<double>(evaluation)}, {}},
+        {"reference", "", {}, {cal.reference}},
+        {"covariance", "entry units^2", covariance, {}}};
+      if (cal.target == "Klotz")
+        fit_columns.insert(
+          fit_columns.end(),
+          {{"klotz_edp_mmHg", "mmHg", {cal.klotz_edp_mmHg}, {}},
+           {"klotz_edv_mL", "mL", {klotz_edv}, {}},
+           {"klotz_v0_mL", "mL", {klotz_v0}, {}},
+           {"klotz_v30_mL", "mL", {klotz_v30}, {}}});
+      results.write_table("calibration/fit", fit_columns);
+
+      // Reference = unloaded: the unloaded mesh of the fitted values.
+      std::string mesh_path;
+      if (unloaded)
+        {
+          mesh_path = run_params.output_directory + "/" + up.mesh_file;
+          Geometry::write_gmsh(model.tria, model.names, mesh_path);
+        }
+      const std::string fragment = write_fragment(fitted, mesh_path);
+      logger.line("Wrote " + results.path() + ", " + fragment +
+                  (unloaded ? " and " + mesh_path : ""));
+    }
+
+
+    std::string
+    CalibrationRun::write_fragment(const std::vector<double> &fitted,
+                                   const std::string         &mesh_path) const
+    {
+      const std::string fragment =
+        run_params.output_directory + "/calibrated.prm";
+      if (dealii::Utilities::MPI::this_mpi_process(comm) != 0)
+        return fragment;
+      std::ofstream out(fragment);
+      out << "# Written by Problem = calibration (" << run_params.run_name
+          << "): the fitted entries of Material / " << rebuilder.law_name()
+          << (unloaded ? " and the unloaded reference mesh" : "")
+          << ".\n# A parameter file starts from them with the line\n"
+          << "#   include <path of this file>\n"
+          << "# after its own entries (deal.II's ParameterHandler: the "
+             "path is taken from the\n# current directory; the last "
+             "value of an entry wins). The other entries of the law\n"
+          << "# must be those of the calibration's file.\n";
+      if (unloaded)
+        out << "subsection Geometry\n  set Type = gmsh\n"
             << "  subsection Gmsh\n    set Mesh file = "
             << std::filesystem::absolute(mesh_path).lexically_normal().string()
             << "\n  end\nend\n";
-        out << "subsection Material\n  set Passive law = "
-            << rebuilder.law_name() << "\n  subsection " << rebuilder.law_name()
-            << "\n";
-        for (unsigned int i = 0; i < n; ++i)
-          out << "    set " << cal.parameters[i] << " = "
-              << std::setprecision(12) << fitted[i] << "\n";
-        out << "  end\nend\n";
-        AssertThrow(out.good(),
-                    dealii::ExcMessage("Calibration: cannot write " + fragment +
-                                       "."));
-      }
+      out << "subsection Material\n  set Passive law = " << rebuilder.law_name()
+          << "\n  subsection " << rebuilder.law_name() << "\n";
+      for (unsigned int i = 0; i < n; ++i)
+        out << "    set " << cal.parameters[i] << " = " << std::setprecision(12)
+            << fitted[i] << "\n";
+      out << "  end\nend\n";
+      AssertThrow(out.good(),
+                  dealii::ExcMessage("Calibration: cannot write " + fragment +
+                                     "."));
+      return fragment;
+    }
 
-    std::vector<std::pair<std::string, std::string>> texts;
-    auto       statistics = model.statistics(texts);
-    const auto c          = counts();
-    statistics.insert(
-      statistics.end(),
-      {{"forward_solves",
-        "-",
-        static_cast<double>(c.forward_solves + extra_solves)},
-       {"perturbed_solves", "-", static_cast<double>(c.perturbed_solves)},
-       {"inflations", "-", static_cast<double>(c.inflations)},
-       {"load_steps", "-", static_cast<double>(c.load_steps)},
-       {"step_cuts", "-", static_cast<double>(c.step_cuts)},
-       {"newton_iterations", "-", static_cast<double>(c.newton_iterations)},
-       {"chord_iterations", "-", static_cast<double>(c.chord_iterations)},
-       {"tao_iterations", "-", static_cast<double>(tao_iterations)},
-       {"calibration_seconds", "s", seconds}});
-    if (unloaded)
-      {
-        unloader->add_earlier_timings(statistics);
-        statistics.insert(
-          statistics.end(),
-          {{"fixed_point_iterations",
-            "-",
-            static_cast<double>(fixed_point_iterations)},
-           {"unloading_inflations",
-            "-",
-            static_cast<double>(unloading_total.forward_solves)},
-           {"unloading_load_steps",
-            "-",
-            static_cast<double>(unloading_total.totals.load_steps)},
-           {"unloading_newton_iterations",
-            "-",
-            static_cast<double>(unloading_total.totals.newton)},
-           {"reload_max_error_mm", "mm", unloading_total.last.reload_error},
-           {"unloaded_volume_mL",
-            "mL",
-            Units::mm3_to_mL(unloading_total.last.reference_volume)},
-           {"image_volume_mL", "mL", Units::mm3_to_mL(image_volume)}});
-        if (cal.target == "synthetic")
-          statistics.push_back({"reference_max_error_mm",
-                                "mm",
-                                unloading_total.last.reference_error});
-      }
-    results.write_statistics(statistics, texts);
-    logger.line("Wrote " + results.path() + ", " + fragment +
-                (unloaded ? " and " + mesh_path : ""));
+
+    void
+    CalibrationRun::write_statistics(const unsigned int tao_iterations,
+                                     const double       seconds)
+    {
+      std::vector<std::pair<std::string, std::string>> texts;
+      auto       statistics = model.statistics(texts);
+      const auto c          = counts();
+      statistics.insert(
+        statistics.end(),
+        {{"forward_solves",
+          "-",
+          static_cast<double>(c.forward_solves + extra_solves)},
+         {"perturbed_solves", "-", static_cast<double>(c.perturbed_solves)},
+         {"inflations", "-", static_cast<double>(c.inflations)},
+         {"load_steps", "-", static_cast<double>(c.load_steps)},
+         {"step_cuts", "-", static_cast<double>(c.step_cuts)},
+         {"newton_iterations", "-", static_cast<double>(c.newton_iterations)},
+         {"chord_iterations", "-", static_cast<double>(c.chord_iterations)},
+         {"tao_iterations", "-", static_cast<double>(tao_iterations)},
+         {"calibration_seconds", "s", seconds}});
+      if (unloaded)
+        {
+          unloader->add_earlier_timings(statistics);
+          statistics.insert(
+            statistics.end(),
+            {{"fixed_point_iterations",
+              "-",
+              static_cast<double>(fixed_point_iterations)},
+             {"unloading_inflations",
+              "-",
+              static_cast<double>(unloading_total.forward_solves)},
+             {"unloading_load_steps",
+              "-",
+              static_cast<double>(unloading_total.totals.load_steps)},
+             {"unloading_newton_iterations",
+              "-",
+              static_cast<double>(unloading_total.totals.newton)},
+             {"reload_max_error_mm", "mm", unloading_total.last.reload_error},
+             {"unloaded_volume_mL",
+              "mL",
+              Units::mm3_to_mL(unloading_total.last.reference_volume)},
+             {"image_volume_mL", "mL", Units::mm3_to_mL(image_volume)}});
+          if (cal.target == "synthetic")
+            statistics.push_back({"reference_max_error_mm",
+                                  "mm",
+                                  unloading_total.last.reference_error});
+        }
+      results.write_statistics(statistics, texts);
+    }
+  } // namespace
+
+
+  void
+  run_calibration_problem(const dealii::ParameterHandler &prm,
+                          const RunParameters            &run,
+                          const std::string              &parameter_text,
+                          Logger                         &logger,
+                          const MPI_Comm                  comm)
+  {
+    // Hundreds of Newton solves: their histories only on request.
+    logger.set_details(run.solver_log == "on");
+    CalibrationRun(prm, run, parameter_text, logger, comm).run();
   }
 } // namespace systole
