@@ -1,0 +1,155 @@
+#pragma once
+
+#include <deal.II/base/mpi.h>
+
+#include "simulation/heartbeat_stepper.h"
+
+#include <array>
+#include <chrono>
+#include <functional>
+#include <limits>
+#include <vector>
+
+namespace dealii
+{
+  class TimerOutput;
+}
+
+namespace systole
+{
+  class ElectricalActivation;
+  class Logger;
+  class MechanicsVentricles;
+  class Progress;
+  struct RunParameters;
+  namespace IO
+  {
+    class ResultsFile;
+    struct Column;
+  } // namespace IO
+  namespace Mechanics
+  {
+    class Problem;
+  }
+  namespace Postprocess
+  {
+    class Manager;
+  }
+
+  /// Writes what the heartbeat stepper computes: one /timeseries row per
+  /// accepted step, one /events row per valve event, one /summary row per
+  /// beat, fields every Output / Field output interval steps, the log, and
+  /// the checkpoints when they are due.
+  class HeartbeatWriter : public HeartbeatStepper::Observer
+  {
+  public:
+    HeartbeatWriter(const Circulation::Model &model,
+                    IO::ResultsFile          &results,
+                    MechanicsVentricles      &ventricles,
+                    Mechanics::Problem       &problem,
+                    ElectricalActivation     *ep,
+                    const RunParameters      &run,
+                    Logger                   &logger,
+                    Progress                 &progress,
+                    Postprocess::Manager     &postprocess,
+                    const double              period,
+                    const MPI_Comm            comm);
+
+    void
+    on_step(const HeartbeatStepper::Step &s) override;
+
+    void
+    on_event(const unsigned int            valve,
+             const bool                    opens,
+             const HeartbeatStepper::Step &s) override;
+
+    void
+    on_beat(const unsigned int                             beat,
+            const std::vector<Circulation::SummaryColumn> &summary) override;
+
+    /// Checkpoints: every Output / Checkpoint interval steps, after Output /
+    /// Checkpoint wall time interval minutes, and on SIGTERM or SIGINT (then
+    /// the run stops).
+    void
+    on_step_complete(const unsigned int step_index) override;
+
+    bool
+    stop_requested() override;
+
+    /// Writes a checkpoint of the step with the given index.
+    std::function<void(unsigned int)> checkpoint;
+    /// The heartbeat's sections (none: not timed).
+    dealii::TimerOutput *timer = nullptr;
+    /// Mechanics / Inertia: a kinetic_energy column [µJ].
+    bool inertia = false;
+
+    /// The counters of the rows written (save() and load() of a
+    /// checkpoint).
+    template <class Archive>
+    void
+    serialize(Archive &archive)
+    {
+      archive &total_iterations &total_solves  &total_rejected;
+      archive &steps_in_beat &ep_steps_written &ep_steps_in_beats;
+      archive &last_time &last_step            &last_field_step;
+    }
+
+    /// The wall times of the current beat so far [s] (they are columns of
+    /// its summary row; a resumed run adds its own).
+    std::array<double, 5>
+    beat_seconds() const;
+
+    void
+    set_beat_seconds(const std::array<double, 5> &so_far);
+
+    /// The fields of the last step, unless written already. Collective.
+    void
+    finish();
+
+  private:
+    /// Total wall times [s]: mechanics, assembly, linear solver, cavity
+    /// volume, electrophysiology.
+    std::array<double, 5>
+    seconds() const;
+
+    /// The EP and postprocessor columns of a step's row.
+    void
+    append_ep_columns(const HeartbeatStepper::Step &s,
+                      std::vector<IO::Column>      &row);
+
+    /// The EP columns of a beat's summary row, and the text for its log.
+    std::string
+    append_beat_ep_columns(
+      const std::vector<Circulation::SummaryColumn> &summary,
+      std::vector<IO::Column>                       &row);
+
+    void
+    write_fields(const unsigned int step);
+
+    const Circulation::Model &model;
+    IO::ResultsFile          &results;
+    MechanicsVentricles      &ventricles;
+    Mechanics::Problem       &problem;
+    ElectricalActivation     *ep;
+    const RunParameters      &run;
+    Logger                   &logger;
+    Progress                 &progress;
+    Postprocess::Manager     &postprocess;
+    const double              period;
+    MPI_Comm                  comm;
+    std::vector<unsigned int> external;
+    unsigned int  total_iterations = 0, total_solves = 0, total_rejected = 0;
+    unsigned int  steps_in_beat    = 0;
+    unsigned long ep_steps_written = 0, ep_steps_in_beats = 0;
+    /// Totals at the last summary row: mechanics, assembly, linear solver,
+    /// cavity volume, electrophysiology [s].
+    std::array<double, 5> seconds_written = {{0, 0, 0, 0, 0}};
+    double                last_time       = 0;
+    unsigned int          last_step       = 0;
+    /// Step of the last field output (none: the largest value).
+    unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
+    bool         stop            = false;
+    std::chrono::steady_clock::time_point last_checkpoint =
+      std::chrono::steady_clock::now();
+  };
+} // namespace systole
