@@ -23,11 +23,15 @@
 #include "mechanics/matrix_free_tangent.h"
 #include "support/penalty_tangent.h"
 
+#include "matrix_free_bench_simd.h"
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -97,16 +101,37 @@ namespace
     std::string name;
     double      setup_once = 0, setup_update = 0, apply = 0;
     double      bytes_memory = 0, bytes_moved = 0;
+    /// The product with the direction (locally owned entries).
+    std::vector<double> result;
   };
 
-  void
-  print(const Row &r, const double n_dofs, const double bandwidth)
+  /// max_i |a_i - b_i| / max_i |b_i| over all ranks.
+  double
+  relative_difference(const std::vector<double> &a,
+                      const std::vector<double> &b)
   {
+    double diff = 0, scale = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      {
+        diff  = std::max(diff, std::abs(a[i] - b[i]));
+        scale = std::max(scale, std::abs(b[i]));
+      }
+    return dealii::Utilities::MPI::max(diff, comm) /
+           dealii::Utilities::MPI::max(scale, comm);
+  }
+
+  void
+  print(const Row                 &r,
+        const double               n_dofs,
+        const double               bandwidth,
+        const std::vector<double> &reference)
+  {
+    const double difference = relative_difference(r.result, reference);
     if (dealii::Utilities::MPI::this_mpi_process(comm) != 0)
       return;
     std::printf("  %-22s init %8.3f s  update %8.3f s  apply %9.3f ms"
                 "  %7.1f ns/DOF  memory %7.0f B/DOF  moved %6.0f B/DOF"
-                "  %5.1f GB/s  roofline %5.1f %%\n",
+                "  %5.1f GB/s  roofline %5.1f %%  difference %.1e\n",
                 r.name.c_str(),
                 r.setup_once,
                 r.setup_update,
@@ -115,32 +140,102 @@ namespace
                 r.bytes_memory / n_dofs,
                 r.bytes_moved / n_dofs,
                 1e-9 * r.bytes_moved / r.apply,
-                100.0 * r.bytes_moved / r.apply / bandwidth);
+                100.0 * r.bytes_moved / r.apply / bandwidth,
+                difference);
     std::fflush(stdout);
   }
 
-  /// One matrix-free variant on @p box linearized at @p u.
+  /// The library's MatrixFreeTangent behind bench::Tangent.
+  class LibraryTangent : public bench::Tangent
+  {
+  public:
+    template <typename... Args>
+    LibraryTangent(Args &&...args)
+      : op(std::forward<Args>(args)...)
+    {}
+    void
+    initialize_dof_vector(bench::Vector &v) const override
+    {
+      op.initialize_dof_vector(v);
+    }
+    void
+    update(const bench::Vector &u) override
+    {
+      op.update(u);
+    }
+    void
+    vmult(bench::Vector &dst, const bench::Vector &src) const override
+    {
+      op.vmult(dst, src);
+    }
+    double
+    m() const override
+    {
+      return op.m();
+    }
+    std::size_t
+    memory_consumption() const override
+    {
+      return op.memory_consumption();
+    }
+    std::size_t
+    point_storage_bytes() const override
+    {
+      return op.point_storage_bytes();
+    }
+    std::size_t
+    n_quadrature_points() const override
+    {
+      return op.n_quadrature_points();
+    }
+    std::size_t
+    n_geometry_numbers() const override
+    {
+      return op.n_geometry_numbers();
+    }
+
+  private:
+    Mechanics::MatrixFreeTangent op;
+  };
+
+  /// One matrix-free variant on @p box linearized at @p u: the library's
+  /// (@p simd false) or the 8-lane build.
   Row
   matrix_free_row(const test_support::BoxMechanics      &box,
                   const test_support::DistributedVector &u,
-                  const Variant                          variant)
+                  const test_support::DistributedVector &direction,
+                  const Variant                          variant,
+                  const bool                             simd)
   {
-    Row                          row;
-    const double                 t0 = now();
-    Mechanics::MatrixFreeTangent op(*box.mapping,
-                                    box.dof_handler,
-                                    box.constraints,
-                                    Mechanics::NeoHookeanPenalty{10.0, 500.0},
-                                    variant);
-    row.setup_once = dealii::Utilities::MPI::max(now() - t0, comm);
+    Row                                row;
+    const Mechanics::NeoHookeanPenalty law{10.0, 500.0};
+    const double                       t0 = now();
+    std::unique_ptr<bench::Tangent>    tangent;
+    if (simd)
+      tangent = bench::make_simd_tangent(*box.mapping,
+                                         box.dof_handler,
+                                         box.constraints,
+                                         law,
+                                         variant);
+    else
+      tangent = std::make_unique<LibraryTangent>(*box.mapping,
+                                                 box.dof_handler,
+                                                 box.constraints,
+                                                 law,
+                                                 variant);
+    bench::Tangent &op = *tangent;
+    row.setup_once     = dealii::Utilities::MPI::max(now() - t0, comm);
     Mechanics::MatrixFreeTangent::Vector x, y;
     op.initialize_dof_vector(x);
     y.reinit(x);
     x.copy_locally_owned_data_from(u);
     row.setup_update = best_time([&]() { op.update(x); }, 0.0);
-    row.apply        = best_time([&]() { op.vmult(y, x); });
-    row.name         = variant == Variant::cached ? "matrix-free cached"
-                                                  : "matrix-free recompute";
+    x.copy_locally_owned_data_from(direction);
+    row.apply = best_time([&]() { op.vmult(y, x); });
+    row.result.assign(y.begin(), y.begin() + y.locally_owned_size());
+    row.name =
+      std::string(variant == Variant::cached ? "MF cached" : "MF recompute") +
+      (simd ? " 8 lanes" : " 1 lane");
     // Memory: the operator's own data and its two vectors.
     row.bytes_memory = sum(op.memory_consumption() + x.memory_consumption() +
                            y.memory_consumption());
@@ -158,7 +253,8 @@ namespace
   /// The PETSc sparse matrix of the same operator.
   Row
   sparse_row(const test_support::BoxMechanics      &box,
-             const test_support::DistributedVector &u)
+             const test_support::DistributedVector &u,
+             const test_support::DistributedVector &direction)
   {
     Row row;
     row.name = "PETSc sparse matrix";
@@ -183,10 +279,11 @@ namespace
       },
       0.0);
     dealii::PETScWrappers::MPI::Vector x(box.owned, comm), y(x);
-    for (const auto i : box.owned)
-      x(i) = 1e-3 * (i % 7);
-    x.compress(dealii::VectorOperation::insert);
+    test_support::DistributedVector    result(direction);
+    test_support::sparse_vmult(K, direction, x, y, result);
     row.apply = best_time([&]() { K.vmult(y, x); });
+    row.result.assign(result.begin(),
+                      result.begin() + result.locally_owned_size());
     // AIJ: 8-byte value and 4-byte column index per entry, a 4-byte row
     // pointer, src read and dst written per row (and the vectors).
     const double nnz    = K.n_nonzero_elements();
@@ -210,6 +307,8 @@ main(int argc, char *argv[])
       with_sparse = false;
     else
       sizes.push_back(std::atoi(argv[i]));
+  // The 8-lane build runs only where the processor has AVX-512F.
+  const bool with_simd = __builtin_cpu_supports("avx512f");
   if (sizes.empty())
     sizes = {9, 17, 27};
 
@@ -230,10 +329,20 @@ main(int argc, char *argv[])
                     n,
                     box.tria.n_global_active_cells(),
                     n_dofs);
-      for (const Variant v : {Variant::cached, Variant::recompute})
-        print(matrix_free_row(box, u, v), n_dofs, bandwidth);
+      // The direction: u without its constrained entries (on which the
+      // matrix-free identity rows and the sparse matrix's diagonal differ).
+      auto direction = u;
+      box.constraints.set_zero(direction);
+      std::vector<Row> rows;
       if (with_sparse)
-        print(sparse_row(box, u), n_dofs, bandwidth);
+        rows.push_back(sparse_row(box, u, direction));
+      for (const bool simd : {false, true})
+        if (!simd || with_simd)
+          for (const Variant v : {Variant::cached, Variant::recompute})
+            rows.push_back(matrix_free_row(box, u, direction, v, simd));
+      // Differences to the first row: the sparse product if there is one.
+      for (const Row &row : rows)
+        print(row, n_dofs, bandwidth, rows.front().result);
     }
   return 0;
 }

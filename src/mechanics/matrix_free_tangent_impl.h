@@ -1,0 +1,296 @@
+#pragma once
+
+// Internal to MatrixFreeTangent: the operator as a template on deal.II's
+// vectorization type. src/mechanics/matrix_free_tangent.cc instantiates it
+// for the default VectorizedArray<double> of the installed deal.II; the
+// benchmark also for 8 lanes (tests/bench/matrix_free_bench_simd.cc).
+// Includes the MatrixFree headers: include it only in .cc files.
+
+#include <deal.II/base/aligned_vector.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/matrix_free/fe_evaluation.h>
+#include <deal.II/matrix_free/matrix_free.h>
+
+#include "mechanics/matrix_free_tangent.h"
+
+#include <algorithm>
+#include <array>
+#include <string>
+
+namespace systole::Mechanics::internal
+{
+  /// The operator behind MatrixFreeTangent, on @p VA (a VectorizedArray of
+  /// double): its functions are those of MatrixFreeTangent.
+  template <typename VA>
+  class TangentOperator
+  {
+  public:
+    static constexpr unsigned int degree = 2;  ///< Q2
+    static constexpr unsigned int n_q_1d = 3;  ///< Gauss points per direction
+    static constexpr unsigned int n_sym  = 45; ///< upper triangle of 9 x 9
+
+    using Vector  = dealii::LinearAlgebra::distributed::Vector<double>;
+    using MF      = dealii::MatrixFree<3, double, VA>;
+    using Eval    = dealii::FEEvaluation<3, degree, n_q_1d, 3, double, VA>;
+    using Grad    = dealii::Tensor<2, 3, VA>;
+    using Range   = std::pair<unsigned int, unsigned int>;
+    using Variant = MatrixFreeTangent::Variant;
+
+    TangentOperator(const dealii::Mapping<3>                &mapping,
+                    const dealii::DoFHandler<3>             &dof_handler,
+                    const dealii::AffineConstraints<double> &constraints,
+                    const NeoHookeanPenalty                 &law,
+                    const Variant                            variant)
+      : law(law)
+      , variant(variant)
+    {
+      const auto &fe = dof_handler.get_fe();
+      AssertThrow(fe.n_components() == 3 && fe.degree == degree &&
+                    fe.reference_cell() == dealii::ReferenceCells::Hexahedron,
+                  dealii::ExcMessage(
+                    "MatrixFreeTangent needs a Q2 displacement element on "
+                    "hexahedra (3 components, degree 2); got " +
+                    fe.get_name() +
+                    ". Use FESystem(FE_Q(2), 3) on a hexahedral mesh."));
+      typename MF::AdditionalData data;
+      data.tasks_parallel_scheme = MF::AdditionalData::none;
+      data.mapping_update_flags =
+        dealii::update_gradients | dealii::update_JxW_values;
+      matrix_free.reinit(mapping,
+                         dof_handler,
+                         constraints,
+                         dealii::QGauss<1>(n_q_1d),
+                         data);
+      matrix_free.initialize_dof_vector(u);
+    }
+
+    void
+    update(const Vector &u_in);
+
+    void
+    vmult(Vector &dst, const Vector &src) const
+    {
+      matrix_free.cell_loop(&TangentOperator::apply_cells,
+                            this,
+                            dst,
+                            src,
+                            true);
+      for (const unsigned int i : matrix_free.get_constrained_dofs())
+        dst.local_element(i) = src.local_element(i);
+    }
+
+    void
+    residual(Vector &dst) const
+    {
+      matrix_free.cell_loop(&TangentOperator::residual_cells,
+                            this,
+                            dst,
+                            u,
+                            true);
+    }
+
+    std::size_t
+    n_quadrature_points() const
+    {
+      std::size_t n = 0;
+      for (unsigned int c = 0; c < matrix_free.n_cell_batches(); ++c)
+        n += matrix_free.n_active_entries_per_cell_batch(c) *
+             Eval::static_n_q_points;
+      return n;
+    }
+
+    /// 10 numbers per point of a general cell, 10 per affine cell batch.
+    std::size_t
+    n_geometry_numbers() const
+    {
+      using dealii::internal::MatrixFreeFunctions::GeometryType;
+      const auto &info = matrix_free.get_mapping_info();
+      std::size_t n    = 0;
+      for (unsigned int c = 0; c < matrix_free.n_cell_batches(); ++c)
+        n += info.get_cell_type(c) == GeometryType::general
+               ? VA::size() * Eval::static_n_q_points * 10
+               : VA::size() * 10;
+      return n;
+    }
+
+    const NeoHookeanPenalty law;
+    const Variant           variant;
+    MF                      matrix_free;
+    Vector                  u; ///< ghosted
+    /// Per cell batch and point: the 45 tangent entries (cached) or F.
+    dealii::AlignedVector<VA> storage;
+
+  private:
+    const VA *
+    point(const unsigned int cell, const unsigned int q) const
+    {
+      const unsigned int per_point = variant == Variant::cached ? n_sym : 9;
+      return &storage[(cell * Eval::static_n_q_points + q) * per_point];
+    }
+
+    void
+    apply_cells(const MF &,
+                Vector       &dst,
+                const Vector &src,
+                const Range  &cells) const;
+
+    void
+    residual_cells(const MF &,
+                   Vector       &dst,
+                   const Vector &src,
+                   const Range  &cells) const;
+
+    /// dP = A : H with A the upper triangle of the symmetric 9 x 9 matrix
+    /// A_(3i+J)(3k+L) = dP_iJ/dF_kL, row by row.
+    static Grad
+    apply_symmetric(const VA *A, const Grad &H)
+    {
+      std::array<VA, 9> h, out;
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          h[a]   = H[a / 3][a % 3];
+          out[a] = 0.0;
+        }
+      unsigned int index = 0;
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          out[a] += A[index++] * h[a];
+          for (unsigned int b = a + 1; b < 9; ++b, ++index)
+            {
+              out[a] += A[index] * h[b];
+              out[b] += A[index] * h[a];
+            }
+        }
+      Grad dP;
+      for (unsigned int a = 0; a < 9; ++a)
+        dP[a / 3][a % 3] = out[a];
+      return dP;
+    }
+
+    /// The upper triangle of dP/dF at @p F into @p A, column by column from
+    /// the kernel's directional derivative (the same linearization).
+    void
+    tangent_of(const Grad &F, VA *A) const
+    {
+      std::array<Grad, 9> columns;
+      Grad                P;
+      for (unsigned int b = 0; b < 9; ++b)
+        {
+          Grad H;
+          H[b / 3][b % 3] = 1.0;
+          law.evaluate(F, &H, P, &columns[b]);
+        }
+      unsigned int index = 0;
+      for (unsigned int a = 0; a < 9; ++a)
+        for (unsigned int b = a; b < 9; ++b, ++index)
+          // Symmetric up to round-off; average the two halves.
+          A[index] =
+            0.5 * (columns[b][a / 3][a % 3] + columns[a][b / 3][b % 3]);
+    }
+  };
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::update(const Vector &u_in)
+  {
+    u.copy_locally_owned_data_from(u_in);
+    u.update_ghost_values();
+    const bool         cached    = variant == Variant::cached;
+    const unsigned int per_point = cached ? n_sym : 9;
+    storage.resize(static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+                   Eval::static_n_q_points * per_point);
+    Eval   phi(matrix_free);
+    double min_J = 1.0;
+    for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
+      {
+        phi.reinit(cell);
+        phi.read_dof_values_plain(u);
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        const unsigned int lanes =
+          matrix_free.n_active_entries_per_cell_batch(cell);
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          {
+            Grad F = phi.get_gradient(q);
+            for (unsigned int d = 0; d < 3; ++d)
+              F[d][d] += 1.0;
+            const VA J = determinant(F);
+            for (unsigned int l = 0; l < lanes; ++l)
+              min_J = std::min(min_J, J[l]);
+            VA *s = const_cast<VA *>(point(cell, q));
+            if (cached)
+              tangent_of(F, s);
+            else
+              for (unsigned int a = 0; a < 9; ++a)
+                s[a] = F[a / 3][a % 3];
+          }
+      }
+    min_J = dealii::Utilities::MPI::min(min_J, u.get_mpi_communicator());
+    AssertThrow(min_J > 0.0,
+                dealii::ExcMessage(
+                  "MatrixFreeTangent::update(): det F = " +
+                  std::to_string(min_J) +
+                  " <= 0 at a quadrature point (an inverted element); "
+                  "reduce the load step or refine the mesh."));
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::apply_cells(const MF &,
+                                   Vector       &dst,
+                                   const Vector &src,
+                                   const Range  &cells) const
+  {
+    Eval phi(matrix_free);
+    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+      {
+        phi.reinit(cell);
+        phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          {
+            const Grad H = phi.get_gradient(q);
+            const VA  *s = point(cell, q);
+            if (variant == Variant::cached)
+              phi.submit_gradient(apply_symmetric(s, H), q);
+            else
+              {
+                Grad F, P, dP;
+                for (unsigned int a = 0; a < 9; ++a)
+                  F[a / 3][a % 3] = s[a];
+                law.evaluate(F, &H, P, &dP);
+                phi.submit_gradient(dP, q);
+              }
+          }
+        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+      }
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::residual_cells(const MF &,
+                                      Vector       &dst,
+                                      const Vector &src,
+                                      const Range  &cells) const
+  {
+    Eval phi(matrix_free);
+    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+      {
+        phi.reinit(cell);
+        phi.read_dof_values_plain(src);
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          {
+            Grad F = phi.get_gradient(q), P;
+            for (unsigned int d = 0; d < 3; ++d)
+              F[d][d] += 1.0;
+            law.evaluate<VA>(F, nullptr, P, nullptr);
+            phi.submit_gradient(P, q);
+          }
+        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+      }
+  }
+} // namespace systole::Mechanics::internal
