@@ -2,9 +2,10 @@
 
 // The quadrature-point kernel of the matrix-free mechanics operator
 // (MatrixFreeTangent): first Piola-Kirchhoff stress and its directional
-// derivative from one function, templated on the number type so that the
-// same code runs on deal.II's VectorizedArray (a batch of cells) and on
-// double (a future matrix-based path). Only deal.II's tensor header here.
+// derivative from one set of functions, templated on the number type so
+// that the same code runs on deal.II's VectorizedArray (a batch of cells)
+// and on double (a future matrix-based path). Only deal.II's tensor header
+// here.
 
 #include <deal.II/base/tensor.h>
 
@@ -23,17 +24,76 @@ namespace systole::Mechanics
   /// @f]
   /// @f$P = \partial W/\partial F = \mu J^{-2/3}(F - \frac{I_1}{3}F^{-T})
   ///  + \frac{\kappa}{2}(J^2 - 1) F^{-T}@f$ [kPa].
+  ///
+  /// The evaluation is split in two: state() does the expensive part once
+  /// per point (determinant, inverse, power), stress() and linearization()
+  /// are then products and sums only. The residual, the tangent's action and
+  /// the cached 9 x 9 tangent (built column by column from linearization())
+  /// all come from these functions.
   struct NeoHookeanPenalty
   {
     double mu           = 10.0;   ///< shear modulus [kPa], > 0
     double bulk_modulus = 1000.0; ///< kappa [kPa], >= 0
 
-    /// P(F) and, if @p H is not null, the directional derivative
-    /// @f$dP = \frac{\partial P}{\partial F}[H]@f$ into @p dP (both [kPa]).
-    /// The residual and the tangent (its action, and the cached 9 x 9
-    /// tangent, built column by column) all come from this one function.
-    /// @param[in] F deformation gradient [-], det F > 0 (not checked here).
-    /// @param[in] H direction (a displacement gradient) [-], or nullptr.
+    /// What stress() and linearization() need at one point.
+    template <typename Number>
+    struct State
+    {
+      dealii::Tensor<2, 3, Number> F;     ///< deformation gradient [-]
+      dealii::Tensor<2, 3, Number> FinvT; ///< F^{-T} [-]
+      Number                       a;     ///< mu J^{-2/3} [kPa]
+      Number                       g;     ///< J U'(J) = kappa (J^2 - 1)/2 [kPa]
+      Number                       kJ2;   ///< kappa J^2 [kPa]
+      Number                       I1_3;  ///< I_1 / 3 [-]
+
+      /// Numbers per point when stored.
+      static constexpr unsigned int n_numbers = 22;
+    };
+
+    /// The state at @p F [-] (det F > 0, not checked here).
+    template <typename Number>
+    State<Number>
+    state(const dealii::Tensor<2, 3, Number> &F) const
+    {
+      using std::pow;
+      State<Number> s;
+      const Number  J = determinant(F);
+      s.F             = F;
+      s.FinvT         = transpose(invert(F));
+      s.a             = mu * pow(J, -2.0 / 3.0);
+      s.g             = (0.5 * bulk_modulus) * (J * J - 1.0);
+      s.kJ2           = bulk_modulus * J * J;
+      s.I1_3          = scalar_product(F, F) * (1.0 / 3.0);
+      return s;
+    }
+
+    /// P [kPa] at the point of @p s.
+    template <typename Number>
+    dealii::Tensor<2, 3, Number>
+    stress(const State<Number> &s) const
+    {
+      return s.a * (s.F - s.I1_3 * s.FinvT) + s.g * s.FinvT;
+    }
+
+    /// dP = (dP/dF)[H] [kPa] at the point of @p s, for the direction @p H
+    /// (a displacement gradient) [-]. With dJ = J tr(F^-1 H),
+    /// d(F^-T) = -F^-T H^T F^-T, dI1 = 2 F : H.
+    template <typename Number>
+    dealii::Tensor<2, 3, Number>
+    linearization(const State<Number>                &s,
+                  const dealii::Tensor<2, 3, Number> &H) const
+    {
+      const Number tr_H   = scalar_product(s.FinvT, H);
+      const Number dI1_3  = (2.0 / 3.0) * scalar_product(s.F, H);
+      const auto   dFinvT = -(s.FinvT * transpose(H) * s.FinvT);
+      const Number da     = (-2.0 / 3.0) * s.a * tr_H;
+      return da * (s.F - s.I1_3 * s.FinvT) +
+             s.a * (H - dI1_3 * s.FinvT - s.I1_3 * dFinvT) +
+             (s.kJ2 * tr_H) * s.FinvT + s.g * dFinvT;
+    }
+
+    /// P(F) and, if @p H is not null, dP = (dP/dF)[H] into @p dP (both
+    /// [kPa]): state(), stress() and linearization() in one call.
     template <typename Number>
     void
     evaluate(const dealii::Tensor<2, 3, Number> &F,
@@ -41,27 +101,10 @@ namespace systole::Mechanics
              dealii::Tensor<2, 3, Number>       &P,
              dealii::Tensor<2, 3, Number>       *dP) const
     {
-      using std::pow;
-      const Number J     = determinant(F);
-      const auto   FinvT = transpose(invert(F));
-      const Number I1    = scalar_product(F, F);
-      const Number a     = mu * pow(J, -2.0 / 3.0);              // mu J^{-2/3}
-      const Number g     = (0.5 * bulk_modulus) * (J * J - 1.0); // J U'(J)
-      const auto   dev   = F - (I1 * (1.0 / 3.0)) * FinvT;
-      P                  = a * dev + g * FinvT;
-      if (H == nullptr)
-        return;
-
-      // dJ = J tr(F^-1 H), d(F^-T) = -F^-T H^T F^-T, dI1 = 2 F : H.
-      const Number tr_H   = scalar_product(FinvT, *H);
-      const Number dI1    = 2.0 * scalar_product(F, *H);
-      const auto   dFinvT = -(FinvT * transpose(*H) * FinvT);
-      const Number da     = (-2.0 / 3.0) * a * tr_H;
-      const Number dg     = bulk_modulus * J * J * tr_H;
-      *dP =
-        da * dev +
-        a * (*H - (dI1 * (1.0 / 3.0)) * FinvT - (I1 * (1.0 / 3.0)) * dFinvT) +
-        dg * FinvT + g * dFinvT;
+      const State<Number> s = state(F);
+      P                     = stress(s);
+      if (H != nullptr)
+        *dP = linearization(s, *H);
     }
   };
 } // namespace systole::Mechanics

@@ -16,18 +16,22 @@ namespace systole::Mechanics
   /// @f$R_a(u) = \int_{\Omega_0} P(F) : \nabla_0 \phi_a \,dV@f$,
   /// @f$F = I + \nabla_0 u@f$, applied matrix-free: deal.II's MatrixFree with
   /// sum factorization on Q2 hexahedra (FEEvaluation<3, 2, 3, 3>, 3 Gauss
-  /// points per direction), after step-37 and Davydov et al. 2020 (Comput.
-  /// Mech. 65:1383, matrix-free finite-strain hyperelasticity).
+  /// points per direction), after deal.II's step-37 and Davydov et al. 2020
+  /// (Int. J. Numer. Meth. Eng. 121:2874, matrix-free finite-strain
+  /// hyperelasticity with geometric multigrid).
   ///
   /// Two variants of the storage at the quadrature points:
   /// - Variant::cached: update() stores the 9 x 9 tangent
   ///   @f$\mathbb{A} = \partial P/\partial F@f$ of every point (45 numbers
   ///   by its major symmetry), and vmult() contracts it with the gradient of
   ///   the input: memory bound;
-  /// - Variant::recompute: update() stores F only, and vmult() evaluates the
-  ///   law's linearization at every point: less memory, more arithmetic.
+  /// - Variant::recompute: update() stores the law's state per point (F,
+  ///   F^-T and four scalars: 22 numbers, NeoHookeanPenalty::State), and
+  ///   vmult() evaluates the linearization from it (products and sums, no
+  ///   inverse or power): half the memory, more arithmetic.
   ///
-  /// Both call NeoHookeanPenalty::evaluate(), which also gives the residual.
+  /// Both use NeoHookeanPenalty's state() and linearization(); its stress()
+  /// gives the residual.
   /// Constrained DoFs: the constraints (homogeneous for the tangent) are
   /// applied to the input and the output; on the constrained rows vmult()
   /// returns the input (the identity, as deal.II's MatrixFreeOperators).

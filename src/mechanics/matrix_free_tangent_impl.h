@@ -9,14 +9,17 @@
 #include <deal.II/base/aligned_vector.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/subscriptor.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/matrix_free/fe_evaluation.h>
 #include <deal.II/matrix_free/matrix_free.h>
+#include <deal.II/matrix_free/tools.h>
 
 #include "mechanics/matrix_free_tangent.h"
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <string>
 
 namespace systole::Mechanics::internal
@@ -24,7 +27,7 @@ namespace systole::Mechanics::internal
   /// The operator behind MatrixFreeTangent, on @p VA (a VectorizedArray of
   /// double): its functions are those of MatrixFreeTangent.
   template <typename VA>
-  class TangentOperator
+  class TangentOperator : public dealii::Subscriptor
   {
   public:
     static constexpr unsigned int degree = 2;  ///< Q2
@@ -38,11 +41,13 @@ namespace systole::Mechanics::internal
     using Range   = std::pair<unsigned int, unsigned int>;
     using Variant = MatrixFreeTangent::Variant;
 
-    TangentOperator(const dealii::Mapping<3>                &mapping,
-                    const dealii::DoFHandler<3>             &dof_handler,
-                    const dealii::AffineConstraints<double> &constraints,
-                    const NeoHookeanPenalty                 &law,
-                    const Variant                            variant)
+    TangentOperator(
+      const dealii::Mapping<3>                &mapping,
+      const dealii::DoFHandler<3>             &dof_handler,
+      const dealii::AffineConstraints<double> &constraints,
+      const NeoHookeanPenalty                 &law,
+      const Variant                            variant,
+      const unsigned int mg_level = dealii::numbers::invalid_unsigned_int)
       : law(law)
       , variant(variant)
     {
@@ -58,6 +63,7 @@ namespace systole::Mechanics::internal
       data.tasks_parallel_scheme = MF::AdditionalData::none;
       data.mapping_update_flags =
         dealii::update_gradients | dealii::update_JxW_values;
+      data.mg_level = mg_level;
       matrix_free.reinit(mapping,
                          dof_handler,
                          constraints,
@@ -80,6 +86,56 @@ namespace systole::Mechanics::internal
       for (const unsigned int i : matrix_free.get_constrained_dofs())
         dst.local_element(i) = src.local_element(i);
     }
+
+    /// dst += K src.
+    void
+    vmult_add(Vector &dst, const Vector &src) const
+    {
+      matrix_free.cell_loop(&TangentOperator::apply_cells,
+                            this,
+                            dst,
+                            src,
+                            false);
+      for (const unsigned int i : matrix_free.get_constrained_dofs())
+        dst.local_element(i) += src.local_element(i);
+    }
+
+    /// K is symmetric (a Hessian).
+    void
+    Tvmult(Vector &dst, const Vector &src) const
+    {
+      vmult(dst, src);
+    }
+    void
+    Tvmult_add(Vector &dst, const Vector &src) const
+    {
+      vmult_add(dst, src);
+    }
+
+    dealii::types::global_dof_index
+    m() const
+    {
+      return u.size();
+    }
+
+    /// Not available (the interface of deal.II's PreconditionChebyshev
+    /// asks for it; the diagonal comes from compute_inverse_diagonal()).
+    double
+    el(const unsigned int, const unsigned int) const
+    {
+      AssertThrow(false, dealii::ExcNotImplemented());
+      return 0.0;
+    }
+
+    void
+    initialize_dof_vector(Vector &v) const
+    {
+      matrix_free.initialize_dof_vector(v);
+    }
+
+    /// The inverse of K's diagonal (cached variant; 1 on constrained rows).
+    void
+    compute_inverse_diagonal(Vector &inverse) const;
 
     void
     residual(Vector &dst) const
@@ -123,11 +179,49 @@ namespace systole::Mechanics::internal
     dealii::AlignedVector<VA> storage;
 
   private:
+    using State = NeoHookeanPenalty::State<VA>;
+
+    /// Numbers stored per point.
+    unsigned int
+    per_point() const
+    {
+      return variant == Variant::cached ? n_sym : State::n_numbers;
+    }
+
     const VA *
     point(const unsigned int cell, const unsigned int q) const
     {
-      const unsigned int per_point = variant == Variant::cached ? n_sym : 9;
-      return &storage[(cell * Eval::static_n_q_points + q) * per_point];
+      return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
+    }
+
+    /// The state of the law at a point to and from its storage.
+    static void
+    store(const State &state, VA *s)
+    {
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          s[a]     = state.F[a / 3][a % 3];
+          s[9 + a] = state.FinvT[a / 3][a % 3];
+        }
+      s[18] = state.a;
+      s[19] = state.g;
+      s[20] = state.kJ2;
+      s[21] = state.I1_3;
+    }
+    static State
+    load(const VA *s)
+    {
+      State state;
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          state.F[a / 3][a % 3]     = s[a];
+          state.FinvT[a / 3][a % 3] = s[9 + a];
+        }
+      state.a    = s[18];
+      state.g    = s[19];
+      state.kJ2  = s[20];
+      state.I1_3 = s[21];
+      return state;
     }
 
     void
@@ -169,18 +263,17 @@ namespace systole::Mechanics::internal
       return dP;
     }
 
-    /// The upper triangle of dP/dF at @p F into @p A, column by column from
-    /// the kernel's directional derivative (the same linearization).
+    /// The upper triangle of dP/dF at @p state into @p A, column by column
+    /// from the kernel's directional derivative (the same linearization).
     void
-    tangent_of(const Grad &F, VA *A) const
+    tangent_of(const State &state, VA *A) const
     {
       std::array<Grad, 9> columns;
-      Grad                P;
       for (unsigned int b = 0; b < 9; ++b)
         {
           Grad H;
           H[b / 3][b % 3] = 1.0;
-          law.evaluate(F, &H, P, &columns[b]);
+          columns[b]      = law.linearization(state, H);
         }
       unsigned int index = 0;
       for (unsigned int a = 0; a < 9; ++a)
@@ -198,10 +291,9 @@ namespace systole::Mechanics::internal
   {
     u.copy_locally_owned_data_from(u_in);
     u.update_ghost_values();
-    const bool         cached    = variant == Variant::cached;
-    const unsigned int per_point = cached ? n_sym : 9;
+    const bool cached = variant == Variant::cached;
     storage.resize(static_cast<std::size_t>(matrix_free.n_cell_batches()) *
-                   Eval::static_n_q_points * per_point);
+                   Eval::static_n_q_points * per_point());
     Eval   phi(matrix_free);
     double min_J = 1.0;
     for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
@@ -219,12 +311,12 @@ namespace systole::Mechanics::internal
             const VA J = determinant(F);
             for (unsigned int l = 0; l < lanes; ++l)
               min_J = std::min(min_J, J[l]);
-            VA *s = const_cast<VA *>(point(cell, q));
+            VA         *s     = const_cast<VA *>(point(cell, q));
+            const State state = law.state(F);
             if (cached)
-              tangent_of(F, s);
+              tangent_of(state, s);
             else
-              for (unsigned int a = 0; a < 9; ++a)
-                s[a] = F[a / 3][a % 3];
+              store(state, s);
           }
       }
     min_J = dealii::Utilities::MPI::min(min_J, u.get_mpi_communicator());
@@ -234,6 +326,38 @@ namespace systole::Mechanics::internal
                   std::to_string(min_J) +
                   " <= 0 at a quadrature point (an inverted element); "
                   "reduce the load step or refine the mesh."));
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::compute_inverse_diagonal(Vector &inverse) const
+  {
+    AssertThrow(variant == Variant::cached, dealii::ExcNotImplemented());
+    matrix_free.initialize_dof_vector(inverse);
+    dealii::MatrixFreeTools::compute_diagonal(
+      matrix_free,
+      inverse,
+      std::function<void(Eval &)>([this](Eval &phi) {
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        const unsigned int cell = phi.get_current_cell_index();
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          phi.submit_gradient(apply_symmetric(point(cell, q),
+                                              phi.get_gradient(q)),
+                              q);
+        phi.integrate(dealii::EvaluationFlags::gradients);
+      }));
+    for (const unsigned int i : matrix_free.get_constrained_dofs())
+      inverse.local_element(i) = 1.0;
+    for (unsigned int i = 0; i < inverse.locally_owned_size(); ++i)
+      {
+        const double d = inverse.local_element(i);
+        AssertThrow(d > 0.0,
+                    dealii::ExcMessage("MatrixFreeTangent: a diagonal entry "
+                                       "of the tangent is not positive (" +
+                                       std::to_string(d) + ")."));
+        inverse.local_element(i) = 1.0 / d;
+      }
   }
 
 
@@ -256,13 +380,7 @@ namespace systole::Mechanics::internal
             if (variant == Variant::cached)
               phi.submit_gradient(apply_symmetric(s, H), q);
             else
-              {
-                Grad F, P, dP;
-                for (unsigned int a = 0; a < 9; ++a)
-                  F[a / 3][a % 3] = s[a];
-                law.evaluate(F, &H, P, &dP);
-                phi.submit_gradient(dP, q);
-              }
+              phi.submit_gradient(law.linearization(load(s), H), q);
           }
         phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
       }

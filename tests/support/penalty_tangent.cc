@@ -47,14 +47,21 @@ namespace test_support
   }
 
 
-  BoxMechanics::BoxMechanics(const MPI_Comm comm, const unsigned int n)
-    : tria(comm)
+  BoxMechanics::BoxMechanics(const MPI_Comm     comm,
+                             const unsigned int n,
+                             const unsigned int n_refinements)
+    : tria(comm,
+           dealii::Triangulation<3>::limit_level_difference_at_vertices,
+           dealii::parallel::distributed::Triangulation<
+             3>::construct_multigrid_hierarchy)
     , fe(std::make_unique<dealii::FESystem<3>>(dealii::FE_Q<3>(2), 3))
     , mapping(std::make_unique<dealii::MappingQ<3>>(2))
   {
     distorted_box(tria, n);
+    tria.refine_global(n_refinements);
     dof_handler.reinit(tria);
     dof_handler.distribute_dofs(*fe);
+    dof_handler.distribute_mg_dofs();
     owned = dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
     constraints.reinit(relevant);

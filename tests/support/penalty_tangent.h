@@ -37,13 +37,17 @@ namespace test_support
                 const unsigned int                               n);
 
   /// The Q2 displacement problem of the matrix-free tests: distorted_box(n)
-  /// on @p comm, FESystem(FE_Q(2), 3), MappingQ(2), u = 0 on the face x = 0
+  /// on @p comm refined @p n_refinements times (with the multigrid
+  /// hierarchy and level DoFs), FESystem(FE_Q(2), 3), MappingQ(2), u = 0 on
+  /// the face x = 0
   /// (constraints, homogeneous) and the displacement Bulge interpolated
   /// into u (ghosted; it does not satisfy the constraints, which the
   /// linearization does not need).
   struct BoxMechanics
   {
-    BoxMechanics(const MPI_Comm comm, const unsigned int n);
+    BoxMechanics(const MPI_Comm     comm,
+                 const unsigned int n,
+                 const unsigned int n_refinements = 0);
 
     dealii::parallel::distributed::Triangulation<3> tria;
     std::unique_ptr<dealii::FiniteElement<3>>       fe;
