@@ -157,10 +157,14 @@ namespace systole::Mechanics::internal
       return n;
     }
 
-    /// 10 numbers per point of a general cell, 10 per affine cell batch.
+    /// The geometry vmult() reads: none (cached: folded into the stored
+    /// tangent), or 10 numbers per point of a general cell and 10 per
+    /// affine cell batch (recompute).
     std::size_t
     n_geometry_numbers() const
     {
+      if (variant == Variant::cached)
+        return 0;
       using dealii::internal::MatrixFreeFunctions::GeometryType;
       const auto &info = matrix_free.get_mapping_info();
       std::size_t n    = 0;
@@ -236,17 +240,13 @@ namespace systole::Mechanics::internal
                    const Vector &src,
                    const Range  &cells) const;
 
-    /// dP = A : H with A the upper triangle of the symmetric 9 x 9 matrix
-    /// A_(3i+J)(3k+L) = dP_iJ/dF_kL, row by row.
-    static Grad
-    apply_symmetric(const VA *A, const Grad &H)
+    /// out = A h with A the upper triangle of a symmetric 9 x 9 matrix, row
+    /// by row.
+    static void
+    apply_symmetric(const VA *A, const VA *h, VA *out)
     {
-      std::array<VA, 9> h, out;
       for (unsigned int a = 0; a < 9; ++a)
-        {
-          h[a]   = H[a / 3][a % 3];
-          out[a] = 0.0;
-        }
+        out[a] = 0.0;
       unsigned int index = 0;
       for (unsigned int a = 0; a < 9; ++a)
         {
@@ -257,30 +257,62 @@ namespace systole::Mechanics::internal
               out[b] += A[index] * h[a];
             }
         }
-      Grad dP;
-      for (unsigned int a = 0; a < 9; ++a)
-        dP[a / 3][a % 3] = out[a];
-      return dP;
     }
 
-    /// The upper triangle of dP/dF at @p state into @p A, column by column
-    /// from the kernel's directional derivative (the same linearization).
+    /// The cached operator at the points of the batch @p cell, on the
+    /// gradients of @p phi in unit-cell coordinates (in place: what
+    /// integrate() takes), so that no geometry is read.
     void
-    tangent_of(const State &state, VA *A) const
+    apply_cached(Eval &phi, const unsigned int cell) const
     {
-      std::array<Grad, 9> columns;
+      constexpr unsigned int n_q = Eval::static_n_q_points;
+      VA                    *g   = phi.begin_gradients();
+      for (unsigned int q = 0; q < n_q; ++q)
+        {
+          // Entry 3 i + alpha: component i, unit direction alpha.
+          std::array<VA, 9> h, out;
+          for (unsigned int a = 0; a < 9; ++a)
+            h[a] = g[a * n_q + q];
+          apply_symmetric(point(cell, q), h.data(), out.data());
+          for (unsigned int a = 0; a < 9; ++a)
+            g[a * n_q + q] = out[a];
+        }
+    }
+
+    /// The cached tangent at one point, pulled back to the unit cell: the
+    /// upper triangle of
+    /// @f$\hat A_{(ilpha)(keta)} = JxW\, G_{Jlpha} A_{iJkL} G_{Leta}@f$
+    /// (A = dP/dF, G the inverse Jacobian as deal.II stores it: physical
+    /// gradient_J = sum_alpha G_{J alpha} unit gradient_alpha), built column
+    /// by column from the law's linearization() (the same linearization).
+    void
+    tangent_of(const State &state,
+               const Grad  &inverse_jacobian,
+               const VA    &JxW,
+               VA          *A) const
+    {
+      std::array<std::array<VA, 9>, 9> columns;
       for (unsigned int b = 0; b < 9; ++b)
         {
-          Grad H;
-          H[b / 3][b % 3] = 1.0;
-          columns[b]      = law.linearization(state, H);
+          const unsigned int k = b / 3, beta = b % 3;
+          Grad               H; // physical gradient of e_k N, unit grad e_beta
+          for (unsigned int L = 0; L < 3; ++L)
+            H[k][L] = inverse_jacobian[L][beta];
+          const Grad dP = law.linearization(state, H);
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int alpha = 0; alpha < 3; ++alpha)
+              {
+                VA sum = 0.0;
+                for (unsigned int J = 0; J < 3; ++J)
+                  sum += inverse_jacobian[J][alpha] * dP[i][J];
+                columns[b][3 * i + alpha] = JxW * sum;
+              }
         }
       unsigned int index = 0;
       for (unsigned int a = 0; a < 9; ++a)
         for (unsigned int b = a; b < 9; ++b, ++index)
           // Symmetric up to round-off; average the two halves.
-          A[index] =
-            0.5 * (columns[b][a / 3][a % 3] + columns[a][b / 3][b % 3]);
+          A[index] = 0.5 * (columns[b][a] + columns[a][b]);
     }
   };
 
@@ -314,7 +346,7 @@ namespace systole::Mechanics::internal
             VA         *s     = const_cast<VA *>(point(cell, q));
             const State state = law.state(F);
             if (cached)
-              tangent_of(state, s);
+              tangent_of(state, phi.inverse_jacobian(q), phi.JxW(q), s);
             else
               store(state, s);
           }
@@ -340,11 +372,7 @@ namespace systole::Mechanics::internal
       inverse,
       std::function<void(Eval &)>([this](Eval &phi) {
         phi.evaluate(dealii::EvaluationFlags::gradients);
-        const unsigned int cell = phi.get_current_cell_index();
-        for (unsigned int q = 0; q < phi.n_q_points; ++q)
-          phi.submit_gradient(apply_symmetric(point(cell, q),
-                                              phi.get_gradient(q)),
-                              q);
+        apply_cached(phi, phi.get_current_cell_index());
         phi.integrate(dealii::EvaluationFlags::gradients);
       }));
     for (const unsigned int i : matrix_free.get_constrained_dofs())
@@ -372,16 +400,25 @@ namespace systole::Mechanics::internal
     for (unsigned int cell = cells.first; cell < cells.second; ++cell)
       {
         phi.reinit(cell);
-        phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
-        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+        // Start loading the next batch's point data while this one's sum
+        // factorization runs (the cached tangent is streamed from memory).
+        if (cell + 1 < cells.second)
           {
-            const Grad H = phi.get_gradient(q);
-            const VA  *s = point(cell, q);
-            if (variant == Variant::cached)
-              phi.submit_gradient(apply_symmetric(s, H), q);
-            else
-              phi.submit_gradient(law.linearization(load(s), H), q);
+            const char *next =
+              reinterpret_cast<const char *>(point(cell + 1, 0));
+            const std::size_t bytes =
+              sizeof(VA) * per_point() * Eval::static_n_q_points;
+            for (std::size_t offset = 0; offset < bytes; offset += 64)
+              __builtin_prefetch(next + offset, 0, 1);
           }
+        phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
+        if (variant == Variant::cached)
+          apply_cached(phi, cell);
+        else
+          for (unsigned int q = 0; q < phi.n_q_points; ++q)
+            phi.submit_gradient(law.linearization(load(point(cell, q)),
+                                                  phi.get_gradient(q)),
+                                q);
         phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
       }
   }
