@@ -23,8 +23,9 @@ namespace systole::Mechanics
   /// Two variants of the storage at the quadrature points:
   /// - Variant::cached: update() stores the 9 x 9 tangent
   ///   @f$\mathbb{A} = \partial P/\partial F@f$ of every point (45 numbers
-  ///   by its major symmetry), and vmult() contracts it with the gradient of
-  ///   the input: memory bound;
+  ///   by its major symmetry), pulled back to the unit cell with the inverse
+  ///   Jacobian and JxW folded in, and vmult() contracts it with the
+  ///   unit-cell gradient of the input (no geometry read): memory bound;
   /// - Variant::recompute: update() stores the law's state per point (F,
   ///   F^-T and four scalars: 22 numbers, NeoHookeanPenalty::State), and
   ///   vmult() evaluates the linearization from it (products and sums, no
@@ -99,9 +100,9 @@ namespace systole::Mechanics
     std::size_t
     n_quadrature_points() const;
 
-    /// Numbers per quadrature point of the geometry the operator reads per
-    /// application (9 Jacobian entries + JxW on a general cell, 0 on a
-    /// Cartesian or affine one), summed over this rank's points.
+    /// Numbers of geometry vmult() reads per application on this rank: 0
+    /// for Variant::cached; for Variant::recompute 10 per point of a general
+    /// cell (inverse Jacobian and JxW) and 10 per affine cell batch.
     std::size_t
     n_geometry_numbers() const;
 
