@@ -197,6 +197,11 @@ namespace systole::Mechanics::internal
     {
       return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
     }
+    VA *
+    point(const unsigned int cell, const unsigned int q)
+    {
+      return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
+    }
 
     /// The state of the law at a point to and from its storage.
     static void
@@ -343,7 +348,7 @@ namespace systole::Mechanics::internal
             const VA J = determinant(F);
             for (unsigned int l = 0; l < lanes; ++l)
               min_J = std::min(min_J, J[l]);
-            VA         *s     = const_cast<VA *>(point(cell, q));
+            VA         *s     = point(cell, q);
             const State state = law.state(F);
             if (cached)
               tangent_of(state, phi.inverse_jacobian(q), phi.JxW(q), s);
