@@ -74,7 +74,8 @@ namespace systole::Mechanics
   std::size_t
   MatrixFreeTangent::point_storage_bytes() const
   {
-    return impl->storage.memory_consumption();
+    return impl->storage.memory_consumption() +
+           impl->storage_single.memory_consumption();
   }
 
 

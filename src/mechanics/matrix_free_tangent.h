@@ -20,12 +20,15 @@ namespace systole::Mechanics
   /// (Int. J. Numer. Meth. Eng. 121:2874, matrix-free finite-strain
   /// hyperelasticity with geometric multigrid).
   ///
-  /// Two variants of the storage at the quadrature points:
+  /// Three variants of the storage at the quadrature points:
   /// - Variant::cached: update() stores the 9 x 9 tangent
   ///   @f$\mathbb{A} = \partial P/\partial F@f$ of every point (45 numbers
   ///   by its major symmetry), pulled back to the unit cell with the inverse
   ///   Jacobian and JxW folded in, and vmult() contracts it with the
   ///   unit-cell gradient of the input (no geometry read): memory bound;
+  /// - Variant::cached_single: as cached, the tangent rounded to single
+  ///   precision (half the bytes; the product is then accurate to about
+  ///   1e-7 relative, e.g. for a preconditioner or an inexact Newton step);
   /// - Variant::recompute: update() stores the law's state per point (F,
   ///   F^-T and four scalars: 22 numbers, NeoHookeanPenalty::State), and
   ///   vmult() evaluates the linearization from it (products and sums, no
@@ -46,6 +49,7 @@ namespace systole::Mechanics
     enum class Variant
     {
       cached,
+      cached_single,
       recompute
     };
 

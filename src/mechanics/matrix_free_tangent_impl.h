@@ -40,6 +40,8 @@ namespace systole::Mechanics::internal
     using Grad    = dealii::Tensor<2, 3, VA>;
     using Range   = std::pair<unsigned int, unsigned int>;
     using Variant = MatrixFreeTangent::Variant;
+    /// The single-precision storage type of Variant::cached_single.
+    using VAf = dealii::VectorizedArray<float, VA::size()>;
 
     TangentOperator(
       const dealii::Mapping<3>                &mapping,
@@ -163,7 +165,7 @@ namespace systole::Mechanics::internal
     std::size_t
     n_geometry_numbers() const
     {
-      if (variant == Variant::cached)
+      if (cached())
         return 0;
       using dealii::internal::MatrixFreeFunctions::GeometryType;
       const auto &info = matrix_free.get_mapping_info();
@@ -179,8 +181,18 @@ namespace systole::Mechanics::internal
     const Variant           variant;
     MF                      matrix_free;
     Vector                  u; ///< ghosted
-    /// Per cell batch and point: the 45 tangent entries (cached) or F.
+    /// Per cell batch and point: the 45 tangent entries (cached) or the
+    /// law's state (recompute).
     dealii::AlignedVector<VA> storage;
+    /// The 45 tangent entries of Variant::cached_single.
+    dealii::AlignedVector<VAf> storage_single;
+
+    /// Whether the tangent is stored (in double or single precision).
+    bool
+    cached() const
+    {
+      return variant != Variant::recompute;
+    }
 
   private:
     using State = NeoHookeanPenalty::State<VA>;
@@ -189,7 +201,7 @@ namespace systole::Mechanics::internal
     unsigned int
     per_point() const
     {
-      return variant == Variant::cached ? n_sym : State::n_numbers;
+      return cached() ? n_sym : State::n_numbers;
     }
 
     const VA *
@@ -201,6 +213,34 @@ namespace systole::Mechanics::internal
     point(const unsigned int cell, const unsigned int q)
     {
       return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
+    }
+    const VAf *
+    point_single(const unsigned int cell, const unsigned int q) const
+    {
+      return &storage_single[(cell * Eval::static_n_q_points + q) * n_sym];
+    }
+
+    /// The lanes of @p x in double precision.
+    static VA
+    to_double(const VAf &x)
+    {
+      VA result;
+#if defined(__AVX512F__)
+      // One conversion instruction for the 8-lane build.
+      if constexpr (VA::size() == 8)
+        {
+          result.data = _mm512_cvtps_pd(x.data);
+          return result;
+        }
+#endif
+      for (unsigned int l = 0; l < VA::size(); ++l)
+        result[l] = x[l];
+      return result;
+    }
+    static const VA &
+    to_double(const VA &x)
+    {
+      return x;
     }
 
     /// The state of the law at a point to and from its storage.
@@ -247,19 +287,21 @@ namespace systole::Mechanics::internal
 
     /// out = A h with A the upper triangle of a symmetric 9 x 9 matrix, row
     /// by row.
+    template <typename Stored>
     static void
-    apply_symmetric(const VA *A, const VA *h, VA *out)
+    apply_symmetric(const Stored *A, const VA *h, VA *out)
     {
       for (unsigned int a = 0; a < 9; ++a)
         out[a] = 0.0;
       unsigned int index = 0;
       for (unsigned int a = 0; a < 9; ++a)
         {
-          out[a] += A[index++] * h[a];
+          out[a] += to_double(A[index++]) * h[a];
           for (unsigned int b = a + 1; b < 9; ++b, ++index)
             {
-              out[a] += A[index] * h[b];
-              out[b] += A[index] * h[a];
+              const VA entry = to_double(A[index]);
+              out[a] += entry * h[b];
+              out[b] += entry * h[a];
             }
         }
     }
@@ -278,7 +320,10 @@ namespace systole::Mechanics::internal
           std::array<VA, 9> h, out;
           for (unsigned int a = 0; a < 9; ++a)
             h[a] = g[a * n_q + q];
-          apply_symmetric(point(cell, q), h.data(), out.data());
+          if (variant == Variant::cached_single)
+            apply_symmetric(point_single(cell, q), h.data(), out.data());
+          else
+            apply_symmetric(point(cell, q), h.data(), out.data());
           for (unsigned int a = 0; a < 9; ++a)
             g[a * n_q + q] = out[a];
         }
@@ -328,9 +373,14 @@ namespace systole::Mechanics::internal
   {
     u.copy_locally_owned_data_from(u_in);
     u.update_ghost_values();
-    const bool cached = variant == Variant::cached;
-    storage.resize(static_cast<std::size_t>(matrix_free.n_cell_batches()) *
-                   Eval::static_n_q_points * per_point());
+    const std::size_t n_points =
+      static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+      Eval::static_n_q_points;
+    if (variant == Variant::cached_single)
+      storage_single.resize(n_points * n_sym);
+    // (cached_single: one point's tangent in double before rounding)
+    storage.resize(variant == Variant::cached_single ? n_sym
+                                                     : n_points * per_point());
     Eval   phi(matrix_free);
     double min_J = 1.0;
     for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
@@ -348,12 +398,26 @@ namespace systole::Mechanics::internal
             const VA J = determinant(F);
             for (unsigned int l = 0; l < lanes; ++l)
               min_J = std::min(min_J, J[l]);
-            VA         *s     = point(cell, q);
             const State state = law.state(F);
-            if (cached)
-              tangent_of(state, phi.inverse_jacobian(q), phi.JxW(q), s);
+            if (variant == Variant::recompute)
+              store(state, point(cell, q));
+            else if (variant == Variant::cached)
+              tangent_of(state,
+                         phi.inverse_jacobian(q),
+                         phi.JxW(q),
+                         point(cell, q));
             else
-              store(state, s);
+              {
+                tangent_of(state,
+                           phi.inverse_jacobian(q),
+                           phi.JxW(q),
+                           &storage[0]);
+                VAf *single =
+                  &storage_single[(cell * phi.n_q_points + q) * n_sym];
+                for (unsigned int a = 0; a < n_sym; ++a)
+                  for (unsigned int l = 0; l < VA::size(); ++l)
+                    single[a][l] = static_cast<float>(storage[a][l]);
+              }
           }
       }
     min_J = dealii::Utilities::MPI::min(min_J, u.get_mpi_communicator());
@@ -370,7 +434,7 @@ namespace systole::Mechanics::internal
   void
   TangentOperator<VA>::compute_inverse_diagonal(Vector &inverse) const
   {
-    AssertThrow(variant == Variant::cached, dealii::ExcNotImplemented());
+    AssertThrow(cached(), dealii::ExcNotImplemented());
     matrix_free.initialize_dof_vector(inverse);
     dealii::MatrixFreeTools::compute_diagonal(
       matrix_free,
@@ -409,15 +473,17 @@ namespace systole::Mechanics::internal
         // factorization runs (the cached tangent is streamed from memory).
         if (cell + 1 < cells.second)
           {
+            const bool  single = variant == Variant::cached_single;
             const char *next =
-              reinterpret_cast<const char *>(point(cell + 1, 0));
-            const std::size_t bytes =
-              sizeof(VA) * per_point() * Eval::static_n_q_points;
+              single ? reinterpret_cast<const char *>(point_single(cell + 1, 0))
+                     : reinterpret_cast<const char *>(point(cell + 1, 0));
+            const std::size_t bytes = (single ? sizeof(VAf) : sizeof(VA)) *
+                                      per_point() * Eval::static_n_q_points;
             for (std::size_t offset = 0; offset < bytes; offset += 64)
               __builtin_prefetch(next + offset, 0, 1);
           }
         phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
-        if (variant == Variant::cached)
+        if (cached())
           apply_cached(phi, cell);
         else
           for (unsigned int q = 0; q < phi.n_q_points; ++q)

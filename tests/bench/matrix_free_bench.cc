@@ -237,7 +237,9 @@ namespace
     row.apply = best_time([&]() { op.vmult(y, x); });
     row.result.assign(y.begin(), y.begin() + y.locally_owned_size());
     row.name =
-      std::string(variant == Variant::cached ? "MF cached" : "MF recompute") +
+      std::string(variant == Variant::cached          ? "MF cached"
+                  : variant == Variant::cached_single ? "MF single"
+                                                      : "MF recompute") +
       (simd ? " 8 lanes" : " 1 lane");
     // Memory: the operator's own data and its two vectors.
     row.bytes_memory = sum(op.memory_consumption() + x.memory_consumption() +
@@ -396,7 +398,8 @@ main(int argc, char *argv[])
         rows.push_back(sparse_row(box, u, direction));
       for (const bool simd : {false, true})
         if (!simd || with_simd)
-          for (const Variant v : {Variant::cached, Variant::recompute})
+          for (const Variant v :
+               {Variant::cached, Variant::cached_single, Variant::recompute})
             rows.push_back(matrix_free_row(box, u, direction, v, simd));
       // Differences to the first row: the sparse product if there is one.
       for (const Row &row : rows)

@@ -71,13 +71,14 @@ namespace bench
       std::size_t
       memory_consumption() const override
       {
-        return op.matrix_free.memory_consumption() +
-               op.storage.memory_consumption() + op.u.memory_consumption();
+        return op.matrix_free.memory_consumption() + point_storage_bytes() +
+               op.u.memory_consumption();
       }
       std::size_t
       point_storage_bytes() const override
       {
-        return op.storage.memory_consumption();
+        return op.storage.memory_consumption() +
+               op.storage_single.memory_consumption();
       }
       std::size_t
       n_quadrature_points() const override

@@ -85,7 +85,8 @@ TEST_CASE("The matrix-free tangent equals the assembled sparse tangent of the "
                                          K);
   dealii::PETScWrappers::MPI::Vector x(box.owned, MPI_COMM_WORLD), y(x);
 
-  for (const Variant variant : {Variant::cached, Variant::recompute})
+  for (const Variant variant :
+       {Variant::cached, Variant::cached_single, Variant::recompute})
     {
       const auto   op = operator_at_bulge(box, variant, u);
       const Vector v  = random_direction(*op, box, 1.0);
@@ -95,8 +96,16 @@ TEST_CASE("The matrix-free tangent equals the assembled sparse tangent of the "
       const double reference = sparse.l2_norm();
       REQUIRE(reference > 1.0);
       mf -= sparse;
-      INFO("variant " << (variant == Variant::cached ? "cached" : "recompute"));
-      CHECK(mf.l2_norm() / reference < 1e-10);
+      const double error = mf.l2_norm() / reference;
+      INFO("variant " << static_cast<int>(variant) << ": " << error);
+      if (variant == Variant::cached_single)
+        {
+          // Rounded to single precision (unit roundoff 6e-8), not exact.
+          CHECK(error < 1e-6);
+          CHECK(error > 1e-12);
+        }
+      else
+        CHECK(error < 1e-10);
     }
 }
 
