@@ -95,12 +95,15 @@ namespace systole::Mechanics
         level_constraints.reinit(level_relevant);
         level_constraints.add_lines(mg_constrained.get_boundary_indices(level));
         level_constraints.close();
-        levels[level] = std::make_shared<Operator>(mapping,
-                                                   dof_handler,
-                                                   level_constraints,
-                                                   law,
-                                                   variant,
-                                                   level);
+        levels[level] = std::make_shared<Operator>(
+          mapping,
+          dof_handler,
+          level_constraints,
+          law,
+          settings.single_precision_levels
+            ? MatrixFreeTangent::Variant::cached_single
+            : variant,
+          level);
         partitioners[level] =
           levels[level]->matrix_free.get_vector_partitioner();
       }

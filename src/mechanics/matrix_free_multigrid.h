@@ -36,6 +36,10 @@ namespace systole::Mechanics
       unsigned int smoothing_degree      = 4;    ///< Chebyshev degree per level
       double       smoothing_range       = 20.0; ///< lambda_max / lambda_min
       unsigned int eigenvalue_iterations = 15;   ///< CG steps of the estimate
+      /// The level operators' tangent in single precision
+      /// (MatrixFreeTangent::Variant::cached_single; the active level's
+      /// operator, on which CG runs, stays in double precision).
+      bool single_precision_levels = false;
     };
 
     MatrixFreeMultigrid(const dealii::Mapping<3>                   &mapping,

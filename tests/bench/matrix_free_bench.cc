@@ -302,16 +302,17 @@ namespace
   /// displacement with kappa / mu = 10 (as the unit test): iterations to a
   /// relative residual of 1e-8 and times.
   void
-  multigrid_row(const unsigned int n_refinements)
+  multigrid_row(const unsigned int n_refinements, const bool single)
   {
-    const test_support::BoxMechanics box(comm, 2, n_refinements);
-    double                           t0 = now();
-    Mechanics::MatrixFreeMultigrid   mg(
-      *box.mapping,
-      box.dof_handler,
-      {0},
-      Mechanics::NeoHookeanPenalty{10.0, 100.0},
-      Mechanics::MatrixFreeMultigrid::Settings());
+    const test_support::BoxMechanics         box(comm, 2, n_refinements);
+    Mechanics::MatrixFreeMultigrid::Settings settings;
+    settings.single_precision_levels  = single;
+    double                         t0 = now();
+    Mechanics::MatrixFreeMultigrid mg(*box.mapping,
+                                      box.dof_handler,
+                                      {0},
+                                      Mechanics::NeoHookeanPenalty{10.0, 100.0},
+                                      settings);
     const double  setup = dealii::Utilities::MPI::max(now() - t0, comm);
     bench::Vector u, b, x;
     mg.initialize_dof_vector(u);
@@ -331,9 +332,10 @@ namespace
     const double solve =
       best_time([&]() { iterations = mg.solve(x, b, 1e-8); }, 0.0);
     if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-      std::printf("  multigrid: refinements %u  levels %u  DOFs %u  set-up "
+      std::printf("  multigrid%s: refinements %u  levels %u  DOFs %u  set-up "
                   "%.3f s  update %.3f s  CG iterations %u  solve %.3f s"
                   "  (%.1f ns/DOF per iteration)\n",
+                  single ? " (single-precision levels)" : "",
                   n_refinements,
                   mg.n_levels(),
                   static_cast<unsigned int>(box.dof_handler.n_dofs()),
@@ -369,7 +371,8 @@ main(int argc, char *argv[])
   if (multigrid)
     {
       for (const unsigned int r : sizes)
-        multigrid_row(r);
+        for (const bool single : {false, true})
+          multigrid_row(r, single);
       return 0;
     }
   const double bandwidth = triad_bandwidth();
