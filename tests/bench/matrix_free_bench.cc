@@ -214,6 +214,7 @@ namespace
     const Mechanics::NeoHookeanPenalty law{10.0, 500.0};
     const double                       t0 = now();
     std::unique_ptr<bench::Tangent>    tangent;
+#ifdef SYSTOLE_BENCH_AVX512
     if (simd)
       tangent = bench::make_simd_tangent(*box.mapping,
                                          box.dof_handler,
@@ -221,6 +222,7 @@ namespace
                                          law,
                                          variant);
     else
+#endif
       tangent = std::make_unique<LibraryTangent>(*box.mapping,
                                                  box.dof_handler,
                                                  box.constraints,
@@ -363,8 +365,12 @@ main(int argc, char *argv[])
       multigrid = true;
     else
       sizes.push_back(std::atoi(argv[i]));
-  // The 8-lane build runs only where the processor has AVX-512F.
+      // The 8-lane build runs only where the processor has AVX-512F.
+#ifdef SYSTOLE_BENCH_AVX512
   const bool with_simd = __builtin_cpu_supports("avx512f");
+#else
+  const bool with_simd = false;
+#endif
   if (sizes.empty())
     sizes = {9, 17, 27};
 
