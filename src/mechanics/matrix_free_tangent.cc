@@ -1,0 +1,97 @@
+// The matrix-free tangent on the installed deal.II's default vectorization
+// (the operator itself is in matrix_free_tangent_impl.h).
+#include "mechanics/matrix_free_tangent.h"
+
+#include "mechanics/matrix_free_tangent_impl.h"
+
+namespace systole::Mechanics
+{
+  struct MatrixFreeTangent::Impl
+    : public internal::TangentOperator<dealii::VectorizedArray<double>>
+  {
+    using internal::TangentOperator<
+      dealii::VectorizedArray<double>>::TangentOperator;
+  };
+
+
+  MatrixFreeTangent::MatrixFreeTangent(
+    const dealii::Mapping<3>                &mapping,
+    const dealii::DoFHandler<3>             &dof_handler,
+    const dealii::AffineConstraints<double> &constraints,
+    const NeoHookeanPenalty                 &law,
+    const Variant                            variant)
+    : impl(
+        std::make_unique<Impl>(mapping, dof_handler, constraints, law, variant))
+  {}
+
+
+  MatrixFreeTangent::~MatrixFreeTangent() = default;
+
+
+  void
+  MatrixFreeTangent::initialize_dof_vector(Vector &v) const
+  {
+    impl->matrix_free.initialize_dof_vector(v);
+  }
+
+
+  void
+  MatrixFreeTangent::update(const Vector &u)
+  {
+    impl->update(u);
+  }
+
+
+  void
+  MatrixFreeTangent::vmult(Vector &dst, const Vector &src) const
+  {
+    impl->vmult(dst, src);
+  }
+
+
+  void
+  MatrixFreeTangent::residual(Vector &dst) const
+  {
+    impl->residual(dst);
+  }
+
+
+  dealii::types::global_dof_index
+  MatrixFreeTangent::m() const
+  {
+    return impl->u.size();
+  }
+
+
+  std::size_t
+  MatrixFreeTangent::memory_consumption() const
+  {
+    return impl->matrix_free.memory_consumption() + point_storage_bytes() +
+           impl->u.memory_consumption();
+  }
+
+
+  std::size_t
+  MatrixFreeTangent::point_storage_bytes() const
+  {
+    return impl->storage.memory_consumption() +
+           impl->storage_single.memory_consumption();
+  }
+
+
+  std::size_t
+  MatrixFreeTangent::n_quadrature_points() const
+  {
+    return impl->n_quadrature_points();
+  }
+
+
+  std::size_t
+  MatrixFreeTangent::n_geometry_numbers() const
+  {
+    return impl->n_geometry_numbers();
+  }
+} // namespace systole::Mechanics
+
+template class systole::Mechanics::internal::TangentOperator<
+  dealii::VectorizedArray<double>>;

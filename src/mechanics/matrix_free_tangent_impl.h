@@ -1,0 +1,522 @@
+#pragma once
+
+// Internal to MatrixFreeTangent: the operator as a template on deal.II's
+// vectorization type. src/mechanics/matrix_free_tangent.cc instantiates it
+// for the default VectorizedArray<double> of the installed deal.II; the
+// benchmark also for 8 lanes (tests/bench/matrix_free_bench_simd.cc).
+// Includes the MatrixFree headers: include it only in .cc files.
+
+#include <deal.II/base/aligned_vector.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/subscriptor.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/matrix_free/fe_evaluation.h>
+#include <deal.II/matrix_free/matrix_free.h>
+#include <deal.II/matrix_free/tools.h>
+
+#include "mechanics/matrix_free_tangent.h"
+
+#include <algorithm>
+#include <array>
+#include <functional>
+#include <string>
+
+namespace systole::Mechanics::internal
+{
+  /// The operator behind MatrixFreeTangent, on @p VA (a VectorizedArray of
+  /// double): its functions are those of MatrixFreeTangent.
+  template <typename VA>
+  class TangentOperator : public dealii::Subscriptor
+  {
+  public:
+    static constexpr unsigned int degree = 2;  ///< Q2
+    static constexpr unsigned int n_q_1d = 3;  ///< Gauss points per direction
+    static constexpr unsigned int n_sym  = 45; ///< upper triangle of 9 x 9
+
+    using Vector  = dealii::LinearAlgebra::distributed::Vector<double>;
+    using MF      = dealii::MatrixFree<3, double, VA>;
+    using Eval    = dealii::FEEvaluation<3, degree, n_q_1d, 3, double, VA>;
+    using Grad    = dealii::Tensor<2, 3, VA>;
+    using Range   = std::pair<unsigned int, unsigned int>;
+    using Variant = MatrixFreeTangent::Variant;
+    /// The single-precision storage type of Variant::cached_single.
+    using VAf = dealii::VectorizedArray<float, VA::size()>;
+
+    TangentOperator(
+      const dealii::Mapping<3>                &mapping,
+      const dealii::DoFHandler<3>             &dof_handler,
+      const dealii::AffineConstraints<double> &constraints,
+      const NeoHookeanPenalty                 &law,
+      const Variant                            variant,
+      const unsigned int mg_level = dealii::numbers::invalid_unsigned_int)
+      : law(law)
+      , variant(variant)
+    {
+      const auto &fe = dof_handler.get_fe();
+      AssertThrow(fe.n_components() == 3 && fe.degree == degree &&
+                    fe.reference_cell() == dealii::ReferenceCells::Hexahedron,
+                  dealii::ExcMessage(
+                    "MatrixFreeTangent needs a Q2 displacement element on "
+                    "hexahedra (3 components, degree 2); got " +
+                    fe.get_name() +
+                    ". Use FESystem(FE_Q(2), 3) on a hexahedral mesh."));
+      typename MF::AdditionalData data;
+      data.tasks_parallel_scheme = MF::AdditionalData::none;
+      data.mapping_update_flags =
+        dealii::update_gradients | dealii::update_JxW_values;
+      data.mg_level = mg_level;
+      matrix_free.reinit(mapping,
+                         dof_handler,
+                         constraints,
+                         dealii::QGauss<1>(n_q_1d),
+                         data);
+      matrix_free.initialize_dof_vector(u);
+    }
+
+    void
+    update(const Vector &u_in);
+
+    void
+    vmult(Vector &dst, const Vector &src) const
+    {
+      matrix_free.cell_loop(&TangentOperator::apply_cells,
+                            this,
+                            dst,
+                            src,
+                            true);
+      for (const unsigned int i : matrix_free.get_constrained_dofs())
+        dst.local_element(i) = src.local_element(i);
+    }
+
+    /// dst += K src.
+    void
+    vmult_add(Vector &dst, const Vector &src) const
+    {
+      matrix_free.cell_loop(&TangentOperator::apply_cells,
+                            this,
+                            dst,
+                            src,
+                            false);
+      for (const unsigned int i : matrix_free.get_constrained_dofs())
+        dst.local_element(i) += src.local_element(i);
+    }
+
+    /// K is symmetric (a Hessian).
+    void
+    Tvmult(Vector &dst, const Vector &src) const
+    {
+      vmult(dst, src);
+    }
+    void
+    Tvmult_add(Vector &dst, const Vector &src) const
+    {
+      vmult_add(dst, src);
+    }
+
+    dealii::types::global_dof_index
+    m() const
+    {
+      return u.size();
+    }
+
+    /// Not available (the interface of deal.II's PreconditionChebyshev
+    /// asks for it; the diagonal comes from compute_inverse_diagonal()).
+    double
+    el(const unsigned int, const unsigned int) const
+    {
+      AssertThrow(false, dealii::ExcNotImplemented());
+      return 0.0;
+    }
+
+    void
+    initialize_dof_vector(Vector &v) const
+    {
+      matrix_free.initialize_dof_vector(v);
+    }
+
+    /// The inverse of K's diagonal (cached variant; 1 on constrained rows).
+    void
+    compute_inverse_diagonal(Vector &inverse) const;
+
+    void
+    residual(Vector &dst) const
+    {
+      matrix_free.cell_loop(&TangentOperator::residual_cells,
+                            this,
+                            dst,
+                            u,
+                            true);
+    }
+
+    std::size_t
+    n_quadrature_points() const
+    {
+      std::size_t n = 0;
+      for (unsigned int c = 0; c < matrix_free.n_cell_batches(); ++c)
+        n += matrix_free.n_active_entries_per_cell_batch(c) *
+             Eval::static_n_q_points;
+      return n;
+    }
+
+    /// The geometry vmult() reads: none (cached: folded into the stored
+    /// tangent), or 10 numbers per point of a general cell and 10 per
+    /// affine cell batch (recompute).
+    std::size_t
+    n_geometry_numbers() const
+    {
+      if (cached())
+        return 0;
+      using dealii::internal::MatrixFreeFunctions::GeometryType;
+      const auto &info = matrix_free.get_mapping_info();
+      std::size_t n    = 0;
+      for (unsigned int c = 0; c < matrix_free.n_cell_batches(); ++c)
+        n += info.get_cell_type(c) == GeometryType::general
+               ? VA::size() * Eval::static_n_q_points * 10
+               : VA::size() * 10;
+      return n;
+    }
+
+    const NeoHookeanPenalty law;
+    const Variant           variant;
+    MF                      matrix_free;
+    Vector                  u; ///< ghosted
+    /// Per cell batch and point: the 45 tangent entries (cached) or the
+    /// law's state (recompute).
+    dealii::AlignedVector<VA> storage;
+    /// The 45 tangent entries of Variant::cached_single.
+    dealii::AlignedVector<VAf> storage_single;
+
+    /// Whether the tangent is stored (in double or single precision).
+    bool
+    cached() const
+    {
+      return variant != Variant::recompute;
+    }
+
+  private:
+    using State = NeoHookeanPenalty::State<VA>;
+
+    /// Numbers stored per point.
+    unsigned int
+    per_point() const
+    {
+      return cached() ? n_sym : State::n_numbers;
+    }
+
+    const VA *
+    point(const unsigned int cell, const unsigned int q) const
+    {
+      return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
+    }
+    VA *
+    point(const unsigned int cell, const unsigned int q)
+    {
+      return &storage[(cell * Eval::static_n_q_points + q) * per_point()];
+    }
+    const VAf *
+    point_single(const unsigned int cell, const unsigned int q) const
+    {
+      return &storage_single[(cell * Eval::static_n_q_points + q) * n_sym];
+    }
+
+    /// The lanes of @p x in double precision.
+    static VA
+    to_double(const VAf &x)
+    {
+      VA result;
+#if defined(__AVX512F__)
+      // One conversion instruction for the 8-lane build.
+      if constexpr (VA::size() == 8)
+        {
+          result.data = _mm512_cvtps_pd(x.data);
+          return result;
+        }
+#endif
+      for (unsigned int l = 0; l < VA::size(); ++l)
+        result[l] = x[l];
+      return result;
+    }
+    static const VA &
+    to_double(const VA &x)
+    {
+      return x;
+    }
+
+    /// The state of the law at a point to and from its storage.
+    static void
+    store(const State &state, VA *s)
+    {
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          s[a]     = state.F[a / 3][a % 3];
+          s[9 + a] = state.FinvT[a / 3][a % 3];
+        }
+      s[18] = state.a;
+      s[19] = state.g;
+      s[20] = state.kJ2;
+      s[21] = state.I1_3;
+    }
+    static State
+    load(const VA *s)
+    {
+      State state;
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          state.F[a / 3][a % 3]     = s[a];
+          state.FinvT[a / 3][a % 3] = s[9 + a];
+        }
+      state.a    = s[18];
+      state.g    = s[19];
+      state.kJ2  = s[20];
+      state.I1_3 = s[21];
+      return state;
+    }
+
+    void
+    apply_cells(const MF &,
+                Vector       &dst,
+                const Vector &src,
+                const Range  &cells) const;
+
+    void
+    residual_cells(const MF &,
+                   Vector       &dst,
+                   const Vector &src,
+                   const Range  &cells) const;
+
+    /// out = A h with A the upper triangle of a symmetric 9 x 9 matrix, row
+    /// by row.
+    template <typename Stored>
+    static void
+    apply_symmetric(const Stored *A, const VA *h, VA *out)
+    {
+      for (unsigned int a = 0; a < 9; ++a)
+        out[a] = 0.0;
+      unsigned int index = 0;
+      for (unsigned int a = 0; a < 9; ++a)
+        {
+          out[a] += to_double(A[index++]) * h[a];
+          for (unsigned int b = a + 1; b < 9; ++b, ++index)
+            {
+              const VA entry = to_double(A[index]);
+              out[a] += entry * h[b];
+              out[b] += entry * h[a];
+            }
+        }
+    }
+
+    /// The cached operator at the points of the batch @p cell, on the
+    /// gradients of @p phi in unit-cell coordinates (in place: what
+    /// integrate() takes), so that no geometry is read.
+    void
+    apply_cached(Eval &phi, const unsigned int cell) const
+    {
+      constexpr unsigned int n_q = Eval::static_n_q_points;
+      VA                    *g   = phi.begin_gradients();
+      for (unsigned int q = 0; q < n_q; ++q)
+        {
+          // Entry 3 i + alpha: component i, unit direction alpha.
+          std::array<VA, 9> h, out;
+          for (unsigned int a = 0; a < 9; ++a)
+            h[a] = g[a * n_q + q];
+          if (variant == Variant::cached_single)
+            apply_symmetric(point_single(cell, q), h.data(), out.data());
+          else
+            apply_symmetric(point(cell, q), h.data(), out.data());
+          for (unsigned int a = 0; a < 9; ++a)
+            g[a * n_q + q] = out[a];
+        }
+    }
+
+    /// The cached tangent at one point, pulled back to the unit cell: the
+    /// upper triangle of
+    /// @f$\hat A_{(ilpha)(keta)} = JxW\, G_{Jlpha} A_{iJkL} G_{Leta}@f$
+    /// (A = dP/dF, G the inverse Jacobian as deal.II stores it: physical
+    /// gradient_J = sum_alpha G_{J alpha} unit gradient_alpha), built column
+    /// by column from the law's linearization() (the same linearization).
+    void
+    tangent_of(const State &state,
+               const Grad  &inverse_jacobian,
+               const VA    &JxW,
+               VA          *A) const
+    {
+      std::array<std::array<VA, 9>, 9> columns;
+      for (unsigned int b = 0; b < 9; ++b)
+        {
+          const unsigned int k = b / 3, beta = b % 3;
+          Grad               H; // physical gradient of e_k N, unit grad e_beta
+          for (unsigned int L = 0; L < 3; ++L)
+            H[k][L] = inverse_jacobian[L][beta];
+          const Grad dP = law.linearization(state, H);
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int alpha = 0; alpha < 3; ++alpha)
+              {
+                VA sum = 0.0;
+                for (unsigned int J = 0; J < 3; ++J)
+                  sum += inverse_jacobian[J][alpha] * dP[i][J];
+                columns[b][3 * i + alpha] = JxW * sum;
+              }
+        }
+      unsigned int index = 0;
+      for (unsigned int a = 0; a < 9; ++a)
+        for (unsigned int b = a; b < 9; ++b, ++index)
+          // Symmetric up to round-off; average the two halves.
+          A[index] = 0.5 * (columns[b][a] + columns[a][b]);
+    }
+  };
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::update(const Vector &u_in)
+  {
+    u.copy_locally_owned_data_from(u_in);
+    u.update_ghost_values();
+    const std::size_t n_points =
+      static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+      Eval::static_n_q_points;
+    if (variant == Variant::cached_single)
+      storage_single.resize(n_points * n_sym);
+    // (cached_single: one point's tangent in double before rounding)
+    storage.resize(variant == Variant::cached_single ? n_sym
+                                                     : n_points * per_point());
+    Eval   phi(matrix_free);
+    double min_J = 1.0;
+    for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
+      {
+        phi.reinit(cell);
+        phi.read_dof_values_plain(u);
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        const unsigned int lanes =
+          matrix_free.n_active_entries_per_cell_batch(cell);
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          {
+            Grad F = phi.get_gradient(q);
+            for (unsigned int d = 0; d < 3; ++d)
+              F[d][d] += 1.0;
+            const VA J = determinant(F);
+            for (unsigned int l = 0; l < lanes; ++l)
+              min_J = std::min(min_J, J[l]);
+            const State state = law.state(F);
+            if (variant == Variant::recompute)
+              store(state, point(cell, q));
+            else if (variant == Variant::cached)
+              tangent_of(state,
+                         phi.inverse_jacobian(q),
+                         phi.JxW(q),
+                         point(cell, q));
+            else
+              {
+                tangent_of(state,
+                           phi.inverse_jacobian(q),
+                           phi.JxW(q),
+                           &storage[0]);
+                VAf *single =
+                  &storage_single[(cell * phi.n_q_points + q) * n_sym];
+                for (unsigned int a = 0; a < n_sym; ++a)
+                  for (unsigned int l = 0; l < VA::size(); ++l)
+                    single[a][l] = static_cast<float>(storage[a][l]);
+              }
+          }
+      }
+    min_J = dealii::Utilities::MPI::min(min_J, u.get_mpi_communicator());
+    AssertThrow(min_J > 0.0,
+                dealii::ExcMessage(
+                  "MatrixFreeTangent::update(): det F = " +
+                  std::to_string(min_J) +
+                  " <= 0 at a quadrature point (an inverted element); "
+                  "reduce the load step or refine the mesh."));
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::compute_inverse_diagonal(Vector &inverse) const
+  {
+    AssertThrow(cached(), dealii::ExcNotImplemented());
+    matrix_free.initialize_dof_vector(inverse);
+    dealii::MatrixFreeTools::compute_diagonal(
+      matrix_free,
+      inverse,
+      std::function<void(Eval &)>([this](Eval &phi) {
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        apply_cached(phi, phi.get_current_cell_index());
+        phi.integrate(dealii::EvaluationFlags::gradients);
+      }));
+    for (const unsigned int i : matrix_free.get_constrained_dofs())
+      inverse.local_element(i) = 1.0;
+    for (unsigned int i = 0; i < inverse.locally_owned_size(); ++i)
+      {
+        const double d = inverse.local_element(i);
+        AssertThrow(d > 0.0,
+                    dealii::ExcMessage("MatrixFreeTangent: a diagonal entry "
+                                       "of the tangent is not positive (" +
+                                       std::to_string(d) + ")."));
+        inverse.local_element(i) = 1.0 / d;
+      }
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::apply_cells(const MF &,
+                                   Vector       &dst,
+                                   const Vector &src,
+                                   const Range  &cells) const
+  {
+    Eval phi(matrix_free);
+    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+      {
+        phi.reinit(cell);
+        // Start loading the next batch's point data while this one's sum
+        // factorization runs (the cached tangent is streamed from memory).
+        if (cell + 1 < cells.second)
+          {
+            const bool  single = variant == Variant::cached_single;
+            const char *next =
+              single ? reinterpret_cast<const char *>(point_single(cell + 1, 0))
+                     : reinterpret_cast<const char *>(point(cell + 1, 0));
+            const std::size_t bytes = (single ? sizeof(VAf) : sizeof(VA)) *
+                                      per_point() * Eval::static_n_q_points;
+            for (std::size_t offset = 0; offset < bytes; offset += 64)
+              __builtin_prefetch(next + offset, 0, 1);
+          }
+        phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
+        if (cached())
+          apply_cached(phi, cell);
+        else
+          for (unsigned int q = 0; q < phi.n_q_points; ++q)
+            phi.submit_gradient(law.linearization(load(point(cell, q)),
+                                                  phi.get_gradient(q)),
+                                q);
+        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+      }
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::residual_cells(const MF &,
+                                      Vector       &dst,
+                                      const Vector &src,
+                                      const Range  &cells) const
+  {
+    Eval phi(matrix_free);
+    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+      {
+        phi.reinit(cell);
+        phi.read_dof_values_plain(src);
+        phi.evaluate(dealii::EvaluationFlags::gradients);
+        for (unsigned int q = 0; q < phi.n_q_points; ++q)
+          {
+            Grad F = phi.get_gradient(q), P;
+            for (unsigned int d = 0; d < 3; ++d)
+              F[d][d] += 1.0;
+            law.evaluate<VA>(F, nullptr, P, nullptr);
+            phi.submit_gradient(P, q);
+          }
+        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+      }
+  }
+} // namespace systole::Mechanics::internal
