@@ -544,4 +544,11 @@ namespace systole::Electrophysiology
   {
     return impl->model;
   }
+
+
+  const PurkinjeNetwork &
+  Monodomain::purkinje() const
+  {
+    return impl->purkinje;
+  }
 } // namespace systole::Electrophysiology

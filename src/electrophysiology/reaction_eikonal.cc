@@ -5,11 +5,13 @@
 
 #include "electrophysiology/monodomain_impl.h"
 #include "electrophysiology/single_cell.h"
+#include "geometry/mesh.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 
 namespace systole::Electrophysiology
 {
@@ -75,10 +77,13 @@ namespace systole::Electrophysiology
                                       params.chi * params.C_m,
                                       threshold,
                                       params.time_step);
-        for (const unsigned int i : stimulus_nodes[s])
-          initial[i] =
-            std::min(initial[i], params.stimuli[s].start + latency[s]);
+        if (!params.purkinje.enabled)
+          for (const unsigned int i : stimulus_nodes[s])
+            initial[i] =
+              std::min(initial[i], params.stimuli[s].start + latency[s]);
       }
+    if (params.purkinje.enabled)
+      setup_purkinje(names, params.stimuli.front().start + latency[0], initial);
     solver.solve(initial);
     eikonal_times      = solver.owned_times();
     eikonal_statistics = solver.statistics();
@@ -112,6 +117,33 @@ namespace systole::Electrophysiology
         for (auto &nodes : stimulus_nodes)
           nodes.clear();
       }
+  }
+
+
+  void
+  Monodomain::Impl::setup_purkinje(const Geometry::BoundaryNames &names,
+                                   const double                   his_time,
+                                   std::vector<double>           &initial)
+  {
+    const std::string &part = params.purkinje.surface;
+    Geometry::require_boundary(tria, names, part);
+    const auto surface = TriangleSurface::gather(tria, names.id(part), comm);
+    purkinje = build_purkinje_network(surface, params.purkinje, his_time);
+    add_junction_sources(purkinje, node_positions, initial, comm);
+    double first = std::numeric_limits<double>::infinity(), last = -first;
+    for (const unsigned int j : purkinje.junctions)
+      {
+        first = std::min(first, purkinje.times[j]);
+        last  = std::max(last, purkinje.times[j]);
+      }
+    std::ostringstream o;
+    o << "Electrophysiology: Purkinje tree on '" << part << "' ("
+      << surface.n_triangles() << " triangles): " << purkinje.nodes.size()
+      << " nodes, " << purkinje.junctions.size()
+      << " junctions, His activation " << his_time
+      << " ms, junctions activated " << first << " ... " << last
+      << " ms, muscle after " << purkinje.junction_delay << " ms more";
+    logger.line(o.str());
   }
 
 

@@ -1,0 +1,154 @@
+// The Purkinje tree: reproducible from its seed, on the surface, activated
+// at path length / velocity, and activating the muscle at its junctions.
+#include "electrophysiology/purkinje.h"
+#include "support/purkinje_fixture.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+using namespace systole::Electrophysiology;
+using test_support::run_purkinje_lv;
+using test_support::small_purkinje_parameters;
+
+namespace
+{
+  bool
+  same_tree(const PurkinjeNetwork &a, const PurkinjeNetwork &b)
+  {
+    if (a.nodes.size() != b.nodes.size() || a.edges != b.edges ||
+        a.junctions != b.junctions)
+      return false;
+    for (unsigned int i = 0; i < a.nodes.size(); ++i)
+      if (a.nodes[i] != b.nodes[i] || a.times[i] != b.times[i])
+        return false;
+    return true;
+  }
+} // namespace
+
+TEST_CASE("The same seed grows the same Purkinje tree, another seed another",
+          "[ep][purkinje]")
+{
+  const auto params       = small_purkinje_parameters();
+  const auto first        = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  const auto again        = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  auto       other_params = params;
+  other_params.seed       = params.seed + 1;
+  const auto other = run_purkinje_lv(other_params, 2, false, MPI_COMM_SELF);
+  INFO(first.network.nodes.size()
+       << " nodes, " << first.network.junctions.size() << " junctions");
+  CHECK(first.network.nodes.size() > 100);
+  CHECK(first.network.junctions.size() > 10);
+  CHECK(same_tree(first.network, again.network));
+  CHECK(!same_tree(first.network, other.network));
+}
+
+TEST_CASE("Every Purkinje node lies on the endocardial surface",
+          "[ep][purkinje]")
+{
+  const auto run =
+    run_purkinje_lv(small_purkinje_parameters(), 2, false, MPI_COMM_SELF);
+  // Distances by brute force over all triangles, with a point-triangle
+  // distance of its own (test_support::distance_to_triangle).
+  double largest = 0;
+  for (const auto &x : run.network.nodes)
+    {
+      double d = std::numeric_limits<double>::infinity();
+      for (const auto &t : run.triangles)
+        d = std::min(d, test_support::distance_to_triangle(x, t));
+      largest = std::max(largest, d);
+    }
+  INFO(run.network.nodes.size()
+       << " nodes, " << run.triangles.size() << " triangles");
+  CHECK(largest < 1e-8);
+  // And the tree spreads: its nodes span much of the cavity's height.
+  double z_min = 0;
+  for (const auto &x : run.network.nodes)
+    z_min = std::min(z_min, x[2]);
+  CHECK(z_min < -8);
+}
+
+TEST_CASE("Closest points on the surface equal the brute-force ones",
+          "[ep][purkinje]")
+{
+  const auto run =
+    run_purkinje_lv(small_purkinje_parameters(), 1, false, MPI_COMM_SELF);
+  const TriangleSurface surface(run.triangles);
+  std::mt19937          rng(42);
+  const auto            uniform = [&](const double a, const double b) {
+    return a + (b - a) * (rng() / 4294967296.0);
+  };
+  for (unsigned int k = 0; k < 200; ++k)
+    {
+      const dealii::Point<3> p(uniform(-12, 12),
+                               uniform(-12, 12),
+                               uniform(-22, 8));
+      double                 d = std::numeric_limits<double>::infinity();
+      for (const auto &t : run.triangles)
+        d = std::min(d, test_support::distance_to_triangle(p, t));
+      const auto projection = surface.project(p);
+      CHECK(projection.distance == Approx(d).margin(1e-10));
+      CHECK(p.distance(projection.point) == Approx(d).margin(1e-10));
+    }
+}
+
+TEST_CASE("Purkinje activation equals path length over velocity",
+          "[ep][purkinje]")
+{
+  auto params     = small_purkinje_parameters();
+  params.velocity = 2.5;
+  const auto  run = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  const auto &net = run.network;
+  // Edges go from parent to child: walk each node back to the His entry.
+  std::vector<int> parent(net.nodes.size(), -1);
+  for (const auto &[a, b] : net.edges)
+    {
+      REQUIRE(a < b);
+      REQUIRE(parent[b] == -1);
+      parent[b] = a;
+    }
+  double largest = 0;
+  for (unsigned int i = 1; i < net.nodes.size(); ++i)
+    {
+      double length = 0;
+      for (int j = i; parent[j] >= 0; j = parent[j])
+        length += net.nodes[j].distance(net.nodes[parent[j]]);
+      largest =
+        std::max(largest, std::abs(net.times[i] - length / params.velocity));
+    }
+  CHECK(net.times[0] == 0);
+  CHECK(largest < 1e-12);
+}
+
+TEST_CASE("Every Purkinje junction activates the muscle", "[ep][purkinje]")
+{
+  const auto run =
+    run_purkinje_lv(small_purkinje_parameters(), 2, true, MPI_COMM_SELF);
+  const auto &net = run.network;
+  REQUIRE(!net.junctions.empty());
+  double worst = -std::numeric_limits<double>::infinity();
+  for (unsigned int j = 0; j < net.junctions.size(); ++j)
+    worst = std::max(worst,
+                     run.junction_node_time[j] -
+                       (net.times[net.junctions[j]] + net.junction_delay +
+                        run.h / run.velocity));
+  INFO("h = " << run.h << " mm");
+  CHECK(worst <= 0);
+  CHECK(run.n_unreached == 0);
+  // Nothing activates before the earliest junction plus the delay.
+  double earliest = std::numeric_limits<double>::infinity();
+  for (const unsigned int j : net.junctions)
+    earliest = std::min(earliest, net.times[j] + net.junction_delay);
+  for (const double t : run.junction_node_time)
+    CHECK(t >= earliest);
+}
+
+TEST_CASE("A His point away from the endocardium is an error", "[ep][purkinje]")
+{
+  auto params      = small_purkinje_parameters();
+  params.his_point = dealii::Point<3>(0, 0, -5); // in the cavity
+  CHECK_THROWS_WITH(run_purkinje_lv(params, 1, false, MPI_COMM_SELF),
+                    Catch::Contains("His point"));
+}
