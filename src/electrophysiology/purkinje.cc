@@ -102,20 +102,21 @@ namespace systole::Electrophysiology
       "the His point, projected onto the surface's tangent plane there. "
       "Units: -. Default: towards the apex of the default LV.");
     prm.declare_entry("His bundle length",
-                      "15",
+                      "8",
                       Double(0.0),
                       "Length of the bundle from the His point to the "
                       "fascicles. Units: mm.");
     prm.declare_entry(
       "Fascicle angles",
-      "-70, 70",
+      "-80, 0, 80",
       Anything(),
       "Angles of the fascicles from the bundle's direction, about the "
       "outward surface normal (positive: counter-clockwise seen from the "
       "cavity's outside), separated by commas; one fascicle per angle. "
-      "Units: degrees. Default: the left anterior and posterior fascicles.");
+      "Units: degrees. Default: the left anterior, septal and posterior "
+      "fascicles (docs/verification.md, Purkinje network, has the choice).");
     prm.declare_entry("Fascicle lengths",
-                      "25, 25",
+                      "20, 20, 20",
                       Anything(),
                       "Length of each fascicle, one per angle. Units: mm.");
     prm.declare_entry("Segment length",
@@ -126,13 +127,13 @@ namespace systole::Electrophysiology
                       "mm.");
     prm.declare_entry(
       "Branch length",
-      "8",
+      "5",
       Double(0.0),
       "Mean length of the branches after the fascicles (each drawn "
       "uniformly within Branch variation of it). Units: mm.");
     prm.declare_entry(
       "Branch angle",
-      "25",
+      "30",
       Double(0.0, 90.0),
       "Mean angle of each branch of a fork from the direction of its parent "
       "(the two branches leave at -angle and +angle, each drawn uniformly "
@@ -143,7 +144,7 @@ namespace systole::Electrophysiology
                       "Relative spread of the branch lengths and angles: "
                       "uniform in (1 - v, 1 + v) times the mean. Units: -.");
     prm.declare_entry("Number of generations",
-                      "8",
+                      "10",
                       Integer(0, 30),
                       "Forks after the fascicles (a branch that stopped "
                       "early does not fork). Units: -.");
@@ -152,8 +153,8 @@ namespace systole::Electrophysiology
       "0.9",
       Double(0.0),
       "A branch stops where its next node would lie closer than this to a "
-      "node of another branch (not checked on a branch's first segment). "
-      "Units: mm.");
+      "node of another branch (not checked on a branch's first segment); "
+      "smaller than the Segment length. Units: mm.");
     prm.declare_entry(
       "Conduction velocity",
       "3",
@@ -224,6 +225,14 @@ namespace systole::Electrophysiology
     positive(p.segment_length, "Segment length");
     positive(p.velocity, "Conduction velocity");
     positive(p.branch_length, "Branch length");
+    AssertThrow(p.minimum_distance < p.segment_length,
+                dealii::ExcMessage(
+                  entry_name("Minimum node distance") + " (" +
+                  std::to_string(p.minimum_distance) +
+                  " mm) must be smaller than the Segment length (" +
+                  std::to_string(p.segment_length) +
+                  " mm): a branch's second node lies about one segment from "
+                  "its parent's last nodes and would stop every branch."));
     AssertThrow(p.surface != "",
                 dealii::ExcMessage(entry_name("Surface") +
                                    " must name a boundary part."));

@@ -25,32 +25,33 @@ namespace dealii
 namespace systole::Electrophysiology
 {
   /// Subsection "Electrophysiology / Purkinje": the tree and its
-  /// conduction. Lengths in mm, angles in degrees, times in ms.
+  /// conduction. Lengths in mm, angles in degrees, times in ms. The
+  /// defaults are those of declare(): a tree for the default LV.
   struct PurkinjeParameters
   {
     bool enabled = false; ///< grow the tree and activate through it
     /// Boundary part the tree grows on (the endocardium).
     std::string surface = "endocardium";
     /// Entry of the His bundle on the surface [mm] (projected onto it).
-    dealii::Point<3> his_point;
+    dealii::Point<3> his_point{22.9, 0, -5};
     /// Direction of the His bundle (projected onto the surface's tangent
     /// plane at the His point) [-].
-    dealii::Tensor<1, 3> initial_direction;
-    double               his_length = 15;     ///< the bundle's length [mm]
-    std::vector<double>  fascicle_angles;     ///< from the bundle [deg]
-    std::vector<double>  fascicle_lengths;    ///< one per angle [mm]
-    double               segment_length = 1;  ///< [mm]
-    double               branch_length  = 8;  ///< mean [mm]
-    double               branch_angle   = 25; ///< each side of a fork [deg]
+    dealii::Tensor<1, 3> initial_direction{{0, 0, -1}};
+    double               his_length = 8; ///< the bundle's length [mm]
+    std::vector<double>  fascicle_angles{-80, 0, 80}; ///< from the bundle [deg]
+    std::vector<double>  fascicle_lengths{20, 20, 20}; ///< one per angle [mm]
+    double               segment_length = 1;           ///< [mm]
+    double               branch_length  = 5;           ///< mean [mm]
+    double               branch_angle   = 30; ///< each side of a fork [deg]
     /// Relative spread of the branch lengths and angles: each drawn
     /// uniformly in (1 ± variation) times its mean [-].
     double       variation   = 0.3;
-    unsigned int generations = 8; ///< forks after the fascicles
+    unsigned int generations = 10; ///< forks after the fascicles
     /// A new node closer than this to a node of another branch stops its
     /// branch [mm].
     double             minimum_distance = 0.9;
     double             velocity         = 3;    ///< conduction velocity [mm/ms]
-    double             junction_delay   = 3;    ///< Purkinje-muscle delay [ms]
+    double             junction_delay   = 5;    ///< Purkinje-muscle delay [ms]
     std::uint_fast32_t seed             = 1234; ///< of the std::mt19937
 
     /// Declares subsection "Purkinje" (inside "Electrophysiology": call

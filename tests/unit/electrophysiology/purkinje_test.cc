@@ -1,5 +1,7 @@
 // The Purkinje tree: reproducible from its seed, on the surface, activated
 // at path length / velocity, and activating the muscle at its junctions.
+#include <deal.II/base/parameter_handler.h>
+
 #include "electrophysiology/purkinje.h"
 #include "support/purkinje_fixture.h"
 
@@ -150,5 +152,41 @@ TEST_CASE("A His point away from the endocardium is an error", "[ep][purkinje]")
   auto params      = small_purkinje_parameters();
   params.his_point = dealii::Point<3>(0, 0, -5); // in the cavity
   CHECK_THROWS_WITH(run_purkinje_lv(params, 1, false, MPI_COMM_SELF),
+                    Catch::Contains("His point"));
+}
+
+TEST_CASE("Purkinje parameters parse to their declared defaults and name "
+          "bad entries",
+          "[ep][purkinje]")
+{
+  const auto parsed = [](const std::string &extra) {
+    dealii::ParameterHandler prm;
+    prm.enter_subsection("Electrophysiology");
+    PurkinjeParameters::declare(prm);
+    prm.leave_subsection();
+    prm.parse_input_from_string("subsection Electrophysiology\n"
+                                "  subsection Purkinje\n"
+                                "    set Enable = true\n" +
+                                extra + "  end\nend\n");
+    return PurkinjeParameters::parse(prm);
+  };
+  const PurkinjeParameters defaults;
+  const auto               p = parsed("");
+  CHECK(p.enabled);
+  CHECK(p.his_point == defaults.his_point);
+  CHECK(p.initial_direction == defaults.initial_direction);
+  CHECK(p.fascicle_angles == defaults.fascicle_angles);
+  CHECK(p.fascicle_lengths == defaults.fascicle_lengths);
+  CHECK(p.his_length == defaults.his_length);
+  CHECK(p.branch_length == defaults.branch_length);
+  CHECK(p.branch_angle == defaults.branch_angle);
+  CHECK(p.generations == defaults.generations);
+  CHECK(p.velocity == defaults.velocity);
+  CHECK(p.junction_delay == defaults.junction_delay);
+  CHECK_THROWS_WITH(parsed("    set Minimum node distance = 1.5\n"),
+                    Catch::Contains("Minimum node distance"));
+  CHECK_THROWS_WITH(parsed("    set Fascicle lengths = 10, 10\n"),
+                    Catch::Contains("Fascicle lengths"));
+  CHECK_THROWS_WITH(parsed("    set His point = 1, 2\n"),
                     Catch::Contains("His point"));
 }
