@@ -175,7 +175,57 @@ namespace systole::Electrophysiology
                       "Seed of the std::mt19937 that draws the branch "
                       "lengths and angles: the same seed grows the same "
                       "tree. Units: -.");
+    prm.enter_subsection("Right bundle");
+    prm.declare_entry(
+      "Surface",
+      "",
+      Anything(),
+      "Boundary part of a second tree, the right bundle branch (e.g. "
+      "rv_endocardium; then Purkinje / Surface is the LV's, e.g. "
+      "lv_endocardium); empty: none. It grows from its own His point, "
+      "activated with the left one, with the branching entries above (seed + "
+      "1). Units: -.");
+    prm.declare_entry("His point",
+                      "0, 0, 0",
+                      Anything(),
+                      "Entry of the right bundle 'x, y, z' on its Surface (the "
+                      "septum's right side). Units: mm.");
+    prm.declare_entry("Initial direction",
+                      "0, 0, -1",
+                      Anything(),
+                      "Direction 'x, y, z' of the right bundle. Units: -.");
+    prm.declare_entry("His bundle length",
+                      "8",
+                      Double(0.0),
+                      "Length of the right bundle before its fascicles. "
+                      "Units: mm.");
+    prm.declare_entry("Fascicle angles",
+                      "0",
+                      Anything(),
+                      "Angles of its fascicles from the bundle's direction, "
+                      "separated by commas. Units: degrees.");
+    prm.declare_entry("Fascicle lengths",
+                      "20",
+                      Anything(),
+                      "Length of each fascicle, one per angle. Units: mm.");
     prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+
+  PurkinjeParameters
+  PurkinjeParameters::right_bundle() const
+  {
+    PurkinjeParameters p = *this;
+    p.surface            = right.surface;
+    p.his_point          = right.his_point;
+    p.initial_direction  = right.initial_direction;
+    p.his_length         = right.his_length;
+    p.fascicle_angles    = right.fascicle_angles;
+    p.fascicle_lengths   = right.fascicle_lengths;
+    p.seed               = seed + 1;
+    p.right.surface.clear();
+    return p;
   }
 
 
@@ -204,20 +254,49 @@ namespace systole::Electrophysiology
     p.velocity         = prm.get_double(s, "Conduction velocity");
     p.junction_delay   = prm.get_double(s, "Junction delay");
     p.seed             = prm.get_integer(s, "Random seed");
+    {
+      std::vector<std::string> r = section;
+      r.push_back("Right bundle");
+      p.right.surface = dealii::Utilities::trim(prm.get(r, "Surface"));
+      p.right.his_point =
+        dealii::Point<3>(parse_vector(prm.get(r, "His point"), "His point"));
+      p.right.initial_direction =
+        parse_vector(prm.get(r, "Initial direction"), "Initial direction");
+      p.right.his_length = prm.get_double(r, "His bundle length");
+      p.right.fascicle_angles =
+        parse_numbers(prm.get(r, "Fascicle angles"), "Fascicle angles");
+      p.right.fascicle_lengths =
+        parse_numbers(prm.get(r, "Fascicle lengths"), "Fascicle lengths");
+    }
     if (!p.enabled)
       return p;
     AssertThrow(p.initial_direction.norm() > 0,
                 dealii::ExcMessage(entry_name("Initial direction") +
                                    " must not be zero."));
-    AssertThrow(p.fascicle_angles.size() == p.fascicle_lengths.size(),
-                dealii::ExcMessage(
-                  entry_name("Fascicle lengths") +
-                  " needs one length per entry of Fascicle angles (" +
-                  std::to_string(p.fascicle_angles.size()) + ")."));
-    for (const double l : p.fascicle_lengths)
-      AssertThrow(l >= 0,
-                  dealii::ExcMessage(entry_name("Fascicle lengths") +
-                                     " must not be negative."));
+    const auto check_fascicles = [](const std::vector<double> &angles,
+                                    const std::vector<double> &lengths,
+                                    const std::string         &where) {
+      AssertThrow(angles.size() == lengths.size(),
+                  dealii::ExcMessage(
+                    entry_name(where + "Fascicle lengths") +
+                    " needs one length per entry of Fascicle angles (" +
+                    std::to_string(angles.size()) + ")."));
+      for (const double l : lengths)
+        AssertThrow(l >= 0,
+                    dealii::ExcMessage(entry_name(where + "Fascicle lengths") +
+                                       " must not be negative."));
+    };
+    check_fascicles(p.fascicle_angles, p.fascicle_lengths, "");
+    if (!p.right.surface.empty())
+      {
+        check_fascicles(p.right.fascicle_angles,
+                        p.right.fascicle_lengths,
+                        "Right bundle / ");
+        AssertThrow(p.right.initial_direction.norm() > 0,
+                    dealii::ExcMessage(
+                      entry_name("Right bundle / Initial direction") +
+                      " must not be zero."));
+      }
     const auto positive = [](const double value, const std::string &entry) {
       AssertThrow(value > 0,
                   dealii::ExcMessage(entry_name(entry) + " must be > 0."));
@@ -641,6 +720,21 @@ namespace systole::Electrophysiology
     network.times = purkinje_activation_times(tree, params.velocity, his_time);
     network.junction_delay = params.junction_delay;
     return network;
+  }
+
+
+  PurkinjeNetwork
+  merge(const PurkinjeNetwork &a, const PurkinjeNetwork &b)
+  {
+    PurkinjeNetwork    merged = a;
+    const unsigned int offset = a.nodes.size();
+    merged.nodes.insert(merged.nodes.end(), b.nodes.begin(), b.nodes.end());
+    merged.times.insert(merged.times.end(), b.times.begin(), b.times.end());
+    for (const auto &[i, j] : b.edges)
+      merged.edges.emplace_back(i + offset, j + offset);
+    for (const unsigned int j : b.junctions)
+      merged.junctions.push_back(j + offset);
+    return merged;
   }
 
 

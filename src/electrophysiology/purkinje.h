@@ -54,6 +54,26 @@ namespace systole::Electrophysiology
     double             junction_delay   = 5;    ///< Purkinje-muscle delay [ms]
     std::uint_fast32_t seed             = 1234; ///< of the std::mt19937
 
+    /// Subsection "Right bundle": a second tree, the right bundle branch,
+    /// on its own surface (biventricular meshes), from its own His point
+    /// (the His entry on the septum's right side: activated at the same
+    /// time as the left one), with the branching settings above and the
+    /// seed + 1.
+    struct RightBundle
+    {
+      std::string          surface; ///< boundary part; empty: no right tree
+      dealii::Point<3>     his_point;
+      dealii::Tensor<1, 3> initial_direction{{0, 0, -1}};
+      double               his_length = 8;       ///< [mm]
+      std::vector<double>  fascicle_angles{0};   ///< [deg]
+      std::vector<double>  fascicle_lengths{20}; ///< [mm]
+    } right;
+
+    /// The parameters of the right bundle's tree: these with the bundle,
+    /// His point, direction and fascicles of #right, the seed + 1.
+    PurkinjeParameters
+    right_bundle() const;
+
     /// Declares subsection "Purkinje" (inside "Electrophysiology": call
     /// with the handler entered there).
     static void
@@ -229,6 +249,11 @@ namespace systole::Electrophysiology
   build_purkinje_network(const TriangleSurface    &surface,
                          const PurkinjeParameters &params,
                          const double              his_time);
+
+  /// @p a and @p b as one network (the nodes of @p b numbered after those
+  /// of @p a).
+  PurkinjeNetwork
+  merge(const PurkinjeNetwork &a, const PurkinjeNetwork &b);
 
   /// The junctions of @p network as sources of the myocardial eikonal
   /// solve: the node nearest to each junction (of the nodes at

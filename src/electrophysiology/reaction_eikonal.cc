@@ -125,10 +125,23 @@ namespace systole::Electrophysiology
                                    const double                   his_time,
                                    std::vector<double>           &initial)
   {
-    const std::string &part = params.purkinje.surface;
-    Geometry::require_boundary(tria, names, part);
-    const auto surface = TriangleSurface::gather(tria, names.id(part), comm);
-    purkinje = build_purkinje_network(surface, params.purkinje, his_time);
+    const auto grow = [&](const PurkinjeParameters &tree) {
+      Geometry::require_boundary(tria, names, tree.surface);
+      const auto surface =
+        TriangleSurface::gather(tria, names.id(tree.surface), comm);
+      return std::make_pair(build_purkinje_network(surface, tree, his_time),
+                            surface.n_triangles());
+    };
+    auto [network, n_triangles] = grow(params.purkinje);
+    std::string part            = params.purkinje.surface;
+    if (!params.purkinje.right.surface.empty())
+      {
+        const auto right = grow(params.purkinje.right_bundle());
+        network          = merge(network, right.first);
+        n_triangles += right.second;
+        part += "' and '" + params.purkinje.right.surface;
+      }
+    purkinje = std::move(network);
     add_junction_sources(purkinje, node_positions, initial, comm);
     double first = std::numeric_limits<double>::infinity(), last = -first;
     for (const unsigned int j : purkinje.junctions)
@@ -137,10 +150,9 @@ namespace systole::Electrophysiology
         last  = std::max(last, purkinje.times[j]);
       }
     std::ostringstream o;
-    o << "Electrophysiology: Purkinje tree on '" << part << "' ("
-      << surface.n_triangles() << " triangles): " << purkinje.nodes.size()
-      << " nodes, " << purkinje.junctions.size()
-      << " junctions, His activation " << his_time
+    o << "Electrophysiology: Purkinje tree on '" << part << "' (" << n_triangles
+      << " triangles): " << purkinje.nodes.size() << " nodes, "
+      << purkinje.junctions.size() << " junctions, His activation " << his_time
       << " ms, junctions activated " << first << " ... " << last
       << " ms, muscle after " << purkinje.junction_delay << " ms more";
     logger.line(o.str());

@@ -54,6 +54,20 @@ namespace test_support
       Electrophysiology::TriangleSurface::gather(*mesh.tria, endo, comm);
     PurkinjeRun run;
     run.network = Electrophysiology::build_purkinje_network(surface, params, 0);
+    if (!params.right.surface.empty())
+      {
+        const auto right =
+          Electrophysiology::TriangleSurface::gather(*mesh.tria,
+                                                     mesh.names.id(
+                                                       params.right.surface),
+                                                     comm);
+        run.n_left  = run.network.nodes.size();
+        run.network = Electrophysiology::merge(
+          run.network,
+          Electrophysiology::build_purkinje_network(right,
+                                                    params.right_bundle(),
+                                                    0));
+      }
     // The triangles again, for the independent distance check.
     for (const auto &cell : mesh.tria->active_cell_iterators())
       if (cell->is_locally_owned())

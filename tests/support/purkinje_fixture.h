@@ -23,6 +23,8 @@ namespace test_support
     /// The endocardial triangles (the same on every rank).
     std::vector<std::array<dealii::Point<3>, 3>> triangles;
     systole::Electrophysiology::PurkinjeNetwork  network;
+    /// With a right bundle: the nodes of the left tree (numbered first).
+    unsigned int n_left = 0;
     /// Per junction: the position of the mesh node nearest to it and that
     /// node's myocardial eikonal time [ms] (on every rank).
     std::vector<dealii::Point<3>> junction_node;
@@ -34,6 +36,7 @@ namespace test_support
   };
 
   /// Grow the tree of @p params on the endocardium of the Land ventricle
+  /// (and a right bundle, if @p params has one, on its surface)
   /// (coarse 8 x 3 x 1 cells refined @p refinements times, distributed
   /// over @p comm), activate it from 0 ms and, if @p eikonal, solve the
   /// myocardial eikonal from its junctions.

@@ -11,13 +11,21 @@
 TEST_CASE("The Purkinje tree on several ranks equals the serial one",
           "[mpi][ep][purkinje]")
 {
-  const auto params = test_support::small_purkinje_parameters();
+  auto params = test_support::small_purkinje_parameters();
+  // With a right bundle (the epicardium stands in for its surface).
+  params.right.surface          = "epicardium";
+  params.right.his_point        = dealii::Point<3>(-10, 0, 1);
+  params.right.his_length       = 3;
+  params.right.fascicle_angles  = {0};
+  params.right.fascicle_lengths = {4};
   const auto parallel =
     test_support::run_purkinje_lv(params, 2, true, MPI_COMM_WORLD);
   const auto serial =
     test_support::run_purkinje_lv(params, 2, true, MPI_COMM_SELF);
   const auto &a = parallel.network, &b = serial.network;
   REQUIRE(a.nodes.size() == b.nodes.size());
+  CHECK(parallel.n_left == serial.n_left);
+  CHECK(serial.n_left < b.nodes.size());
   CHECK(a.edges == b.edges);
   CHECK(a.junctions == b.junctions);
   double position = 0, time = 0, muscle = 0;

@@ -190,3 +190,35 @@ TEST_CASE("Purkinje parameters parse to their declared defaults and name "
   CHECK_THROWS_WITH(parsed("    set His point = 1, 2\n"),
                     Catch::Contains("His point"));
 }
+
+TEST_CASE("A right bundle grows its own tree on its own surface",
+          "[ep][purkinje]")
+{
+  // The small ventricle has one cavity: its epicardium stands in for the
+  // right ventricle's endocardium.
+  auto       params       = small_purkinje_parameters();
+  const auto left         = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  params.right.surface    = "epicardium";
+  params.right.his_point  = dealii::Point<3>(-10, 0, 1);
+  params.right.his_length = 3;
+  params.right.fascicle_angles  = {0};
+  params.right.fascicle_lengths = {4};
+  const auto  both = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  const auto &net  = both.network;
+  // The left tree is unchanged and numbered first.
+  REQUIRE(both.n_left == left.network.nodes.size());
+  REQUIRE(net.nodes.size() > both.n_left + 20);
+  for (unsigned int i = 0; i < both.n_left; ++i)
+    CHECK(net.nodes[i] == left.network.nodes[i]);
+  // The right tree starts at its own His entry at the same time, on the
+  // epicardium (r_s = 10 mm at the equator), its edges inside it.
+  CHECK(net.times[both.n_left] == 0);
+  CHECK(std::abs(net.nodes[both.n_left].distance(dealii::Point<3>(0, 0, 1)) -
+                 10) < 0.1);
+  for (const auto &[a, b] : net.edges)
+    CHECK((a < both.n_left) == (b < both.n_left));
+  unsigned int right_junctions = 0;
+  for (const unsigned int j : net.junctions)
+    right_junctions += j >= both.n_left ? 1 : 0;
+  CHECK(right_junctions > 5);
+}
