@@ -464,26 +464,33 @@ namespace systole::Electrophysiology
         }
       return std::sqrt(d2);
     };
-    double           best          = std::numeric_limits<double>::infinity();
-    unsigned int     best_triangle = 0;
-    dealii::Point<3> best_point;
-    // Boxes in order of distance; stop when a box is farther than the best
-    // triangle so far (a triangle is never nearer than its box).
-    for (auto it = index->tree.qbegin(bgi::nearest(p, triangles.size()));
-         it != index->tree.qend();
-         ++it)
+    // The k nearest boxes, k doubled until the best triangle found is
+    // nearer than the farthest of them (the boxes not returned are no
+    // nearer than that one, and a triangle is never nearer than its box).
+    const unsigned int      n    = triangles.size();
+    double                  best = std::numeric_limits<double>::infinity();
+    unsigned int            best_triangle = 0;
+    dealii::Point<3>        best_point;
+    std::vector<Index::Box> found;
+    for (unsigned int k = std::min(8u, n);; k = std::min(2 * k, n))
       {
-        if (box_distance(it->first) > best)
-          break;
-        const unsigned int t = it->second;
-        const auto         q = closest_point_on_triangle(p, triangles[t]);
-        const double       d = p.distance(q);
-        if (d < best || (d == best && t < best_triangle))
+        found.clear();
+        index->tree.query(bgi::nearest(p, k), std::back_inserter(found));
+        double farthest = 0;
+        for (const auto &[box, t] : found)
           {
-            best          = d;
-            best_triangle = t;
-            best_point    = q;
+            farthest       = std::max(farthest, box_distance(box));
+            const auto   q = closest_point_on_triangle(p, triangles[t]);
+            const double d = p.distance(q);
+            if (d < best || (d == best && t < best_triangle))
+              {
+                best          = d;
+                best_triangle = t;
+                best_point    = q;
+              }
           }
+        if (k == n || best < farthest)
+          break;
       }
     const auto &tri = triangles[best_triangle];
     auto normal = dealii::cross_product_3d(tri[1] - tri[0], tri[2] - tri[0]);

@@ -8,6 +8,7 @@
 #include "geometry/mesh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -125,7 +126,8 @@ namespace systole::Electrophysiology
                                    const double                   his_time,
                                    std::vector<double>           &initial)
   {
-    const auto grow = [&](const PurkinjeParameters &tree) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto grow  = [&](const PurkinjeParameters &tree) {
       Geometry::require_boundary(tria, names, tree.surface);
       const auto surface =
         TriangleSurface::gather(tria, names.id(tree.surface), comm);
@@ -154,7 +156,10 @@ namespace systole::Electrophysiology
       << " triangles): " << purkinje.nodes.size() << " nodes, "
       << purkinje.junctions.size() << " junctions, His activation " << his_time
       << " ms, junctions activated " << first << " ... " << last
-      << " ms, muscle after " << purkinje.junction_delay << " ms more";
+      << " ms, muscle after " << purkinje.junction_delay << " ms more ("
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+           .count()
+      << " s)";
     logger.line(o.str());
   }
 
