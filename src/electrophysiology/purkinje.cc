@@ -61,6 +61,48 @@ namespace systole::Electrophysiology
       o << p[0] << ", " << p[1] << ", " << p[2];
       return o.str();
     }
+
+    /// Subsection "Right bundle" (inside "Purkinje").
+    void
+    declare_right_bundle(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.enter_subsection("Right bundle");
+      prm.declare_entry(
+        "Surface",
+        "",
+        Anything(),
+        "Boundary part of a second tree, the right bundle branch (e.g. "
+        "rv_endocardium; then Purkinje / Surface is the LV's, e.g. "
+        "lv_endocardium); empty: none. It grows from its own His point, "
+        "activated with the left one, with the branching entries above (seed + "
+        "1). Units: -.");
+      prm.declare_entry(
+        "His point",
+        "0, 0, 0",
+        Anything(),
+        "Entry of the right bundle 'x, y, z' on its Surface (the "
+        "septum's right side). Units: mm.");
+      prm.declare_entry("Initial direction",
+                        "0, 0, -1",
+                        Anything(),
+                        "Direction 'x, y, z' of the right bundle. Units: -.");
+      prm.declare_entry("His bundle length",
+                        "8",
+                        Double(0.0),
+                        "Length of the right bundle before its fascicles. "
+                        "Units: mm.");
+      prm.declare_entry("Fascicle angles",
+                        "0",
+                        Anything(),
+                        "Angles of its fascicles from the bundle's direction, "
+                        "separated by commas. Units: degrees.");
+      prm.declare_entry("Fascicle lengths",
+                        "20",
+                        Anything(),
+                        "Length of each fascicle, one per angle. Units: mm.");
+      prm.leave_subsection();
+    }
   } // namespace
 
 
@@ -175,40 +217,7 @@ namespace systole::Electrophysiology
                       "Seed of the std::mt19937 that draws the branch "
                       "lengths and angles: the same seed grows the same "
                       "tree. Units: -.");
-    prm.enter_subsection("Right bundle");
-    prm.declare_entry(
-      "Surface",
-      "",
-      Anything(),
-      "Boundary part of a second tree, the right bundle branch (e.g. "
-      "rv_endocardium; then Purkinje / Surface is the LV's, e.g. "
-      "lv_endocardium); empty: none. It grows from its own His point, "
-      "activated with the left one, with the branching entries above (seed + "
-      "1). Units: -.");
-    prm.declare_entry("His point",
-                      "0, 0, 0",
-                      Anything(),
-                      "Entry of the right bundle 'x, y, z' on its Surface (the "
-                      "septum's right side). Units: mm.");
-    prm.declare_entry("Initial direction",
-                      "0, 0, -1",
-                      Anything(),
-                      "Direction 'x, y, z' of the right bundle. Units: -.");
-    prm.declare_entry("His bundle length",
-                      "8",
-                      Double(0.0),
-                      "Length of the right bundle before its fascicles. "
-                      "Units: mm.");
-    prm.declare_entry("Fascicle angles",
-                      "0",
-                      Anything(),
-                      "Angles of its fascicles from the bundle's direction, "
-                      "separated by commas. Units: degrees.");
-    prm.declare_entry("Fascicle lengths",
-                      "20",
-                      Anything(),
-                      "Length of each fascicle, one per angle. Units: mm.");
-    prm.leave_subsection();
+    declare_right_bundle(prm);
     prm.leave_subsection();
   }
 
