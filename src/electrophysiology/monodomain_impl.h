@@ -109,13 +109,14 @@ namespace systole::Electrophysiology
     void
     setup_eikonal(const Fibres::FibreField      &fibres,
                   const Geometry::BoundaryNames &names);
-    /// Grow the Purkinje tree, activate it from the His entry at
-    /// @p his_time [ms] and make its junctions sources in @p initial (owned
-    /// nodes).
+    /// Grow the Purkinje tree (Parameters::purkinje) into #purkinje and
+    /// activate it from the His entry at @p his_time [ms].
     void
-    setup_purkinje(const Geometry::BoundaryNames &names,
-                   const double                   his_time,
-                   std::vector<double>           &initial);
+    grow_purkinje(const Geometry::BoundaryNames &names, const double his_time);
+    /// Model = monodomain: replace the stimuli by the junctions' (before
+    /// locate_stimuli()).
+    void
+    setup_purkinje_stimuli(const Geometry::BoundaryNames &names);
     /// Reaction-eikonal: the nodal stimulus rates of the step [@p t0,
     /// @p t1] (the charge of each node's window inside it, spread evenly).
     void

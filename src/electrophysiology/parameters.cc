@@ -368,11 +368,6 @@ namespace systole::Electrophysiology
           positive(p.eikonal.endocardial_velocity,
                    "Fast endocardial layer velocity");
       }
-    AssertThrow(!p.purkinje.enabled || p.model != Model::monodomain,
-                dealii::ExcMessage(
-                  "Electrophysiology / Purkinje / Enable = true needs Model "
-                  "= eikonal or reaction-eikonal (the monodomain model does "
-                  "not couple to the tree yet)."));
     AssertThrow(!p.purkinje.enabled || !p.stimuli.empty(),
                 dealii::ExcMessage(
                   "Electrophysiology / Purkinje: the His bundle activates "

@@ -116,7 +116,8 @@ namespace systole::Electrophysiology
       "false",
       Bool(),
       "Grow a Purkinje network on the endocardium and activate the "
-      "myocardium through it (Model = eikonal or reaction-eikonal): the His "
+      "myocardium through it (Model = eikonal or reaction-eikonal; for "
+      "monodomain see Junction stimulus radius): the His "
       "entry activates when the first stimulus has brought a cell to the "
       "threshold (its start plus the cell's latency), the activation runs "
       "along the tree at the Conduction velocity, and each terminal node (a "
@@ -217,6 +218,15 @@ namespace systole::Electrophysiology
                       "Seed of the std::mt19937 that draws the branch "
                       "lengths and angles: the same seed grows the same "
                       "tree. Units: -.");
+    prm.declare_entry(
+      "Junction stimulus radius",
+      "1.5",
+      Double(0.0),
+      "Model = monodomain: each junction stimulates the nodes within this "
+      "distance of it (at least its nearest node), from its time plus the "
+      "Junction delay, with the first stimulus's duration and amplitude "
+      "(which then start at the His activation, the first stimulus's start). "
+      "Units: mm.");
     declare_right_bundle(prm);
     prm.leave_subsection();
   }
@@ -263,6 +273,7 @@ namespace systole::Electrophysiology
     p.velocity         = prm.get_double(s, "Conduction velocity");
     p.junction_delay   = prm.get_double(s, "Junction delay");
     p.seed             = prm.get_integer(s, "Random seed");
+    p.junction_radius  = prm.get_double(s, "Junction stimulus radius");
     {
       std::vector<std::string> r = section;
       r.push_back("Right bundle");
@@ -754,44 +765,91 @@ namespace systole::Electrophysiology
   }
 
 
+  namespace
+  {
+    /// Per junction of @p network: the distance to the nearest of the
+    /// nodes at @p positions over all ranks, and on this rank the nearest
+    /// local node if it is that one (else an invalid index).
+    std::pair<std::vector<double>, std::vector<unsigned int>>
+    nearest_nodes(const PurkinjeNetwork               &network,
+                  const std::vector<dealii::Point<3>> &positions,
+                  const MPI_Comm                       comm)
+    {
+      namespace bgi = boost::geometry::index;
+      std::vector<std::pair<dealii::Point<3>, unsigned int>> indexed;
+      for (unsigned int i = 0; i < positions.size(); ++i)
+        indexed.emplace_back(positions[i], i);
+      const auto                tree        = dealii::pack_rtree(indexed);
+      const unsigned int        n_junctions = network.junctions.size();
+      std::vector<double>       distance(n_junctions,
+                                   std::numeric_limits<double>::infinity());
+      std::vector<unsigned int> nearest(n_junctions,
+                                        dealii::numbers::invalid_unsigned_int);
+      for (unsigned int j = 0; j < n_junctions; ++j)
+        {
+          const auto &p = network.nodes[network.junctions[j]];
+          std::vector<std::pair<dealii::Point<3>, unsigned int>> found;
+          tree.query(bgi::nearest(p, 1), std::back_inserter(found));
+          if (!found.empty())
+            {
+              distance[j] = p.distance(found.front().first);
+              nearest[j]  = found.front().second;
+            }
+        }
+      std::vector<double> global(n_junctions);
+      MPI_Allreduce(distance.data(),
+                    global.data(),
+                    n_junctions,
+                    MPI_DOUBLE,
+                    MPI_MIN,
+                    comm);
+      for (unsigned int j = 0; j < n_junctions; ++j)
+        if (!(distance[j] == global[j] && std::isfinite(distance[j])))
+          nearest[j] = dealii::numbers::invalid_unsigned_int;
+      return {global, nearest};
+    }
+  } // namespace
+
+
   void
   add_junction_sources(const PurkinjeNetwork               &network,
                        const std::vector<dealii::Point<3>> &positions,
                        std::vector<double>                 &initial,
                        const MPI_Comm                       comm)
   {
-    namespace bgi = boost::geometry::index;
-    std::vector<std::pair<dealii::Point<3>, unsigned int>> indexed;
-    for (unsigned int i = 0; i < positions.size(); ++i)
-      indexed.emplace_back(positions[i], i);
-    const auto                tree        = dealii::pack_rtree(indexed);
-    const unsigned int        n_junctions = network.junctions.size();
-    std::vector<double>       distance(n_junctions,
-                                 std::numeric_limits<double>::infinity());
-    std::vector<unsigned int> nearest(n_junctions, 0);
-    for (unsigned int j = 0; j < n_junctions; ++j)
-      {
-        const auto &p = network.nodes[network.junctions[j]];
-        std::vector<std::pair<dealii::Point<3>, unsigned int>> found;
-        tree.query(bgi::nearest(p, 1), std::back_inserter(found));
-        if (!found.empty())
-          {
-            distance[j] = p.distance(found.front().first);
-            nearest[j]  = found.front().second;
-          }
-      }
-    // The nearest over all ranks: the rank(s) holding it set the time.
-    std::vector<double> global(distance.size());
-    MPI_Allreduce(distance.data(),
-                  global.data(),
-                  distance.size(),
-                  MPI_DOUBLE,
-                  MPI_MIN,
-                  comm);
-    for (unsigned int j = 0; j < n_junctions; ++j)
-      if (distance[j] == global[j] && std::isfinite(distance[j]))
+    // The rank(s) holding the nearest node set its time.
+    const auto nearest = nearest_nodes(network, positions, comm).second;
+    for (unsigned int j = 0; j < nearest.size(); ++j)
+      if (nearest[j] != dealii::numbers::invalid_unsigned_int)
         initial[nearest[j]] = std::min(initial[nearest[j]],
                                        network.times[network.junctions[j]] +
                                          network.junction_delay);
+  }
+
+
+  std::vector<Stimulus>
+  junction_stimuli(const PurkinjeNetwork               &network,
+                   const std::vector<dealii::Point<3>> &positions,
+                   const double                         radius,
+                   const double                         duration,
+                   const double                         amplitude,
+                   const MPI_Comm                       comm)
+  {
+    const auto distance = nearest_nodes(network, positions, comm).first;
+    std::vector<Stimulus> stimuli;
+    for (unsigned int j = 0; j < network.junctions.size(); ++j)
+      {
+        Stimulus s;
+        s.name          = "junction " + std::to_string(j);
+        s.region.shape  = StimulusRegion::Shape::sphere;
+        s.region.centre = network.nodes[network.junctions[j]];
+        // A little over the nearest node's distance: it lies inside.
+        s.region.radius = std::max(radius, distance[j] * (1 + 1e-9) + 1e-12);
+        s.start = network.times[network.junctions[j]] + network.junction_delay;
+        s.duration  = duration;
+        s.amplitude = amplitude;
+        stimuli.push_back(s);
+      }
+    return stimuli;
   }
 } // namespace systole::Electrophysiology

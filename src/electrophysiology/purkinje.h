@@ -5,6 +5,8 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
 
+#include "electrophysiology/stimulus.h"
+
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -53,6 +55,8 @@ namespace systole::Electrophysiology
     double             velocity         = 3;    ///< conduction velocity [mm/ms]
     double             junction_delay   = 5;    ///< Purkinje-muscle delay [ms]
     std::uint_fast32_t seed             = 1234; ///< of the std::mt19937
+    /// Model = monodomain: radius of the stimulus at each junction [mm].
+    double junction_radius = 1.5;
 
     /// Subsection "Right bundle": a second tree, the right bundle branch,
     /// on its own surface (biventricular meshes), from its own His point
@@ -254,6 +258,19 @@ namespace systole::Electrophysiology
   /// of @p a).
   PurkinjeNetwork
   merge(const PurkinjeNetwork &a, const PurkinjeNetwork &b);
+
+  /// The junctions of @p network as stimuli of the monodomain model: per
+  /// junction a sphere around it of radius @p radius, widened to reach the
+  /// nearest of the nodes at @p positions (the locally owned ones of each
+  /// rank; nearest over all ranks), on from the junction's time plus the
+  /// delay for @p duration [ms] at @p amplitude [µA/mm³]. Collective.
+  std::vector<Stimulus>
+  junction_stimuli(const PurkinjeNetwork               &network,
+                   const std::vector<dealii::Point<3>> &positions,
+                   const double                         radius,
+                   const double                         duration,
+                   const double                         amplitude,
+                   const MPI_Comm                       comm);
 
   /// The junctions of @p network as sources of the myocardial eikonal
   /// solve: the node nearest to each junction (of the nodes at

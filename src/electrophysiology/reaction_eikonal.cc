@@ -1,7 +1,8 @@
 // The eikonal and reaction-eikonal models of Monodomain (Electrophysiology /
 // Model): the eikonal activation times from the stimuli, the nodal stimulus
 // of the reaction-eikonal model, and the activation of the eikonal model
-// alone.
+// alone; the Purkinje network, the sources of the eikonal models or the
+// stimuli of the monodomain.
 
 #include "electrophysiology/monodomain_impl.h"
 #include "electrophysiology/single_cell.h"
@@ -84,7 +85,10 @@ namespace systole::Electrophysiology
               std::min(initial[i], params.stimuli[s].start + latency[s]);
       }
     if (params.purkinje.enabled)
-      setup_purkinje(names, params.stimuli.front().start + latency[0], initial);
+      {
+        grow_purkinje(names, params.stimuli.front().start + latency[0]);
+        add_junction_sources(purkinje, node_positions, initial, comm);
+      }
     solver.solve(initial);
     eikonal_times      = solver.owned_times();
     eikonal_statistics = solver.statistics();
@@ -122,9 +126,8 @@ namespace systole::Electrophysiology
 
 
   void
-  Monodomain::Impl::setup_purkinje(const Geometry::BoundaryNames &names,
-                                   const double                   his_time,
-                                   std::vector<double>           &initial)
+  Monodomain::Impl::grow_purkinje(const Geometry::BoundaryNames &names,
+                                  const double                   his_time)
   {
     const auto start = std::chrono::steady_clock::now();
     const auto grow  = [&](const PurkinjeParameters &tree) {
@@ -143,8 +146,7 @@ namespace systole::Electrophysiology
         n_triangles += right.second;
         part += "' and '" + params.purkinje.right.surface;
       }
-    purkinje = std::move(network);
-    add_junction_sources(purkinje, node_positions, initial, comm);
+    purkinje     = std::move(network);
     double first = std::numeric_limits<double>::infinity(), last = -first;
     for (const unsigned int j : purkinje.junctions)
       {
@@ -161,6 +163,23 @@ namespace systole::Electrophysiology
            .count()
       << " s)";
     logger.line(o.str());
+  }
+
+
+  void
+  Monodomain::Impl::setup_purkinje_stimuli(const Geometry::BoundaryNames &names)
+  {
+    // The His bundle activates at the first stimulus's start (the
+    // monodomain has no eikonal latency); the junctions' stimuli replace
+    // the given ones.
+    const Stimulus first = params.stimuli.front();
+    grow_purkinje(names, first.start);
+    params.stimuli = junction_stimuli(purkinje,
+                                      node_positions,
+                                      params.purkinje.junction_radius,
+                                      first.duration,
+                                      first.amplitude,
+                                      comm);
   }
 
 

@@ -2,7 +2,9 @@
 // at path length / velocity, and activating the muscle at its junctions.
 #include <deal.II/base/parameter_handler.h>
 
+#include "electrophysiology/monodomain.h"
 #include "electrophysiology/purkinje.h"
+#include "support/ep_fixture.h"
 #include "support/purkinje_fixture.h"
 
 #include <catch2/catch.hpp>
@@ -221,4 +223,67 @@ TEST_CASE("A right bundle grows its own tree on its own surface",
   for (const unsigned int j : net.junctions)
     right_junctions += j >= both.n_left ? 1 : 0;
   CHECK(right_junctions > 5);
+}
+
+TEST_CASE("With the monodomain model the junctions stimulate the muscle at "
+          "their times",
+          "[ep][purkinje]")
+{
+  auto params = Parameters::defaults("Mitchell-Schaeffer");
+  // The stimulus's region is not used: the junctions' stimuli replace it,
+  // with its duration and amplitude.
+  params.stimuli = parse_stimuli("his: box 0 0 0 1 1 1 from 1 for 2 at 50");
+  auto &tree     = params.purkinje;
+  tree           = small_purkinje_parameters();
+  tree.surface   = "z_min";
+  tree.his_point = dealii::Point<3>(1, 1, 0);
+  tree.initial_direction = dealii::Tensor<1, 3>({1, 1, 0});
+  tree.his_length        = 2;
+  tree.fascicle_angles   = {-45, 45};
+  tree.fascicle_lengths  = {3, 3};
+  tree.branch_length     = 2;
+  tree.generations       = 2;
+  tree.junction_radius   = 1;
+  test_support::EPBox box;
+  box.upper = dealii::Point<3>(10, 10, 1);
+  box.cells = {{20, 20, 2}};
+  box.fibre = test_support::unit_vector(0);
+  PurkinjeNetwork network;
+  PointValues     at_junctions;
+  test_support::run_ep_box(params,
+                           box,
+                           20,
+                           10,
+                           {},
+                           MPI_COMM_SELF,
+                           [&](const Monodomain &ep) {
+                             network = ep.purkinje();
+                             std::vector<dealii::Point<3>> points;
+                             for (const unsigned int j : network.junctions)
+                               points.push_back(network.nodes[j]);
+                             at_junctions = ep.values_at_points(points);
+                           });
+  REQUIRE(network.junctions.size() > 3);
+  CHECK(network.times[0] == 1); // the His entry at the stimulus's start
+  double earliest = std::numeric_limits<double>::infinity();
+  for (const unsigned int j : network.junctions)
+    earliest = std::min(earliest, network.times[j] + network.junction_delay);
+  double worst = -std::numeric_limits<double>::infinity();
+  double first = std::numeric_limits<double>::infinity();
+  for (unsigned int k = 0; k < network.junctions.size(); ++k)
+    {
+      const double t = at_junctions.activation_time[k];
+      REQUIRE(std::isfinite(t));
+      // Activated within 3 ms of its stimulus (the cell's latency, about 1
+      // ms, and the wave from the stimulated half ball).
+      worst = std::max(worst,
+                       t - (network.times[network.junctions[k]] +
+                            network.junction_delay + 3));
+      first = std::min(first, t);
+    }
+  INFO(network.junctions.size()
+       << " junctions, first junction stimulus at " << earliest << " ms");
+  CHECK(worst <= 0);
+  // Nothing activates before the first junction's stimulus.
+  CHECK(first >= earliest);
 }
