@@ -146,10 +146,13 @@ namespace systole::Electrophysiology
                                       electrodes,
                                       params.ecg.bath_conductivity);
       }
+    if (params.purkinje.enabled &&
+        params.model == Parameters::Model::monodomain)
+      m.setup_purkinje_stimuli(names);
     m.locate_stimuli(names);
     if (params.model != Parameters::Model::monodomain)
       m.setup_eikonal(fibres, names);
-    m.stimulus_on.assign(params.stimuli.size(), false);
+    m.stimulus_on.assign(m.params.stimuli.size(), false);
 
     m.initialize_state();
     m.tracker = ActivationTracker(m.n_owned, m.threshold);
@@ -543,5 +546,12 @@ namespace systole::Electrophysiology
   Monodomain::ionic_model() const
   {
     return impl->model;
+  }
+
+
+  const PurkinjeNetwork &
+  Monodomain::purkinje() const
+  {
+    return impl->purkinje;
   }
 } // namespace systole::Electrophysiology

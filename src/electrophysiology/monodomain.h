@@ -248,6 +248,11 @@ namespace systole::Electrophysiology
     const IonicModel &
     ionic_model() const;
 
+    /// The Purkinje network that activated the eikonal models (empty
+    /// without one: Parameters::purkinje).
+    const PurkinjeNetwork &
+    purkinje() const;
+
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;

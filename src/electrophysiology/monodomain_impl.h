@@ -109,6 +109,14 @@ namespace systole::Electrophysiology
     void
     setup_eikonal(const Fibres::FibreField      &fibres,
                   const Geometry::BoundaryNames &names);
+    /// Grow the Purkinje tree (Parameters::purkinje) into #purkinje and
+    /// activate it from the His entry at @p his_time [ms].
+    void
+    grow_purkinje(const Geometry::BoundaryNames &names, const double his_time);
+    /// Model = monodomain: replace the stimuli by the junctions' (before
+    /// locate_stimuli()).
+    void
+    setup_purkinje_stimuli(const Geometry::BoundaryNames &names);
     /// Reaction-eikonal: the nodal stimulus rates of the step [@p t0,
     /// @p t1] (the charge of each node's window inside it, spread evenly).
     void
@@ -136,6 +144,8 @@ namespace systole::Electrophysiology
     /// Nodes stimulated during the current step and their dv/dt.
     std::vector<std::pair<unsigned int, double>> eikonal_stimulus;
     EikonalStatistics                            eikonal_statistics;
+    /// The Purkinje network (Parameters::purkinje; empty when off).
+    PurkinjeNetwork purkinje;
 
     /// Whether the potential diffuses (not with RE-).
     bool

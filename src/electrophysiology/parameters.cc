@@ -146,6 +146,7 @@ namespace systole::Electrophysiology
     const Parameters d;
     prm.enter_subsection(section);
     declare_eikonal(prm, d);
+    PurkinjeParameters::declare(prm);
     declare_ionic_model_parameters(prm);
     prm.declare_entry(
       "Longitudinal conductivity",
@@ -340,6 +341,7 @@ namespace systole::Electrophysiology
       prm.get_double(s, "Fast endocardial layer thickness");
     p.eikonal.endocardial_velocity =
       prm.get_double(s, "Fast endocardial layer velocity");
+    p.purkinje = PurkinjeParameters::parse(prm);
 
     const auto positive = [](const double value, const std::string &entry) {
       AssertThrow(std::isfinite(value) && value > 0,
@@ -366,6 +368,10 @@ namespace systole::Electrophysiology
           positive(p.eikonal.endocardial_velocity,
                    "Fast endocardial layer velocity");
       }
+    AssertThrow(!p.purkinje.enabled || !p.stimuli.empty(),
+                dealii::ExcMessage(
+                  "Electrophysiology / Purkinje: the His bundle activates "
+                  "with the first of the Stimuli; give one."));
     AssertThrow(!p.adaptive ||
                   (p.relative_tolerance > 0 && p.absolute_tolerance > 0),
                 dealii::ExcMessage(

@@ -4,6 +4,7 @@
 
 #include "electrophysiology/ecg.h"
 #include "electrophysiology/ionic_model.h"
+#include "electrophysiology/purkinje.h"
 #include "electrophysiology/stimulus.h"
 
 #include <memory>
@@ -61,6 +62,9 @@ namespace systole::Electrophysiology
     /// Conduction velocities and fast endocardial layer of the eikonal
     /// model.
     EikonalSettings eikonal;
+    /// The Purkinje network that activates the eikonal models (subsection
+    /// Purkinje; off by default).
+    PurkinjeParameters purkinje;
 
     /// The ionic model ("Ionic model" and its subsection); never null.
     std::shared_ptr<const IonicModel> ionic_model;

@@ -1,15 +1,19 @@
 // The eikonal and reaction-eikonal models of Monodomain (Electrophysiology /
 // Model): the eikonal activation times from the stimuli, the nodal stimulus
 // of the reaction-eikonal model, and the activation of the eikonal model
-// alone.
+// alone; the Purkinje network, the sources of the eikonal models or the
+// stimuli of the monodomain.
 
 #include "electrophysiology/monodomain_impl.h"
 #include "electrophysiology/single_cell.h"
+#include "geometry/mesh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <sstream>
 
 namespace systole::Electrophysiology
 {
@@ -75,9 +79,15 @@ namespace systole::Electrophysiology
                                       params.chi * params.C_m,
                                       threshold,
                                       params.time_step);
-        for (const unsigned int i : stimulus_nodes[s])
-          initial[i] =
-            std::min(initial[i], params.stimuli[s].start + latency[s]);
+        if (!params.purkinje.enabled)
+          for (const unsigned int i : stimulus_nodes[s])
+            initial[i] =
+              std::min(initial[i], params.stimuli[s].start + latency[s]);
+      }
+    if (params.purkinje.enabled)
+      {
+        grow_purkinje(names, params.stimuli.front().start + latency[0]);
+        add_junction_sources(purkinje, node_positions, initial, comm);
       }
     solver.solve(initial);
     eikonal_times      = solver.owned_times();
@@ -112,6 +122,64 @@ namespace systole::Electrophysiology
         for (auto &nodes : stimulus_nodes)
           nodes.clear();
       }
+  }
+
+
+  void
+  Monodomain::Impl::grow_purkinje(const Geometry::BoundaryNames &names,
+                                  const double                   his_time)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    const auto grow  = [&](const PurkinjeParameters &tree) {
+      Geometry::require_boundary(tria, names, tree.surface);
+      const auto surface =
+        TriangleSurface::gather(tria, names.id(tree.surface), comm);
+      return std::make_pair(build_purkinje_network(surface, tree, his_time),
+                            surface.n_triangles());
+    };
+    auto [network, n_triangles] = grow(params.purkinje);
+    std::string part            = params.purkinje.surface;
+    if (!params.purkinje.right.surface.empty())
+      {
+        const auto right = grow(params.purkinje.right_bundle());
+        network          = merge(network, right.first);
+        n_triangles += right.second;
+        part += "' and '" + params.purkinje.right.surface;
+      }
+    purkinje     = std::move(network);
+    double first = std::numeric_limits<double>::infinity(), last = -first;
+    for (const unsigned int j : purkinje.junctions)
+      {
+        first = std::min(first, purkinje.times[j]);
+        last  = std::max(last, purkinje.times[j]);
+      }
+    std::ostringstream o;
+    o << "Electrophysiology: Purkinje tree on '" << part << "' (" << n_triangles
+      << " triangles): " << purkinje.nodes.size() << " nodes, "
+      << purkinje.junctions.size() << " junctions, His activation " << his_time
+      << " ms, junctions activated " << first << " ... " << last
+      << " ms, muscle after " << purkinje.junction_delay << " ms more ("
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+           .count()
+      << " s)";
+    logger.line(o.str());
+  }
+
+
+  void
+  Monodomain::Impl::setup_purkinje_stimuli(const Geometry::BoundaryNames &names)
+  {
+    // The His bundle activates at the first stimulus's start (the
+    // monodomain has no eikonal latency); the junctions' stimuli replace
+    // the given ones.
+    const Stimulus first = params.stimuli.front();
+    grow_purkinje(names, first.start);
+    params.stimuli = junction_stimuli(purkinje,
+                                      node_positions,
+                                      params.purkinje.junction_radius,
+                                      first.duration,
+                                      first.amplitude,
+                                      comm);
   }
 
 

@@ -782,6 +782,13 @@ namespace systole
   }
 
 
+  const Electrophysiology::PurkinjeNetwork &
+  ElectricalActivation::purkinje() const
+  {
+    return impl->monodomain->purkinje();
+  }
+
+
   bool
   ElectricalActivation::has_ecg() const
   {

@@ -156,6 +156,10 @@ namespace systole
     void
     attach_output(dealii::DataOut<3, 3> &data_out);
 
+    /// The Purkinje network of the eikonal models (empty without one).
+    const Electrophysiology::PurkinjeNetwork &
+    purkinje() const;
+
     /// Volume fraction of the EP mesh activated at least once [-].
     /// Collective.
     double

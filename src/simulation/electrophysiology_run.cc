@@ -14,6 +14,7 @@
 #include "io/results_file.h"
 #include "simulation/ecg_columns.h"
 #include "simulation/parameters.h"
+#include "simulation/purkinje_output.h"
 
 #include <cmath>
 #include <iomanip>
@@ -70,7 +71,8 @@ namespace systole
       probe_points.push_back(p.position);
 
     IO::ResultsFile results(run.output_directory, parameter_text, comm);
-    Progress        progress(logger,
+    write_purkinje(results, ep.purkinje(), comm);
+    Progress progress(logger,
                       Progress::parse_mode(run.progress),
                       run.start_time,
                       run.end_time);

@@ -29,6 +29,7 @@
 #include "simulation/mechanics_model.h"
 #include "simulation/mechanics_ventricles.h"
 #include "simulation/parameters.h"
+#include "simulation/purkinje_output.h"
 #include "simulation/timer_section.h"
 
 #include "postprocess/manager.h"
@@ -644,13 +645,15 @@ namespace systole
     // file and the last step first, then the components in a fixed order.
     std::istringstream                               saved_state;
     std::unique_ptr<boost::archive::binary_iarchive> state_in;
-    const auto           results_file = open_results(checkpoint,
+    const auto       results_file = open_results(checkpoint,
                                            run,
                                            parameter_text,
                                            saved_state,
                                            state_in,
                                            comm);
-    IO::ResultsFile     &results      = *results_file;
+    IO::ResultsFile &results      = *results_file;
+    if (ep != nullptr && checkpoint.empty())
+      write_purkinje(results, ep->purkinje(), comm);
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
                                      problem,
                                      model.names,
