@@ -137,22 +137,6 @@ namespace systole::Electrophysiology
       epsilon * (-w - params.k * u * (u - params.a - 1.0)) / params.time_unit;
   }
 
-  void
-  AlievPanfilov::rhs_batch(const unsigned int n_points,
-                           const unsigned int stride,
-                           const double      *y,
-                           double            *f) const
-  {
-    // The qualified calls are not virtual (and inline here).
-    for (unsigned int i = 0; i < n_points; ++i)
-      {
-        const double *yi = y + std::size_t(i) * stride;
-        double       *fi = f + std::size_t(i) * stride;
-        AlievPanfilov::state_rhs(yi[0], yi + 1, fi + 1);
-        fi[0] = -AlievPanfilov::ionic_current(yi[0], yi + 1);
-      }
-  }
-
   double
   AlievPanfilov::potential_scale_mV() const
   {

@@ -64,14 +64,6 @@ namespace systole::Electrophysiology
     void
     state_rhs(const double u, const double *state, double *rhs) const override;
 
-    /// ionic_current() and state_rhs() point by point, without a virtual
-    /// call per point (the same expressions: the same values).
-    void
-    rhs_batch(const unsigned int n_points,
-              const unsigned int stride,
-              const double      *y,
-              double            *f) const override;
-
     /// 100 mV per unit of u.
     double
     potential_scale_mV() const override;

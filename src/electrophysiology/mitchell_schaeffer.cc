@@ -126,22 +126,6 @@ namespace systole::Electrophysiology
       v < params.v_gate ? (1.0 - h) / params.tau_open : -h / params.tau_close;
   }
 
-  void
-  MitchellSchaeffer::rhs_batch(const unsigned int n_points,
-                               const unsigned int stride,
-                               const double      *y,
-                               double            *f) const
-  {
-    // The qualified calls are not virtual (and inline here).
-    for (unsigned int i = 0; i < n_points; ++i)
-      {
-        const double *yi = y + std::size_t(i) * stride;
-        double       *fi = f + std::size_t(i) * stride;
-        MitchellSchaeffer::state_rhs(yi[0], yi + 1, fi + 1);
-        fi[0] = -MitchellSchaeffer::ionic_current(yi[0], yi + 1);
-      }
-  }
-
   double
   MitchellSchaeffer::potential_scale_mV() const
   {
