@@ -102,32 +102,6 @@ namespace systole::Electrophysiology
     }
 
 
-    /// sum_i (x_i w_i)^2 over the local entries, in four interleaved partial
-    /// sums (the compiler vectorizes it; SUNDIALS' PETSc vector sums one
-    /// entry after the other: a fifth of a ten Tusscher-Panfilov step).
-    realtype
-    weighted_square_sum_local(N_Vector x, N_Vector w)
-    {
-      const Vec x_vec = N_VGetVector_Petsc(x), w_vec = N_VGetVector_Petsc(w);
-      PetscInt  n      = 0;
-      const double *xd = nullptr, *wd = nullptr;
-      VecGetLocalSize(x_vec, &n);
-      VecGetArrayRead(x_vec, &xd);
-      VecGetArrayRead(w_vec, &wd);
-      double         sum[4] = {0, 0, 0, 0};
-      const PetscInt n4     = n - n % 4;
-      for (PetscInt i = 0; i < n4; i += 4)
-#pragma omp simd
-        for (unsigned int k = 0; k < 4; ++k)
-          sum[k] += (xd[i + k] * wd[i + k]) * (xd[i + k] * wd[i + k]);
-      for (PetscInt i = n4; i < n; ++i)
-        sum[0] += (xd[i] * wd[i]) * (xd[i] * wd[i]);
-      VecRestoreArrayRead(w_vec, &wd);
-      VecRestoreArrayRead(x_vec, &xd);
-      return (sum[0] + sum[1]) + (sum[2] + sum[3]);
-    }
-
-
     /// The weighted RMS norm, sqrt(sum_i (x_i w_i)^2 / N), the same on any
     /// partition: the squares are summed exactly, in fixed point (units of
     /// 2^-63, each clamped at 2^32: such an error is rejected whatever its
@@ -416,10 +390,9 @@ namespace systole::Electrophysiology
     AssertThrow(state != nullptr, dealii::ExcMessage("N_VMake_Petsc failed."));
     // Operations of our own, so that the steps do not depend on the
     // partition (ARKode's clones copy them).
-    state->ops->nvwsqrsumlocal = &weighted_square_sum_local;
-    state->ops->nvwrmsnorm     = &weighted_rms_norm;
-    state->ops->nvlinearsum    = &linear_sum;
-    state->ops->nvscale        = &scale;
+    state->ops->nvwrmsnorm  = &weighted_rms_norm;
+    state->ops->nvlinearsum = &linear_sum;
+    state->ops->nvscale     = &scale;
     in_view.reinit(y);
     out_view.reinit(y);
     memory = ARKStepCreate(&explicit_rhs,
