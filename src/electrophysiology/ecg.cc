@@ -148,10 +148,12 @@ namespace systole::Electrophysiology
       dealii::Utilities::to_string(d.threshold),
       Double(0.0, 1.0),
       "The ECG biomarkers per beat, on the RMS over the 12 leads a(t): the "
-      "QRS lasts from the first time a exceeds this fraction of its peak "
-      "in the beat to the next time it falls below it; the T wave ends the "
-      "last time a exceeds this fraction of its peak after the QRS "
-      "(docs/architecture.md, ECG). Units: -.");
+      "QRS's core lasts from the first time a exceeds this fraction of its "
+      "peak in the beat to the next time it falls below it; the QRS is the "
+      "core widened to the last sample at rest before it (a at its minimum) "
+      "and to the J point after it (a at its minimum before the T wave); "
+      "the T wave ends the last time a exceeds this fraction of its peak "
+      "after the QRS (docs/architecture.md, ECG). Units: -.");
     prm.leave_subsection();
   }
 
@@ -350,27 +352,50 @@ namespace systole::Electrophysiology
       return b;
     const double level = threshold * peak;
 
-    // QRS: from the first upward crossing of the level to the next downward
-    // one.
+    // QRS: its core from the first upward crossing of the level to the next
+    // downward one (robust: the peak is in the QRS), then widened to its
+    // whole extent, since a level relative to the peak cuts the small first
+    // and last deflections (the first junctions, the last basal cells): the
+    // onset is the last sample before the core where a is at its minimum
+    // over the samples before the core (at rest a = 0: the last sample
+    // before the first deflection), the J point the first sample after the
+    // core where a is at its minimum up to the T wave's peak (the ST segment
+    // rises into the T wave; a notch before a terminal deflection smaller
+    // than the T wave is not taken for it). Values within 0.1 % of the peak
+    // of the minimum count as at it: the last cells' upstrokes fade into a
+    // slowly drifting ST segment (a knee, not a sharp minimum), and the
+    // first deflections below that are invisible in any ECG.
     unsigned int first = 0;
     while (amplitude[first] < level)
       ++first;
-    b.qrs_onset        = first == 0 ? times[0]
-                                    : crossing(times[first - 1],
-                                        amplitude[first - 1],
-                                        times[first],
-                                        amplitude[first],
-                                        level);
     unsigned int below = first + 1;
     while (below < n && amplitude[below] >= level)
       ++below;
     if (below == n)
       return b; // the QRS has not ended
-    b.qrs_end      = crossing(times[below - 1],
-                         amplitude[below - 1],
-                         times[below],
-                         amplitude[below],
-                         level);
+    const double tolerance = 1e-3 * peak;
+    const double rest =
+      *std::min_element(amplitude.begin(), amplitude.begin() + first + 1);
+    unsigned int onset = first;
+    while (amplitude[onset] > rest + tolerance)
+      --onset;
+    // The T wave's peak: the largest a after the first local minimum past
+    // the core (none: a still falls at the last sample, the QRS not over).
+    unsigned int dip = below;
+    while (dip + 1 < n && amplitude[dip + 1] < amplitude[dip])
+      ++dip;
+    if (dip + 1 == n)
+      return b;
+    const unsigned int t_peak =
+      std::max_element(amplitude.begin() + dip, amplitude.end()) -
+      amplitude.begin();
+    const double st      = *std::min_element(amplitude.begin() + below,
+                                        amplitude.begin() + t_peak + 1);
+    unsigned int j_point = below;
+    while (amplitude[j_point] > st + tolerance)
+      ++j_point;
+    b.qrs_onset    = times[onset];
+    b.qrs_end      = times[j_point];
     b.qrs_duration = b.qrs_end - b.qrs_onset;
 
     // R waves: the largest positive value of each lead within the QRS.

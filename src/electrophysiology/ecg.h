@@ -51,8 +51,9 @@ namespace systole::Electrophysiology
     /// Conductivity of the infinite homogeneous medium around the heart
     /// sigma_b [mS/mm].
     double bath_conductivity = 0.2;
-    /// Biomarkers: fraction of the peak RMS amplitude of the beat (QRS) and
-    /// after the QRS (T-wave end) [-] (ecg_biomarkers()).
+    /// Biomarkers: fraction of the peak RMS amplitude of the beat (the QRS
+    /// core, widened to its first deflection and J point) and after the QRS
+    /// (T-wave end) [-] (ecg_biomarkers()).
     double threshold = 0.1;
 
     /// Declares the ECG entries (inside subsection Electrophysiology).
@@ -158,15 +159,26 @@ namespace systole::Electrophysiology
   /// zero where ∇V_m = 0 (the tissue at rest before the beat and after its
   /// repolarization; nearly so on a flat plateau), so a(t) separates the
   /// waves without a baseline:
-  /// - QRS onset: the first time a reaches @p threshold × max a (the peak
-  ///   of the beat, taken to lie in the QRS);
-  /// - QRS end: the next time a falls below that level;
+  /// - the QRS core: from the first time a reaches @p threshold × max a
+  ///   (the peak of the beat, taken to lie in the QRS) to the next time it
+  ///   falls below that level;
+  /// - QRS onset: the last sample before the core at which a is at its
+  ///   minimum over the samples before the core (at rest a = 0: the last
+  ///   sample before the first deflection);
+  /// - QRS end (the J point): the first sample after the core at which a is
+  ///   at its minimum up to the T wave's peak (the largest a after the first
+  ///   local minimum past the core); so the QRS spans the small first and
+  ///   last deflections that a level relative to the peak would cut (the
+  ///   first Purkinje junctions, the last basal cells), to within a sample
+  ///   (values within 0.1 % of the peak of a minimum count as at it: the
+  ///   ST segment drifts slowly);
   /// - T-wave end: the last time a is above @p threshold × the largest a
   ///   after the QRS end;
   /// - R amplitude of each lead: its largest positive sample within the QRS
   ///   (0 if none);
-  /// crossings interpolated linearly in time. NaN where a level is not
-  /// crossed (no signal, or the QRS or T wave not over by the last sample).
+  /// the T end interpolated linearly in time. NaN where a level is not
+  /// crossed (no signal, or the QRS or T wave not over by the last sample:
+  /// a still falling there).
   EcgBiomarkers
   ecg_biomarkers(const std::vector<double>                 &times,
                  const std::vector<std::array<double, 12>> &leads,

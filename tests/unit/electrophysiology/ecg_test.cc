@@ -189,8 +189,9 @@ TEST_CASE("The electrode entry names every electrode once", "[ecg]")
 TEST_CASE("The ECG biomarkers of a synthetic beat", "[ecg]")
 {
   // QRS: A_l sin²(π(t − 20)/80) on [20, 100] ms; T: B_l sin²(π(t − 250)/200)
-  // on [250, 450] ms. With RMS(A) > RMS(B) the level θ RMS(A) is crossed
-  // where sin² = θ (QRS) and sin² = θ (T, its own peak).
+  // on [250, 450] ms. The QRS spans its bump (zero outside: the first
+  // deflection after the sample at 20 ms, the J point at 100 ms); the T
+  // wave's level θ (its own peak) is crossed where sin² = θ.
   const std::array<double, 12> A = {
     {1.0, 1.5, 0.5, -1.2, 0.2, 1.0, -0.6, -0.3, 0.4, 1.2, 1.4, 1.1}};
   const std::array<double, 12> B = {
@@ -212,11 +213,12 @@ TEST_CASE("The ECG biomarkers of a synthetic beat", "[ecg]")
   const double theta = 0.1;
   const auto   b     = ecg_biomarkers(times, leads, theta);
   const double x     = std::asin(std::sqrt(theta)) / M_PI;
-  CHECK(b.qrs_onset == Approx(20 + 80 * x).margin(0.05));
-  CHECK(b.qrs_end == Approx(100 - 80 * x).margin(0.05));
-  CHECK(b.qrs_duration == Approx(80 * (1 - 2 * x)).margin(0.1));
+  // Within a sample (0.5 ms): the bump's first and last samples lie below
+  // 0.1 % of its peak (sin²(π 0.5/80) = 3.9e-4).
+  CHECK(b.qrs_onset == Approx(20.5).margin(1e-12));
+  CHECK(b.qrs_end == Approx(99.5).margin(1e-12));
   CHECK(b.t_end == Approx(450 - 200 * x).margin(0.05));
-  CHECK(b.qt_interval == Approx(450 - 200 * x - 20 - 80 * x).margin(0.1));
+  CHECK(b.qt_interval == Approx(450 - 200 * x - 20.5).margin(0.05));
   for (unsigned int l = 0; l < 12; ++l)
     CHECK(b.r_amplitude[l] == Approx(std::max(A[l], 0.0)).margin(1e-12));
 
@@ -227,6 +229,53 @@ TEST_CASE("The ECG biomarkers of a synthetic beat", "[ecg]")
   CHECK(cut.qrs_duration == Approx(b.qrs_duration));
   CHECK(std::isnan(cut.t_end));
   CHECK(std::isnan(cut.qt_interval));
+}
+
+
+TEST_CASE("The QRS spans its small first and last deflections up to the J "
+          "point",
+          "[ecg]")
+{
+  // A QRS of three waves on [30, 110] ms: a small first deflection
+  // (3 % of the main one: the first junctions) on [30, 50], the main one
+  // on [40, 90], a small terminal one (4 %: the last basal cells) on
+  // [80, 110]; then a slowly rising ST segment (0.2 % of the main wave per
+  // 100 ms, from 110 ms) up to a T wave on [250, 450]. Each wave is a
+  // sin² bump of its own lead weights. A threshold at 10 % of the peak
+  // sees only the main wave; the QRS is the whole [30, 110].
+  const auto bump = [](const double t, const double a, const double b) {
+    return t > a && t < b ? std::pow(std::sin(M_PI * (t - a) / (b - a)), 2)
+                          : 0.0;
+  };
+  std::array<double, 12> first, main, last, st;
+  for (unsigned int l = 0; l < 12; ++l)
+    {
+      first[l] = 0.03 * std::cos(0.7 * l);
+      main[l]  = std::sin(1.3 * l + 0.4);
+      last[l]  = 0.04 * std::cos(2.1 * l + 1);
+      st[l]    = 0.3 * std::sin(0.9 * l + 2);
+    }
+  std::vector<double>                 times;
+  std::vector<std::array<double, 12>> leads;
+  for (double t = 0; t <= 600; t += 0.5)
+    {
+      std::array<double, 12> v;
+      const double ramp = t > 110 ? std::min(t - 110, 140.0) * 2e-5 : 0.0;
+      for (unsigned int l = 0; l < 12; ++l)
+        v[l] = first[l] * bump(t, 30, 50) + main[l] * bump(t, 40, 90) +
+               last[l] * bump(t, 80, 110) + st[l] * (ramp + bump(t, 250, 450));
+      times.push_back(t);
+      leads.push_back(v);
+    }
+  const auto b = ecg_biomarkers(times, leads, 0.1);
+  // Within 1.5 ms: the first and last deflections are below 0.1 % of the
+  // peak for about a millisecond at their ends. (A level of 10 % of the
+  // peak sees the main wave alone: about 50-80 ms.)
+  CHECK(b.qrs_onset == Approx(30).margin(1.5));
+  CHECK(b.qrs_end == Approx(110).margin(1.5));
+  CHECK(b.qrs_duration == Approx(80).margin(3));
+  for (unsigned int l = 0; l < 12; ++l)
+    CHECK(b.r_amplitude[l] >= std::max(last[l], 0.0) - 1e-12);
 }
 
 
