@@ -198,6 +198,30 @@ namespace systole::Electrophysiology
       "A branch stops where its next node would lie closer than this to a "
       "node of another branch (not checked on a branch's first segment); "
       "smaller than the Segment length. Units: mm.");
+    prm.declare_entry("Apex",
+                      "0, 0, -84",
+                      Anything(),
+                      "The endocardial apex 'x, y, z' (of the left "
+                      "ventricle): with Base, the long axis of the Junction "
+                      "height limit. Units: mm. Default: the default LV's "
+                      "(parameters/lv_heartbeat.prm).");
+    prm.declare_entry("Base",
+                      "0, 0, 5",
+                      Anything(),
+                      "A point 'x, y, z' of the base plane on the long axis. "
+                      "Units: mm. Default: the default LV's.");
+    prm.declare_entry(
+      "Junction height limit",
+      "1",
+      Double(0.0, 1.0),
+      "Purkinje-muscle junctions only up to this relative height h = (x - "
+      "Apex).(Base - Apex)/|Base - Apex|^2 (0 at the apex, 1 at the base): "
+      "the branches after the fascicles do not grow above it, and terminal "
+      "nodes above it (of the bundle or a fascicle) are no junctions; the "
+      "base above it is activated through the muscle. 1: no limit. The "
+      "human network's junctions are sparse towards the base, which "
+      "activates last (Durrer et al. 1970, Circulation 41); models keep the "
+      "junctions in the apical two thirds (2/3). Units: -.");
     prm.declare_entry(
       "Conduction velocity",
       "3",
@@ -270,10 +294,13 @@ namespace systole::Electrophysiology
     p.variation        = prm.get_double(s, "Branch variation");
     p.generations      = prm.get_integer(s, "Number of generations");
     p.minimum_distance = prm.get_double(s, "Minimum node distance");
-    p.velocity         = prm.get_double(s, "Conduction velocity");
-    p.junction_delay   = prm.get_double(s, "Junction delay");
-    p.seed             = prm.get_integer(s, "Random seed");
-    p.junction_radius  = prm.get_double(s, "Junction stimulus radius");
+    p.apex = dealii::Point<3>(parse_vector(prm.get(s, "Apex"), "Apex"));
+    p.base = dealii::Point<3>(parse_vector(prm.get(s, "Base"), "Base"));
+    p.junction_height_limit = prm.get_double(s, "Junction height limit");
+    p.velocity              = prm.get_double(s, "Conduction velocity");
+    p.junction_delay        = prm.get_double(s, "Junction delay");
+    p.seed                  = prm.get_integer(s, "Random seed");
+    p.junction_radius       = prm.get_double(s, "Junction stimulus radius");
     {
       std::vector<std::string> r = section;
       r.push_back("Right bundle");
@@ -321,6 +348,10 @@ namespace systole::Electrophysiology
       AssertThrow(value > 0,
                   dealii::ExcMessage(entry_name(entry) + " must be > 0."));
     };
+    AssertThrow(p.base.distance(p.apex) > 0,
+                dealii::ExcMessage(entry_name("Base") +
+                                   " must differ from the Apex (they give "
+                                   "the long axis)."));
     positive(p.segment_length, "Segment length");
     positive(p.velocity, "Conduction velocity");
     positive(p.branch_length, "Branch length");
@@ -571,6 +602,14 @@ namespace systole::Electrophysiology
   } // namespace
 
 
+  double
+  junction_height(const PurkinjeParameters &params, const dealii::Point<3> &x)
+  {
+    const dealii::Tensor<1, 3> axis = params.base - params.apex;
+    return (x - params.apex) * axis / axis.norm_square();
+  }
+
+
   PurkinjeTree::PurkinjeTree(const TriangleSurface    &surface,
                              const PurkinjeParameters &params)
     : surface(surface)
@@ -590,9 +629,12 @@ namespace systole::Electrophysiology
     node_normal.push_back(his.normal);
     node_branch.push_back(0);
 
-    unsigned int n_branches = 0;
-    const auto   bundle =
-      grow_branch(0, params.initial_direction, params.his_length, n_branches++);
+    unsigned int           n_branches = 0;
+    const auto             bundle     = grow_branch(0,
+                                    params.initial_direction,
+                                    params.his_length,
+                                    n_branches++,
+                                    false);
     std::vector<BranchEnd> front;
     for (unsigned int f = 0; f < params.fascicle_angles.size(); ++f)
       {
@@ -602,7 +644,8 @@ namespace systole::Electrophysiology
         const auto end       = grow_branch(bundle.node,
                                      direction,
                                      params.fascicle_lengths[f],
-                                     n_branches++);
+                                     n_branches++,
+                                     false);
         if (end.complete)
           front.push_back(end);
       }
@@ -621,7 +664,8 @@ namespace systole::Electrophysiology
                 grow_branch(end.node,
                             turn(end.direction, node_normal[end.node], angle),
                             length,
-                            n_branches++);
+                            n_branches++,
+                            true);
               if (branch.complete)
                 next.push_back(branch);
             }
@@ -635,7 +679,8 @@ namespace systole::Electrophysiology
         ++degree[b];
       }
     for (unsigned int i = 1; i < degree.size(); ++i)
-      if (degree[i] == 1)
+      if (degree[i] == 1 && junction_height(params, node_positions[i]) <=
+                              params.junction_height_limit)
         junction_nodes.push_back(i);
   }
 
@@ -644,7 +689,8 @@ namespace systole::Electrophysiology
   PurkinjeTree::grow_branch(const unsigned int          start,
                             const dealii::Tensor<1, 3> &direction,
                             const double                length,
-                            const unsigned int          branch)
+                            const unsigned int          branch,
+                            const bool                  limited)
   {
     const unsigned int n_segments =
       std::max<long>(1, std::lround(length / params.segment_length));
@@ -663,6 +709,9 @@ namespace systole::Electrophysiology
         if (step.norm() < 0.5 * step_length)
           return {current, d, false};
         if (s > 0 && too_close(next.point, branch))
+          return {current, d, false};
+        if (limited &&
+            junction_height(params, next.point) > params.junction_height_limit)
           return {current, d, false};
         node_positions.push_back(next.point);
         node_normal.push_back(next.normal);

@@ -51,10 +51,18 @@ namespace systole::Electrophysiology
     unsigned int generations = 10; ///< forks after the fascicles
     /// A new node closer than this to a node of another branch stops its
     /// branch [mm].
-    double             minimum_distance = 0.9;
-    double             velocity         = 3;    ///< conduction velocity [mm/ms]
-    double             junction_delay   = 5;    ///< Purkinje-muscle delay [ms]
-    std::uint_fast32_t seed             = 1234; ///< of the std::mt19937
+    double minimum_distance = 0.9;
+    /// The long axis: the endocardial apex and a point of the base plane
+    /// [mm], for the Junction height limit.
+    dealii::Point<3> apex{0, 0, -84};
+    dealii::Point<3> base{0, 0, 5};
+    /// Largest relative height (x − apex)·(base − apex)/|base − apex|² of a
+    /// junction; the branches after the fascicles do not grow above it
+    /// (junction_height()) [-]; 1: no limit below the base.
+    double             junction_height_limit = 1;
+    double             velocity       = 3;    ///< conduction velocity [mm/ms]
+    double             junction_delay = 5;    ///< Purkinje-muscle delay [ms]
+    std::uint_fast32_t seed           = 1234; ///< of the std::mt19937
     /// Model = monodomain: radius of the stimulus at each junction [mm].
     double junction_radius = 1.5;
 
@@ -136,6 +144,11 @@ namespace systole::Electrophysiology
     std::unique_ptr<Index> index;
   };
 
+  /// The relative height of @p x along the long axis of @p params: 0 at
+  /// the apex, 1 in the base plane.
+  double
+  junction_height(const PurkinjeParameters &params, const dealii::Point<3> &x);
+
   /// Closest point of the triangle @p t to @p p (Ericson 2005, Real-Time
   /// Collision Detection, 5.1.5).
   dealii::Point<3>
@@ -153,8 +166,12 @@ namespace systole::Electrophysiology
   /// point). A branch stops where a new node would come within the
   /// minimum distance of another branch's node (not checked for a
   /// branch's first segment, which starts next to its sibling), or where
-  /// the surface ends (the step shrinks below half a segment). Only
-  /// branches that reached their full length fork.
+  /// the surface ends (the step shrinks below half a segment), and a
+  /// branch after the fascicles stops where a new node would lie above the
+  /// Junction height limit (the network covers the apical part; the bundle
+  /// and fascicles, insulated, may cross the base). Only branches that
+  /// reached their full length fork. The junctions are the terminal nodes
+  /// at or below the limit.
   /// Branch lengths and angles vary by a seeded std::mt19937 mapped to
   /// uniform numbers by hand (the same tree on every platform and rank).
   class PurkinjeTree
@@ -210,12 +227,13 @@ namespace systole::Electrophysiology
     };
 
     /// Grow branch number @p branch from node @p start along @p direction
-    /// for @p length.
+    /// for @p length; if @p limited, not above the Junction height limit.
     BranchEnd
     grow_branch(const unsigned int          start,
                 const dealii::Tensor<1, 3> &direction,
                 const double                length,
-                const unsigned int          branch);
+                const unsigned int          branch,
+                const bool                  limited);
 
     /// Whether @p p lies within the minimum distance of a node of another
     /// branch than @p branch.

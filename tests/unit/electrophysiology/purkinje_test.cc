@@ -149,6 +149,41 @@ TEST_CASE("Every Purkinje junction activates the muscle", "[ep][purkinje]")
     CHECK(t >= earliest);
 }
 
+TEST_CASE("A Junction height limit keeps the junctions and branches apical",
+          "[ep][purkinje]")
+{
+  // The small ventricle: endocardial apex at z = -17, base plane z = 5.
+  auto params    = small_purkinje_parameters();
+  params.apex    = dealii::Point<3>(0, 0, -17);
+  params.base    = dealii::Point<3>(0, 0, 5);
+  const auto all = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  params.junction_height_limit = 0.75; // z <= -0.5
+  const auto  apical = run_purkinje_lv(params, 2, false, MPI_COMM_SELF);
+  const auto &net    = apical.network;
+  // The height by hand: z relative to the axis from -17 to 5.
+  const auto height = [](const dealii::Point<3> &x) {
+    return (x[2] + 17) / 22;
+  };
+  unsigned int above_all = 0;
+  for (const unsigned int j : all.network.junctions)
+    above_all += height(all.network.nodes[j]) > 0.75;
+  INFO(all.network.junctions.size()
+       << " junctions without a limit, " << above_all << " of them above 0.75; "
+       << net.junctions.size() << " with it");
+  REQUIRE(above_all > 0); // the limit has something to remove
+  REQUIRE(net.junctions.size() > 5);
+  for (const unsigned int j : net.junctions)
+    CHECK(height(net.nodes[j]) <= 0.75 + 1e-12);
+  // The branches after the fascicles stay below: only the bundle and the
+  // fascicles (their nodes are the first ones grown, up to 3 + 4 + 4 mm of
+  // 0.5 mm segments: at most 23 nodes after the His entry) may lie above.
+  for (unsigned int i = 24; i < net.nodes.size(); ++i)
+    CHECK(height(net.nodes[i]) <= 0.75 + 1e-12);
+  // The bundle and fascicles are the same with and without the limit.
+  for (unsigned int i = 0; i < 24 && i < net.nodes.size(); ++i)
+    CHECK(net.nodes[i] == all.network.nodes[i]);
+}
+
 TEST_CASE("A His point away from the endocardium is an error", "[ep][purkinje]")
 {
   auto params      = small_purkinje_parameters();
@@ -185,6 +220,11 @@ TEST_CASE("Purkinje parameters parse to their declared defaults and name "
   CHECK(p.generations == defaults.generations);
   CHECK(p.velocity == defaults.velocity);
   CHECK(p.junction_delay == defaults.junction_delay);
+  CHECK(p.apex == defaults.apex);
+  CHECK(p.base == defaults.base);
+  CHECK(p.junction_height_limit == defaults.junction_height_limit);
+  CHECK_THROWS_WITH(parsed("    set Base = 0, 0, -84\n"),
+                    Catch::Contains("Base"));
   CHECK_THROWS_WITH(parsed("    set Minimum node distance = 1.5\n"),
                     Catch::Contains("Minimum node distance"));
   CHECK_THROWS_WITH(parsed("    set Fascicle lengths = 10, 10\n"),
