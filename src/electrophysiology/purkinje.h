@@ -197,7 +197,7 @@ namespace systole::Electrophysiology
     }
 
     /// The Purkinje-muscle junctions: the terminal nodes (one edge, not
-    /// the His entry), ascending.
+    /// the His entry) at or below the Junction height limit, ascending.
     const std::vector<unsigned int> &
     junctions() const
     {
