@@ -133,6 +133,19 @@ namespace systole::Circulation
                       "event (a valve's pressure drop changes sign) is "
                       "redone until it ends at most this long after the "
                       "event. Units: ms.");
+    prm.declare_entry(
+      "Displacement tolerance",
+      "0.25",
+      Double(0.0),
+      "Problem = heartbeat: the largest nodal distance by which the start of "
+      "a coupled step's Newton iteration (the displacement extrapolated from "
+      "the last two states) may miss its solution. After every step, the "
+      "next one is limited so that its miss is expected within this (it "
+      "grows with the square of the step): where the motion accelerates, as "
+      "at the contraction onset, the steps stay short enough for Newton to "
+      "converge within Mechanics / Maximum Newton iterations instead of "
+      "failing and being halved. 0: the steps follow the 0D and pressure "
+      "errors alone. Units: mm.");
     prm.declare_entry("Maximum time step",
                       "10",
                       Double(0.0),
@@ -179,9 +192,10 @@ namespace systole::Circulation
       Units::mL_to_mm3(prm.get_double(s, "Absolute volume tolerance"));
     p.absolute_pressure_tolerance =
       Units::mmHg_to_kPa(prm.get_double(s, "Absolute pressure tolerance"));
-    p.event_time_tolerance = prm.get_double(s, "Event time tolerance");
-    p.max_time_step        = prm.get_double(s, "Maximum time step");
-    p.initial_time_step    = prm.get_double(s, "Initial time step");
+    p.event_time_tolerance   = prm.get_double(s, "Event time tolerance");
+    p.displacement_tolerance = prm.get_double(s, "Displacement tolerance");
+    p.max_time_step          = prm.get_double(s, "Maximum time step");
+    p.initial_time_step      = prm.get_double(s, "Initial time step");
     p.validate();
     return p;
   }

@@ -43,6 +43,9 @@ namespace systole::Circulation
     /// How long after a valve event the step that crosses it may end [ms]
     /// (heartbeat).
     double event_time_tolerance = 0.1;
+    /// How far the displacement predictor of the next coupled step may miss
+    /// [mm] (heartbeat; 0: not controlled).
+    double displacement_tolerance = 0.25;
     /// Largest step of the integrator [ms].
     double max_time_step = 10.0;
     /// First step, and the step after every valve event [ms].

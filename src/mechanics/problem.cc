@@ -880,7 +880,29 @@ namespace systole::Mechanics
         m.u_owned.add(ratio, m.u_saved);
         m.u_owned.add(-ratio, m.u_previous);
       }
-    m.u = m.u_owned;
+    m.u           = m.u_owned;
+    m.u_predicted = m.u_owned;
+  }
+
+  double
+  Problem::predictor_error() const
+  {
+    // The largest nodal difference over the displacement entries (in the
+    // mixed formulation the pressure entries follow them; kPa, not mm).
+    const Impl &m = *impl;
+    if (m.u_predicted.size() != m.u_owned.size())
+      return 0.0;
+    const auto         n_u = m.layout.owned(0).n_elements();
+    const PetscScalar *x, *y;
+    VecGetArrayRead(m.u_owned, &x);
+    VecGetArrayRead(m.u_predicted, &y);
+    double e = 0;
+    for (std::size_t i = 0; i < n_u; ++i)
+      e = std::max(e, std::abs(x[i] - y[i]));
+    VecRestoreArrayRead(m.u_owned, &x);
+    VecRestoreArrayRead(m.u_predicted, &y);
+    MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_MAX, m.comm);
+    return e;
   }
 
   void

@@ -410,6 +410,13 @@ namespace systole::Mechanics
     /// last increment). No-op before the second save().
     void
     predict(const double ratio);
+    /// The largest nodal displacement [mm] between the current state and
+    /// the last predict(ratio): after a converged solve, how far its
+    /// predictor missed (the heartbeat's step-size control keeps it small;
+    /// HeartbeatStepper::Settings::displacement_tolerance). 0 before the
+    /// first predict(). Collective.
+    double
+    predictor_error() const;
 
     /// predict(@p ratio), kept only if the residual under the loads of the
     /// next step (@p pressure [kPa], @p active_tension [kPa]) is smaller there

@@ -301,10 +301,11 @@ namespace systole::Mechanics
     void
     factorize_low_rank();
 
-    LA::MPI::Vector u_owned;    ///< owned
-    LA::MPI::Vector u;          ///< ghosted copy of u_owned
-    LA::MPI::Vector u_saved;    ///< owned
-    LA::MPI::Vector u_previous; ///< owned, the save() before u_saved
+    LA::MPI::Vector u_owned;     ///< owned
+    LA::MPI::Vector u;           ///< ghosted copy of u_owned
+    LA::MPI::Vector u_saved;     ///< owned
+    LA::MPI::Vector u_previous;  ///< owned, the save() before u_saved
+    LA::MPI::Vector u_predicted; ///< owned, the last predict(ratio)
     unsigned int    n_saves = 0;
 
     std::unique_ptr<LinearSolver> linear_solver;

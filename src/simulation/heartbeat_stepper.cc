@@ -102,6 +102,11 @@ namespace systole
     double
     crossing(const Vector &g_new) const;
 
+    /// The factor by which the next step may grow after the accepted one
+    /// for the displacement predictor (Settings::displacement_tolerance).
+    double
+    displacement_ratio() const;
+
     /// Record the accepted step; report it (and its events, its beat end).
     void
     record(Observer &observer, const std::vector<unsigned int> &switched);
@@ -150,6 +155,9 @@ namespace systole
     /// (infinity after an accepted step; not saved: checkpoints are written
     /// between steps): a redo ends before it.
     double rejected_end = std::numeric_limits<double>::infinity();
+    /// The displacement predictor's error of the last converged solve [mm]
+    /// (set by every solve before the accept() that uses it: not saved).
+    double predictor_error = 0;
   };
 
 
@@ -193,6 +201,7 @@ namespace systole
     try
       {
         const unsigned int its = ventricles.solve(target, p);
+        predictor_error        = ventricles.predictor_error();
         step_iterations += its;
         stats.n_newton_iterations += its;
         // The 0D state of the converged pressures (the last target
@@ -300,7 +309,9 @@ namespace systole
     else if (t_new == breakpoint && t_new < (beat + 1) * settings.period)
       h = settings.initial_step;
     else
-      h = std::clamp(ratio * h_try, settings.min_step, settings.max_step);
+      h = std::clamp(std::min(ratio, displacement_ratio()) * h_try,
+                     settings.min_step,
+                     settings.max_step);
     if (upper <= t_new)
       upper = std::numeric_limits<double>::infinity();
     cap *= 1.1;
@@ -326,6 +337,19 @@ namespace systole
       return true;
     recorder.start(beat, beat_end);
     return false;
+  }
+
+
+  double
+  HeartbeatStepper::Impl::displacement_ratio() const
+  {
+    // The secant predictor misses by O(h^2): the step whose miss is
+    // expected at 0.9 of the tolerance, growing at most twofold.
+    const double tolerance = settings.displacement_tolerance;
+    const double error     = predictor_error;
+    if (!(tolerance > 0.0 && error > 0.0))
+      return 2.0;
+    return std::clamp(0.9 * std::sqrt(tolerance / error), 0.2, 2.0);
   }
 
 

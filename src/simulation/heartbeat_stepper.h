@@ -55,6 +55,15 @@ namespace systole
     virtual unsigned int
     solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) = 0;
 
+    /// After a converged solve(): the largest nodal displacement [mm] by
+    /// which its solution differs from its start, the predict()ion (0: not
+    /// measured; then the step-size control leaves it out).
+    virtual double
+    predictor_error() const
+    {
+      return 0.0;
+    }
+
     /// The solution of the last solve() becomes the accepted state.
     virtual void
     accept() = 0;
@@ -91,9 +100,13 @@ namespace systole
   /// solve_cavities: a k x k Schur complement beside the mechanics block
   /// solve).
   ///
-  /// Steps: adaptive by the BDF local error of the 0D states and the
+  /// Steps: adaptive by the BDF local error of the 0D states, the
   /// curvature of the cavity pressures (small in the upstroke and around
-  /// valve events, up to Settings::max_step in diastasis), ending at every
+  /// valve events, up to Settings::max_step in diastasis) and the error of
+  /// the displacement predictor (Settings::displacement_tolerance: where the
+  /// motion accelerates, as at the contraction onset, the next step is one
+  /// whose secant predictor is expected to miss by at most that, so Newton
+  /// starts in its quadratic range), ending at every
   /// beat's end, at the ventricles' breakpoints (the contraction onset) and
   /// at every valve event (located: the step that crosses a
   /// sign change of a valve's indicator is redone to end within
@@ -118,6 +131,9 @@ namespace systole
       double       initial_step                = 0.5;  ///< [ms]
       double       min_step                    = 1e-3; ///< [ms]
       double       event_time_tolerance        = 0.1;  ///< [ms]
+      /// The predictor error the next step may have [mm]
+      /// (CoupledVentricles::predictor_error(); 0: not controlled).
+      double displacement_tolerance = 0.0;
       /// Failed solves in a row before the run stops.
       unsigned int max_step_cuts = 10;
     };

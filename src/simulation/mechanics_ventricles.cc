@@ -142,6 +142,13 @@ namespace systole
   }
 
 
+  double
+  MechanicsVentricles::predictor_error() const
+  {
+    return problem.predictor_error();
+  }
+
+
   void
   MechanicsVentricles::accept()
   {

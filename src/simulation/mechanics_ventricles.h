@@ -62,6 +62,9 @@ namespace systole
     unsigned int
     solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) override;
 
+    double
+    predictor_error() const override;
+
     void
     accept() override;
 

@@ -120,6 +120,48 @@ namespace
     double       attempt = 0, accepted = 0;
   };
 
+  /// The elastance chambers with a displacement whose secant predictor
+  /// misses by c h^2 (a motion of constant second derivative 2c) for the
+  /// steps ending in [from, to]: the predictor error the stepper controls.
+  class AcceleratingVentricles : public ElastanceVentricles
+  {
+  public:
+    AcceleratingVentricles(std::vector<ChamberElastance> chambers,
+                           const double                  c,
+                           const double                  from,
+                           const double                  to)
+      : ElastanceVentricles(std::move(chambers))
+      , c(c)
+      , from(from)
+      , to(to)
+    {}
+    void
+    set_time(const double t) override
+    {
+      ElastanceVentricles::set_time(t);
+      attempt = t;
+    }
+    double
+    predictor_error() const override
+    {
+      const double h = attempt - accepted;
+      return attempt >= from && attempt <= to ? c * h * h : 0.0;
+    }
+    void
+    accept() override
+    {
+      if (attempt > from && accepted >= from && attempt <= to)
+        steps_inside.push_back(attempt - accepted);
+      accepted = attempt;
+    }
+
+    std::vector<double> steps_inside;
+
+  private:
+    const double c, from, to;
+    double       attempt = 0, accepted = 0;
+  };
+
   /// Keeps the summary rows.
   struct Summaries : HeartbeatStepper::Observer
   {
@@ -388,5 +430,62 @@ TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
         }
       else
         CHECK(rows.size() == 2);
+    }
+}
+
+
+TEST_CASE("The heartbeat stepper keeps the displacement predictor's error "
+          "within its tolerance",
+          "[circulation][stepper]")
+{
+  // A predictor error of c h^2 in diastasis (from 500 to 700 ms, where the
+  // 0D errors alone let the steps grow to the largest step): with the
+  // tolerance, every step after the first there is the one whose error is
+  // 0.9^2 of it, h = 0.9 sqrt(tol / c) = 1.8 ms; without it, they grow to
+  // Settings::max_step (20 ms).
+  const ClosedLoop::Parameters elastance;
+  const double                 T       = elastance.period;
+  ClosedLoop::Parameters       coupled = elastance;
+  coupled.left_ventricle_kind          = CavityKind::external;
+  const ClosedLoop model(coupled);
+  Vector           y0;
+  model.initial_state(y0);
+  Vector p0(2);
+  p0[0] = ChamberElastance(elastance.left_ventricle, T)
+            .pressure(0.0, y0[model.cavities()[0].volume_state]);
+  p0[1] = ChamberElastance(elastance.right_ventricle, T)
+            .pressure(0.0, y0[model.cavities()[1].volume_state]);
+  constexpr double c = 0.025, tolerance = 0.1; // mm/ms^2, mm
+  for (const bool controlled : {false, true})
+    {
+      HeartbeatStepper::Settings settings;
+      settings.period                 = T;
+      settings.n_max_beats            = 1;
+      settings.periodicity_tolerance  = 0;
+      settings.max_step               = 20.0;
+      settings.displacement_tolerance = controlled ? tolerance : 0.0;
+      AcceleratingVentricles ventricles(
+        {ChamberElastance(elastance.left_ventricle, T)},
+        c,
+        500.0,
+        700.0);
+      HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
+      Summaries        summaries;
+      const auto       stats = stepper.run(summaries);
+      CHECK(stats.n_beats == 1);
+      const auto &h = ventricles.steps_inside;
+      REQUIRE(h.size() > 2);
+      const double largest = *std::max_element(h.begin() + 1, h.end());
+      INFO((controlled ? "controlled" : "not controlled")
+           << ": " << h.size() << " steps in the window, the largest after "
+           << "the first " << largest << " ms");
+      if (controlled)
+        {
+          for (unsigned int i = 1; i < h.size(); ++i)
+            CHECK(c * h[i] * h[i] <= tolerance * (1 + 1e-12));
+          CHECK(largest == Approx(0.9 * std::sqrt(tolerance / c)));
+        }
+      else
+        CHECK(largest > 10.0);
     }
 }
