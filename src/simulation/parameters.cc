@@ -229,6 +229,15 @@ namespace systole
       "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
       "writing the checkpoint of this step, so that its writes fail as on a "
       "full disk; -1: never. Units: steps.");
+    prm.declare_entry(
+      "Test file size limit after step",
+      "-1",
+      Integer(-1),
+      "Test-only (write-failure tests): Problem = heartbeat limits the size "
+      "of the files it writes to the present size of its results file "
+      "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
+      "next write that grows the results file fails as on a full disk; -1: "
+      "never. Units: steps.");
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
@@ -359,6 +368,8 @@ namespace systole
       prm.get_integer({"Output"}, "Test kill in checkpoint");
     p.test_file_size_limit_in_checkpoint =
       prm.get_integer({"Output"}, "Test file size limit in checkpoint");
+    p.test_file_size_limit_after_step =
+      prm.get_integer({"Output"}, "Test file size limit after step");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

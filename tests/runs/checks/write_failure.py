@@ -25,6 +25,10 @@ PRM is a small heartbeat; every mode runs in the current folder with its own run
   checkpoint_000010, which matches its MANIFEST; the results rows up to step 20 equal
   the reference's; resumed, the run ends with the reference's rows.
 
+- results_2, checkpoint_2: both faults on 2 ranks, made by the test hooks Output / Test
+  file size limit after step = 30 (the results file cannot grow after that step) and in
+  checkpoint = 20: the one line, no hang, the rows and the last checkpoint readable.
+
 Rows are compared to 1e-12 (relative to each column's largest value; the wall-time
 columns *_seconds excepted).
 """
@@ -53,7 +57,7 @@ def prm_for(prm: Path, run: str, output: str = "") -> Path:
     return out
 
 
-def run(systole: str, prm: Path, limit: int = 0) -> subprocess.CompletedProcess:
+def run(systole: str, prm: Path, limit: int = 0, ranks: int = 1) -> subprocess.CompletedProcess:
     def limited() -> None:
         signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
         resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
@@ -61,7 +65,11 @@ def run(systole: str, prm: Path, limit: int = 0) -> subprocess.CompletedProcess:
     # PMIx keeps its data in shared-memory files larger than the limit: use its hash
     # store instead (MPI_Init fails otherwise).
     env = dict(os.environ, PMIX_MCA_gds="hash")
-    return subprocess.run([systole, str(prm)], capture_output=True, text=True, env=env,
+    command = [systole, str(prm)]
+    if ranks > 1:
+        command = [shutil.which("mpirun"), "--allow-run-as-root", "--oversubscribe", "-np",
+                   str(ranks)] + command
+    return subprocess.run(command, capture_output=True, text=True, env=env,
                           preexec_fn=limited if limit else None, timeout=250)
 
 
@@ -162,6 +170,21 @@ def main() -> int:
                        complete=False)
     print(f"checkpoint: {n} rows kept, equal to the reference")
     resume(systole, prm, "checkpoint", reference)
+
+    # The same on 2 ranks, through the test hooks (mpirun's daemons reset SIGXFSZ, so an
+    # outside limit kills the ranks): every rank stops with the one line, none hangs.
+    result = run(systole, prm_for(prm, "results_2",
+                                  "  set Test file size limit after step = 30\n"), ranks=2)
+    one_error_line(result, r"results/results_2/results\.h5", "File too large")
+    with h5py.File("results/results_2/results.h5", "r") as f:
+        n = len(f["timeseries"]["time"])
+    assert 31 <= n < n_reference, n
+    intact(sorted(Path("results/results_2").glob("checkpoint_*"))[-1])
+    print(f"results_2: {n} rows kept")
+    result = run(systole, prm_for(prm, "checkpoint_2",
+                                  "  set Test file size limit in checkpoint = 20\n"), ranks=2)
+    one_error_line(result, "checkpoint of step 20", r"checkpoint_000010, is intact")
+    intact(Path("results/checkpoint_2/checkpoint_000010"))
     return 0
 
 
