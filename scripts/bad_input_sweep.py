@@ -13,6 +13,9 @@ mesh is read, checked and used): a truncated file, a NaN, infinite or huge coord
 inverted cell, a face tag removed or a face in two tags, an element naming a missing
 node, a repeated node in a cell, a disconnected extra cell.
 
+A free-text value (boundary part names, ...) that --check accepts is then run for real
+for at most 15 s: it must stop at set-up, with one line and no results file.
+
 Each outcome is classified:
   clear        exit != 0 and exactly one 'systole: error:' line that names the entry (or
                the line, for a broken subsection) or the mesh defect; no stack trace, no
@@ -121,11 +124,6 @@ def declarations(systole: Path, cwd: Path, saved: Path | None = None) -> dict[st
 
     walk(tree, [])
     return patterns
-
-
-def demangle(key: str) -> str:
-    """deal.II writes names with non-alphanumeric characters as _XX (hex)."""
-    return re.sub(r"_([0-9a-fA-F]{2})", lambda m: chr(int(m.group(1), 16)), key)
 
 
 def entries_of(text: str) -> tuple[list[tuple[int, list[str], str, str]],
@@ -474,7 +472,8 @@ def run_case(case: Case, systole: Path, work: Path, timeout: float,
         return "hang", f"still running after {timeout:g} s"
     rc = process.returncode
     if rc < 0:
-        return "crash", f"signal {-rc}: " + stderr.strip().splitlines()[-1:][0:1].__str__()
+        last = stderr.strip().splitlines()[-1:] or [""]
+        return "crash", f"signal {-rc}: {last[0][:200]}"
     errors = re.findall(r"^systole: error: .*$", stderr, re.MULTILINE)
     if rc == 0:
         if case.allowed_if_accepted:
