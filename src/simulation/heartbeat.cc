@@ -445,24 +445,27 @@ namespace systole
         std::string error;
         if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
           error = write_files(folder, bytes.str(), step);
-        error = dealii::Utilities::MPI::broadcast(comm, error, 0);
-        if (!error.empty())
+        stop_if_failed(error, 0, step);
+        // The mesh with its data (MPI-IO): a rank whose write failed tells
+        // the others, which would otherwise wait for it in the commit.
+        error.clear();
+        try
           {
-            const auto        previous = store.list();
-            const std::string previous_note =
-              previous.empty()
-                ? std::string("none was written before")
-                : "the last one, " + previous.front() + ", is intact";
-            AssertThrow(false,
-                        dealii::ExcMessage(
-                          "Writing the checkpoint of step " +
-                          std::to_string(step) + " failed (" + error + "); " +
-                          previous_note +
-                          ". Free disk space (or raise the quota or file "
-                          "size limit), then continue with systole --resume " +
-                          run.output_directory + "."));
+            tria->save(folder + "mechanics.mesh");
           }
-        tria->save(folder + "mechanics.mesh");
+        catch (const std::exception &e)
+          {
+            error = one_line_message(e);
+          }
+        const unsigned int n_ranks =
+          dealii::Utilities::MPI::n_mpi_processes(comm);
+        stop_if_failed(error,
+                       dealii::Utilities::MPI::min(
+                         error.empty()
+                           ? n_ranks
+                           : dealii::Utilities::MPI::this_mpi_process(comm),
+                         comm),
+                       step);
         state.problem.finish_checkpoint();
         const std::string path = store.commit();
         seconds += std::chrono::duration<double>(
@@ -470,6 +473,33 @@ namespace systole
                      .count();
         ++count;
         logger.detail() << "  checkpoint " << path << std::endl;
+      }
+
+      /// Throw on every rank, naming the intact previous checkpoint, if
+      /// rank @p failed_rank (< the number of ranks) has an @p error.
+      void
+      stop_if_failed(const std::string &error,
+                     const unsigned int failed_rank,
+                     const unsigned int step) const
+      {
+        if (failed_rank >= dealii::Utilities::MPI::n_mpi_processes(comm))
+          return;
+        const std::string message =
+          dealii::Utilities::MPI::broadcast(comm, error, failed_rank);
+        if (message.empty())
+          return;
+        const auto        previous = store.list();
+        const std::string previous_note =
+          previous.empty()
+            ? std::string("none was written before")
+            : "the last one, " + previous.front() + ", is intact";
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "Writing the checkpoint of step " + std::to_string(step) +
+                      " failed (" + message + "); " + previous_note +
+                      ". Free disk space (or raise the quota or file size "
+                      "limit), then continue with systole --resume " +
+                      run.output_directory + "."));
       }
 
       /// Write the small state, the parameters and the parameter file's name
