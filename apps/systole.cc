@@ -2,8 +2,10 @@
 #include <deal.II/base/mpi.h>
 
 #include "base/errors.h"
+#include "io/results_file.h"
 #include "simulation/simulation.h"
 
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
@@ -13,6 +15,8 @@ namespace
     "Usage: systole PARAMETER_FILE.prm       run the simulation the file describes\n"
     "       systole --print-parameters [FILE] print every parameter with its documentation\n"
     "                                         (defaults, or the values FILE sets)\n"
+    "       systole --print-parameters-json [FILE]  the same as JSON, with each\n"
+    "                                         entry's pattern (type and bounds)\n"
     "       systole --check FILE             read and validate FILE, run nothing\n"
     "       systole --resume results/RUN     continue a heartbeat from its newest valid checkpoint\n"
     "       systole --help | --version\n"
@@ -49,6 +53,14 @@ main(int argc, char *argv[])
             systole::print_parameters(std::cout, argc > 2 ? argv[2] : "");
           return 0;
         }
+      if (first == "--print-parameters-json")
+        {
+          if (root)
+            systole::print_parameters(std::cout,
+                                      argc > 2 ? argv[2] : "",
+                                      /*json=*/true);
+          return 0;
+        }
       if (first == "--check" && argc == 3)
         {
           systole::Simulation simulation(argv[2], comm, std::cout);
@@ -81,6 +93,13 @@ main(int argc, char *argv[])
       if (root)
         std::cerr << "systole: error: " << systole::one_line_message(e)
                   << std::endl;
+      // A failed write left the results file open on purpose: end without
+      // MPI_Finalize, which would make HDF5 close (and crash on) it.
+      if (systole::IO::a_results_write_failed())
+        {
+          std::cout.flush();
+          std::_Exit(1);
+        }
       return 1;
     }
   return 0;

@@ -2209,7 +2209,8 @@ def main() -> int:
                                            "ep-lv", "mixed", "circulation",
                                            "laws", "cell", "checkpoint", "postprocess",
                                            "niederer", "land", "inverse", "biv", "scaling",
-                                           "scaling-th", "large", "arostica", "tet"],
+                                           "scaling-th", "large", "arostica", "tet",
+                                           "badinput"],
                         help="run one group and replace its sections of the output (the other "
                         "sections are kept)")
     parser.add_argument("--no-write", action="store_true",
@@ -2417,6 +2418,17 @@ def main() -> int:
             rows.sort(key=lambda r: r["ranks"])
             sections[BIV_TITLE] = biv_section(rows)
             print(sections[BIV_TITLE], flush=True)
+
+        if args.only in (None, "badinput"):
+            # The bad-input sweep: 600 mutated parameter cases and every mesh case.
+            from bad_input_sweep import SECTION_TITLE
+            print("running the bad-input sweep (about 15 minutes) ...", flush=True)
+            markdown = workdir / "bad_input.md"
+            subprocess.run([sys.executable, str(ROOT / "scripts" / "bad_input_sweep.py"),
+                            "--systole", str(args.build / "systole"), "--sample", "600",
+                            "--markdown", str(markdown)], check=False)
+            sections[SECTION_TITLE] = markdown.read_text()
+            print(sections[SECTION_TITLE], flush=True)
 
         if args.only in (None, "checkpoint"):
             title = "Checkpoints of the default heartbeat (parameters/lv_heartbeat.prm)"

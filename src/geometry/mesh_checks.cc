@@ -71,10 +71,84 @@ namespace systole::Geometry
   void
   check_mesh_data(const MeshData &mesh)
   {
+    check_coordinates(mesh);
     check_vertex_references(mesh);
     check_unused_vertices(mesh);
     check_duplicate_vertices(mesh);
     check_cell_orientation(mesh);
+    check_connected(mesh);
+  }
+
+  void
+  check_coordinates(const MeshData &mesh, const double max_coordinate)
+  {
+    const auto bad = [&](const dealii::Point<3> &p) {
+      for (unsigned int d = 0; d < 3; ++d)
+        if (!std::isfinite(p[d]) || std::abs(p[d]) > max_coordinate)
+          return true;
+      return false;
+    };
+    const std::size_t n_bad =
+      std::count_if(mesh.vertices.begin(), mesh.vertices.end(), bad);
+    if (n_bad == 0)
+      return;
+    const std::size_t first =
+      std::find_if(mesh.vertices.begin(), mesh.vertices.end(), bad) -
+      mesh.vertices.begin();
+    AssertThrow(false,
+                dealii::ExcMessage(
+                  "Mesh file '" + mesh.file + "': " + std::to_string(n_bad) +
+                  " of its " + std::to_string(mesh.vertices.size()) +
+                  " nodes have a coordinate that is not a finite number or "
+                  "exceeds " +
+                  format_number(max_coordinate) + " in size; the first, node " +
+                  std::to_string(mesh.vertex_ids.at(first)) + ", at " +
+                  format_point(mesh.vertices[first]) +
+                  ". The file is corrupt or in the wrong units: re-export it "
+                  "(or fix Geometry / Gmsh / Scale)."));
+  }
+
+  void
+  check_connected(const MeshData &mesh)
+  {
+    // Union-find over the vertices: the vertices of a cell are one set.
+    std::vector<unsigned int> parent(mesh.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    const auto find = [&](unsigned int v) {
+      while (parent[v] != v)
+        v = parent[v] = parent[parent[v]];
+      return v;
+    };
+    for (const auto &cell : mesh.cells)
+      for (std::size_t i = 1; i < cell.size(); ++i)
+        parent[find(cell[i])] = find(cell[0]);
+    std::map<unsigned int, std::size_t> cells_per_piece;
+    for (const auto &cell : mesh.cells)
+      ++cells_per_piece[find(cell[0])];
+    if (cells_per_piece.size() <= 1)
+      return;
+    const auto  smallest = std::min_element(cells_per_piece.begin(),
+                                           cells_per_piece.end(),
+                                           [](const auto &a, const auto &b) {
+                                             return a.second < b.second;
+                                           });
+    std::size_t c        = 0;
+    while (find(mesh.cells[c][0]) != smallest->first)
+      ++c;
+    dealii::Point<3> centre;
+    for (const unsigned int v : mesh.cells[c])
+      centre += mesh.vertices[v] / static_cast<double>(mesh.cells[c].size());
+    AssertThrow(false,
+                dealii::ExcMessage(
+                  "Mesh file '" + mesh.file + "': the " + mesh.cell_kind() +
+                  " form " + std::to_string(cells_per_piece.size()) +
+                  " disconnected pieces (cells sharing no node); the "
+                  "smallest has " +
+                  std::to_string(smallest->second) + " cell(s), e.g. element " +
+                  std::to_string(mesh.cell_ids.at(c)) + " at " +
+                  format_point(centre) +
+                  ". Remove the stray cells or merge the pieces' nodes "
+                  "(gmsh: Coherence Mesh)."));
   }
 
   void

@@ -15,12 +15,27 @@ namespace dealii
 
 namespace systole::Geometry
 {
-  /// Every check of a mesh as read, in this order: check_vertex_references(),
-  /// check_unused_vertices(), check_duplicate_vertices(),
-  /// check_cell_orientation(). Each throws one line naming the file, how many
-  /// offenders there are, the first one with its coordinates, and the fix.
+  /// Every check of a mesh as read, in this order: check_coordinates(),
+  /// check_vertex_references(), check_unused_vertices(),
+  /// check_duplicate_vertices(), check_cell_orientation(), check_connected().
+  /// Each throws one line naming the file, how many offenders there are, the
+  /// first one with its coordinates, and the fix.
   void
   check_mesh_data(const MeshData &mesh);
+
+  /// Throw if a vertex has a coordinate that is not a finite number (NaN,
+  /// infinity) or whose magnitude exceeds @p max_coordinate (a corrupt or
+  /// mis-scaled file: the other checks would fail on it with misleading
+  /// messages). Units: the file's, as read (default 1e9: 1000 km in mm).
+  void
+  check_coordinates(const MeshData &mesh, const double max_coordinate = 1e9);
+
+  /// Throw if the cells form more than one piece (cells connected through
+  /// shared vertices): a stray cell or a second body would be a separate,
+  /// unsupported solid. Names the number of pieces and a cell of the
+  /// smallest one with its centre.
+  void
+  check_connected(const MeshData &mesh);
 
   /// Throw unless every cell refers to existing vertices, each at most once.
   void

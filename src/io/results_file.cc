@@ -5,11 +5,15 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "base/errors.h"
+
 #include <hdf5.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -20,20 +24,29 @@ namespace systole::IO
 
   namespace
   {
+    /// A failed HDF5 call: what was being done, and the system's reason
+    /// (errno, e.g. "No space left on device") when there is one.
+    struct WriteFailure : std::runtime_error
+    {
+      explicit WriteFailure(const std::string &what)
+        : std::runtime_error(
+            what + (errno != 0 ? std::string(": ") + std::strerror(errno)
+                               : std::string()))
+      {}
+    };
+
     void
     check(const herr_t status, const std::string &what)
     {
-      AssertThrow(status >= 0,
-                  dealii::ExcMessage(
-                    "Writing the results file failed: " + what + "."));
+      if (status < 0)
+        throw WriteFailure(what);
     }
 
     hid_t
     checked(const hid_t id, const std::string &what)
     {
-      AssertThrow(id >= 0,
-                  dealii::ExcMessage(
-                    "Writing the results file failed: " + what + "."));
+      if (id < 0)
+        throw WriteFailure(what);
       return id;
     }
 
@@ -310,6 +323,17 @@ namespace systole::IO
     }
   } // namespace
 
+  namespace
+  {
+    bool any_write_failed = false;
+  } // namespace
+
+  bool
+  a_results_write_failed()
+  {
+    return any_write_failed;
+  }
+
   struct ResultsFile::Impl
   {
     MPI_Comm               comm;
@@ -325,10 +349,73 @@ namespace systole::IO
     std::string            mesh_group = "mesh"; ///< of the next field output
     std::vector<FieldStep> field_steps;
 
+    /// A write failed: nothing more is written.
+    bool failed = false;
+    /// An HDF5 write failed: the file is not closed (closing would write
+    /// more of the failed operation; the rows of the last successful flush
+    /// stay as they are), see a_results_write_failed().
+    bool abandoned = false;
+
     void
     flush()
     {
       check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush");
+    }
+
+    /// Run @p write (one public write operation, ending in a flush) and
+    /// agree on its success: a failure seen by one rank (rank 0 writes the
+    /// HDF5 metadata) stops every rank with the same message, which names
+    /// the file, what failed, why, and the fix.
+    template <class Write>
+    void
+    guarded(const Write &write)
+    {
+      static const std::string removed = "removed during the run";
+      AssertThrow(!failed,
+                  dealii::ExcMessage("The results file '" + file_path +
+                                     "' is not written any more: a write "
+                                     "failed before."));
+      std::string error;
+      errno = 0;
+      try
+        {
+          // A file removed (or moved) during the run would take every later
+          // row with it into an unlinked inode: stop instead.
+          if (root && !std::filesystem::exists(file_path))
+            throw WriteFailure(removed);
+          write();
+        }
+      catch (const std::exception &e)
+        {
+          error = one_line_message(e);
+          if (error.empty())
+            error = "unknown error";
+        }
+      const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);
+      const unsigned int first = dealii::Utilities::MPI::min(
+        error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) : rank,
+        comm);
+      if (first == dealii::Utilities::MPI::n_mpi_processes(comm))
+        return;
+      failed = true;
+      error  = dealii::Utilities::MPI::broadcast(comm, error, first);
+      // (A removed file is still open and healthy: it is closed as usual.)
+      abandoned        = error.rfind(removed, 0) != 0;
+      any_write_failed = any_write_failed || abandoned;
+      AssertThrow(abandoned,
+                  dealii::ExcMessage("The results file '" + file_path +
+                                     "' was removed during the run: the run "
+                                     "stops (the rows it held are lost). "
+                                     "Leave a running run's files in place."));
+      AssertThrow(false,
+                  dealii::ExcMessage(
+                    "Writing the results file '" + file_path + "' failed (" +
+                    error +
+                    "); the rows written before are kept. Free disk space "
+                    "(or raise the quota or file size limit) or choose "
+                    "another Output / Directory, and run again (a heartbeat "
+                    "with checkpoints: systole --resume " +
+                    directory + ")."));
     }
 
     void
@@ -464,14 +551,19 @@ namespace systole::IO
         H5Tclose(type);
         impl->flush();
       }
-    catch (...)
+    catch (const std::exception &e)
       {
         H5Fclose(impl->file);
         impl->file = -1;
         MPI_Barrier(comm);
         if (impl->root)
           std::filesystem::remove(impl->file_path);
-        throw;
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "Writing the results file '" + impl->file_path +
+                      "' failed (" + one_line_message(e) +
+                      "). Free disk space (or raise the quota or file size "
+                      "limit) or choose another Output / Directory."));
       }
   }
 
@@ -673,6 +765,9 @@ namespace systole::IO
 
   ResultsFile::~ResultsFile()
   {
+    // After a failed write the file stays open (see a_results_write_failed()).
+    if (impl->abandoned)
+      return;
     impl->timeseries.close();
     impl->summary.close();
     impl->events.close();
@@ -689,22 +784,28 @@ namespace systole::IO
   void
   ResultsFile::append_timeseries(const std::vector<Column> &row)
   {
-    impl->timeseries.append(impl->file, row, impl->root);
-    impl->flush();
+    impl->guarded([&]() {
+      impl->timeseries.append(impl->file, row, impl->root);
+      impl->flush();
+    });
   }
 
   void
   ResultsFile::append_event(const std::vector<Column> &row)
   {
-    impl->events.append(impl->file, row, impl->root);
-    impl->flush();
+    impl->guarded([&]() {
+      impl->events.append(impl->file, row, impl->root);
+      impl->flush();
+    });
   }
 
   void
   ResultsFile::append_summary(const std::vector<Column> &row)
   {
-    impl->summary.append(impl->file, row, impl->root);
-    impl->flush();
+    impl->guarded([&]() {
+      impl->summary.append(impl->file, row, impl->root);
+      impl->flush();
+    });
   }
 
   void
@@ -712,13 +813,22 @@ namespace systole::IO
     const std::vector<Column>                              &values,
     const std::vector<std::pair<std::string, std::string>> &texts)
   {
-    write_statistics_to(impl->file, values, texts);
-    impl->flush();
+    impl->guarded([&]() {
+      write_statistics_to(impl->file, values, texts);
+      impl->flush();
+    });
   }
 
   void
   ResultsFile::write_table(const std::string              &path,
                            const std::vector<TableColumn> &columns)
+  {
+    impl->guarded([&]() { write_table_now(path, columns); });
+  }
+
+  void
+  ResultsFile::write_table_now(const std::string              &path,
+                               const std::vector<TableColumn> &columns)
   {
     // Open or create every group on the path (creation order tracked, so
     // readers list the columns in the order written). Collective: every rank
@@ -856,105 +966,111 @@ namespace systole::IO
     const hsize_t n_global_cells =
       dealii::Utilities::MPI::sum(n_local_cells, impl->comm);
 
-    const bool first_mesh = H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0;
-    if (first_mesh || n_global_nodes != impl->n_global_nodes ||
-        n_global_cells != impl->n_global_cells)
-      {
-        // The first output, or the first after a resume on another number
-        // of ranks (other patches): a mesh group of its own.
-        char mesh_name[32];
-        std::snprintf(mesh_name, sizeof(mesh_name), "mesh_step_%06u", step);
-        impl->mesh_group = first_mesh ? "mesh" : mesh_name;
-        std::vector<double> nodes;
-        filter.fill_node_data(nodes);
-        std::vector<unsigned int> cells;
-        filter.fill_cell_data(node_offset, cells);
-        // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
-        // rank (a rank without cells has none to say).
-        impl->nodes_per_cell =
-          dealii::Utilities::MPI::max(n_local_cells > 0
-                                        ? cells.size() / n_local_cells
-                                        : 0,
-                                      impl->comm);
-        AssertThrow(impl->nodes_per_cell == 8 || impl->nodes_per_cell == 4,
-                    dealii::ExcMessage(
-                      "Field output: cells of " +
-                      std::to_string(impl->nodes_per_cell) +
-                      " nodes (the results file takes hexahedra and linear "
-                      "tetrahedra)."));
-        const hid_t group = checked(H5Gcreate2(impl->file,
-                                               impl->mesh_group.c_str(),
-                                               H5P_DEFAULT,
-                                               H5P_DEFAULT,
-                                               H5P_DEFAULT),
-                                    "/" + impl->mesh_group);
-        write_distributed(group,
-                          "nodes",
-                          H5T_NATIVE_DOUBLE,
-                          H5T_IEEE_F64LE,
-                          nodes.data(),
-                          n_local_nodes,
-                          node_offset,
-                          n_global_nodes,
-                          3);
-        write_distributed(group,
-                          "cells",
-                          H5T_NATIVE_UINT,
-                          H5T_STD_U32LE,
-                          cells.data(),
-                          n_local_cells,
-                          cell_offset,
-                          n_global_cells,
-                          impl->nodes_per_cell);
-        H5Gclose(group);
-        impl->n_global_nodes = n_global_nodes;
-        impl->n_global_cells = n_global_cells;
-      }
+    impl->guarded([&]() {
+      const bool first_mesh = H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0;
+      if (first_mesh || n_global_nodes != impl->n_global_nodes ||
+          n_global_cells != impl->n_global_cells)
+        {
+          // The first output, or the first after a resume on another number
+          // of ranks (other patches): a mesh group of its own.
+          char mesh_name[32];
+          std::snprintf(mesh_name, sizeof(mesh_name), "mesh_step_%06u", step);
+          impl->mesh_group = first_mesh ? "mesh" : mesh_name;
+          std::vector<double> nodes;
+          filter.fill_node_data(nodes);
+          std::vector<unsigned int> cells;
+          filter.fill_cell_data(node_offset, cells);
+          // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
+          // rank (a rank without cells has none to say).
+          impl->nodes_per_cell =
+            dealii::Utilities::MPI::max(n_local_cells > 0
+                                          ? cells.size() / n_local_cells
+                                          : 0,
+                                        impl->comm);
+          AssertThrow(impl->nodes_per_cell == 8 || impl->nodes_per_cell == 4,
+                      dealii::ExcMessage(
+                        "Field output: cells of " +
+                        std::to_string(impl->nodes_per_cell) +
+                        " nodes (the results file takes hexahedra and linear "
+                        "tetrahedra)."));
+          const hid_t group = checked(H5Gcreate2(impl->file,
+                                                 impl->mesh_group.c_str(),
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT,
+                                                 H5P_DEFAULT),
+                                      "/" + impl->mesh_group);
+          write_distributed(group,
+                            "nodes",
+                            H5T_NATIVE_DOUBLE,
+                            H5T_IEEE_F64LE,
+                            nodes.data(),
+                            n_local_nodes,
+                            node_offset,
+                            n_global_nodes,
+                            3);
+          write_distributed(group,
+                            "cells",
+                            H5T_NATIVE_UINT,
+                            H5T_STD_U32LE,
+                            cells.data(),
+                            n_local_cells,
+                            cell_offset,
+                            n_global_cells,
+                            impl->nodes_per_cell);
+          H5Gclose(group);
+          impl->n_global_nodes = n_global_nodes;
+          impl->n_global_cells = n_global_cells;
+        }
 
-    hid_t fields = -1;
-    if (H5Lexists(impl->file, "fields", H5P_DEFAULT) <= 0)
-      fields = checked(
-        H5Gcreate2(impl->file, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-        "/fields");
-    else
-      fields = checked(H5Gopen2(impl->file, "fields", H5P_DEFAULT), "/fields");
-    char name[32];
-    std::snprintf(name, sizeof(name), "step_%06u", step);
-    const hid_t group =
-      checked(H5Gcreate2(fields, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-              std::string("/fields/") + name +
-                " (a field step written twice?)");
-    write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
-    write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
-    write_string_attribute(group, "mesh", impl->mesh_group);
+      hid_t fields = -1;
+      if (H5Lexists(impl->file, "fields", H5P_DEFAULT) <= 0)
+        fields = checked(H5Gcreate2(impl->file,
+                                    "fields",
+                                    H5P_DEFAULT,
+                                    H5P_DEFAULT,
+                                    H5P_DEFAULT),
+                         "/fields");
+      else
+        fields =
+          checked(H5Gopen2(impl->file, "fields", H5P_DEFAULT), "/fields");
+      char name[32];
+      std::snprintf(name, sizeof(name), "step_%06u", step);
+      const hid_t group =
+        checked(H5Gcreate2(fields, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                std::string("/fields/") + name +
+                  " (a field step written twice?)");
+      write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
+      write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
+      write_string_attribute(group, "mesh", impl->mesh_group);
 
-    FieldStep record{step,
-                     time,
-                     {},
-                     impl->mesh_group,
-                     impl->n_global_nodes,
-                     impl->n_global_cells,
-                     impl->nodes_per_cell};
-    for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
-      {
-        const std::string  set_name   = filter.get_data_set_name(i);
-        const unsigned int components = filter.get_data_set_dim(i);
-        write_distributed(group,
-                          set_name,
-                          H5T_NATIVE_DOUBLE,
-                          H5T_IEEE_F64LE,
-                          filter.get_data_set(i),
-                          n_local_nodes,
-                          node_offset,
-                          n_global_nodes,
-                          components);
-        record.sets.emplace_back(set_name, components);
-      }
-    H5Gclose(group);
-    H5Gclose(fields);
-    impl->flush();
+      FieldStep record{step,
+                       time,
+                       {},
+                       impl->mesh_group,
+                       impl->n_global_nodes,
+                       impl->n_global_cells,
+                       impl->nodes_per_cell};
+      for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
+        {
+          const std::string  set_name   = filter.get_data_set_name(i);
+          const unsigned int components = filter.get_data_set_dim(i);
+          write_distributed(group,
+                            set_name,
+                            H5T_NATIVE_DOUBLE,
+                            H5T_IEEE_F64LE,
+                            filter.get_data_set(i),
+                            n_local_nodes,
+                            node_offset,
+                            n_global_nodes,
+                            components);
+          record.sets.emplace_back(set_name, components);
+        }
+      H5Gclose(group);
+      H5Gclose(fields);
+      impl->flush();
 
-    impl->field_steps.push_back(record);
-    impl->write_xdmf();
+      impl->field_steps.push_back(record);
+      impl->write_xdmf();
+    });
   }
 } // namespace systole::IO

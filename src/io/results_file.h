@@ -48,7 +48,11 @@ namespace systole::IO
   /// attributes time, step). The file is flushed after every row and every
   /// field output, so a run killed midway leaves a readable file with every
   /// completed step. All calls are collective; values passed in must be equal
-  /// on all ranks (only rank 0's are written).
+  /// on all ranks (only rank 0's are written). A failed write (disk full, a
+  /// file size limit, the file removed) throws on every rank one line naming
+  /// the file, what failed and why, and the fix; the file is then left as
+  /// its last flush wrote it (the earlier rows stay readable) and nothing
+  /// more is written to it.
   class ResultsFile
   {
   public:
@@ -131,7 +135,20 @@ namespace systole::IO
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;
+
+    /// write_table() without the agreement on success.
+    void
+    write_table_now(const std::string              &path,
+                    const std::vector<TableColumn> &columns);
   };
+
+  /// Whether a write of a ResultsFile failed in this process. Its HDF5 file
+  /// is then left open on purpose (closing would write more of the failed
+  /// operation, and HDF5 1.10's MPI-IO driver crashes when it closes such a
+  /// file, also at MPI_Finalize): the app ends the process without
+  /// finalizing after reporting the error.
+  bool
+  a_results_write_failed();
 
   /// ResultsFile::write_statistics() on the closed results file @p path
   /// (rank 0 reopens it; nothing happens if it does not exist): what the app

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace systole::Mechanics
 {
@@ -85,6 +86,26 @@ namespace systole::Mechanics
       for (unsigned int j = 0; j < k; ++j)
         du.add(dp[j], w[j]);
       return true;
+    }
+
+    /// "<what>; |R_u| = ..., |R_p|/|V_body| = ..., |dV|/V = ...": the
+    /// residual of every block, for the message of a failed solve.
+    std::string
+    with_block_residuals(const std::string           &what,
+                         const std::array<double, 2> &residual,
+                         const bool                   mixed,
+                         const double                 body_volume,
+                         const bool                   bordered,
+                         const double                 volume_error)
+    {
+      std::ostringstream o;
+      o << what << std::scientific << std::setprecision(3)
+        << "; |R_u| = " << residual[0];
+      if (mixed)
+        o << ", |R_p|/|V_body| = " << residual[1] / body_volume;
+      if (bordered)
+        o << ", |dV|/V = " << volume_error;
+      return o.str();
     }
   } // namespace
 
@@ -530,12 +551,18 @@ namespace systole::Mechanics
             report.final_residual = residual[0];
             return converged_now();
           }
+        // The final message names the residual of every block.
         AssertThrow(it - n_chord < m.params.max_newton_iterations,
-                    ExcNewtonDidNotConverge(bordered ? "volume-constrained "
-                                                       "step"
-                                                     : "load step",
-                                            it,
-                                            relative));
+                    ExcNewtonDidNotConverge(
+                      with_block_residuals(bordered ? "volume-constrained step"
+                                                    : "load step",
+                                           residual,
+                                           mixed,
+                                           m.body_volume,
+                                           bordered,
+                                           largest_volume_error()),
+                      it,
+                      relative));
 
         // A chord update that raised |R| (accelerated: that cut it less than
         // twofold; further out, where chords stall, an iterate they moved a
@@ -755,9 +782,15 @@ namespace systole::Mechanics
             break;
           }
         AssertThrow(cut < 6,
-                    ExcNewtonDidNotConverge("no acceptable step length",
-                                            it,
-                                            relative));
+                    ExcNewtonDidNotConverge(
+                      with_block_residuals("no acceptable step length",
+                                           residual,
+                                           mixed,
+                                           m.body_volume,
+                                           bordered,
+                                           largest_volume_error()),
+                      it,
+                      relative));
         ++cut;
         alpha *= 0.5;
       }

@@ -203,10 +203,11 @@ namespace systole::Mechanics
     prm.declare_entry(
       "Active tension",
       "0",
-      Double(),
+      Double(0.0),
       "Prescribed active tension T_a at the end of the load "
       "ramp: S_a = T_a f0 x f0 (2nd Piola-Kirchhoff, per "
-      "reference area, along the reference fibre). Units: kPa.");
+      "reference area, along the reference fibre; >= 0: the fibres "
+      "contract). Units: kPa.");
     prm.declare_entry(
       "Active sheet fraction",
       "0",

@@ -37,11 +37,14 @@
 #include <boost/archive/binary_oarchive.hpp>
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
+#include <sys/resource.h>
 
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -429,10 +432,42 @@ namespace systole
           archive &rows.timeseries &rows.summary &rows.events &step;
           state.save(archive, folder);
         }
-        tria->save(folder + "mechanics.mesh");
-        state.problem.finish_checkpoint();
+        // Test hook (Output / Test file size limit in checkpoint): from here
+        // on, writes that grow a file beyond 1 kB fail as on a full disk.
+        if (run.test_file_size_limit_in_checkpoint == static_cast<long>(step))
+          {
+            std::signal(SIGXFSZ, SIG_IGN);
+            const rlimit limit{1024, 1024};
+            setrlimit(RLIMIT_FSIZE, &limit);
+          }
+        // The small state first: the largest file, whose failure (a full
+        // disk) is reported here, before the mesh's save (p4est aborts on a
+        // failed write).
+        std::string error;
         if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          write_files(folder, bytes.str(), step);
+          error = write_files(folder, bytes.str(), step);
+        stop_if_failed(error, 0, step);
+        // The mesh with its data (MPI-IO): a rank whose write failed tells
+        // the others, which would otherwise wait for it in the commit.
+        error.clear();
+        try
+          {
+            tria->save(folder + "mechanics.mesh");
+          }
+        catch (const std::exception &e)
+          {
+            error = one_line_message(e);
+          }
+        const unsigned int n_ranks =
+          dealii::Utilities::MPI::n_mpi_processes(comm);
+        stop_if_failed(error,
+                       dealii::Utilities::MPI::min(
+                         error.empty()
+                           ? n_ranks
+                           : dealii::Utilities::MPI::this_mpi_process(comm),
+                         comm),
+                       step);
+        state.problem.finish_checkpoint();
         const std::string path = store.commit();
         seconds += std::chrono::duration<double>(
                      std::chrono::steady_clock::now() - begin)
@@ -441,28 +476,102 @@ namespace systole
         logger.detail() << "  checkpoint " << path << std::endl;
       }
 
+      /// Throw on every rank, naming the intact previous checkpoint, if
+      /// rank @p failed_rank (< the number of ranks) has an @p error.
       void
+      stop_if_failed(const std::string &error,
+                     const unsigned int failed_rank,
+                     const unsigned int step) const
+      {
+        if (failed_rank >= dealii::Utilities::MPI::n_mpi_processes(comm))
+          return;
+        const std::string message =
+          dealii::Utilities::MPI::broadcast(comm, error, failed_rank);
+        if (message.empty())
+          return;
+        const auto        previous = store.list();
+        const std::string previous_note =
+          previous.empty()
+            ? std::string("none was written before")
+            : "the last one, " + previous.front() + ", is intact";
+        AssertThrow(false,
+                    dealii::ExcMessage(
+                      "Writing the checkpoint of step " + std::to_string(step) +
+                      " failed (" + message + "); " + previous_note +
+                      ". Free disk space (or raise the quota or file size "
+                      "limit), then continue with systole --resume " +
+                      run.output_directory + "."));
+      }
+
+      /// Write the small state, the parameters and the parameter file's name
+      /// into @p folder; returns "" or what failed (file and reason).
+      std::string
       write_files(const std::string &folder,
                   const std::string &data,
                   const unsigned int step) const
       {
-        std::ofstream state_file(folder + "state.bin", std::ios::binary);
+        const auto write = [](const std::string &file,
+                              const std::string &text,
+                              const std::size_t  n) -> std::string {
+          errno = 0;
+          std::ofstream out(file, std::ios::binary);
+          out.write(text.data(), n);
+          out.close();
+          if (out.fail())
+            return file + ": " +
+                   (errno != 0 ? std::strerror(errno) : "write error");
+          return "";
+        };
         // Test hook (Output / Test kill in checkpoint): die by SIGKILL
         // halfway through the state of the checkpoint of this step.
         if (run.test_kill_in_checkpoint == static_cast<long>(step))
           {
+            std::ofstream state_file(folder + "state.bin", std::ios::binary);
             state_file.write(data.data(), data.size() / 2);
             state_file.flush();
             std::raise(SIGKILL);
           }
-        state_file.write(data.data(), data.size());
-        std::ofstream(folder + "parameters.prm") << all_entries;
-        std::ofstream(folder + "parameter_file") << run.parameter_file;
-        AssertThrow(state_file.good(),
-                    dealii::ExcMessage("Cannot write " + folder +
-                                       "state.bin."));
+        std::string error = write(folder + "state.bin", data, data.size());
+        if (error.empty())
+          error =
+            write(folder + "parameters.prm", all_entries, all_entries.size());
+        if (error.empty())
+          error = write(folder + "parameter_file",
+                        run.parameter_file,
+                        run.parameter_file.size());
+        return error;
       }
     };
+
+    /// stepper.run(writer); if a step fails for good, a checkpoint of the
+    /// last accepted step first (where the run can write one), named in the
+    /// one-line error.
+    HeartbeatStepper::Statistics
+    run_or_checkpoint(HeartbeatStepper &stepper,
+                      HeartbeatWriter  &writer,
+                      Checkpointer     &checkpointer)
+    {
+      try
+        {
+          return stepper.run(writer);
+        }
+      catch (const ExcStepFailed &e)
+        {
+          std::string where =
+            " No checkpoint written (this run cannot write one).";
+          if (writer.checkpoint)
+            {
+              writer.checkpoint(e.last_step);
+              where = " Wrote a checkpoint of the last accepted step (" +
+                      std::to_string(e.last_step) + ") to " +
+                      checkpointer.store.list().front() +
+                      "; resume from it (Output / Resume = true) with "
+                      "Output / Solver log = on to see the failing solves.";
+            }
+          AssertThrow(false, dealii::ExcMessage(e.what() + where));
+        }
+      return {};
+    }
 
     /// The log lines of the end of a run.
     void
@@ -705,7 +814,7 @@ namespace systole
     writer.timer     = &timer;
     timer.leave_subsection("Heartbeat / set-up");
     const auto start = std::chrono::steady_clock::now();
-    const auto stats = stepper.run(writer);
+    const auto stats = run_or_checkpoint(stepper, writer, checkpointer);
     {
       const auto timed = timer_section(&timer, "Heartbeat / output");
       writer.finish();

@@ -133,12 +133,14 @@ namespace systole
     std::vector<bool>                          open;
     Circulation::ModelBeatRecorder             recorder;
     std::unique_ptr<Circulation::CavityPhases> phases;
-    std::vector<Circulation::Phase>            phase_list;
-    const std::vector<double>                  breakpoints;
-    Vector       indicators; ///< at the accepted state
-    Statistics   stats;
-    unsigned int beat = 0, step_index = 0;
-    double       last_step = 0;
+    /// Why the last attempt failed (one line), for the final message.
+    std::string                     last_failure;
+    std::vector<Circulation::Phase> phase_list;
+    const std::vector<double>       breakpoints;
+    Vector                          indicators; ///< at the accepted state
+    Statistics                      stats;
+    unsigned int                    beat = 0, step_index = 0;
+    double                          last_step = 0;
     // Counters of the step being attempted.
     unsigned int step_iterations = 0, step_solves = 0, step_rejected = 0;
     unsigned int step_order = 1;
@@ -210,14 +212,16 @@ namespace systole
         dealii::FullMatrix<double> dW_dp;
         bdf.solve(p, W, dW_dp);
       }
-    catch (const ExcNewtonDidNotConverge &)
+    catch (const ExcNewtonDidNotConverge &e)
       {
         ventricles.reject();
+        last_failure = one_line_message(e);
         return false;
       }
-    catch (const ExcInvertedElement &)
+    catch (const ExcInvertedElement &e)
       {
         ventricles.reject();
+        last_failure = one_line_message(e);
         return false;
       }
     model.valve_indicators(t_new, bdf.solution(), bdf.solution_pressures(), g);
@@ -231,13 +235,23 @@ namespace systole
     ++stats.n_failures;
     ++step_rejected;
     ++cuts;
-    std::ostringstream o;
-    o << "The coupled mechanics and circulation step from t = " << bdf.time()
-      << " ms failed " << cuts
-      << " times in a row, the last time with a step of " << h_try
-      << " ms. See the Newton log (Output / Solver log = on).";
-    AssertThrow(cuts <= settings.max_step_cuts && h_try > settings.min_step,
-                dealii::ExcMessage(o.str()));
+    if (cuts > settings.max_step_cuts || h_try <= settings.min_step)
+      {
+        // Where it stopped: time, beat, each cavity's phase, and the last
+        // failure (the mechanics' residuals per block).
+        std::ostringstream o;
+        o << "The coupled mechanics and circulation step from t = "
+          << bdf.time() << " ms (beat " << beat + 1 << "; phase";
+        for (unsigned int c = 0; c < model.n_cavities(); ++c)
+          o << (c == 0 ? " " : ", ") << model.cavities()[c].name << " "
+            << Circulation::name(phases->phase(c));
+        o << ") failed " << cuts
+          << " times in a row, the last time with a step of " << h_try
+          << " ms (the smallest is " << settings.min_step
+          << " ms): " << last_failure
+          << " See the Newton log (Output / Solver log = on).";
+        throw ExcStepFailed(o.str(), step_index - 1);
+      }
     rejected_end = t_new;
     h            = 0.5 * h_try;
     cap          = 0.75 * h_try;

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace boost::archive
@@ -19,6 +20,20 @@ namespace boost::archive
 
 namespace systole
 {
+  /// Thrown by HeartbeatStepper::run() when a coupled step fails at the
+  /// minimum step or after the most cuts. The state (mechanics, 0D model,
+  /// observers) is still that of the last accepted step, which a checkpoint
+  /// can save.
+  struct ExcStepFailed : std::runtime_error
+  {
+    ExcStepFailed(const std::string &message, const unsigned int last_step)
+      : std::runtime_error(message)
+      , last_step(last_step)
+    {}
+    /// Index of the last accepted step.
+    unsigned int last_step;
+  };
+
   /// The volumes W(p) [mm^3] the cavities must hold at their pressures p
   /// [kPa], and dW/dp (the signature of Mechanics::Problem::VolumeTarget).
   using CavityVolumeTarget =

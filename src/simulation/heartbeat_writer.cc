@@ -16,8 +16,10 @@
 #include "simulation/timer_section.h"
 
 #include "postprocess/manager.h"
+#include <sys/resource.h>
 
 #include <csignal>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 
@@ -252,6 +254,15 @@ namespace systole
     // Test hook (the checkpoint tests): SIGKILL after this step.
     if (run.test_kill_after_step == static_cast<long>(step_index))
       std::raise(SIGKILL);
+    // Test hook (the write-failure tests): from now on the results file
+    // cannot grow (writes beyond its present size fail as on a full disk).
+    if (run.test_file_size_limit_after_step == static_cast<long>(step_index))
+      {
+        std::signal(SIGXFSZ, SIG_IGN);
+        const auto   size = std::filesystem::file_size(results.path());
+        const rlimit limit{size, size};
+        setrlimit(RLIMIT_FSIZE, &limit);
+      }
   }
 
 

@@ -19,6 +19,8 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <utility>
+#include <vector>
 
 namespace systole
 {
@@ -54,15 +56,41 @@ namespace systole
       return joined.empty() ? "the top level" : "subsection '" + joined + "'";
     }
 
+    /// "line N: subsection 'X' has no 'end' line" for the first subsection of
+    /// @p file left open at its end ("" if none).
+    std::string
+    unclosed_subsection(const std::string &file)
+    {
+      std::ifstream                                     in(file);
+      std::vector<std::pair<unsigned int, std::string>> open;
+      std::string                                       text;
+      for (unsigned int n = 1; std::getline(in, text); ++n)
+        {
+          const std::string code =
+            dealii::Utilities::trim(text.substr(0, text.find('#')));
+          if (code.rfind("subsection ", 0) == 0)
+            open.emplace_back(n, dealii::Utilities::trim(code.substr(11)));
+          else if (code == "end" && !open.empty())
+            open.pop_back();
+        }
+      if (open.empty())
+        return "";
+      return "line " + std::to_string(open.front().first) + ": subsection '" +
+             open.front().second + "' has no 'end' line.";
+    }
+
     /// One clear sentence from deal.II's parse error: file, line, entry,
     /// subsection.
     std::string
     describe_parse_error(const std::string &file, const std::string &info)
     {
-      const std::regex line_re("Line <([0-9]+)> of file <[^>]*>:");
+      // deal.II omits the '>' after the file name in some messages.
+      const std::regex line_re("Line <([0-9]+)> of file <[^>:]*>?:");
       const std::regex entry_re(
         "No entry with name <([^>]*)> was declared in the current subsection");
-      std::smatch       line_match, entry_match;
+      const std::regex section_re(
+        "There is no such subsection to be entered: ([^\n]*)");
+      std::smatch       line_match, entry_match, section_match;
       const std::string hint =
         " Run 'systole --print-parameters' for every entry with its documentation.";
       if (std::regex_search(info, line_match, line_re))
@@ -73,8 +101,24 @@ namespace systole
           if (std::regex_search(info, entry_match, entry_re))
             return where + "unknown entry '" + entry_match[1].str() + "' in " +
                    subsection_at_line(file, line) + " (misspelt?)." + hint;
+          if (std::regex_search(info, section_match, section_re))
+            {
+              // deal.II joins the path with '.': the last part is the name.
+              const std::string path =
+                dealii::Utilities::trim(section_match[1].str());
+              const auto dot = path.rfind('.');
+              return where + "unknown subsection '" +
+                     path.substr(dot == std::string::npos ? 0 : dot + 1) +
+                     "' in " + subsection_at_line(file, line) +
+                     " (misspelt, or an 'end' line missing before it?)." + hint;
+            }
           return where + std::string(line_match.suffix()) + hint;
         }
+      if (info.find("unequal numbers of 'subsection' and 'end'") !=
+            std::string::npos &&
+          !unclosed_subsection(file).empty())
+        return "parameter file '" + file + "', " + unclosed_subsection(file) +
+               hint;
       return "parameter file '" + file + "': " + info + hint;
     }
   } // namespace
@@ -176,6 +220,23 @@ namespace systole
       Integer(-1),
       "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
       "SIGKILL halfway through writing the checkpoint of this step; -1: "
+      "never. Units: steps.");
+    prm.declare_entry(
+      "Test file size limit in checkpoint",
+      "-1",
+      Integer(-1),
+      "Test-only (write-failure tests): Problem = heartbeat limits the size "
+      "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
+      "writing the checkpoint of this step, so that its writes fail as on a "
+      "full disk; -1: never. Units: steps.");
+    prm.declare_entry(
+      "Test file size limit after step",
+      "-1",
+      Integer(-1),
+      "Test-only (write-failure tests): Problem = heartbeat limits the size "
+      "of the files it writes to the present size of its results file "
+      "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
+      "next write that grows the results file fails as on a full disk; -1: "
       "never. Units: steps.");
     prm.leave_subsection();
 
@@ -305,6 +366,10 @@ namespace systole
       prm.get_integer({"Output"}, "Test kill after step");
     p.test_kill_in_checkpoint =
       prm.get_integer({"Output"}, "Test kill in checkpoint");
+    p.test_file_size_limit_in_checkpoint =
+      prm.get_integer({"Output"}, "Test file size limit in checkpoint");
+    p.test_file_size_limit_after_step =
+      prm.get_integer({"Output"}, "Test file size limit after step");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

@@ -40,6 +40,10 @@ namespace systole
     /// step, or halfway through writing the checkpoint of this step; -1:
     /// never.
     long test_kill_after_step = -1, test_kill_in_checkpoint = -1;
+    /// Test-only: limit the file size before writing this step's checkpoint.
+    long test_file_size_limit_in_checkpoint = -1;
+    /// Test-only: limit the file size to the results file's after this step.
+    long test_file_size_limit_after_step = -1;
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;

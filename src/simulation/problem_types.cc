@@ -12,6 +12,8 @@
 #include "simulation/quasi_static.h"
 #include "simulation/unloading.h"
 
+#include "inverse/adjustable_law.h"
+
 namespace systole
 {
   namespace
@@ -76,7 +78,12 @@ namespace systole
     parse_calibration(const dealii::ParameterHandler &prm)
     {
       UnloadingParameters::parse(prm);
-      CalibrationParameters::parse(prm);
+      const auto calibration = CalibrationParameters::parse(prm);
+      // The names of the fitted parameters are checked now, not at the first
+      // evaluation.
+      const Inverse::LawRebuilder check(prm,
+                                        calibration.parameters,
+                                        "Calibration / Parameters");
     }
 
     void

@@ -128,13 +128,15 @@ namespace systole
   }
 
   void
-  print_parameters(std::ostream &out, const std::string &file)
+  print_parameters(std::ostream &out, const std::string &file, const bool json)
   {
     dealii::ParameterHandler prm;
     if (file.empty())
       declare_all_parameters(prm);
     else
       read_parameter_file(prm, file);
-    prm.print_parameters(out, dealii::ParameterHandler::PRM);
+    prm.print_parameters(out,
+                         json ? dealii::ParameterHandler::JSON
+                              : dealii::ParameterHandler::PRM);
   }
 } // namespace systole

@@ -43,7 +43,10 @@ namespace systole
   version();
 
   /// Write the full documented parameter set (defaults, or the values of @p
-  /// file if not empty).
+  /// file if not empty); @p json: deal.II's JSON form, which also gives every
+  /// entry's pattern (scripts/bad_input_sweep.py mutates files by it).
   void
-  print_parameters(std::ostream &out, const std::string &file = "");
+  print_parameters(std::ostream      &out,
+                   const std::string &file = "",
+                   const bool         json = false);
 } // namespace systole

@@ -1041,3 +1041,49 @@ TEST_CASE("Per-cell vectors of a .vtu file come in the mesh's cell order",
              Catch::Contains("no cell or point array 'sheets'") &&
                Catch::Contains("'fibres', 'directions'"));
 }
+
+TEST_CASE("A NaN, infinite or huge coordinate is one clear error naming the "
+          "node",
+          "[geometry][mesh_file][errors]")
+{
+  for (const double bad : {std::nan(""), HUGE_VAL, -1e300})
+    {
+      FileMesh mesh = unit_cube(false, 1);
+      // VTK keeps the values as written (and numbers points from 0).
+      mesh.vertices[3][1] = bad;
+      ScratchFile file("bad_coordinate.vtu");
+      write_vtu(mesh, file.name);
+      const std::string message = read_error(file.name);
+      CHECK(one_line(message));
+      CHECK_THAT(message,
+                 Catch::Contains("1 of its " +
+                                 std::to_string(mesh.vertices.size()) +
+                                 " nodes have a coordinate that is not a "
+                                 "finite number") &&
+                   Catch::Contains("node 3,"));
+    }
+}
+
+TEST_CASE("A mesh in two pieces is one clear error naming the smaller",
+          "[geometry][mesh_file][errors]")
+{
+  FileMesh mesh = unit_cube(true, 2);
+  // A copy of one cell, 10 units away: a second piece of 1 cell.
+  const auto                cell = mesh.cells[0];
+  std::vector<unsigned int> copy;
+  for (const unsigned int v : cell)
+    {
+      mesh.vertices.push_back(mesh.vertices[v] + Point<3>(10, 0, 0));
+      copy.push_back(mesh.vertices.size() - 1);
+    }
+  mesh.cells.push_back(copy);
+  ScratchFile file("two_pieces.msh");
+  write_msh22(mesh, file.name);
+  const std::string message = read_error(file.name);
+  CHECK(one_line(message));
+  CHECK_THAT(message,
+             Catch::Contains("form 2 disconnected pieces") &&
+               Catch::Contains(
+                 "the smallest has 1 cell(s), e.g. element " +
+                 std::to_string(mesh.faces.size() + mesh.cells.size())));
+}
