@@ -252,6 +252,9 @@ namespace systole
     // Test hook (the checkpoint tests): SIGKILL after this step.
     if (run.test_kill_after_step == static_cast<long>(step_index))
       std::raise(SIGKILL);
+    // Test hook (the rank tests' short runs): end after this step.
+    if (run.test_stop_after_step == static_cast<long>(step_index))
+      stop = true;
   }
 
 

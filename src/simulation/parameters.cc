@@ -177,6 +177,14 @@ namespace systole
       "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
       "SIGKILL halfway through writing the checkpoint of this step; -1: "
       "never. Units: steps.");
+    prm.declare_entry(
+      "Test stop after step",
+      "-1",
+      Integer(-1),
+      "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
+      "after this accepted step, its fields and rows written, as an "
+      "interrupted run ends but without a checkpoint; -1: never. Units: "
+      "steps.");
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
@@ -305,6 +313,8 @@ namespace systole
       prm.get_integer({"Output"}, "Test kill after step");
     p.test_kill_in_checkpoint =
       prm.get_integer({"Output"}, "Test kill in checkpoint");
+    p.test_stop_after_step =
+      prm.get_integer({"Output"}, "Test stop after step");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

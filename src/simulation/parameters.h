@@ -40,6 +40,9 @@ namespace systole
     /// step, or halfway through writing the checkpoint of this step; -1:
     /// never.
     long test_kill_after_step = -1, test_kill_in_checkpoint = -1;
+    /// Test-only hook (Problem = heartbeat): end the run after this accepted
+    /// step, as an interrupted run ends but without a checkpoint; -1: never.
+    long test_stop_after_step = -1;
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;
