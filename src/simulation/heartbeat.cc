@@ -16,6 +16,7 @@
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "io/checkpoint.h"
+#include "io/checkpoint_format.h"
 #include "io/results_file.h"
 #include "materials/bestel.h"
 #include "materials/factory.h"
@@ -33,8 +34,8 @@
 #include "simulation/timer_section.h"
 
 #include "postprocess/manager.h"
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
 
@@ -135,7 +136,8 @@ namespace systole
     resume_checkpoint(const RunParameters &run,
                       IO::CheckpointStore &store,
                       const std::string   &all_entries,
-                      Logger              &logger)
+                      Logger              &logger,
+                      const MPI_Comm       comm)
     {
       if (!run.resume)
         return "";
@@ -150,6 +152,7 @@ namespace systole
                     run.output_directory +
                     "' (set Output / Checkpoint interval when starting "
                     "the run)."));
+      IO::check_checkpoint_format(checkpoint, comm);
       std::ifstream      in(checkpoint + "/parameters.prm");
       std::ostringstream saved;
       saved << in.rdbuf();
@@ -310,42 +313,27 @@ namespace systole
       return settings;
     }
 
-    /// The small state of a checkpoint (state.bin) as a string on every
-    /// rank (read on rank 0).
-    std::string
-    read_state_bytes(const std::string &checkpoint, const MPI_Comm comm)
-    {
-      std::string bytes;
-      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-        {
-          std::ifstream      in(checkpoint + "/state.bin", std::ios::binary);
-          std::ostringstream o;
-          o << in.rdbuf();
-          bytes = o.str();
-        }
-      return dealii::Utilities::MPI::broadcast(comm, bytes, 0);
-    }
-
     /// The results file: new, or (resuming from @p checkpoint) reopened
-    /// with the rows of its small state, whose rest @p state_in then reads
-    /// from @p saved_state.
+    /// with the rows of its small state, whose rest @p state_in then reads.
     std::unique_ptr<IO::ResultsFile>
-    open_results(const std::string   &checkpoint,
-                 const RunParameters &run,
-                 const std::string   &parameter_text,
-                 std::istringstream  &saved_state,
-                 std::unique_ptr<boost::archive::binary_iarchive> &state_in,
-                 const MPI_Comm                                    comm)
+    open_results(const std::string                &checkpoint,
+                 const RunParameters              &run,
+                 const std::string                &parameter_text,
+                 std::unique_ptr<IO::StateReader> &state_in,
+                 const MPI_Comm                    comm)
     {
       if (checkpoint.empty())
         return std::make_unique<IO::ResultsFile>(run.output_directory,
                                                  parameter_text,
                                                  comm);
-      saved_state.str(read_state_bytes(checkpoint, comm));
-      state_in = std::make_unique<boost::archive::binary_iarchive>(saved_state);
+      state_in =
+        std::make_unique<IO::StateReader>(IO::read_checkpoint_state(checkpoint,
+                                                                    comm),
+                                          checkpoint);
       IO::ResultsFile::Rows rows;
       unsigned int          resumed_step = 0;
-      *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
+      state_in->archive() &
+        rows.timeseries &rows.summary &rows.events &resumed_step;
       return std::make_unique<IO::ResultsFile>(run.output_directory,
                                                rows,
                                                resumed_step,
@@ -353,7 +341,7 @@ namespace systole
     }
 
     /// The parts of a running heartbeat whose state a checkpoint holds, in
-    /// the order of state.bin (after the rows of the results file and the
+    /// the order of the state file (after the rows of the results file and the
     /// step).
     struct HeartbeatState
     {
@@ -365,7 +353,7 @@ namespace systole
       Postprocess::Manager &postprocess;
 
       void
-      load(boost::archive::binary_iarchive &archive)
+      load(boost::archive::text_iarchive &archive)
       {
         problem.load_checkpoint(archive);
         if (ep != nullptr)
@@ -382,7 +370,7 @@ namespace systole
       }
 
       void
-      save(boost::archive::binary_oarchive &archive, const std::string &folder)
+      save(boost::archive::text_oarchive &archive, const std::string &folder)
       {
         problem.prepare_checkpoint(archive);
         if (ep != nullptr)
@@ -419,19 +407,20 @@ namespace systole
       void
       write(const unsigned int step)
       {
-        const auto         begin  = std::chrono::steady_clock::now();
-        const std::string  folder = store.begin(step);
-        std::ostringstream bytes;
+        const auto        begin  = std::chrono::steady_clock::now();
+        const std::string folder = store.begin(step);
+        IO::StateWriter   writer;
         {
-          boost::archive::binary_oarchive archive(bytes);
-          const auto                      rows = results.rows();
+          auto      &archive = writer.archive();
+          const auto rows    = results.rows();
           archive &rows.timeseries &rows.summary &rows.events &step;
           state.save(archive, folder);
         }
+        const std::string text = writer.finish();
         tria->save(folder + "mechanics.mesh");
         state.problem.finish_checkpoint();
         if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          write_files(folder, bytes.str(), step);
+          write_files(folder, text, step);
         const std::string path = store.commit();
         seconds += std::chrono::duration<double>(
                      std::chrono::steady_clock::now() - begin)
@@ -445,7 +434,8 @@ namespace systole
                   const std::string &data,
                   const unsigned int step) const
       {
-        std::ofstream state_file(folder + "state.bin", std::ios::binary);
+        std::ofstream state_file(folder + IO::checkpoint_state_file,
+                                 std::ios::binary);
         // Test hook (Output / Test kill in checkpoint): die by SIGKILL
         // halfway through the state of the checkpoint of this step.
         if (run.test_kill_in_checkpoint == static_cast<long>(step))
@@ -459,7 +449,7 @@ namespace systole
         std::ofstream(folder + "parameter_file") << run.parameter_file;
         AssertThrow(state_file.good(),
                     dealii::ExcMessage("Cannot write " + folder +
-                                       "state.bin."));
+                                       IO::checkpoint_state_file + "."));
       }
     };
 
@@ -596,7 +586,7 @@ namespace systole
     const std::string   all_entries = entries.str();
     IO::CheckpointStore store(run.output_directory, comm);
     const std::string   checkpoint =
-      resume_checkpoint(run, store, all_entries, logger);
+      resume_checkpoint(run, store, all_entries, logger, comm);
 
     MechanicsModel      model(prm,
                          run,
@@ -641,17 +631,13 @@ namespace systole
                                    onset,
                                    inertia,
                                    logger);
-    // The small state of a checkpoint (state.bin): the rows of the results
-    // file and the last step first, then the components in a fixed order.
-    std::istringstream                               saved_state;
-    std::unique_ptr<boost::archive::binary_iarchive> state_in;
-    const auto       results_file = open_results(checkpoint,
-                                           run,
-                                           parameter_text,
-                                           saved_state,
-                                           state_in,
-                                           comm);
-    IO::ResultsFile &results      = *results_file;
+    // The small state of a checkpoint (IO::checkpoint_state_file): the rows
+    // of the results file and the last step first, then the components in a
+    // fixed order.
+    std::unique_ptr<IO::StateReader> state_in;
+    const auto                       results_file =
+      open_results(checkpoint, run, parameter_text, state_in, comm);
+    IO::ResultsFile &results = *results_file;
     if (ep != nullptr && checkpoint.empty())
       write_purkinje(results, ep->purkinje(), comm);
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
@@ -682,7 +668,7 @@ namespace systole
 
     HeartbeatState state{problem, ep, stepper, ventricles, writer, postprocess};
     if (state_in)
-      state.load(*state_in);
+      state.load(state_in->archive());
     state_in.reset();
     Checkpointer checkpointer{store,
                               results,

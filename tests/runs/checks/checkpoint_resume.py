@@ -12,9 +12,9 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
   /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
   the wall-time columns *_seconds excepted).
-- ranks-2-1 / ranks-1-2: killed on 2 ranks after step 25 and resumed on 1, or killed on 1
-  rank after step 105 and resumed on 2; equal to the reference to 1e-8 (the *_drift columns,
-  round-off by definition, to 1e-10 absolute besides).
+- ranks-2-1 / ranks-1-2 / ranks-2-3: killed on 2 ranks after step 25 and resumed on 1, or
+  killed on 1 rank (2 ranks) after step 105 and resumed on 2 (3 ranks); equal to the reference
+  to 1e-8 (the *_drift columns, round-off by definition, to 1e-10 absolute besides).
   KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
   of PRM itself).
 - reference-2 / ranks-2-2: the uninterrupted run on 2 ranks (results/reference_2); killed on 2
@@ -22,9 +22,13 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   tetrahedral mesh resumes on the rank count it was saved with, in the saved partition).
 - ranks-2-1-refused: a copy of the ranks-2-2 run resumed on 1 rank fails with one line
   naming both rank counts (a fully distributed mesh cannot be repartitioned on load).
-- corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
+- corrupt: a copy of the reference run with the newest checkpoint's state.txt truncated;
   resuming (systole --resume) prints one line naming that file and falls back to the
   previous checkpoint; the results equal the reference to 1e-12.
+- wrong-format: a copy of the reference run whose newest checkpoint says format 99 in the
+  header of its state.txt (the manifest updated, so it is a valid checkpoint of another
+  format), then one whose newest checkpoint has the binary state.bin of format 1: resuming
+  fails with one line naming both format versions.
 - wrong-parameters: resuming a copy of the reference run with a parameter file of another
   mesh (Geometry / Global refinements = 1) fails with a message naming that entry.
 
@@ -37,6 +41,8 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+import zlib
 
 import h5py
 import numpy as np
@@ -110,6 +116,7 @@ def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0)
 def main() -> None:
     mode, systole, mpiexec, prm = sys.argv[1], Path(sys.argv[2]), sys.argv[3], Path(sys.argv[4])
     mpi2 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", systole]
+    mpi3 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "3", systole]
     kill_step = sys.argv[5] if len(sys.argv) > 5 else None
     reference = Path(sys.argv[6] if len(sys.argv) > 6 else "results/reference/results.h5")
 
@@ -138,11 +145,12 @@ def main() -> None:
         compare(reference, Path("results/chain/results.h5"), 1e-12)
         return
 
-    if mode in ("ranks-2-1", "ranks-1-2"):
+    if mode in ("ranks-2-1", "ranks-1-2", "ranks-2-3"):
         name = mode.replace("-", "_")
         shutil.rmtree(f"results/{name}", ignore_errors=True)
-        first, then, step = (mpi2, [systole], "25") if mode == "ranks-2-1" else \
-            ([systole], mpi2, "105")
+        first, then, step = {"ranks-2-1": (mpi2, [systole], "25"),
+                             "ranks-1-2": ([systole], mpi2, "105"),
+                             "ranks-2-3": (mpi2, mpi3, "105")}[mode]
         step = kill_step or step
         run(first + [prm_for(prm, name, kill_after(step), name + "_kill")], expect_kill=True)
         log = run(then + [prm_for(prm, name, RESUME, name + "_resume")])
@@ -181,7 +189,7 @@ def main() -> None:
         shutil.rmtree("results/corrupt", ignore_errors=True)
         shutil.copytree("results/reference", "results/corrupt")
         checkpoints = sorted(Path("results/corrupt").glob("checkpoint_*"))
-        state = checkpoints[-1] / "state.bin"
+        state = checkpoints[-1] / "state.txt"
         data = state.read_bytes()
         state.write_bytes(data[: len(data) // 2])
         # systole --resume: the parameter file the run was started with (reference's).
@@ -194,6 +202,42 @@ def main() -> None:
         assert f"Resuming from {checkpoints[-2]}" in log, log[-2000:]
         print(lines[0])
         compare(reference, Path("results/corrupt/results.h5"), 1e-12)
+        return
+
+    if mode == "wrong-format":
+        for case, expected in (("newer", "is in checkpoint format 99 (written by systole"),
+                               ("old", "is in checkpoint format 1 (a binary state.bin")):
+            run_dir = Path(f"results/format_{case}")
+            shutil.rmtree(run_dir, ignore_errors=True)
+            shutil.copytree("results/reference", run_dir)
+            newest = sorted(run_dir.glob("checkpoint_*"))[-1]
+            state = newest / "state.txt"
+            if case == "newer":
+                text = state.read_text()
+                head, rest = text.split("\n", 1)
+                words = head.split(" ")
+                assert words[0] == "systole-checkpoint", head
+                words[1] = "99"
+                state.write_text(" ".join(words) + "\n" + rest)
+            else:
+                state.rename(newest / "state.bin")
+            # A valid checkpoint of that format: the manifest (size, CRC-32, name) rewritten.
+            lines = []
+            for line in (newest / "MANIFEST").read_text().splitlines():
+                name = line.split(" ")[2]
+                if name == "state.txt":
+                    name = "state.bin" if case == "old" else name
+                data = (newest / name).read_bytes()
+                lines.append(f"{len(data)} {zlib.crc32(data):x} {name}")
+            (newest / "MANIFEST").write_text("\n".join(lines) + "\n")
+            log = run([systole, "--resume", str(run_dir)], expect_fail=True)
+            errors = [line for line in log.splitlines() if "format" in line]
+            current = (Path("results/reference") / newest.name / "state.txt").read_text() \
+                .split(" ")[1]
+            both = f"reads format {current}"
+            assert len(errors) == 1 and expected in errors[0] and both in errors[0], \
+                f"expected one line '{expected} ... {both}':\n{log[-2000:]}"
+            print(errors[0])
         return
 
     if mode == "wrong-parameters":
