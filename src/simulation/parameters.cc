@@ -135,7 +135,8 @@ namespace systole
       "Checkpoint interval",
       "0",
       Integer(0),
-      "Problem = heartbeat: write a checkpoint (the whole state of the run, "
+      "Problem = heartbeat and electrophysiology: write a checkpoint (the "
+      "whole state of the run, "
       "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
       "every this many accepted steps; 0: none by step count. A checkpoint is "
       "also written when the run receives SIGTERM or SIGINT. Units: steps.");
@@ -143,14 +144,16 @@ namespace systole
       "Checkpoint wall time interval",
       "0",
       Double(0.0),
-      "Problem = heartbeat: write a checkpoint at the end of the first step "
+      "Problem = heartbeat and electrophysiology: write a checkpoint at the "
+      "end of the first step "
       "after this much wall-clock time since the start or the last "
       "checkpoint; 0: none by wall time. Units: minutes.");
     prm.declare_entry(
       "Resume",
       "false",
       Bool(),
-      "Problem = heartbeat: continue the run in <Directory>/<Run name> from "
+      "Problem = heartbeat and electrophysiology: continue the run in "
+      "<Directory>/<Run name> from "
       "its newest valid checkpoint, appending to its results.h5 (rows written "
       "after that checkpoint are discarded first). The parameter file must "
       "describe the same problem as the one the checkpoint was written with "
@@ -167,8 +170,8 @@ namespace systole
       "Test kill after step",
       "-1",
       Integer(-1),
-      "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
-      "SIGKILL after this accepted step (and its checkpoint, if one is due), "
+      "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
+      "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
       "as a crash would; -1: never. Units: steps.");
     prm.declare_entry(
       "Test kill in checkpoint",

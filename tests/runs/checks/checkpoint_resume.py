@@ -82,16 +82,26 @@ def run(cmd, expect_kill=False, expect_fail=False):
     return log
 
 
-def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0) -> None:
+#: Columns that depend on the partition (compared only on the same rank count): Krylov
+#: iteration counts, and the Newton and chord counts and residuals that round-off can tip.
+PARTITION_DEPENDENT = ("linear_iterations", "newton_iterations", "chord_iterations", "residual")
+
+
+def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0,
+            other_ranks: bool = False) -> None:
     with h5py.File(reference, "r") as a, h5py.File(result, "r") as b:
         worst = (0.0, "")
         for group in GROUPS:
+            if group not in a and group not in b:
+                continue  # (Problem = electrophysiology has no /events)
             names_a, names_b = list(a[group]), list(b[group])
             if names_a != names_b:
                 sys.exit(f"/{group}: columns differ: {names_a} vs {names_b}")
             for name in names_a:
                 if name.endswith("_seconds"):
                     continue  # wall times
+                if other_ranks and name in PARTITION_DEPENDENT:
+                    continue
                 x, y = a[group][name][()], b[group][name][()]
                 if x.shape != y.shape:
                     sys.exit(f"/{group}/{name}: {x.shape[0]} rows, resumed {y.shape[0]}")
@@ -108,7 +118,7 @@ def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0)
                 if not d * scale <= allowed:
                     sys.exit(f"/{group}/{name}: resumed differs by {d:.3e} (relative to the "
                              f"column's largest value) > {tolerance:g}")
-        rows = {g: a[g][list(a[g])[0]].shape[0] for g in GROUPS}
+        rows = {g: a[g][list(a[g])[0]].shape[0] for g in GROUPS if g in a}
     print(f"{result}: equal to {reference} within {tolerance:g} ({rows}); largest "
           f"difference {worst[0]:.3e} {worst[1]}")
 
@@ -156,7 +166,7 @@ def main() -> None:
         log = run(then + [prm_for(prm, name, RESUME, name + "_resume")])
         assert "Resuming from" in log, log[-2000:]
         # Another rank count: 1e-8 relative, the drift columns 1e-10 absolute besides.
-        compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10)
+        compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10, other_ranks=True)
         return
 
     if mode == "reference-2":
