@@ -17,6 +17,11 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   to 1e-8 (the *_drift columns, round-off by definition, to 1e-10 absolute besides).
   KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
   of PRM itself).
+- other-build (by hand: docs/verification.md): like ranks-2-3, but resumed by OTHER_SYSTOLE, the
+  app of another build (e.g. CMAKE_BUILD_TYPE=Debug) of the same checkpoint format:
+
+      checkpoint_resume.py other-build SYSTOLE MPIEXEC PRM KILL_STEP REFERENCE.h5 OTHER_SYSTOLE
+
 - reference-2 / ranks-2-2: the uninterrupted run on 2 ranks (results/reference_2); killed on 2
   ranks after step 45 (or KILL_STEP) and resumed on 2: equal to reference-2 to 1e-12 (a
   tetrahedral mesh resumes on the rank count it was saved with, in the saved partition).
@@ -167,6 +172,19 @@ def main() -> None:
         assert "Resuming from" in log, log[-2000:]
         # Another rank count: 1e-8 relative, the drift columns 1e-10 absolute besides.
         compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10, other_ranks=True)
+        return
+
+    if mode == "other-build":
+        other = Path(sys.argv[7])
+        mpi3_other = mpi3[:-1] + [other]
+        shutil.rmtree("results/other_build", ignore_errors=True)
+        run(mpi2 + [prm_for(prm, "other_build", kill_after(kill_step), "other_build_kill")],
+            expect_kill=True)
+        log = run(mpi3_other + [prm_for(prm, "other_build", RESUME, "other_build_resume")])
+        assert "Resuming from" in log, log[-2000:]
+        print(next(line for line in log.splitlines() if "Resuming from" in line))
+        compare(reference, Path("results/other_build/results.h5"), 1e-8, 1e-10,
+                other_ranks=True)
         return
 
     if mode == "reference-2":
