@@ -73,8 +73,9 @@ class Report:
 #: (Derived fields such as stresses are discontinuous across cells, and the output keeps one
 #: of the values at a shared vertex, which one depending on the partition; they follow from
 #: the compared unknowns, and their reductions are in /timeseries and /summary.) Not the EP's
-#: activation_time field: it lags the activation tracker (docs/verification.md, "Any rank
-#: count"), and on 3 ranks copies of a partition-boundary node disagree (NaN and a time); the
+#: activation_time field: NaN for "not activated" spreads through DataOut's interpolation to the
+#: vertices of every cell with such a node (docs/verification.md, "Any rank count"), so copies
+#: of a partition-boundary node can disagree (NaN and a time); the
 #: tracker's values are compared through activated_fraction and the /summary activation times.
 FIELDS = ("displacement", "transmembrane_potential")
 
