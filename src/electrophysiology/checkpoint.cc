@@ -5,8 +5,8 @@
 
 #include "electrophysiology/monodomain_impl.h"
 
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 
 namespace systole::Electrophysiology
 {
@@ -39,7 +39,7 @@ namespace systole::Electrophysiology
 
 
   void
-  Monodomain::prepare_checkpoint(boost::archive::binary_oarchive &archive)
+  Monodomain::prepare_checkpoint(boost::archive::text_oarchive &archive)
   {
     Impl &m = *impl;
     require_hexahedra(m.kind);
@@ -76,7 +76,7 @@ namespace systole::Electrophysiology
 
 
   void
-  Monodomain::load_checkpoint(boost::archive::binary_iarchive &archive)
+  Monodomain::load_checkpoint(boost::archive::text_iarchive &archive)
   {
     Impl &m = *impl;
     require_hexahedra(m.kind);

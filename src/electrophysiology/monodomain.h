@@ -26,8 +26,8 @@ namespace dealii
 
 namespace boost::archive
 {
-  class binary_oarchive;
-  class binary_iarchive;
+  class text_oarchive;
+  class text_iarchive;
 } // namespace boost::archive
 
 namespace systole
@@ -212,13 +212,13 @@ namespace systole::Electrophysiology
     /// stage-solver set-up (the gamma of the stage matrix and of its AMG) to
     /// @p archive. Hexahedral meshes only: throws on tetrahedra.
     void
-    prepare_checkpoint(boost::archive::binary_oarchive &archive);
+    prepare_checkpoint(boost::archive::text_oarchive &archive);
 
     /// Checkpoint, part 2 (on a mesh loaded from the checkpoint): read the
     /// state back, set the stage matrix and its preconditioner up as they
     /// were, and restart ARKode at the checkpoint's time. Collective.
     void
-    load_checkpoint(boost::archive::binary_iarchive &archive);
+    load_checkpoint(boost::archive::text_iarchive &archive);
 
     /// After the triangulation's save(): release the attached vectors.
     void

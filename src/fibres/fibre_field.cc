@@ -123,7 +123,8 @@ namespace systole::Fibres
       "the base, psi = 1 - u / max u; smooth everywhere, psi = 0 where u "
       "peaks (the apex). Units: -.");
     prm.leave_subsection();
-    prm.leave_subsection();
+    // (Fibres / VTU, where parse() reads it; it was declared at the top
+    // level, which only a Debug build's ParameterHandler::get noticed.)
     prm.enter_subsection("VTU");
     prm.declare_entry(
       "File",
@@ -149,6 +150,7 @@ namespace systole::Fibres
       "empty: s is the unit vector orthogonal to f in the plane of f and "
       "the coordinate axis least aligned with it, so laws that use s "
       "(Holzapfel-Ogden's sheet terms) need this array. Units: -.");
+    prm.leave_subsection();
     prm.leave_subsection();
     fibre_generators().declare_parameters(prm, /*own_subsections=*/false);
   }

@@ -8,8 +8,8 @@
 
 #include "mechanics/problem_impl.h"
 
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 #include <boost/serialization/vector.hpp>
 
 #include <cstdint>
@@ -123,7 +123,7 @@ namespace systole::Mechanics
 
 
   void
-  Problem::prepare_checkpoint(boost::archive::binary_oarchive &archive)
+  Problem::prepare_checkpoint(boost::archive::text_oarchive &archive)
   {
     Impl &m = *impl;
     // SolutionTransfer reads every DoF of the owned cells: ghosted copies.
@@ -189,7 +189,7 @@ namespace systole::Mechanics
 
 
   void
-  Problem::load_checkpoint(boost::archive::binary_iarchive &archive)
+  Problem::load_checkpoint(boost::archive::text_iarchive &archive)
   {
     Impl    &m = *impl;
     archive &m.n_saves &m.have_factorization &m.factorized_pressures;

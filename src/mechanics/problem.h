@@ -39,8 +39,8 @@ namespace dealii
 
 namespace boost::archive
 {
-  class binary_oarchive;
-  class binary_iarchive;
+  class text_oarchive;
+  class text_iarchive;
 } // namespace boost::archive
 
 namespace systole
@@ -442,7 +442,7 @@ namespace systole::Mechanics
     /// rebuilt from them, the solves after a restart repeat the chord
     /// iterations of the uninterrupted run.
     void
-    prepare_checkpoint(boost::archive::binary_oarchive &archive);
+    prepare_checkpoint(boost::archive::text_oarchive &archive);
 
     /// Checkpoint, part 2 (for a problem built on a mesh loaded by
     /// Triangulation::load() from a checkpoint, the attached data read in
@@ -450,7 +450,7 @@ namespace systole::Mechanics
     /// last saved state current and refactorize the tangent the solver held.
     /// Collective.
     void
-    load_checkpoint(boost::archive::binary_iarchive &archive);
+    load_checkpoint(boost::archive::text_iarchive &archive);
 
     /// After the triangulation's save(): release what prepare_checkpoint()
     /// attached.

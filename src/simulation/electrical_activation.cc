@@ -22,8 +22,8 @@
 #include "simulation/ecg_columns.h"
 #include "simulation/parameters.h"
 
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -470,9 +470,8 @@ namespace systole
 
 
   void
-  ElectricalActivation::save_checkpoint(
-    boost::archive::binary_oarchive &archive,
-    const std::string               &folder)
+  ElectricalActivation::save_checkpoint(boost::archive::text_oarchive &archive,
+                                        const std::string             &folder)
   {
     Impl &m = *impl;
     m.monodomain->prepare_checkpoint(archive);
@@ -517,8 +516,7 @@ namespace systole
 
 
   void
-  ElectricalActivation::load_checkpoint(
-    boost::archive::binary_iarchive &archive)
+  ElectricalActivation::load_checkpoint(boost::archive::text_iarchive &archive)
   {
     Impl &m = *impl;
     m.monodomain->load_checkpoint(archive);

@@ -21,8 +21,8 @@ namespace dealii
 
 namespace boost::archive
 {
-  class binary_oarchive;
-  class binary_iarchive;
+  class text_oarchive;
+  class text_iarchive;
 } // namespace boost::archive
 
 namespace systole
@@ -97,13 +97,13 @@ namespace systole
     /// mechanics quadrature point to the mechanics cells (written by the
     /// mechanics triangulation's next save()), and the rest to @p archive.
     void
-    save_checkpoint(boost::archive::binary_oarchive &archive,
-                    const std::string               &folder);
+    save_checkpoint(boost::archive::text_oarchive &archive,
+                    const std::string             &folder);
 
     /// Read what save_checkpoint() wrote (after the mechanics mesh was
     /// loaded and Mechanics::Problem::load_checkpoint() read its cell data).
     void
-    load_checkpoint(boost::archive::binary_iarchive &archive);
+    load_checkpoint(boost::archive::text_iarchive &archive);
 
     /// Advance EP (if needed), one EP time step at a time, to the first
     /// multiple of the EP time step at or after @p t [ms], recording the new

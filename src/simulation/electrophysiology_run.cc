@@ -11,17 +11,55 @@
 #include "geometry/cell_kind.h"
 #include "geometry/distributed_mesh.h"
 #include "geometry/mesh.h"
+#include "io/checkpoint.h"
+#include "io/checkpoint_format.h"
 #include "io/results_file.h"
 #include "simulation/ecg_columns.h"
 #include "simulation/parameters.h"
 #include "simulation/purkinje_output.h"
+#include "simulation/run_checkpoint.h"
 
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
+#include <boost/serialization/vector.hpp>
+
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <iomanip>
 #include <sstream>
 
 namespace systole
 {
+  namespace
+  {
+    /// The ECG samples of a checkpoint, the 12 leads flattened.
+    void
+    save_ecg(boost::archive::text_oarchive &archive, const EcgBeat &ecg)
+    {
+      std::vector<double> leads;
+      for (const auto &sample : ecg.leads)
+        leads.insert(leads.end(), sample.begin(), sample.end());
+      archive &ecg.times &leads;
+    }
+
+    void
+    load_ecg(boost::archive::text_iarchive &archive, EcgBeat &ecg)
+    {
+      std::vector<double> leads;
+      archive &ecg.times &leads;
+      AssertThrow(leads.size() == 12 * ecg.times.size(),
+                  dealii::ExcMessage("The checkpoint's ECG samples are "
+                                     "incomplete."));
+      ecg.leads.resize(ecg.times.size());
+      for (unsigned int k = 0; k < ecg.times.size(); ++k)
+        std::copy(leads.begin() + 12 * k,
+                  leads.begin() + 12 * (k + 1),
+                  ecg.leads[k].begin());
+    }
+  } // namespace
+
+
   void
   run_electrophysiology_problem(const dealii::ParameterHandler &prm,
                                 const RunParameters            &run,
@@ -33,9 +71,22 @@ namespace systole
       Geometry::Parameters::parse(prm, run.parameter_directory);
     const auto params = Electrophysiology::Parameters::parse(prm);
 
+    // Checkpoints (hexahedra): the mesh with the EP state (ep.mesh), the
+    // small state (the rows, the step, the ECG samples, the integrator's).
+    std::ostringstream entries;
+    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    const std::string   all_entries = entries.str();
+    IO::CheckpointStore store(run.output_directory, comm);
+    const std::string   checkpoint =
+      resume_checkpoint(run, store, all_entries, logger, comm);
+
     // Hexahedra on p4est, tetrahedra fully distributed.
     const Geometry::DistributedMesh mesh =
-      Geometry::create_distributed_mesh(geometry, comm);
+      Geometry::create_distributed_mesh(geometry,
+                                        comm,
+                                        checkpoint.empty()
+                                          ? ""
+                                          : checkpoint + "/ep.mesh");
     const auto              &tria  = *mesh.tria;
     const auto              &names = mesh.names;
     const Geometry::CellKind kind(tria);
@@ -70,18 +121,43 @@ namespace systole
     for (const auto &p : params.probes)
       probe_points.push_back(p.position);
 
-    IO::ResultsFile results(run.output_directory, parameter_text, comm);
-    write_purkinje(results, ep.purkinje(), comm);
-    Progress progress(logger,
+    Electrophysiology::Statistics last;
+    // The 12 leads of every row (the biomarkers at the end).
+    EcgBeat                          ecg;
+    std::unique_ptr<IO::ResultsFile> results_file;
+    unsigned int                     first_step = 1;
+    if (checkpoint.empty())
+      {
+        results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
+                                                         parameter_text,
+                                                         comm);
+        write_purkinje(*results_file, ep.purkinje(), comm);
+      }
+    else
+      {
+        IO::StateReader       state(IO::read_checkpoint_state(checkpoint, comm),
+                              checkpoint);
+        auto                 &archive = state.archive();
+        IO::ResultsFile::Rows rows;
+        unsigned int          step = 0;
+        archive &rows.timeseries &rows.summary &rows.events &step;
+        results_file = std::make_unique<IO::ResultsFile>(run.output_directory,
+                                                         rows,
+                                                         step,
+                                                         comm);
+        archive &last.steps &last.linear_iterations;
+        load_ecg(archive, ecg);
+        ep.load_checkpoint(archive);
+        first_step = step + 1;
+      }
+    IO::ResultsFile &results = *results_file;
+    Progress         progress(logger,
                       Progress::parse_mode(run.progress),
                       run.start_time,
                       run.end_time);
 
     const unsigned int n_steps = static_cast<unsigned int>(
       std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
-    Electrophysiology::Statistics last;
-    // The 12 leads of every row (the biomarkers at the end).
-    EcgBeat    ecg;
     const auto write_row = [&](const unsigned int step, const double time) {
       const auto              now = ep.statistics();
       std::vector<IO::Column> row = {
@@ -121,8 +197,30 @@ namespace systole
         }
     };
 
-    write_row(0, run.start_time);
-    unsigned int step = 1;
+    auto       last_checkpoint  = std::chrono::steady_clock::now();
+    const auto write_checkpoint = [&](const unsigned int step) {
+      const std::string folder = store.begin(step);
+      IO::StateWriter   state;
+      {
+        auto      &archive = state.archive();
+        const auto rows    = results.rows();
+        archive &rows.timeseries &rows.summary &rows.events &step;
+        archive &last.steps &last.linear_iterations;
+        save_ecg(archive, ecg);
+        ep.prepare_checkpoint(archive);
+      }
+      const std::string text = state.finish();
+      mesh.tria->save(folder + "ep.mesh");
+      ep.finish_checkpoint();
+      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+        write_checkpoint_files(folder, text, all_entries, run);
+      logger.detail() << "  checkpoint " << store.commit() << std::endl;
+      last_checkpoint = std::chrono::steady_clock::now();
+    };
+
+    if (checkpoint.empty())
+      write_row(0, run.start_time);
+    unsigned int step = first_step;
     for (; step <= n_steps; ++step)
       {
         const double time =
@@ -130,7 +228,23 @@ namespace systole
         progress.update(step, time, "electrophysiology");
         ep.advance(time);
         write_row(step, time);
-        if (interrupted(comm))
+        const bool   stop = interrupted(comm);
+        const double minutes =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                        last_checkpoint)
+            .count() /
+          60.0;
+        if ((run.checkpoint_interval > 0 &&
+             step % run.checkpoint_interval == 0) ||
+            (run.checkpoint_minutes > 0 &&
+             dealii::Utilities::MPI::max(minutes, comm) >=
+               run.checkpoint_minutes) ||
+            (stop && !kind.simplex()))
+          write_checkpoint(step);
+        // Test hook (the checkpoint tests): SIGKILL after this step.
+        if (run.test_kill_after_step == static_cast<long>(step))
+          std::raise(SIGKILL);
+        if (stop)
           {
             logger.line("Interrupted: " + results.path() + " holds steps 0.." +
                         std::to_string(step) + ".");

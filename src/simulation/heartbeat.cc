@@ -16,6 +16,7 @@
 #include "fibres/fibre_field.h"
 #include "geometry/mesh.h"
 #include "io/checkpoint.h"
+#include "io/checkpoint_format.h"
 #include "io/results_file.h"
 #include "materials/bestel.h"
 #include "materials/factory.h"
@@ -30,11 +31,12 @@
 #include "simulation/mechanics_ventricles.h"
 #include "simulation/parameters.h"
 #include "simulation/purkinje_output.h"
+#include "simulation/run_checkpoint.h"
 #include "simulation/timer_section.h"
 
 #include "postprocess/manager.h"
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
 #include <sys/resource.h>
@@ -129,51 +131,6 @@ namespace systole
                     "Problem = heartbeat: Mechanics / Inertia = true needs a "
                     "positive Mechanics / Density (kg/m^3; the tissue's is "
                     "1000)."));
-    }
-
-    /// Resume: the newest valid checkpoint of the run, written for the same
-    /// problem (every entry outside subsection Output equal to
-    /// @p all_entries); "" when the run does not resume.
-    std::string
-    resume_checkpoint(const RunParameters &run,
-                      IO::CheckpointStore &store,
-                      const std::string   &all_entries,
-                      Logger              &logger)
-    {
-      if (!run.resume)
-        return "";
-      std::ostringstream faults;
-      const std::string  checkpoint = store.newest_valid(faults);
-      std::istringstream fault_lines(faults.str());
-      for (std::string line; std::getline(fault_lines, line);)
-        logger.line(line);
-      AssertThrow(!checkpoint.empty(),
-                  dealii::ExcMessage(
-                    "Output / Resume: there is no valid checkpoint in '" +
-                    run.output_directory +
-                    "' (set Output / Checkpoint interval when starting "
-                    "the run)."));
-      std::ifstream      in(checkpoint + "/parameters.prm");
-      std::ostringstream saved;
-      saved << in.rdbuf();
-      const auto differences =
-        IO::parameter_differences(saved.str(), all_entries, {"Output"});
-      if (!differences.empty())
-        {
-          std::string message =
-            "The checkpoint " + checkpoint +
-            " was written for another problem: " + differences[0];
-          if (differences.size() > 1)
-            message += " (and " + std::to_string(differences.size() - 1) +
-                       " more difference(s))";
-          AssertThrow(false,
-                      dealii::ExcMessage(
-                        message +
-                        ". Only subsection Output may change when a run "
-                        "resumes."));
-        }
-      logger.line("Resuming from " + checkpoint);
-      return checkpoint;
     }
 
     /// The 3D ventricles of the mesh: "lv", or "lv" and "rv" of a
@@ -314,42 +271,27 @@ namespace systole
       return settings;
     }
 
-    /// The small state of a checkpoint (state.bin) as a string on every
-    /// rank (read on rank 0).
-    std::string
-    read_state_bytes(const std::string &checkpoint, const MPI_Comm comm)
-    {
-      std::string bytes;
-      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-        {
-          std::ifstream      in(checkpoint + "/state.bin", std::ios::binary);
-          std::ostringstream o;
-          o << in.rdbuf();
-          bytes = o.str();
-        }
-      return dealii::Utilities::MPI::broadcast(comm, bytes, 0);
-    }
-
     /// The results file: new, or (resuming from @p checkpoint) reopened
-    /// with the rows of its small state, whose rest @p state_in then reads
-    /// from @p saved_state.
+    /// with the rows of its small state, whose rest @p state_in then reads.
     std::unique_ptr<IO::ResultsFile>
-    open_results(const std::string   &checkpoint,
-                 const RunParameters &run,
-                 const std::string   &parameter_text,
-                 std::istringstream  &saved_state,
-                 std::unique_ptr<boost::archive::binary_iarchive> &state_in,
-                 const MPI_Comm                                    comm)
+    open_results(const std::string                &checkpoint,
+                 const RunParameters              &run,
+                 const std::string                &parameter_text,
+                 std::unique_ptr<IO::StateReader> &state_in,
+                 const MPI_Comm                    comm)
     {
       if (checkpoint.empty())
         return std::make_unique<IO::ResultsFile>(run.output_directory,
                                                  parameter_text,
                                                  comm);
-      saved_state.str(read_state_bytes(checkpoint, comm));
-      state_in = std::make_unique<boost::archive::binary_iarchive>(saved_state);
+      state_in =
+        std::make_unique<IO::StateReader>(IO::read_checkpoint_state(checkpoint,
+                                                                    comm),
+                                          checkpoint);
       IO::ResultsFile::Rows rows;
       unsigned int          resumed_step = 0;
-      *state_in &rows.timeseries &rows.summary &rows.events &resumed_step;
+      state_in->archive() &
+        rows.timeseries &rows.summary &rows.events &resumed_step;
       return std::make_unique<IO::ResultsFile>(run.output_directory,
                                                rows,
                                                resumed_step,
@@ -357,7 +299,7 @@ namespace systole
     }
 
     /// The parts of a running heartbeat whose state a checkpoint holds, in
-    /// the order of state.bin (after the rows of the results file and the
+    /// the order of the state file (after the rows of the results file and the
     /// step).
     struct HeartbeatState
     {
@@ -369,7 +311,7 @@ namespace systole
       Postprocess::Manager &postprocess;
 
       void
-      load(boost::archive::binary_iarchive &archive)
+      load(boost::archive::text_iarchive &archive)
       {
         problem.load_checkpoint(archive);
         if (ep != nullptr)
@@ -386,7 +328,7 @@ namespace systole
       }
 
       void
-      save(boost::archive::binary_oarchive &archive, const std::string &folder)
+      save(boost::archive::text_oarchive &archive, const std::string &folder)
       {
         problem.prepare_checkpoint(archive);
         if (ep != nullptr)
@@ -423,12 +365,12 @@ namespace systole
       void
       write(const unsigned int step)
       {
-        const auto         begin  = std::chrono::steady_clock::now();
-        const std::string  folder = store.begin(step);
-        std::ostringstream bytes;
+        const auto        begin  = std::chrono::steady_clock::now();
+        const std::string folder = store.begin(step);
+        IO::StateWriter   writer;
         {
-          boost::archive::binary_oarchive archive(bytes);
-          const auto                      rows = results.rows();
+          auto      &archive = writer.archive();
+          const auto rows    = results.rows();
           archive &rows.timeseries &rows.summary &rows.events &step;
           state.save(archive, folder);
         }
@@ -443,9 +385,10 @@ namespace systole
         // The small state first: the largest file, whose failure (a full
         // disk) is reported here, before the mesh's save (p4est aborts on a
         // failed write).
-        std::string error;
+        const std::string text = writer.finish();
+        std::string       error;
         if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          error = write_files(folder, bytes.str(), step);
+          error = write_files(folder, text, step);
         stop_if_failed(error, 0, step);
         // The mesh with its data (MPI-IO): a rank whose write failed tells
         // the others, which would otherwise wait for it in the commit.
@@ -526,12 +469,14 @@ namespace systole
         // halfway through the state of the checkpoint of this step.
         if (run.test_kill_in_checkpoint == static_cast<long>(step))
           {
-            std::ofstream state_file(folder + "state.bin", std::ios::binary);
+            std::ofstream state_file(folder + IO::checkpoint_state_file,
+                                     std::ios::binary);
             state_file.write(data.data(), data.size() / 2);
             state_file.flush();
             std::raise(SIGKILL);
           }
-        std::string error = write(folder + "state.bin", data, data.size());
+        std::string error =
+          write(folder + IO::checkpoint_state_file, data, data.size());
         if (error.empty())
           error =
             write(folder + "parameters.prm", all_entries, all_entries.size());
@@ -706,7 +651,7 @@ namespace systole
     const std::string   all_entries = entries.str();
     IO::CheckpointStore store(run.output_directory, comm);
     const std::string   checkpoint =
-      resume_checkpoint(run, store, all_entries, logger);
+      resume_checkpoint(run, store, all_entries, logger, comm);
 
     MechanicsModel      model(prm,
                          run,
@@ -751,17 +696,13 @@ namespace systole
                                    onset,
                                    inertia,
                                    logger);
-    // The small state of a checkpoint (state.bin): the rows of the results
-    // file and the last step first, then the components in a fixed order.
-    std::istringstream                               saved_state;
-    std::unique_ptr<boost::archive::binary_iarchive> state_in;
-    const auto       results_file = open_results(checkpoint,
-                                           run,
-                                           parameter_text,
-                                           saved_state,
-                                           state_in,
-                                           comm);
-    IO::ResultsFile &results      = *results_file;
+    // The small state of a checkpoint (IO::checkpoint_state_file): the rows
+    // of the results file and the last step first, then the components in a
+    // fixed order.
+    std::unique_ptr<IO::StateReader> state_in;
+    const auto                       results_file =
+      open_results(checkpoint, run, parameter_text, state_in, comm);
+    IO::ResultsFile &results = *results_file;
     if (ep != nullptr && checkpoint.empty())
       write_purkinje(results, ep->purkinje(), comm);
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
@@ -792,7 +733,7 @@ namespace systole
 
     HeartbeatState state{problem, ep, stepper, ventricles, writer, postprocess};
     if (state_in)
-      state.load(*state_in);
+      state.load(state_in->archive());
     state_in.reset();
     Checkpointer checkpointer{store,
                               results,

@@ -5,8 +5,8 @@
 #include "base/errors.h"
 #include "circulation/bdf_step.h"
 
-#include <boost/archive/binary_iarchive.hpp>
-#include <boost/archive/binary_oarchive.hpp>
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
 #include <boost/serialization/vector.hpp>
 
 #include <algorithm>
@@ -474,14 +474,14 @@ namespace systole
 
 
   void
-  HeartbeatStepper::save(boost::archive::binary_oarchive &archive) const
+  HeartbeatStepper::save(boost::archive::text_oarchive &archive) const
   {
     impl->serialize(archive);
   }
 
 
   void
-  HeartbeatStepper::load(boost::archive::binary_iarchive &archive)
+  HeartbeatStepper::load(boost::archive::text_iarchive &archive)
   {
     impl->serialize(archive);
     impl->resumed = true;

@@ -14,8 +14,8 @@
 
 namespace boost::archive
 {
-  class binary_oarchive;
-  class binary_iarchive;
+  class text_oarchive;
+  class text_iarchive;
 } // namespace boost::archive
 
 namespace systole
@@ -253,12 +253,12 @@ namespace systole
     /// phases, the beat recorder, the step size and its cap, the event
     /// bracket, the counters and statistics.
     void
-    save(boost::archive::binary_oarchive &archive) const;
+    save(boost::archive::text_oarchive &archive) const;
 
     /// Read what save() wrote (of a stepper built with the same model and
     /// settings); run() then continues from there.
     void
-    load(boost::archive::binary_iarchive &archive);
+    load(boost::archive::text_iarchive &archive);
 
   private:
     struct Impl;

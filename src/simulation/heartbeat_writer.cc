@@ -263,6 +263,9 @@ namespace systole
         const rlimit limit{size, size};
         setrlimit(RLIMIT_FSIZE, &limit);
       }
+    // Test hook (the rank tests' short runs): end after this step.
+    if (run.test_stop_after_step == static_cast<long>(step_index))
+      stop = true;
   }
 
 

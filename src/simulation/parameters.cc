@@ -179,7 +179,8 @@ namespace systole
       "Checkpoint interval",
       "0",
       Integer(0),
-      "Problem = heartbeat: write a checkpoint (the whole state of the run, "
+      "Problem = heartbeat and electrophysiology: write a checkpoint (the "
+      "whole state of the run, "
       "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
       "every this many accepted steps; 0: none by step count. A checkpoint is "
       "also written when the run receives SIGTERM or SIGINT. Units: steps.");
@@ -187,14 +188,16 @@ namespace systole
       "Checkpoint wall time interval",
       "0",
       Double(0.0),
-      "Problem = heartbeat: write a checkpoint at the end of the first step "
+      "Problem = heartbeat and electrophysiology: write a checkpoint at the "
+      "end of the first step "
       "after this much wall-clock time since the start or the last "
       "checkpoint; 0: none by wall time. Units: minutes.");
     prm.declare_entry(
       "Resume",
       "false",
       Bool(),
-      "Problem = heartbeat: continue the run in <Directory>/<Run name> from "
+      "Problem = heartbeat and electrophysiology: continue the run in "
+      "<Directory>/<Run name> from "
       "its newest valid checkpoint, appending to its results.h5 (rows written "
       "after that checkpoint are discarded first). The parameter file must "
       "describe the same problem as the one the checkpoint was written with "
@@ -211,8 +214,8 @@ namespace systole
       "Test kill after step",
       "-1",
       Integer(-1),
-      "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
-      "SIGKILL after this accepted step (and its checkpoint, if one is due), "
+      "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
+      "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
       "as a crash would; -1: never. Units: steps.");
     prm.declare_entry(
       "Test kill in checkpoint",
@@ -238,6 +241,14 @@ namespace systole
       "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
       "next write that grows the results file fails as on a full disk; -1: "
       "never. Units: steps.");
+    prm.declare_entry(
+      "Test stop after step",
+      "-1",
+      Integer(-1),
+      "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
+      "after this accepted step, its fields and rows written, as an "
+      "interrupted run ends but without a checkpoint; -1: never. Units: "
+      "steps.");
     prm.leave_subsection();
 
     prm.enter_subsection("Discretization");
@@ -370,6 +381,8 @@ namespace systole
       prm.get_integer({"Output"}, "Test file size limit in checkpoint");
     p.test_file_size_limit_after_step =
       prm.get_integer({"Output"}, "Test file size limit after step");
+    p.test_stop_after_step =
+      prm.get_integer({"Output"}, "Test stop after step");
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

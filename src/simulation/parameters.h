@@ -44,6 +44,9 @@ namespace systole
     long test_file_size_limit_in_checkpoint = -1;
     /// Test-only: limit the file size to the results file's after this step.
     long test_file_size_limit_after_step = -1;
+    /// Test-only hook (Problem = heartbeat): end the run after this accepted
+    /// step, as an interrupted run ends but without a checkpoint; -1: never.
+    long test_stop_after_step = -1;
 
     unsigned int polynomial_degree = 1;
     unsigned int mapping_degree    = 2;

@@ -49,9 +49,12 @@ namespace systole
                impl->run.output_directory.back() == '/')
           impl->run.output_directory.pop_back();
       }
-    AssertThrow(!impl->run.resume || impl->run.problem == "heartbeat",
-                dealii::ExcMessage("Output / Resume: only Problem = heartbeat "
-                                   "writes checkpoints."));
+    AssertThrow(!impl->run.resume || impl->run.problem == "heartbeat" ||
+                  impl->run.problem == "electrophysiology",
+                dealii::ExcMessage(
+                  "Output / Resume: only Problem = heartbeat and Problem = "
+                  "electrophysiology write checkpoints (Problem = " +
+                  impl->run.problem + ")."));
     validate_component_parameters(impl->prm, parameter_file);
 
     // What ran: the file as given, then every entry with the value used.

@@ -12,19 +12,28 @@ its own (an Output subsection appended to a copy of PRM; only Output may differ 
   checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
   /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
   the wall-time columns *_seconds excepted).
-- ranks-2-1 / ranks-1-2: killed on 2 ranks after step 25 and resumed on 1, or killed on 1
-  rank after step 105 and resumed on 2; equal to the reference to 1e-8 (the *_drift columns,
-  round-off by definition, to 1e-10 absolute besides).
+- ranks-2-1 / ranks-1-2 / ranks-2-3: killed on 2 ranks after step 25 and resumed on 1, or
+  killed on 1 rank (2 ranks) after step 105 and resumed on 2 (3 ranks); equal to the reference
+  to 1e-8 (the *_drift columns, round-off by definition, to 1e-10 absolute besides).
   KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
   of PRM itself).
+- other-build (by hand: docs/verification.md): like ranks-2-3, but resumed by OTHER_SYSTOLE, the
+  app of another build (e.g. CMAKE_BUILD_TYPE=Debug) of the same checkpoint format:
+
+      checkpoint_resume.py other-build SYSTOLE MPIEXEC PRM KILL_STEP REFERENCE.h5 OTHER_SYSTOLE
+
 - reference-2 / ranks-2-2: the uninterrupted run on 2 ranks (results/reference_2); killed on 2
   ranks after step 45 (or KILL_STEP) and resumed on 2: equal to reference-2 to 1e-12 (a
   tetrahedral mesh resumes on the rank count it was saved with, in the saved partition).
 - ranks-2-1-refused: a copy of the ranks-2-2 run resumed on 1 rank fails with one line
   naming both rank counts (a fully distributed mesh cannot be repartitioned on load).
-- corrupt: a copy of the reference run with the newest checkpoint's state.bin truncated;
+- corrupt: a copy of the reference run with the newest checkpoint's state.txt truncated;
   resuming (systole --resume) prints one line naming that file and falls back to the
   previous checkpoint; the results equal the reference to 1e-12.
+- wrong-format: a copy of the reference run whose newest checkpoint says format 99 in the
+  header of its state.txt (the manifest updated, so it is a valid checkpoint of another
+  format), then one whose newest checkpoint has the binary state.bin of format 1: resuming
+  fails with one line naming both format versions.
 - wrong-parameters: resuming a copy of the reference run with a parameter file of another
   mesh (Geometry / Global refinements = 1) fails with a message naming that entry.
 
@@ -37,6 +46,8 @@ import shutil
 import subprocess
 import sys
 from pathlib import Path
+
+import zlib
 
 import h5py
 import numpy as np
@@ -76,16 +87,26 @@ def run(cmd, expect_kill=False, expect_fail=False):
     return log
 
 
-def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0) -> None:
+#: Columns that depend on the partition (compared only on the same rank count): Krylov
+#: iteration counts, and the Newton and chord counts and residuals that round-off can tip.
+PARTITION_DEPENDENT = ("linear_iterations", "newton_iterations", "chord_iterations", "residual")
+
+
+def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0,
+            other_ranks: bool = False) -> None:
     with h5py.File(reference, "r") as a, h5py.File(result, "r") as b:
         worst = (0.0, "")
         for group in GROUPS:
+            if group not in a and group not in b:
+                continue  # (Problem = electrophysiology has no /events)
             names_a, names_b = list(a[group]), list(b[group])
             if names_a != names_b:
                 sys.exit(f"/{group}: columns differ: {names_a} vs {names_b}")
             for name in names_a:
                 if name.endswith("_seconds"):
                     continue  # wall times
+                if other_ranks and name in PARTITION_DEPENDENT:
+                    continue
                 x, y = a[group][name][()], b[group][name][()]
                 if x.shape != y.shape:
                     sys.exit(f"/{group}/{name}: {x.shape[0]} rows, resumed {y.shape[0]}")
@@ -102,7 +123,7 @@ def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0)
                 if not d * scale <= allowed:
                     sys.exit(f"/{group}/{name}: resumed differs by {d:.3e} (relative to the "
                              f"column's largest value) > {tolerance:g}")
-        rows = {g: a[g][list(a[g])[0]].shape[0] for g in GROUPS}
+        rows = {g: a[g][list(a[g])[0]].shape[0] for g in GROUPS if g in a}
     print(f"{result}: equal to {reference} within {tolerance:g} ({rows}); largest "
           f"difference {worst[0]:.3e} {worst[1]}")
 
@@ -110,6 +131,7 @@ def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0)
 def main() -> None:
     mode, systole, mpiexec, prm = sys.argv[1], Path(sys.argv[2]), sys.argv[3], Path(sys.argv[4])
     mpi2 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", systole]
+    mpi3 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "3", systole]
     kill_step = sys.argv[5] if len(sys.argv) > 5 else None
     reference = Path(sys.argv[6] if len(sys.argv) > 6 else "results/reference/results.h5")
 
@@ -138,17 +160,31 @@ def main() -> None:
         compare(reference, Path("results/chain/results.h5"), 1e-12)
         return
 
-    if mode in ("ranks-2-1", "ranks-1-2"):
+    if mode in ("ranks-2-1", "ranks-1-2", "ranks-2-3"):
         name = mode.replace("-", "_")
         shutil.rmtree(f"results/{name}", ignore_errors=True)
-        first, then, step = (mpi2, [systole], "25") if mode == "ranks-2-1" else \
-            ([systole], mpi2, "105")
+        first, then, step = {"ranks-2-1": (mpi2, [systole], "25"),
+                             "ranks-1-2": ([systole], mpi2, "105"),
+                             "ranks-2-3": (mpi2, mpi3, "105")}[mode]
         step = kill_step or step
         run(first + [prm_for(prm, name, kill_after(step), name + "_kill")], expect_kill=True)
         log = run(then + [prm_for(prm, name, RESUME, name + "_resume")])
         assert "Resuming from" in log, log[-2000:]
         # Another rank count: 1e-8 relative, the drift columns 1e-10 absolute besides.
-        compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10)
+        compare(reference, Path(f"results/{name}/results.h5"), 1e-8, 1e-10, other_ranks=True)
+        return
+
+    if mode == "other-build":
+        other = Path(sys.argv[7])
+        mpi3_other = mpi3[:-1] + [other]
+        shutil.rmtree("results/other_build", ignore_errors=True)
+        run(mpi2 + [prm_for(prm, "other_build", kill_after(kill_step), "other_build_kill")],
+            expect_kill=True)
+        log = run(mpi3_other + [prm_for(prm, "other_build", RESUME, "other_build_resume")])
+        assert "Resuming from" in log, log[-2000:]
+        print(next(line for line in log.splitlines() if "Resuming from" in line))
+        compare(reference, Path("results/other_build/results.h5"), 1e-8, 1e-10,
+                other_ranks=True)
         return
 
     if mode == "reference-2":
@@ -181,7 +217,7 @@ def main() -> None:
         shutil.rmtree("results/corrupt", ignore_errors=True)
         shutil.copytree("results/reference", "results/corrupt")
         checkpoints = sorted(Path("results/corrupt").glob("checkpoint_*"))
-        state = checkpoints[-1] / "state.bin"
+        state = checkpoints[-1] / "state.txt"
         data = state.read_bytes()
         state.write_bytes(data[: len(data) // 2])
         # systole --resume: the parameter file the run was started with (reference's).
@@ -194,6 +230,42 @@ def main() -> None:
         assert f"Resuming from {checkpoints[-2]}" in log, log[-2000:]
         print(lines[0])
         compare(reference, Path("results/corrupt/results.h5"), 1e-12)
+        return
+
+    if mode == "wrong-format":
+        for case, expected in (("newer", "is in checkpoint format 99 (written by systole"),
+                               ("old", "is in checkpoint format 1 (a binary state.bin")):
+            run_dir = Path(f"results/format_{case}")
+            shutil.rmtree(run_dir, ignore_errors=True)
+            shutil.copytree("results/reference", run_dir)
+            newest = sorted(run_dir.glob("checkpoint_*"))[-1]
+            state = newest / "state.txt"
+            if case == "newer":
+                text = state.read_text()
+                head, rest = text.split("\n", 1)
+                words = head.split(" ")
+                assert words[0] == "systole-checkpoint", head
+                words[1] = "99"
+                state.write_text(" ".join(words) + "\n" + rest)
+            else:
+                state.rename(newest / "state.bin")
+            # A valid checkpoint of that format: the manifest (size, CRC-32, name) rewritten.
+            lines = []
+            for line in (newest / "MANIFEST").read_text().splitlines():
+                name = line.split(" ")[2]
+                if name == "state.txt":
+                    name = "state.bin" if case == "old" else name
+                data = (newest / name).read_bytes()
+                lines.append(f"{len(data)} {zlib.crc32(data):x} {name}")
+            (newest / "MANIFEST").write_text("\n".join(lines) + "\n")
+            log = run([systole, "--resume", str(run_dir)], expect_fail=True)
+            errors = [line for line in log.splitlines() if "format" in line]
+            current = (Path("results/reference") / newest.name / "state.txt").read_text() \
+                .split(" ")[1]
+            both = f"reads format {current}"
+            assert len(errors) == 1 and expected in errors[0] and both in errors[0], \
+                f"expected one line '{expected} ... {both}':\n{log[-2000:]}"
+            print(errors[0])
         return
 
     if mode == "wrong-parameters":
