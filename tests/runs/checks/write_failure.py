@@ -21,7 +21,7 @@ PRM is a small heartbeat; every mode runs in the current folder with its own run
   first rows (at least 30, fewer than all); the newest checkpoint matches its MANIFEST;
   resumed without the limit, the run ends with the reference's rows.
 - checkpoint: Output / Test file size limit in checkpoint = 20 makes the writes of the
-  checkpoint of step 20 fail. One line naming the checkpoint, state.bin and the intact
+  checkpoint of step 20 fail. One line naming the checkpoint, state.txt and the intact
   checkpoint_000010, which matches its MANIFEST; the results rows up to step 20 equal
   the reference's; resumed, the run ends with the reference's rows.
 
@@ -163,7 +163,7 @@ def main() -> int:
     # The checkpoint of step 20 cannot be written.
     result = run(systole, prm_for(prm, "checkpoint",
                                   "  set Test file size limit in checkpoint = 20\n"))
-    one_error_line(result, "checkpoint of step 20", r"state\.bin: File too large",
+    one_error_line(result, "checkpoint of step 20", r"state\.txt: File too large",
                    r"checkpoint_000010, is intact")
     intact(Path("results/checkpoint/checkpoint_000010"))
     n = compare_prefix(rows(Path("results/checkpoint/results.h5")), reference,
