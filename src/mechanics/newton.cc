@@ -148,6 +148,17 @@ namespace systole::Mechanics
       w.reinit(m.owned, m.comm);
   }
 
+  std::string
+  NewtonSolver::failure(const std::string &what) const
+  {
+    return with_block_residuals(what,
+                                residual,
+                                mixed,
+                                m.body_volume,
+                                bordered,
+                                largest_volume_error());
+  }
+
   double
   NewtonSolver::largest_volume_error() const
   {
@@ -552,17 +563,12 @@ namespace systole::Mechanics
             return converged_now();
           }
         // The final message names the residual of every block.
-        AssertThrow(it - n_chord < m.params.max_newton_iterations,
-                    ExcNewtonDidNotConverge(
-                      with_block_residuals(bordered ? "volume-constrained step"
-                                                    : "load step",
-                                           residual,
-                                           mixed,
-                                           m.body_volume,
-                                           bordered,
-                                           largest_volume_error()),
-                      it,
-                      relative));
+        AssertThrow(
+          it - n_chord < m.params.max_newton_iterations,
+          ExcNewtonDidNotConverge(failure(bordered ? "volume-constrained step"
+                                                   : "load step"),
+                                  it,
+                                  relative));
 
         // A chord update that raised |R| (accelerated: that cut it less than
         // twofold; further out, where chords stall, an iterate they moved a
@@ -782,15 +788,10 @@ namespace systole::Mechanics
             break;
           }
         AssertThrow(cut < 6,
-                    ExcNewtonDidNotConverge(
-                      with_block_residuals("no acceptable step length",
-                                           residual,
-                                           mixed,
-                                           m.body_volume,
-                                           bordered,
-                                           largest_volume_error()),
-                      it,
-                      relative));
+                    ExcNewtonDidNotConverge(failure(
+                                              "no acceptable step length"),
+                                            it,
+                                            relative));
         ++cut;
         alpha *= 0.5;
       }

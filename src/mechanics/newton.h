@@ -99,6 +99,10 @@ namespace systole::Mechanics
 
     double
     largest_volume_error() const;
+    /// What failed (@p what) with the residual of every block, for the
+    /// failure's message.
+    std::string
+    failure(const std::string &what) const;
     /// g = V(u) - W(p) [mm^3].
     dealii::Vector<double>
     volume_residual() const;
