@@ -1,49 +1,25 @@
 #include "circulation/ode_integrator.h"
 
 #include <deal.II/lac/full_matrix.h>
-#include <deal.II/sundials/arkode.h>
-#include <deal.II/sundials/n_vector.h>
 
-#include <arkode/arkode_arkstep.h>
-#include <sundials/sundials_linearsolver.h>
+#include "electrophysiology/arkode_adapter.h"
+
+#include <petscvec.h>
 
 #include <cmath>
-#include <exception>
-#include <limits>
 #include <sstream>
 
-// deal.II 9.4's ARKode wrapper calls std::function objects that return int
-// (0 ok, > 0 recoverable, < 0 fatal) from inside SUNDIALS' C code, where an
-// exception must not pass: every callback is wrapped in guarded(), which
-// keeps the exception for advance() to rethrow. The wrapper checks
-// ARKStepEvolve's flag with Assert only (debug builds) and, in a release
-// build, goes on calling it after a failure; its output_step hook runs in
-// plain C++ after every ARKStepEvolve, so that is where a failure (reported
-// by ARKode's error handler) is turned into an exception.
-//
-// Root finding is not part of the 9.4 wrapper: custom_setup installs it with
-// ARKStepRootInit. ARKode hands the root function the user data of the
-// ARKStep memory, which the wrapper sets to the wrapper object itself
-// (checked with ARKStepGetUserData in custom_setup); the wrapper object is a
-// Solver, a derived class that knows its Impl. A root return ends one
-// ARKStepEvolve early; the wrapper then calls output_step at the root time
-// and continues to the end time, so the events are collected there.
+// The model's ODE y' = f(t, y) as the implicit part of the project's ARKode
+// adapter (no explicit part: ARKode's default DIRK table of the order). The
+// adapter works on PETSc vectors; here they live on MPI_COMM_SELF and are
+// copied to and from the Model's dealii::Vector in every callback (the state
+// is small).
 
 namespace systole::Circulation
 {
   namespace
   {
-    using Vector  = dealii::Vector<double>;
-    using Wrapper = dealii::SUNDIALS::ARKode<Vector>;
-
-    void
-    check(const int flag, const char *function)
-    {
-      AssertThrow(flag >= 0,
-                  dealii::ExcMessage(std::string("ARKode: ") + function +
-                                     " failed with flag " +
-                                     std::to_string(flag) + "."));
-    }
+    using Vector = dealii::Vector<double>;
 
     std::string
     str(const double x)
@@ -53,20 +29,37 @@ namespace systole::Circulation
       s << x;
       return s.str();
     }
+
+    /// to = from, entry by entry (both of the same size, one rank).
+    void
+    copy(const LA::MPI::Vector &from, Vector &to)
+    {
+      const Vec     vec    = static_cast<const Vec &>(from);
+      const double *values = nullptr;
+      PetscInt      n      = 0;
+      VecGetLocalSize(vec, &n);
+      AssertThrow(std::size_t(n) == to.size(), dealii::ExcInternalError());
+      VecGetArrayRead(vec, &values);
+      std::copy(values, values + n, to.begin());
+      VecRestoreArrayRead(vec, &values);
+    }
+
+    void
+    copy(const Vector &from, LA::MPI::Vector &to)
+    {
+      const Vec vec    = static_cast<const Vec &>(to);
+      double   *values = nullptr;
+      PetscInt  n      = 0;
+      VecGetLocalSize(vec, &n);
+      AssertThrow(std::size_t(n) == from.size(), dealii::ExcInternalError());
+      VecGetArray(vec, &values);
+      std::copy(from.begin(), from.end(), values);
+      VecRestoreArray(vec, &values);
+    }
   } // namespace
 
   struct Integrator::Impl
   {
-    /// The wrapper, so that the root function can find its Impl.
-    struct Solver : Wrapper
-    {
-      Solver(const AdditionalData &data, Impl *owner)
-        : Wrapper(data, MPI_COMM_SELF)
-        , owner(owner)
-      {}
-      Impl *owner;
-    };
-
     Impl(const Model             &model,
          const Settings          &settings,
          const double             t0,
@@ -77,35 +70,22 @@ namespace systole::Circulation
       , external(external)
       , t(t0)
       , y(y0)
+      , state(dealii::complete_index_set(y0.size()), MPI_COMM_SELF)
+      , y_work(y0.size())
+      , f_work(y0.size())
     {}
 
-    template <class Function>
-    int
-    guarded(const Function &f, const int failure_code = -1) noexcept
-    {
-      try
-        {
-          f();
-          return 0;
-        }
-      catch (...)
-        {
-          if (!fatal)
-            fatal = std::current_exception();
-          return failure_code;
-        }
-    }
-
+    /// The adapter, with the model's right-hand side, Newton solve and
+    /// valve roots.
     void
     create();
 
-    /// custom_setup: tolerances, step limits, stop time, root finding.
+    /// (I - gamma J) x = b with J = df/dy at (@p time, @p y_work).
     void
-    configure(void *arkode_memory);
-
-    /// output_step: after every ARKStepEvolve (and once after the set-up).
-    void
-    on_output(const double time, const Vector &state);
+    newton_solve(const double  time,
+                 const double  gamma,
+                 const Vector &b,
+                 Vector       &x);
 
     void
     pressures(const double time, Vector &p_ext) const
@@ -115,221 +95,107 @@ namespace systole::Circulation
         external(time, p_ext);
     }
 
-    static int
-    root_function(realtype t, N_Vector y, realtype *g, void *user_data);
-
-    static void
-    error_handler(int         code,
-                  const char *module,
-                  const char *function,
-                  char       *message,
-                  void       *data);
-
     const Model      &model;
     Settings          settings;
     ExternalPressures external;
-    double            t;      ///< current time
-    double            target; ///< end time of the advance() in progress
-    Vector            y;      ///< state at t
-    Vector            absolute_tolerances;
+    double            t; ///< current time
+    Vector            y; ///< state at t
     std::vector<bool> open;
 
-    std::unique_ptr<Solver>    solver;
-    bool                       initial_output = false;
+    /// The state as the adapter's vector, and the adapter.
+    LA::MPI::Vector                                    state;
+    std::unique_ptr<Electrophysiology::ImexIntegrator> integrator;
+    Vector                     y_work, f_work, b_work, x_work, p_ext_work;
     dealii::FullMatrix<double> jacobian, jacobian_p, system;
-    Vector                     p_ext_work;
     std::vector<Event>         events;
-
-    std::exception_ptr fatal;
-    bool               arkode_failed = false;
-    std::string        arkode_message;
 
     unsigned long jacobian_evaluations = 0, linear_solves = 0;
   };
 
 
   void
+  Integrator::Impl::newton_solve(const double  time,
+                                 const double  gamma,
+                                 const Vector &b,
+                                 Vector       &x)
+  {
+    pressures(time, p_ext_work);
+    model.jacobian(time, y_work, p_ext_work, jacobian, jacobian_p);
+    ++jacobian_evaluations;
+    const unsigned int m = jacobian.m();
+    system.reinit(m, m);
+    for (unsigned int i = 0; i < m; ++i)
+      for (unsigned int j = 0; j < m; ++j)
+        system(i, j) = (i == j ? 1.0 : 0.0) - gamma * jacobian(i, j);
+    system.gauss_jordan();
+    system.vmult(x, b);
+    ++linear_solves;
+  }
+
+
+  void
   Integrator::Impl::create()
   {
-    const unsigned int n = model.n_states();
-    absolute_tolerances.reinit(n);
-    for (unsigned int i = 0; i < n; ++i)
-      absolute_tolerances[i] =
-        settings.absolute_volume_tolerance / model.states()[i].volume_scale;
+    Electrophysiology::ImexIntegrator::Settings s;
+    s.order              = settings.order;
+    s.adaptive           = true;
+    s.relative_tolerance = settings.relative_tolerance;
+    s.max_step           = settings.max_step;
+    s.initial_step       = settings.initial_step;
+    s.min_step           = 0.0; // ARKode's own limit
+    s.max_steps          = 1000000;
+    for (unsigned int i = 0; i < model.n_states(); ++i)
+      s.absolute_tolerances.push_back(settings.absolute_volume_tolerance /
+                                      model.states()[i].volume_scale);
 
-    // Output period longer than any advance(): one ARKStepEvolve per
-    // advance() unless a root ends it early. The minimum step is left to
-    // ARKode (0); the stop time is set in configure().
-    const Wrapper::AdditionalData data(t,
-                                       t,
-                                       settings.initial_step,
-                                       std::numeric_limits<double>::max(),
-                                       0.0,
-                                       settings.order,
-                                       5,
-                                       false,
-                                       false,
-                                       false,
-                                       3,
-                                       settings.absolute_volume_tolerance,
-                                       settings.relative_tolerance);
-    solver = std::make_unique<Solver>(data, this);
-
-    solver->implicit_function =
-      [this](const double time, const Vector &state, Vector &f) -> int {
-      return guarded([&]() {
+    Electrophysiology::ImexIntegrator::Callbacks callbacks;
+    callbacks.nonlinear_implicit_rhs =
+      [this](const double time, const LA::MPI::Vector &u, LA::MPI::Vector &f) {
+        copy(u, y_work);
         pressures(time, p_ext_work);
-        model.rhs(time, state, p_ext_work, f);
-      });
-    };
-    solver->jacobian_times_setup =
-      [this](const double time, const Vector &state, const Vector &) -> int {
-      return guarded([&]() {
-        pressures(time, p_ext_work);
-        model.jacobian(time, state, p_ext_work, jacobian, jacobian_p);
-        ++jacobian_evaluations;
-      });
-    };
-    solver->jacobian_times_vector = [this](const Vector &v,
-                                           Vector       &Jv,
-                                           const double,
-                                           const Vector &,
-                                           const Vector &) -> int {
-      return guarded([&]() { jacobian.vmult(Jv, v); });
-    };
-    // (I - gamma J) x = b with ARKode's current gamma and the Jacobian of
-    // the last set-up (every step, see configure()).
-    solver->solve_linearized_system =
-      [this](dealii::SUNDIALS::SundialsOperator<Vector> &,
-             dealii::SUNDIALS::SundialsPreconditioner<Vector> &,
-             Vector       &x,
-             const Vector &b,
-             const double) -> int {
-      return guarded(
-        [&]() {
-          double gamma = 0;
-          check(ARKStepGetCurrentGamma(solver->get_arkode_memory(), &gamma),
-                "ARKStepGetCurrentGamma");
-          const unsigned int m = jacobian.m();
-          system.reinit(m, m);
-          for (unsigned int i = 0; i < m; ++i)
-            for (unsigned int j = 0; j < m; ++j)
-              system(i, j) = (i == j ? 1.0 : 0.0) - gamma * jacobian(i, j);
-          system.gauss_jordan();
-          system.vmult(x, b);
-          ++linear_solves;
-        },
-        // Handed to ARKode's linear solver interface, which knows SUNLS_*
-        // codes only.
-        SUNLS_PACKAGE_FAIL_UNREC);
-    };
-    solver->get_local_tolerances = [this]() -> Vector & {
-      return absolute_tolerances;
-    };
-    solver->custom_setup = [this](void *memory) {
-      configure(memory);
-      initial_output = true;
-    };
-    solver->output_step =
-      [this](const double time, const Vector &state, const unsigned int) {
-        on_output(time, state);
+        model.rhs(time, y_work, p_ext_work, f_work);
+        copy(f_work, f);
       };
-  }
-
-
-  void
-  Integrator::Impl::configure(void *memory)
-  {
-    void *user_data = nullptr;
-    check(ARKStepGetUserData(memory, &user_data), "ARKStepGetUserData");
-    AssertThrow(user_data == static_cast<Wrapper *>(solver.get()),
-                dealii::ExcMessage(
-                  "Circulation::Integrator: deal.II's ARKode wrapper does "
-                  "not pass itself as ARKode's user data; the valve root "
-                  "function cannot find its integrator."));
-    check(ARKStepSetErrHandlerFn(memory, &error_handler, this),
-          "ARKStepSetErrHandlerFn");
-    check(ARKStepSetMaxNumSteps(memory, 1000000), "ARKStepSetMaxNumSteps");
-    check(ARKStepSetMaxStep(memory, settings.max_step), "ARKStepSetMaxStep");
-    // A fresh Jacobian every step: it changes at every valve switch, and
-    // the state is small.
-    check(ARKStepSetLSetupFrequency(memory, 1), "ARKStepSetLSetupFrequency");
-    check(ARKStepSetStopTime(memory, target), "ARKStepSetStopTime");
-    if (model.n_valves() > 0)
-      {
-        check(ARKStepRootInit(memory, model.n_valves(), &root_function),
-              "ARKStepRootInit");
-        check(ARKStepSetNoInactiveRootWarn(memory),
-              "ARKStepSetNoInactiveRootWarn");
-      }
-  }
-
-
-  int
-  Integrator::Impl::root_function(realtype  time,
-                                  N_Vector  state,
-                                  realtype *g,
-                                  void     *user_data)
-  {
-    Impl &self =
-      *static_cast<Solver *>(static_cast<Wrapper *>(user_data))->owner;
-    return self.guarded([&]() {
-      const Vector &y =
-        *dealii::SUNDIALS::internal::unwrap_nvector_const<Vector>(state);
-      Vector p_ext, indicators;
-      self.pressures(time, p_ext);
-      self.model.valve_indicators(time, y, p_ext, indicators);
-      for (unsigned int i = 0; i < indicators.size(); ++i)
-        g[i] = indicators[i];
-    });
-  }
-
-
-  void
-  Integrator::Impl::error_handler(int         code,
-                                  const char *module,
-                                  const char *function,
-                                  char       *message,
-                                  void       *data)
-  {
-    // Keep ARKode's messages off the console (every rank would print
-    // them); failures become the exception of advance().
-    if (code < 0)
-      {
-        auto &self         = *static_cast<Impl *>(data);
-        self.arkode_failed = true;
-        self.arkode_message =
-          std::string(module) + " " + function + ": " + message;
-      }
-  }
-
-
-  void
-  Integrator::Impl::on_output(const double time, const Vector &state)
-  {
-    if (fatal)
-      std::rethrow_exception(fatal);
-    AssertThrow(!arkode_failed,
-                dealii::ExcMessage("Circulation: ARKode failed at t = " +
-                                   str(time) + " ms: " + arkode_message));
-    if (initial_output)
-      {
-        initial_output = false;
-        return;
-      }
-    if (std::abs(time - target) <= 1e-14 * std::max(1.0, std::abs(target)))
-      return;
-
-    // Not at the end: ARKode returned at a root.
-    std::vector<int> found(model.n_valves(), 0);
-    check(ARKStepGetRootInfo(solver->get_arkode_memory(), found.data()),
-          "ARKStepGetRootInfo");
-    for (unsigned int i = 0; i < found.size(); ++i)
-      if (found[i] != 0)
-        {
-          events.push_back({time, i, found[i] > 0, state});
-          open[i] = found[i] > 0;
-        }
+    callbacks.newton_solve = [this](const double           time,
+                                    const LA::MPI::Vector &u,
+                                    const double           gamma,
+                                    const LA::MPI::Vector &b,
+                                    LA::MPI::Vector       &x) {
+      copy(u, y_work);
+      b_work.reinit(y_work.size());
+      x_work.reinit(y_work.size());
+      copy(b, b_work);
+      newton_solve(time, gamma, b_work, x_work);
+      copy(x_work, x);
+    };
+    callbacks.n_roots = model.n_valves();
+    callbacks.roots   = [this](const double           time,
+                             const LA::MPI::Vector &u,
+                             std::vector<double>   &g) {
+      copy(u, y_work);
+      Vector indicators;
+      pressures(time, p_ext_work);
+      model.valve_indicators(time, y_work, p_ext_work, indicators);
+      g.assign(indicators.begin(), indicators.end());
+    };
+    callbacks.at_root = [this](const double            time,
+                               const LA::MPI::Vector  &u,
+                               const std::vector<int> &found) {
+      Vector at_event(y.size());
+      copy(u, at_event);
+      for (unsigned int i = 0; i < found.size(); ++i)
+        if (found[i] != 0)
+          {
+            events.push_back({time, i, found[i] > 0, at_event});
+            open[i] = found[i] > 0;
+          }
+    };
+    integrator =
+      std::make_unique<Electrophysiology::ImexIntegrator>(s,
+                                                          callbacks,
+                                                          t,
+                                                          MPI_COMM_SELF);
+    copy(y, state);
   }
 
 
@@ -365,7 +231,6 @@ namespace systole::Circulation
     impl->open.resize(g.size());
     for (unsigned int i = 0; i < g.size(); ++i)
       impl->open[i] = g[i] > 0;
-    impl->target = t0;
     impl->create();
   }
 
@@ -382,14 +247,10 @@ namespace systole::Circulation
                                    str(t_end) +
                                    " ms) must lie after the current time (" +
                                    str(m.t) + " ms)."));
-    m.target = t_end;
     m.events.clear();
-    m.fatal         = nullptr;
-    m.arkode_failed = false;
-    // After the first call the wrapper only resets the stop time.
-    m.solver->solve_ode_incrementally(m.y, t_end);
-    if (m.fatal)
-      std::rethrow_exception(m.fatal);
+    // ARKode's failures throw with its message and time (ImexIntegrator).
+    m.integrator->evolve(m.state, t_end);
+    copy(m.state, m.y);
     m.t = t_end;
 
     // A sign change that the root finder did not report (a root at t_end
@@ -438,23 +299,15 @@ namespace systole::Circulation
   Integrator::Statistics
   Integrator::statistics() const
   {
-    Statistics s;
+    const auto &arkode = *impl->integrator;
+    Statistics  s;
     s.jacobian_evaluations = impl->jacobian_evaluations;
     s.linear_solves        = impl->linear_solves;
-    void *memory           = impl->solver->get_arkode_memory();
-    if (memory == nullptr) // before the first advance()
-      return s;
-    long int n = 0, n_explicit = 0;
-    check(ARKStepGetNumSteps(memory, &n), "ARKStepGetNumSteps");
-    s.steps = n;
-    check(ARKStepGetNumRhsEvals(memory, &n_explicit, &n),
-          "ARKStepGetNumRhsEvals");
-    s.rhs_evaluations = n;
-    check(ARKStepGetNumErrTestFails(memory, &n), "ARKStepGetNumErrTestFails");
-    s.error_test_failures = n;
-    check(ARKStepGetNumNonlinSolvConvFails(memory, &n),
-          "ARKStepGetNumNonlinSolvConvFails");
-    s.nonlinear_convergence_failures = n;
+    s.steps                = arkode.n_steps();
+    s.rhs_evaluations      = arkode.n_implicit_evaluations();
+    s.error_test_failures  = arkode.n_error_test_failures();
+    s.nonlinear_convergence_failures =
+      arkode.n_nonlinear_convergence_failures();
     return s;
   }
 } // namespace systole::Circulation

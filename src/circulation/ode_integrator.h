@@ -12,9 +12,10 @@ namespace systole::Circulation
 {
   /// Integrates a 0D circulation Model on its own with SUNDIALS ARKode
   /// (ARKStep, implicit diagonally implicit Runge-Kutta of the chosen order,
-  /// adaptive steps) through deal.II 9.4's SUNDIALS::ARKode wrapper:
+  /// adaptive steps) through the project's ARKode adapter
+  /// (Electrophysiology::ImexIntegrator, no explicit part):
   /// - Newton's method on the stage equations with the model's analytic
-  ///   Jacobian df/dy, refreshed every step; the stage systems
+  ///   Jacobian df/dy of every Newton iterate; the stage systems
   ///   (I - gamma J) x = b are solved exactly (dense LU, the state is small);
   /// - valve events located by ARKode's root finding on
   ///   Model::valve_indicators() (both directions), each reported with its
@@ -28,10 +29,9 @@ namespace systole::Circulation
   /// invariant of f, so the closed loop conserves the blood volume to
   /// round-off whatever the tolerance.
   ///
-  /// This file and electrophysiology/arkode_adapter.cc are the only ones
-  /// that know deal.II 9.4's ARKode callback convention (int: 0 ok, > 0
-  /// recoverable, < 0 fatal): a callback that throws returns -1, and
-  /// advance() rethrows the exception once ARKode has returned.
+  /// The state lives in a PETSc vector on MPI_COMM_SELF (the adapter's
+  /// vectors; every rank integrates the same loop); the callbacks copy it
+  /// to and from the Model's dealii::Vector.
   class Integrator
   {
   public:

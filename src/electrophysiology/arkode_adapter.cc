@@ -14,7 +14,8 @@
 #include <limits>
 #include <vector>
 
-// ARKStep through SUNDIALS' own C interface, on SUNDIALS' PETSc N_Vector
+// ARKStep through SUNDIALS' own C interface (for the electrophysiology and
+// the 0D circulation alike), on SUNDIALS' PETSc N_Vector
 // (nvector_petsc): its operations are PETSc's (VecAXPBYPCZ, one
 // MPI_Allreduce per norm). deal.II 9.4's ARKode wrapper did the same
 // steps on its own N_Vector of PETSc vectors, whose weighted RMS norm copies
@@ -40,6 +41,21 @@ namespace systole::Electrophysiology
                   dealii::ExcMessage(std::string("ARKode: ") + function +
                                      " failed with flag " +
                                      std::to_string(flag) + "."));
+    }
+
+
+    /// @p before plus ARKode's counter @p get (@p name, for the message) of
+    /// the ARKStep memory @p memory (nothing when it is null).
+    unsigned long
+    total(void *memory,
+          int (*get)(void *, long int *),
+          const char         *name,
+          const unsigned long before)
+    {
+      long int n = 0;
+      if (memory != nullptr)
+        check(get(memory, &n), name);
+      return before + n;
     }
 
 
@@ -288,6 +304,13 @@ namespace systole::Electrophysiology
     bool
     has_implicit_part() const
     {
+      return callbacks.implicit_rhs || callbacks.nonlinear_implicit_rhs;
+    }
+
+    /// The implicit part is J y (linear, time independent).
+    bool
+    linear_implicit_part() const
+    {
       return static_cast<bool>(callbacks.implicit_rhs);
     }
 
@@ -313,6 +336,8 @@ namespace systole::Electrophysiology
     implicit_rhs(realtype time, N_Vector y, N_Vector f, void *data);
     static int
     solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype);
+    static int
+    root_function(realtype time, N_Vector y, realtype *g, void *data);
     static SUNLinearSolver_Type
     solver_type(SUNLinearSolver)
     {
@@ -353,14 +378,17 @@ namespace systole::Electrophysiology
     Vec             state_vec = nullptr;
     SUNLinearSolver solver    = nullptr;
     /// Views of ARKode's vectors for the callbacks (same layout as the
-    /// state).
-    LA::MPI::Vector in_view, out_view;
+    /// state); iterate_view: the Newton iterate of newton_solve.
+    LA::MPI::Vector in_view, out_view, iterate_view;
     double          t_accepted = 0; ///< end of the last accepted step
 
     std::exception_ptr fatal, recoverable;
     std::string        arkode_message; ///< last ARKode error message
 
     unsigned long steps = 0, explicit_evaluations = 0, implicit_evaluations = 0;
+    /// Error test and nonlinear solver failures before the last
+    /// free_memory().
+    unsigned long error_test_failures = 0, nonlinear_failures = 0;
     /// Steps set by the stability bound before the last free_memory().
     unsigned long stability_limited = 0;
     /// beta of the explicit table: of ARKode's default table of the order
@@ -395,7 +423,8 @@ namespace systole::Electrophysiology
     state->ops->nvscale     = &scale;
     in_view.reinit(y);
     out_view.reinit(y);
-    memory = ARKStepCreate(&explicit_rhs,
+    iterate_view.reinit(y);
+    memory = ARKStepCreate(callbacks.explicit_rhs ? &explicit_rhs : nullptr,
                            has_implicit_part() ? &implicit_rhs : nullptr,
                            t,
                            state,
@@ -406,19 +435,22 @@ namespace systole::Electrophysiology
     check(ARKStepSetErrHandlerFn(memory, &error_handler, this),
           "ARKStepSetErrHandlerFn");
     check(ARKStepWFtolerances(memory, &error_weights), "ARKStepWFtolerances");
-    check(ARKStepSetMinStep(memory, 1e-10), "ARKStepSetMinStep");
+    check(ARKStepSetMinStep(memory, settings.min_step), "ARKStepSetMinStep");
     check(ARKStepSetOrder(memory, settings.order), "ARKStepSetOrder");
     if (has_implicit_part())
       {
-        // Linear and time independent: one Newton iteration per stage, one
-        // solve; no Jacobian (the solver knows J).
         solver = create_linear_solver();
         check(ARKStepSetLinearSolver(memory, solver, nullptr),
               "ARKStepSetLinearSolver");
-        check(ARKStepSetLinear(memory, 0), "ARKStepSetLinear");
-        check(ARKStepSetMaxNonlinIters(memory, 3), "ARKStepSetMaxNonlinIters");
+        // Linear and time independent: one Newton iteration per stage, one
+        // solve; no Jacobian (the solver knows J). Nonlinear: Newton's
+        // method, the Jacobian of every iterate in newton_solve.
+        if (linear_implicit_part())
+          check(ARKStepSetLinear(memory, 0), "ARKStepSetLinear");
+        check(ARKStepSetMaxNonlinIters(memory, linear_implicit_part() ? 3 : 5),
+              "ARKStepSetMaxNonlinIters");
       }
-    else
+    else if (callbacks.explicit_rhs)
       // The explicit table of the ARK method alone: the same method with J
       // = 0, without implicit stages.
       check(ARKStepSetTableNum(memory,
@@ -429,7 +461,15 @@ namespace systole::Electrophysiology
     if (callbacks.after_step)
       check(ARKStepSetPostprocessStepFn(memory, &postprocess_step),
             "ARKStepSetPostprocessStepFn");
-    double initial_step = settings.max_step;
+    if (callbacks.n_roots > 0)
+      {
+        check(ARKStepRootInit(memory, callbacks.n_roots, &root_function),
+              "ARKStepRootInit");
+        check(ARKStepSetNoInactiveRootWarn(memory),
+              "ARKStepSetNoInactiveRootWarn");
+      }
+    double initial_step =
+      settings.initial_step > 0 ? settings.initial_step : settings.max_step;
     if (callbacks.explicit_stiffness && settings.adaptive)
       {
         check(ARKStepSetStabilityFn(memory, &explicit_stability, this),
@@ -450,13 +490,14 @@ namespace systole::Electrophysiology
   void
   ImexIntegrator::Impl::configure() const
   {
-    check(ARKStepSetMaxNumSteps(memory, 100000), "ARKStepSetMaxNumSteps");
+    check(ARKStepSetMaxNumSteps(memory, settings.max_steps),
+          "ARKStepSetMaxNumSteps");
     if (settings.adaptive)
       check(ARKStepSetMaxStep(memory, settings.max_step), "ARKStepSetMaxStep");
     else
       check(ARKStepSetFixedStep(memory, t_end - t), "ARKStepSetFixedStep");
     check(ARKStepSetStopTime(memory, t_end), "ARKStepSetStopTime");
-    if (has_implicit_part())
+    if (linear_implicit_part())
       check(ARKStepSetDeduceImplicitRhs(memory,
                                         settings.deduce_implicit_rhs
                                           ? SUNTRUE
@@ -476,6 +517,11 @@ namespace systole::Electrophysiology
         if (callbacks.explicit_stiffness && settings.adaptive &&
             ARKStepGetNumExpSteps(memory, &n) >= 0)
           stability_limited += n;
+        if (ARKStepGetNumErrTestFails(memory, &n) >= 0)
+          error_test_failures += n;
+        if (has_implicit_part() &&
+            ARKStepGetNumNonlinSolvConvFails(memory, &n) >= 0)
+          nonlinear_failures += n;
         ARKStepFree(&memory);
       }
     if (state != nullptr)
@@ -504,15 +550,20 @@ namespace systole::Electrophysiology
 
 
   int
-  ImexIntegrator::Impl::implicit_rhs(const realtype,
-                                     N_Vector y,
-                                     N_Vector f,
-                                     void    *data)
+  ImexIntegrator::Impl::implicit_rhs(const realtype time,
+                                     N_Vector       y,
+                                     N_Vector       f,
+                                     void          *data)
   {
     Impl &self = *static_cast<Impl *>(data);
     return self.guarded([&]() {
       const View in(self.in_view, y), out(self.out_view, f);
-      self.callbacks.implicit_rhs(self.in_view, self.out_view);
+      if (self.linear_implicit_part())
+        self.callbacks.implicit_rhs(self.in_view, self.out_view);
+      else
+        self.callbacks.nonlinear_implicit_rhs(time,
+                                              self.in_view,
+                                              self.out_view);
       ++self.implicit_evaluations;
     });
   }
@@ -532,10 +583,54 @@ namespace systole::Electrophysiology
         check(ARKStepGetCurrentGamma(self.memory, &gamma),
               "ARKStepGetCurrentGamma");
         const View in(self.in_view, b), out(self.out_view, x);
-        self.callbacks.solve(gamma, self.in_view, self.out_view);
+        if (self.linear_implicit_part())
+          {
+            self.callbacks.solve(gamma, self.in_view, self.out_view);
+            return;
+          }
+        // The Newton iterate: ARKode's ycur, where the stage residual was
+        // just evaluated.
+        realtype time = 0, nonlinear_gamma = 0;
+        N_Vector predicted = nullptr, iterate = nullptr, f_i = nullptr,
+                 stage_data = nullptr;
+        void *user_data     = nullptr;
+        check(ARKStepGetNonlinearSystemData(self.memory,
+                                            &time,
+                                            &predicted,
+                                            &iterate,
+                                            &f_i,
+                                            &nonlinear_gamma,
+                                            &stage_data,
+                                            &user_data),
+              "ARKStepGetNonlinearSystemData");
+        const View z(self.iterate_view, iterate);
+        self.callbacks.newton_solve(time,
+                                    self.iterate_view,
+                                    gamma,
+                                    self.in_view,
+                                    self.out_view);
       },
       // ARKode's linear solver interface knows SUNLS_* codes only.
       SUNLS_CONV_FAIL);
+  }
+
+
+  int
+  ImexIntegrator::Impl::root_function(const realtype time,
+                                      N_Vector       y,
+                                      realtype      *g,
+                                      void          *data)
+  {
+    Impl &self = *static_cast<Impl *>(data);
+    return self.guarded([&]() {
+      const View          in(self.in_view, y);
+      std::vector<double> values(self.callbacks.n_roots);
+      self.callbacks.roots(time, self.in_view, values);
+      AssertThrow(values.size() == self.callbacks.n_roots,
+                  dealii::ExcMessage("ImexIntegrator: the root callback "
+                                     "returned the wrong number of values."));
+      std::copy(values.begin(), values.end(), g);
+    });
   }
 
 
@@ -583,11 +678,16 @@ namespace systole::Electrophysiology
       AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
       ierr = VecGetArray(w_vec, &w_values);
       AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
-      const double rtol     = self.settings.relative_tolerance;
-      const double atol     = self.settings.absolute_tolerance;
-      bool         positive = true;
+      const double               rtol  = self.settings.relative_tolerance;
+      const std::vector<double> &atols = self.settings.absolute_tolerances;
+      AssertThrow(atols.empty() || atols.size() == std::size_t(n),
+                  dealii::ExcMessage("ImexIntegrator: the absolute "
+                                     "tolerances do not match the state."));
+      bool positive = true;
       for (PetscInt i = 0; i < n; ++i)
         {
+          const double atol =
+            atols.empty() ? self.settings.absolute_tolerance : atols[i];
           const double tolerance = rtol * std::abs(y_values[i]) + atol;
           positive               = positive && tolerance > 0;
           w_values[i]            = 1.0 / tolerance;
@@ -634,11 +734,25 @@ namespace systole::Electrophysiology
                                  const MPI_Comm   comm)
     : impl(std::make_unique<Impl>(settings, callbacks, t0, comm))
   {
-    AssertThrow(settings.order >= 3 && settings.order <= 5,
-                dealii::ExcMessage("ARKode order must be 3, 4 or 5."));
+    AssertThrow(settings.order >= (callbacks.explicit_rhs ? 3u : 2u) &&
+                  settings.order <= 5,
+                dealii::ExcMessage("ARKode order must be 3, 4 or 5 (2 to 5 "
+                                   "without an explicit part)."));
     AssertThrow(!callbacks.implicit_rhs || callbacks.solve,
                 dealii::ExcMessage("ImexIntegrator: an implicit part needs "
                                    "its solve callback."));
+    AssertThrow(!callbacks.nonlinear_implicit_rhs ||
+                  (callbacks.newton_solve && !callbacks.implicit_rhs),
+                dealii::ExcMessage("ImexIntegrator: a nonlinear implicit "
+                                   "part needs its newton_solve callback "
+                                   "(and no linear implicit_rhs)."));
+    AssertThrow(callbacks.explicit_rhs || impl->has_implicit_part(),
+                dealii::ExcMessage("ImexIntegrator: nothing to integrate "
+                                   "(no right-hand side)."));
+    AssertThrow(callbacks.n_roots == 0 ||
+                  (callbacks.roots && callbacks.at_root),
+                dealii::ExcMessage("ImexIntegrator: root functions need the "
+                                   "roots and at_root callbacks."));
     if (callbacks.explicit_stiffness && settings.adaptive)
       {
         // ARKStep's default explicit table of the order, for the first step
@@ -672,11 +786,23 @@ namespace systole::Electrophysiology
     m.fatal       = nullptr;
     m.recoverable = nullptr;
     m.arkode_message.clear();
-    realtype  reached = m.t;
-    const int flag =
-      ARKStepEvolve(m.memory, t_end, m.state, &reached, ARK_NORMAL);
-    if (m.fatal)
-      std::rethrow_exception(m.fatal);
+    realtype reached = m.t;
+    int      flag    = ARK_ROOT_RETURN;
+    while (flag == ARK_ROOT_RETURN)
+      {
+        flag = ARKStepEvolve(m.memory, t_end, m.state, &reached, ARK_NORMAL);
+        if (m.fatal)
+          std::rethrow_exception(m.fatal);
+        if (flag == ARK_ROOT_RETURN)
+          {
+            // y is the state at the root; the next ARKStepEvolve goes on
+            // from there.
+            std::vector<int> found(m.callbacks.n_roots, 0);
+            check(ARKStepGetRootInfo(m.memory, found.data()),
+                  "ARKStepGetRootInfo");
+            m.callbacks.at_root(reached, y, found);
+          }
+      }
     // A recoverable failure that ARKode cured by a smaller step is no error.
     if (flag < 0 ||
         std::abs(reached - t_end) > 1e-12 * std::max(1.0, std::abs(t_end)))
@@ -710,10 +836,10 @@ namespace systole::Electrophysiology
   unsigned long
   ImexIntegrator::n_steps() const
   {
-    long int n = 0;
-    if (impl->memory != nullptr)
-      check(ARKStepGetNumSteps(impl->memory, &n), "ARKStepGetNumSteps");
-    return impl->steps + n;
+    return total(impl->memory,
+                 &ARKStepGetNumSteps,
+                 "ARKStepGetNumSteps",
+                 impl->steps);
   }
 
 
@@ -732,13 +858,34 @@ namespace systole::Electrophysiology
 
 
   unsigned long
+  ImexIntegrator::n_error_test_failures() const
+  {
+    return total(impl->memory,
+                 &ARKStepGetNumErrTestFails,
+                 "ARKStepGetNumErrTestFails",
+                 impl->error_test_failures);
+  }
+
+
+  unsigned long
+  ImexIntegrator::n_nonlinear_convergence_failures() const
+  {
+    return total(impl->has_implicit_part() ? impl->memory : nullptr,
+                 &ARKStepGetNumNonlinSolvConvFails,
+                 "ARKStepGetNumNonlinSolvConvFails",
+                 impl->nonlinear_failures);
+  }
+
+
+  unsigned long
   ImexIntegrator::n_stability_limited_steps() const
   {
-    long int n = 0;
-    if (impl->memory != nullptr && impl->callbacks.explicit_stiffness &&
-        impl->settings.adaptive)
-      check(ARKStepGetNumExpSteps(impl->memory, &n), "ARKStepGetNumExpSteps");
-    return impl->stability_limited + n;
+    const bool limited =
+      impl->callbacks.explicit_stiffness && impl->settings.adaptive;
+    return total(limited ? impl->memory : nullptr,
+                 &ARKStepGetNumExpSteps,
+                 "ARKStepGetNumExpSteps",
+                 impl->stability_limited);
   }
 
 

@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace systole::Electrophysiology
 {
@@ -19,14 +20,21 @@ namespace systole::Electrophysiology
                  std::string,
                  << "Recoverable failure in an ODE step: " << arg1);
 
-  /// IMEX additive Runge-Kutta integration of
-  /// @f[ \frac{dy}{dt} = f_E(t, y) + J y @f]
+  /// The project's ARKode adapter: additive Runge-Kutta integration of
+  /// @f[ \frac{dy}{dt} = f_E(t, y) + f_I(t, y) @f]
   /// with SUNDIALS ARKode (ARKStep) through its C interface, on SUNDIALS'
-  /// PETSc N_Vector: f_E explicit, the linear, time-independent J y
-  /// implicit (ARKode is told so: one Newton iteration per stage, no
-  /// Jacobian), or no implicit part at all (the explicit table alone). The
-  /// stage systems (I - gamma J) x = b are solved by the caller's solve(),
-  /// which gets ARKode's current gamma (a matrix-embedded SUNLinearSolver).
+  /// PETSc N_Vector. Its uses:
+  /// - IMEX (the electrophysiology): f_E explicit, f_I = J y linear and
+  ///   time independent (ARKode is told so: one Newton iteration per stage,
+  ///   no Jacobian), or no implicit part at all (the explicit table alone).
+  ///   The stage systems (I - gamma J) x = b are solved by the caller's
+  ///   solve(), which gets ARKode's current gamma (a matrix-embedded
+  ///   SUNLinearSolver).
+  /// - Implicit (the 0D circulation, Circulation::Integrator): no f_E, a
+  ///   nonlinear f_I(t, y) whose stages Newton's method solves (at most 5
+  ///   iterations) with the caller's newton_solve(), which gets the Newton
+  ///   iterate and gamma; per-entry absolute tolerances; ARKode's root
+  ///   finding on functions g(t, y), each root reported with its state.
   ///
   /// This is the only file that knows ARKode: the callbacks here are plain
   /// functions on deal.II's PETSc vectors that throw;
@@ -40,7 +48,9 @@ namespace systole::Electrophysiology
   public:
     struct Settings
     {
-      unsigned int order              = 3; ///< order of the ARK method, 3 to 5
+      /// Order of the ARK method, 3 to 5 (2 to 5 without an explicit part:
+      /// ARKode's default DIRK table of the order).
+      unsigned int order              = 3;
       bool         adaptive           = false; ///< adaptive steps (else fixed)
       double       relative_tolerance = 1e-4;  ///< adaptive steps [-]
       double       absolute_tolerance = 1e-5;  ///< adaptive steps
@@ -50,6 +60,17 @@ namespace systole::Electrophysiology
       /// solve's tolerance then bounds the error of f_I): for an implicit
       /// part that costs a solve itself (a consistent mass).
       bool deduce_implicit_rhs = false;
+      /// The first step of adaptive steps [ms] (0: max_step); the explicit
+      /// stability bound caps it.
+      double initial_step = 0.0;
+      /// The smallest step ARKode may take [ms] (ARKStepSetMinStep).
+      double min_step = 1e-10;
+      /// The most steps of one evolve() (ARKStepSetMaxNumSteps).
+      long max_steps = 100000;
+      /// Adaptive steps: the absolute tolerance of every locally owned
+      /// entry of the state, instead of absolute_tolerance (empty: that one
+      /// for all).
+      std::vector<double> absolute_tolerances;
     };
 
     struct Callbacks
@@ -86,6 +107,37 @@ namespace systole::Electrophysiology
       /// rest, since its RMS norm over all components dilutes an instability
       /// that is local to them (docs/architecture.md, Electrophysiology).
       std::function<double(const LA::MPI::Vector &y)> explicit_stiffness;
+
+      /// A nonlinear implicit part f = f_I(t, y), instead of implicit_rhs
+      /// (set one at most; explicit_rhs may then be empty: a DIRK method).
+      /// Its stages are solved by Newton's method with newton_solve.
+      std::function<
+        void(const double t, const LA::MPI::Vector &y, LA::MPI::Vector &f)>
+        nonlinear_implicit_rhs;
+      /// x = (I - gamma J)^-1 b exactly, J = df_I/dy at the Newton iterate
+      /// (@p t, @p y): called at every Newton iteration, so the Jacobian is
+      /// always that of the iterate.
+      std::function<void(const double           t,
+                         const LA::MPI::Vector &y,
+                         const double           gamma,
+                         const LA::MPI::Vector &b,
+                         LA::MPI::Vector       &x)>
+        newton_solve;
+
+      /// Optional: the number of root functions g_i(t, y) and g = their
+      /// values; ARKode locates their sign changes (both directions) within
+      /// the steps.
+      unsigned int n_roots = 0;
+      std::function<
+        void(const double t, const LA::MPI::Vector &y, std::vector<double> &g)>
+        roots;
+      /// Called at every located root (a time inside evolve()'s interval)
+      /// with the state there and, per root function, +1 (g rises through
+      /// 0), -1 (falls) or 0; evolve() then goes on to its end time.
+      std::function<void(const double            t,
+                         const LA::MPI::Vector  &y,
+                         const std::vector<int> &found)>
+        at_root;
     };
 
     /// Fraction of the explicit stability bound beta / rho that a step may
@@ -124,6 +176,13 @@ namespace systole::Electrophysiology
     n_explicit_evaluations() const;
     unsigned long
     n_implicit_evaluations() const;
+
+    /// Steps rejected by the error test, and nonlinear solves that did not
+    /// converge, since construction (over resets).
+    unsigned long
+    n_error_test_failures() const;
+    unsigned long
+    n_nonlinear_convergence_failures() const;
 
     /// Steps whose size the explicit stability bound set (rather than the
     /// error estimate) since construction (over resets); 0 without

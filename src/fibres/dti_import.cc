@@ -18,6 +18,7 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkXMLImageDataReader.h>
 
 #include <algorithm>
@@ -222,232 +223,327 @@ namespace systole::Fibres
   // ---------------------------------------------------------------------------
   // DTIField
 
+  namespace
+  {
+    /// The reader of the image @p file, read; VTK's messages are collected
+    /// into the exception text (@p where: the parameter that names it).
+    vtkSmartPointer<vtkXMLImageDataReader>
+    read_image(const std::string &file, const std::string &where)
+    {
+      AssertThrow(!file.empty(),
+                  dealii::ExcMessage(where +
+                                     " is empty: Generator = dti needs a "
+                                     "diffusion-tensor image (.vti)."));
+      AssertThrow(std::filesystem::is_regular_file(file),
+                  dealii::ExcMessage(
+                    where + ": cannot open '" + file +
+                    "' (no such file). A relative path is taken from the "
+                    "folder of the parameter file."));
+      std::string                            vtk_messages;
+      vtkNew<vtkCallbackCommand>             on_message;
+      vtkSmartPointer<vtkXMLImageDataReader> reader =
+        vtkSmartPointer<vtkXMLImageDataReader>::New();
+      on_message->SetCallback(Geometry::collect_vtk_message);
+      on_message->SetClientData(&vtk_messages);
+      reader->AddObserver(vtkCommand::ErrorEvent, on_message);
+      reader->AddObserver(vtkCommand::WarningEvent, on_message);
+      AssertThrow(reader->CanReadFile(file.c_str()) != 0,
+                  dealii::ExcMessage(where + ": '" + file +
+                                     "' is not a VTK XML image file (.vti, "
+                                     "<VTKFile type=\"ImageData\">)."));
+      reader->SetFileName(file.c_str());
+      reader->Update();
+      vtkImageData *image = reader->GetOutput();
+      AssertThrow(image != nullptr && image->GetNumberOfPoints() > 0 &&
+                    reader->GetErrorCode() == 0 && vtk_messages.empty(),
+                  dealii::ExcMessage(where + ": cannot read '" + file + "'" +
+                                     (vtk_messages.empty()
+                                        ? std::string(" (no points).")
+                                        : ": " + vtk_messages)));
+      // The messages of later calls go nowhere (vtk_messages ends here).
+      reader->RemoveAllObservers();
+      return reader;
+    }
+
+    /// The diffusion-tensor array of @p image (9 or 6 components).
+    vtkDataArray *
+    tensor_array(vtkImageData        *image,
+                 const DTIParameters &params,
+                 const std::string   &where)
+    {
+      const std::string &file       = params.file;
+      vtkPointData      *point_data = image->GetPointData();
+      vtkDataArray      *array =
+        params.tensor_array.empty()
+               ? point_data->GetTensors()
+               : point_data->GetArray(params.tensor_array.c_str());
+      if (array == nullptr)
+        {
+          const std::string names = Geometry::vtk_array_names(*point_data);
+          fail(where + ": '" + file + "' has no point-data array " +
+               (params.tensor_array.empty()
+                  ? std::string("marked as the tensor attribute")
+                  : "named '" + params.tensor_array + "'") +
+               " (point-data arrays: " + (names.empty() ? "none" : names) +
+               "). Set Fibres / DTI / Tensor array name.");
+        }
+      const int n_components = array->GetNumberOfComponents();
+      AssertThrow(n_components == 9 || n_components == 6,
+                  dealii::ExcMessage(
+                    where + ": the array '" +
+                    (array->GetName() != nullptr ? array->GetName() : "") +
+                    "' of '" + file + "' has " + std::to_string(n_components) +
+                    " components; a diffusion tensor needs 9 (row-major) or 6 "
+                    "(xx, yy, zz, xy, yz, xz)."));
+      return array;
+    }
+
+    /// The voxel grid of an image in the mesh frame.
+    struct VoxelGrid
+    {
+      std::array<unsigned int, 3> n;     ///< voxels per axis
+      std::array<int, 3>          first; ///< index of the first voxel
+      /// Mesh point -> continuous voxel index (0 at the first voxel).
+      dealii::Tensor<2, 3> index_matrix;
+      dealii::Tensor<1, 3> index_offset;
+      /// Linear part A of the image-to-mesh transform.
+      dealii::Tensor<2, 3> A;
+      dealii::Point<3>     box_lower, box_upper; ///< in the mesh frame
+
+      /// "voxel (i, j, k)" of the flat index @p v, in the image's indices.
+      std::string
+      voxel_name(const std::uint64_t v) const
+      {
+        return "voxel (" + std::to_string(v % n[0] + first[0]) + ", " +
+               std::to_string((v / n[0]) % n[1] + first[1]) + ", " +
+               std::to_string(v / (std::uint64_t(n[0]) * n[1]) + first[2]) +
+               ")";
+      }
+    };
+
+    /// The grid of @p image: continuous voxel index r (0 at the first
+    /// voxel) -> image physical point P r + p0 -> mesh point A (P r + p0) +
+    /// b.
+    VoxelGrid
+    voxel_grid(vtkImageData        *image,
+               const DTIParameters &params,
+               const std::string   &where)
+    {
+      VoxelGrid grid;
+      int       dims[3], extent[6];
+      image->GetDimensions(dims);
+      image->GetExtent(extent);
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          AssertThrow(dims[d] >= 2,
+                      dealii::ExcMessage(
+                        where + ": '" + params.file +
+                        "' has fewer than 2 voxels along axis " +
+                        std::to_string(d) +
+                        "; trilinear interpolation needs a 3-D image."));
+          grid.n[d]     = dims[d];
+          grid.first[d] = extent[2 * d];
+        }
+      vtkMatrix4x4   *index_to_physical = image->GetIndexToPhysicalMatrix();
+      Matrix3         P, Am;
+      Eigen::Vector3d p0, b;
+      for (unsigned int i = 0; i < 3; ++i)
+        {
+          for (unsigned int j = 0; j < 3; ++j)
+            {
+              P(i, j)      = index_to_physical->GetElement(i, j);
+              Am(i, j)     = params.image_to_mesh[4 * i + j];
+              grid.A[i][j] = Am(i, j);
+            }
+          p0[i] = index_to_physical->GetElement(i, 3);
+          b[i]  = params.image_to_mesh[4 * i + 3];
+        }
+      p0 += P * Eigen::Vector3d(extent[0], extent[2], extent[4]);
+      const Matrix3 index_to_mesh = Am * P;
+      AssertThrow(std::abs(index_to_mesh.determinant()) >
+                    1e-12 * std::pow(index_to_mesh.norm(), 3),
+                  dealii::ExcMessage(where + ": the voxel grid of '" +
+                                     params.file +
+                                     "' is degenerate (zero spacing or a "
+                                     "singular direction matrix)."));
+      const Matrix3         inverse = index_to_mesh.inverse();
+      const Eigen::Vector3d offset  = -inverse * (Am * p0 + b);
+      for (unsigned int i = 0; i < 3; ++i)
+        {
+          grid.index_offset[i] = offset[i];
+          for (unsigned int j = 0; j < 3; ++j)
+            grid.index_matrix[i][j] = inverse(i, j);
+        }
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          grid.box_lower[d] = std::numeric_limits<double>::max();
+          grid.box_upper[d] = std::numeric_limits<double>::lowest();
+        }
+      for (unsigned int corner = 0; corner < 8; ++corner)
+        {
+          const Eigen::Vector3d r((corner & 1) ? grid.n[0] - 1 : 0,
+                                  (corner & 2) ? grid.n[1] - 1 : 0,
+                                  (corner & 4) ? grid.n[2] - 1 : 0);
+          const Eigen::Vector3d x = index_to_mesh * r + Am * p0 + b;
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              grid.box_lower[d] = std::min(grid.box_lower[d], x[d]);
+              grid.box_upper[d] = std::max(grid.box_upper[d], x[d]);
+            }
+        }
+      return grid;
+    }
+
+    /// The diffusion tensor of voxel @p v of @p array (9 or 6 components).
+    Matrix3
+    voxel_tensor(vtkDataArray &array, const std::uint64_t v)
+    {
+      std::array<double, 9> tuple;
+      array.GetTuple(static_cast<vtkIdType>(v), tuple.data());
+      Matrix3 D;
+      if (array.GetNumberOfComponents() == 6)
+        D = to_matrix(
+          {{tuple[0], tuple[1], tuple[2], tuple[3], tuple[4], tuple[5]}});
+      else
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            D(i, j) = tuple[3 * i + j];
+      return D;
+    }
+
+    /// log D of every voxel of an image, and which voxels give a frame.
+    struct LogTensors
+    {
+      std::vector<std::array<double, 6>> logs;
+      std::vector<std::uint8_t>          background; ///< D = 0
+      std::vector<bool>                  valid;      ///< is_anisotropic()
+      std::uint64_t                      n_valid = 0;
+    };
+
+    /// log D per voxel, once; throws naming the voxel at a tensor that is
+    /// not finite, symmetric or positive definite.
+    LogTensors
+    log_tensors(vtkDataArray        &array,
+                const VoxelGrid     &grid,
+                const DTIParameters &params,
+                const std::string   &where)
+    {
+      const std::string  &file = params.file;
+      const std::uint64_t n_total =
+        static_cast<std::uint64_t>(grid.n[0]) * grid.n[1] * grid.n[2];
+      LogTensors result;
+      result.logs.assign(n_total, {{0, 0, 0, 0, 0, 0}});
+      result.background.assign(n_total, 0);
+      result.valid.assign(n_total, false);
+      Eigen::SelfAdjointEigenSolver<Matrix3> solver;
+      for (std::uint64_t v = 0; v < n_total; ++v)
+        {
+          Matrix3 D = voxel_tensor(array, v);
+          AssertThrow(D.allFinite(),
+                      dealii::ExcMessage(where + ": the tensor at " +
+                                         grid.voxel_name(v) + " of '" + file +
+                                         "' has a NaN or infinite component."));
+          const double norm = D.norm();
+          if (norm == 0.0)
+            {
+              result.background[v] = 1;
+              continue;
+            }
+          AssertThrow((D - D.transpose()).norm() <= 1e-3 * norm,
+                      dealii::ExcMessage(where + ": the tensor at " +
+                                         grid.voxel_name(v) + " of '" + file +
+                                         "' is not symmetric."));
+          D = 0.5 * (D + D.transpose());
+          solver.compute(D);
+          const Eigen::Vector3d l = solver.eigenvalues();
+          if (!(l[0] > 0.0))
+            fail(where + ": the tensor at " + grid.voxel_name(v) + " of '" +
+                 file + "' is not positive definite (eigenvalues " +
+                 format_number(l[0]) + ", " + format_number(l[1]) + ", " +
+                 format_number(l[2]) +
+                 "). Set background voxels to zero and repair the others "
+                 "(e.g. clamp the eigenvalues to a small positive value) "
+                 "before import.");
+          const Eigen::Vector3d log_l = l.array().log();
+          result.logs[v] =
+            to_components(solver.eigenvectors() * log_l.asDiagonal() *
+                          solver.eigenvectors().transpose());
+          result.valid[v] =
+            is_anisotropic(l, params.minimum_fractional_anisotropy);
+          if (result.valid[v])
+            ++result.n_valid;
+        }
+      return result;
+    }
+
+    /// The nearest valid voxel of every voxel of a grid of @p n voxels: a
+    /// multi-source breadth-first search over the 26 neighbours.
+    std::vector<std::uint64_t>
+    nearest_valid_voxels(const std::vector<bool>           &valid,
+                         const std::array<unsigned int, 3> &n)
+    {
+      constexpr std::uint64_t none = std::numeric_limits<std::uint64_t>::max();
+      std::vector<std::uint64_t> nearest(valid.size(), none);
+      std::deque<std::uint64_t>  queue;
+      for (std::uint64_t v = 0; v < valid.size(); ++v)
+        if (valid[v])
+          {
+            nearest[v] = v;
+            queue.push_back(v);
+          }
+      while (!queue.empty())
+        {
+          const std::uint64_t v = queue.front();
+          queue.pop_front();
+          const long i = v % n[0], j = (v / n[0]) % n[1],
+                     k = v / (std::uint64_t(n[0]) * n[1]);
+          for (long dk = -1; dk <= 1; ++dk)
+            for (long dj = -1; dj <= 1; ++dj)
+              for (long di = -1; di <= 1; ++di)
+                {
+                  const long ii = i + di, jj = j + dj, kk = k + dk;
+                  if (ii < 0 || jj < 0 || kk < 0 || ii >= long(n[0]) ||
+                      jj >= long(n[1]) || kk >= long(n[2]))
+                    continue;
+                  const std::uint64_t w = ii + n[0] * (jj + n[1] * kk);
+                  if (nearest[w] == none)
+                    {
+                      nearest[w] = nearest[v];
+                      queue.push_back(w);
+                    }
+                }
+        }
+      return nearest;
+    }
+  } // namespace
+
   DTIField::DTIField(const DTIParameters &parameters)
     : params(parameters)
   {
-    const std::string where = "Fibres / DTI / File";
-    AssertThrow(!params.file.empty(),
-                dealii::ExcMessage(
-                  where + " is empty: Generator = dti needs a diffusion-tensor "
-                          "image (.vti)."));
-    const std::string &file = params.file;
-    AssertThrow(std::filesystem::is_regular_file(file),
-                dealii::ExcMessage(
-                  where + ": cannot open '" + file +
-                  "' (no such file). A relative path is taken from the folder "
-                  "of the parameter file."));
+    const std::string where  = "Fibres / DTI / File";
+    const auto        reader = read_image(params.file, where);
+    vtkImageData     *image  = reader->GetOutput();
+    vtkDataArray     *array  = tensor_array(image, params, where);
+    const VoxelGrid   grid   = voxel_grid(image, params, where);
+    n                        = grid.n;
+    index_matrix             = grid.index_matrix;
+    index_offset             = grid.index_offset;
+    A                        = grid.A;
+    box_lower                = grid.box_lower;
+    box_upper                = grid.box_upper;
 
-    // Read; VTK's messages are collected into the exception text.
-    std::string                   vtk_messages;
-    vtkNew<vtkCallbackCommand>    on_message;
-    vtkNew<vtkXMLImageDataReader> reader;
-    on_message->SetCallback(Geometry::collect_vtk_message);
-    on_message->SetClientData(&vtk_messages);
-    reader->AddObserver(vtkCommand::ErrorEvent, on_message);
-    reader->AddObserver(vtkCommand::WarningEvent, on_message);
-    AssertThrow(reader->CanReadFile(file.c_str()) != 0,
-                dealii::ExcMessage(where + ": '" + file +
-                                   "' is not a VTK XML image file (.vti, "
-                                   "<VTKFile type=\"ImageData\">)."));
-    reader->SetFileName(file.c_str());
-    reader->Update();
-    vtkImageData *image = reader->GetOutput();
-    AssertThrow(image != nullptr && image->GetNumberOfPoints() > 0 &&
-                  reader->GetErrorCode() == 0 && vtk_messages.empty(),
-                dealii::ExcMessage(where + ": cannot read '" + file + "'" +
-                                   (vtk_messages.empty()
-                                      ? std::string(" (no points).")
-                                      : ": " + vtk_messages)));
-
-    // The tensor array.
-    vtkPointData *point_data = image->GetPointData();
-    vtkDataArray *array      = params.tensor_array.empty()
-                                 ? point_data->GetTensors()
-                                 : point_data->GetArray(params.tensor_array.c_str());
-    if (array == nullptr)
-      {
-        std::string names;
-        for (int i = 0; i < point_data->GetNumberOfArrays(); ++i)
-          names += std::string(names.empty() ? "" : ", ") + "'" +
-                   (point_data->GetArrayName(i) != nullptr
-                      ? point_data->GetArrayName(i)
-                      : "") +
-                   "'";
-        fail(where + ": '" + file + "' has no point-data array " +
-             (params.tensor_array.empty()
-                ? std::string("marked as the tensor attribute")
-                : "named '" + params.tensor_array + "'") +
-             " (point-data arrays: " + (names.empty() ? "none" : names) +
-             "). Set Fibres / DTI / Tensor array name.");
-      }
-    const int n_components = array->GetNumberOfComponents();
-    AssertThrow(n_components == 9 || n_components == 6,
-                dealii::ExcMessage(
-                  where + ": the array '" +
-                  (array->GetName() != nullptr ? array->GetName() : "") +
-                  "' of '" + file + "' has " + std::to_string(n_components) +
-                  " components; a diffusion tensor needs 9 (row-major) or 6 "
-                  "(xx, yy, zz, xy, yz, xz)."));
-
-    // Geometry: continuous voxel index r (0 at the first voxel) -> image
-    // physical point P r + p0 -> mesh point A (P r + p0) + b.
-    int dims[3], extent[6];
-    image->GetDimensions(dims);
-    image->GetExtent(extent);
-    for (unsigned int d = 0; d < 3; ++d)
-      {
-        AssertThrow(dims[d] >= 2,
-                    dealii::ExcMessage(where + ": '" + file +
-                                       "' has fewer than 2 voxels along axis " +
-                                       std::to_string(d) +
-                                       "; trilinear interpolation needs a 3-D "
-                                       "image."));
-        n[d] = dims[d];
-      }
-    vtkMatrix4x4   *index_to_physical = image->GetIndexToPhysicalMatrix();
-    Matrix3         P, Am;
-    Eigen::Vector3d p0, b;
-    for (unsigned int i = 0; i < 3; ++i)
-      {
-        for (unsigned int j = 0; j < 3; ++j)
-          {
-            P(i, j)  = index_to_physical->GetElement(i, j);
-            Am(i, j) = params.image_to_mesh[4 * i + j];
-            A[i][j]  = Am(i, j);
-          }
-        p0[i] = index_to_physical->GetElement(i, 3);
-        b[i]  = params.image_to_mesh[4 * i + 3];
-      }
-    p0 += P * Eigen::Vector3d(extent[0], extent[2], extent[4]);
-    const Matrix3 index_to_mesh = Am * P;
-    AssertThrow(std::abs(index_to_mesh.determinant()) >
-                  1e-12 * std::pow(index_to_mesh.norm(), 3),
-                dealii::ExcMessage(where + ": the voxel grid of '" + file +
-                                   "' is degenerate (zero spacing or a "
-                                   "singular direction matrix)."));
-    const Matrix3         inverse = index_to_mesh.inverse();
-    const Eigen::Vector3d offset  = -inverse * (Am * p0 + b);
-    for (unsigned int i = 0; i < 3; ++i)
-      {
-        index_offset[i] = offset[i];
-        for (unsigned int j = 0; j < 3; ++j)
-          index_matrix[i][j] = inverse(i, j);
-      }
-    for (unsigned int d = 0; d < 3; ++d)
-      {
-        box_lower[d] = std::numeric_limits<double>::max();
-        box_upper[d] = std::numeric_limits<double>::lowest();
-      }
-    for (unsigned int corner = 0; corner < 8; ++corner)
-      {
-        const Eigen::Vector3d r((corner & 1) ? n[0] - 1 : 0,
-                                (corner & 2) ? n[1] - 1 : 0,
-                                (corner & 4) ? n[2] - 1 : 0);
-        const Eigen::Vector3d x = index_to_mesh * r + Am * p0 + b;
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            box_lower[d] = std::min(box_lower[d], x[d]);
-            box_upper[d] = std::max(box_upper[d], x[d]);
-          }
-      }
-
-    // log D per voxel, once.
-    const std::uint64_t n_total =
-      static_cast<std::uint64_t>(n[0]) * n[1] * n[2];
-    logs.assign(n_total, {{0, 0, 0, 0, 0, 0}});
-    background.assign(n_total, 0);
-    std::vector<bool>                      valid(n_total, false);
-    Eigen::SelfAdjointEigenSolver<Matrix3> solver;
-    std::array<double, 9>                  tuple;
-    const auto voxel_name = [&](const std::uint64_t v) {
-      return "voxel (" + std::to_string(v % n[0] + extent[0]) + ", " +
-             std::to_string((v / n[0]) % n[1] + extent[2]) + ", " +
-             std::to_string(v / (std::uint64_t(n[0]) * n[1]) + extent[4]) + ")";
-    };
-    for (std::uint64_t v = 0; v < n_total; ++v)
-      {
-        array->GetTuple(static_cast<vtkIdType>(v), tuple.data());
-        Matrix3 D;
-        if (n_components == 6)
-          D = to_matrix(
-            {{tuple[0], tuple[1], tuple[2], tuple[3], tuple[4], tuple[5]}});
-        else
-          for (unsigned int i = 0; i < 3; ++i)
-            for (unsigned int j = 0; j < 3; ++j)
-              D(i, j) = tuple[3 * i + j];
-        AssertThrow(D.allFinite(),
-                    dealii::ExcMessage(where + ": the tensor at " +
-                                       voxel_name(v) + " of '" + file +
-                                       "' has a NaN or infinite component."));
-        const double norm = D.norm();
-        if (norm == 0.0)
-          {
-            background[v] = 1;
-            continue;
-          }
-        AssertThrow((D - D.transpose()).norm() <= 1e-3 * norm,
-                    dealii::ExcMessage(where + ": the tensor at " +
-                                       voxel_name(v) + " of '" + file +
-                                       "' is not symmetric."));
-        D = 0.5 * (D + D.transpose());
-        solver.compute(D);
-        const Eigen::Vector3d l = solver.eigenvalues();
-        if (!(l[0] > 0.0))
-          fail(where + ": the tensor at " + voxel_name(v) + " of '" + file +
-               "' is not positive definite (eigenvalues " +
-               format_number(l[0]) + ", " + format_number(l[1]) + ", " +
-               format_number(l[2]) +
-               "). Set background voxels to zero and repair the others (e.g. "
-               "clamp the eigenvalues to a small positive value) before "
-               "import.");
-        const Eigen::Vector3d log_l = l.array().log();
-        logs[v]  = to_components(solver.eigenvectors() * log_l.asDiagonal() *
-                                solver.eigenvectors().transpose());
-        valid[v] = is_anisotropic(l, params.minimum_fractional_anisotropy);
-        if (valid[v])
-          ++n_valid;
-      }
+    LogTensors tensors = log_tensors(*array, grid, params, where);
+    logs               = std::move(tensors.logs);
+    background         = std::move(tensors.background);
+    n_valid            = tensors.n_valid;
     AssertThrow(n_valid > 0,
                 dealii::ExcMessage(
-                  where + ": '" + file +
+                  where + ": '" + params.file +
                   "' has no voxel with a tensor of fractional anisotropy >= " +
                   format_number(params.minimum_fractional_anisotropy) +
                   " (Fibres / DTI / Minimum fractional anisotropy) and three "
                   "distinct eigenvalues."));
-
-    // Nearest valid voxel of every voxel: a multi-source breadth-first search
-    // over the 26 neighbours.
-    constexpr std::uint64_t none = std::numeric_limits<std::uint64_t>::max();
-    nearest_valid.assign(n_total, none);
-    std::deque<std::uint64_t> queue;
-    for (std::uint64_t v = 0; v < n_total; ++v)
-      if (valid[v])
-        {
-          nearest_valid[v] = v;
-          queue.push_back(v);
-        }
-    while (!queue.empty())
-      {
-        const std::uint64_t v = queue.front();
-        queue.pop_front();
-        const long i = v % n[0], j = (v / n[0]) % n[1],
-                   k = v / (std::uint64_t(n[0]) * n[1]);
-        for (long dk = -1; dk <= 1; ++dk)
-          for (long dj = -1; dj <= 1; ++dj)
-            for (long di = -1; di <= 1; ++di)
-              {
-                const long ii = i + di, jj = j + dj, kk = k + dk;
-                if (ii < 0 || jj < 0 || kk < 0 || ii >= long(n[0]) ||
-                    jj >= long(n[1]) || kk >= long(n[2]))
-                  continue;
-                const std::uint64_t w = ii + n[0] * (jj + n[1] * kk);
-                if (nearest_valid[w] == none)
-                  {
-                    nearest_valid[w] = nearest_valid[v];
-                    queue.push_back(w);
-                  }
-              }
-      }
+    nearest_valid = nearest_valid_voxels(tensors.valid, n);
   }
 
   bool

@@ -230,6 +230,17 @@ namespace systole::Geometry
       }
   }
 
+  std::string
+  vtk_array_names(vtkFieldData &data)
+  {
+    std::string names;
+    for (int a = 0; a < data.GetNumberOfArrays(); ++a)
+      names += std::string(names.empty() ? "" : ", ") + "'" +
+               (data.GetArrayName(a) != nullptr ? data.GetArrayName(a) : "") +
+               "'";
+    return names;
+  }
+
   BoundaryNameTable
   parse_boundary_name_table(const std::string &text, const std::string &entry)
   {
@@ -285,23 +296,19 @@ namespace systole::Geometry
         {}
   }
 
-  MeshData
-  read_gmsh_data(const std::string &file)
+  namespace
   {
-    check_readable(file);
-    MeshData mesh;
-    mesh.file = file;
-
-    const GmshSession session;
-    // Read into a model of our own and remove it afterwards, so that a model
-    // of a caller that holds the session stays as it was.
-    std::string previous_model;
-    gmsh::model::getCurrent(previous_model);
-    gmsh::model::add("systole-mesh-file");
-    struct RemoveModel
+    /// Reads into a model of our own and removes it afterwards, so that a
+    /// model of a caller that holds the session stays as it was.
+    class ScopedGmshModel
     {
-      std::string previous;
-      ~RemoveModel()
+    public:
+      ScopedGmshModel()
+      {
+        gmsh::model::getCurrent(previous);
+        gmsh::model::add("systole-mesh-file");
+      }
+      ~ScopedGmshModel()
       {
         try
           {
@@ -312,64 +319,51 @@ namespace systole::Geometry
         catch (...)
           {}
       }
-    } remove_model{previous_model};
+      ScopedGmshModel(const ScopedGmshModel &) = delete;
+      ScopedGmshModel &
+      operator=(const ScopedGmshModel &) = delete;
 
-    std::string error;
-    gmsh::logger::start();
-    try
-      {
-        gmsh::merge(file);
-      }
-    catch (const std::string &message)
-      {
-        error = message;
-      }
-    catch (const std::exception &e)
-      {
-        error = e.what();
-      }
-    std::vector<std::string> log;
-    gmsh::logger::get(log);
-    gmsh::logger::stop();
-    for (const auto &line : log)
-      if (error.empty() && line.rfind("Error", 0) == 0)
-        error = line;
-    AssertThrow(error.empty(),
-                dealii::ExcMessage(
-                  "Mesh file '" + file + "': gmsh could not read it (" + error +
-                  "). Systole reads gmsh .msh files of format 2.2 or 4.1, "
-                  "ASCII or binary."));
-
-    // Nodes, and the index of each node tag.
-    std::vector<std::size_t> node_tags;
-    std::vector<double>      coordinates, parametric;
-    gmsh::model::mesh::getNodes(node_tags,
-                                coordinates,
-                                parametric,
-                                -1,
-                                -1,
-                                false,
-                                false);
-    std::unordered_map<std::size_t, unsigned int> index_of;
-    index_of.reserve(node_tags.size());
-    mesh.vertices.resize(node_tags.size());
-    mesh.vertex_ids = node_tags;
-    for (std::size_t i = 0; i < node_tags.size(); ++i)
-      {
-        mesh.vertices[i]       = dealii::Point<3>(coordinates[3 * i],
-                                            coordinates[3 * i + 1],
-                                            coordinates[3 * i + 2]);
-        index_of[node_tags[i]] = static_cast<unsigned int>(i);
-      }
-    const auto vertex_index = [&](const std::size_t tag) {
-      const auto it = index_of.find(tag);
-      AssertThrow(it != index_of.end(),
-                  dealii::ExcMessage(
-                    "Mesh file '" + file + "': an element refers to node " +
-                    std::to_string(tag) + ", which the file does not define."));
-      return it->second;
+    private:
+      std::string previous;
     };
-    const auto type_name = [](const int type) {
+
+    /// gmsh::merge() of @p file; throws naming gmsh's error (an exception
+    /// or the first line of its log that starts with "Error").
+    void
+    merge_gmsh_file(const std::string &file)
+    {
+      std::string error;
+      gmsh::logger::start();
+      try
+        {
+          gmsh::merge(file);
+        }
+      catch (const std::string &message)
+        {
+          error = message;
+        }
+      catch (const std::exception &e)
+        {
+          error = e.what();
+        }
+      std::vector<std::string> log;
+      gmsh::logger::get(log);
+      gmsh::logger::stop();
+      for (const auto &line : log)
+        if (error.empty() && line.rfind("Error", 0) == 0)
+          error = line;
+      AssertThrow(error.empty(),
+                  dealii::ExcMessage(
+                    "Mesh file '" + file + "': gmsh could not read it (" +
+                    error +
+                    "). Systole reads gmsh .msh files of format 2.2 or 4.1, "
+                    "ASCII or binary."));
+    }
+
+    /// The name of gmsh element type @p type, for messages.
+    std::string
+    gmsh_type_name(const int type)
+    {
       std::string         name;
       int                 dim, order, n_nodes, n_primary;
       std::vector<double> local;
@@ -381,108 +375,198 @@ namespace systole::Geometry
                                               local,
                                               n_primary);
       return name + " (gmsh element type " + std::to_string(type) + ")";
-    };
+    }
 
-    // Volume cells.
-    std::vector<int>                      types;
-    std::vector<std::vector<std::size_t>> element_tags, element_nodes;
-    gmsh::model::mesh::getElements(types, element_tags, element_nodes, 3, -1);
-    std::size_t n_tets = 0, n_hexes = 0;
-    for (std::size_t t = 0; t < types.size(); ++t)
+    /// The nodes of the current gmsh model into @p mesh (vertices and
+    /// their ids), and the vertex index of a node tag.
+    class GmshNodes
+    {
+    public:
+      GmshNodes(const std::string &file, MeshData &mesh)
+        : file(file)
       {
-        AssertThrow(types[t] == 4 || types[t] == 5 || types[t] == 11,
-                    dealii::ExcMessage(
-                      "Mesh file '" + file + "' has " +
-                      std::to_string(element_tags[t].size()) + " " +
-                      type_name(types[t]) +
-                      " elements; Systole reads tetrahedra of 4 or 10 nodes "
-                      "(types 4, 11) or 8-node hexahedra (type 5). Mesh with "
-                      "Mesh.ElementOrder = 1 or 2 (2 on tetrahedra only) and "
-                      "without prisms or pyramids."));
-        (types[t] == 5 ? n_hexes : n_tets) += element_tags[t].size();
-      }
-    AssertThrow(n_tets == 0 || n_hexes == 0,
-                dealii::ExcMessage(
-                  "Mesh file '" + file + "' mixes " + std::to_string(n_tets) +
-                  " tetrahedra and " + std::to_string(n_hexes) +
-                  " hexahedra; a mesh must be all tetrahedra or all "
-                  "hexahedra (gmsh: Mesh.SubdivisionAlgorithm = 2 makes all "
-                  "hexahedra)."));
-    AssertThrow(n_tets + n_hexes > 0,
-                dealii::ExcMessage(
-                  "Mesh file '" + file +
-                  "' has no tetrahedra or hexahedra: mesh the volume (gmsh "
-                  "-3) and save its physical volume."));
-    mesh.cell_type = n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
-                                : dealii::ReferenceCells::Hexahedron;
-    for (std::size_t t = 0; t < types.size(); ++t)
-      {
-        const unsigned int n       = types[t] == 5 ? 8 : 4;
-        const unsigned int n_nodes = types[t] == 11 ? 10 : n;
-        const auto edges = types[t] == 11 ? tet10_edges() : std::vector<Edge>();
-        for (std::size_t e = 0; e < element_tags[t].size(); ++e)
+        std::vector<std::size_t> node_tags;
+        std::vector<double>      coordinates, parametric;
+        gmsh::model::mesh::getNodes(node_tags,
+                                    coordinates,
+                                    parametric,
+                                    -1,
+                                    -1,
+                                    false,
+                                    false);
+        index_of.reserve(node_tags.size());
+        mesh.vertices.resize(node_tags.size());
+        mesh.vertex_ids = node_tags;
+        for (std::size_t i = 0; i < node_tags.size(); ++i)
           {
-            const std::size_t        *nodes = &element_nodes[t][n_nodes * e];
-            std::vector<unsigned int> cell(n);
-            for (unsigned int v = 0; v < n; ++v)
-              cell[n == 8 ? hex_to_lexicographic[v] : v] =
-                vertex_index(nodes[v]);
-            for (unsigned int k = 0; k < edges.size(); ++k)
-              {
-                const unsigned int mid = vertex_index(nodes[4 + k]);
-                mesh.mid_edge_nodes.push_back({cell[edges[k].first],
-                                               cell[edges[k].second],
-                                               mesh.vertices[mid]});
-              }
-            mesh.cells.push_back(std::move(cell));
-            mesh.cell_ids.push_back(element_tags[t][e]);
+            mesh.vertices[i]       = dealii::Point<3>(coordinates[3 * i],
+                                                coordinates[3 * i + 1],
+                                                coordinates[3 * i + 2]);
+            index_of[node_tags[i]] = static_cast<unsigned int>(i);
           }
       }
 
+      /// The vertex index of node @p tag; throws when the file does not
+      /// define it.
+      unsigned int
+      operator()(const std::size_t tag) const
+      {
+        const auto it = index_of.find(tag);
+        AssertThrow(it != index_of.end(),
+                    dealii::ExcMessage("Mesh file '" + file +
+                                       "': an element refers to node " +
+                                       std::to_string(tag) +
+                                       ", which the file does not define."));
+        return it->second;
+      }
+
+    private:
+      const std::string                             file;
+      std::unordered_map<std::size_t, unsigned int> index_of;
+    };
+
+    /// The cell type of the volume elements of @p types (gmsh types,
+    /// @p element_tags per type); throws on other types or a mix.
+    dealii::ReferenceCell
+    gmsh_cell_type(const std::string                           &file,
+                   const std::vector<int>                      &types,
+                   const std::vector<std::vector<std::size_t>> &element_tags)
+    {
+      std::size_t n_tets = 0, n_hexes = 0;
+      for (std::size_t t = 0; t < types.size(); ++t)
+        {
+          AssertThrow(types[t] == 4 || types[t] == 5 || types[t] == 11,
+                      dealii::ExcMessage(
+                        "Mesh file '" + file + "' has " +
+                        std::to_string(element_tags[t].size()) + " " +
+                        gmsh_type_name(types[t]) +
+                        " elements; Systole reads tetrahedra of 4 or 10 nodes "
+                        "(types 4, 11) or 8-node hexahedra (type 5). Mesh "
+                        "with Mesh.ElementOrder = 1 or 2 (2 on tetrahedra "
+                        "only) and without prisms or pyramids."));
+          (types[t] == 5 ? n_hexes : n_tets) += element_tags[t].size();
+        }
+      AssertThrow(n_tets == 0 || n_hexes == 0,
+                  dealii::ExcMessage(
+                    "Mesh file '" + file + "' mixes " + std::to_string(n_tets) +
+                    " tetrahedra and " + std::to_string(n_hexes) +
+                    " hexahedra; a mesh must be all tetrahedra or all "
+                    "hexahedra (gmsh: Mesh.SubdivisionAlgorithm = 2 makes "
+                    "all hexahedra)."));
+      AssertThrow(n_tets + n_hexes > 0,
+                  dealii::ExcMessage(
+                    "Mesh file '" + file +
+                    "' has no tetrahedra or hexahedra: mesh the volume (gmsh "
+                    "-3) and save its physical volume."));
+      return n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
+                        : dealii::ReferenceCells::Hexahedron;
+    }
+
+    /// The volume cells of the current gmsh model into @p mesh (the
+    /// mid-edge nodes of 10-node tetrahedra too).
+    void
+    read_gmsh_cells(const std::string &file,
+                    const GmshNodes   &vertex_index,
+                    MeshData          &mesh)
+    {
+      std::vector<int>                      types;
+      std::vector<std::vector<std::size_t>> element_tags, element_nodes;
+      gmsh::model::mesh::getElements(types, element_tags, element_nodes, 3, -1);
+      mesh.cell_type = gmsh_cell_type(file, types, element_tags);
+      for (std::size_t t = 0; t < types.size(); ++t)
+        {
+          const unsigned int n       = types[t] == 5 ? 8 : 4;
+          const unsigned int n_nodes = types[t] == 11 ? 10 : n;
+          const auto         edges =
+            types[t] == 11 ? tet10_edges() : std::vector<Edge>();
+          for (std::size_t e = 0; e < element_tags[t].size(); ++e)
+            {
+              const std::size_t        *nodes = &element_nodes[t][n_nodes * e];
+              std::vector<unsigned int> cell(n);
+              for (unsigned int v = 0; v < n; ++v)
+                cell[n == 8 ? hex_to_lexicographic[v] : v] =
+                  vertex_index(nodes[v]);
+              for (unsigned int k = 0; k < edges.size(); ++k)
+                {
+                  const unsigned int mid = vertex_index(nodes[4 + k]);
+                  mesh.mid_edge_nodes.push_back({cell[edges[k].first],
+                                                 cell[edges[k].second],
+                                                 mesh.vertices[mid]});
+                }
+              mesh.cells.push_back(std::move(cell));
+              mesh.cell_ids.push_back(element_tags[t][e]);
+            }
+        }
+    }
+
+    /// The faces of the 2D physical group @p tag of the current gmsh model
+    /// (its triangles and quadrilaterals) into @p mesh, with its name.
+    void
+    read_gmsh_physical_surface(const std::string &file,
+                               const int          tag,
+                               const GmshNodes   &vertex_index,
+                               MeshData          &mesh)
+    {
+      std::string name;
+      gmsh::model::getPhysicalName(2, tag, name);
+      if (!name.empty())
+        mesh.tag_names[tag] = name;
+      std::vector<int> entities;
+      gmsh::model::getEntitiesForPhysicalGroup(2, tag, entities);
+      std::vector<int>                      types;
+      std::vector<std::vector<std::size_t>> element_tags, element_nodes;
+      for (const int entity : entities)
+        {
+          gmsh::model::mesh::getElements(types,
+                                         element_tags,
+                                         element_nodes,
+                                         2,
+                                         entity);
+          for (std::size_t t = 0; t < types.size(); ++t)
+            {
+              AssertThrow(types[t] == 2 || types[t] == 3 || types[t] == 9,
+                          dealii::ExcMessage(
+                            "Mesh file '" + file + "': physical surface " +
+                            std::to_string(tag) + " has " +
+                            std::to_string(element_tags[t].size()) + " " +
+                            gmsh_type_name(types[t]) +
+                            " elements; Systole reads triangles of 3 or 6 "
+                            "nodes (types 2, 9) and 4-node quadrilaterals "
+                            "(type 3)."));
+              const unsigned int n       = types[t] == 3 ? 4 : 3;
+              const unsigned int n_nodes = types[t] == 9 ? 6 : n;
+              for (std::size_t e = 0; e < element_tags[t].size(); ++e)
+                {
+                  MeshData::TaggedFace face;
+                  face.tag = tag;
+                  face.id  = element_tags[t][e];
+                  for (unsigned int v = 0; v < n; ++v) // the corners
+                    face.vertices.push_back(
+                      vertex_index(element_nodes[t][n_nodes * e + v]));
+                  mesh.faces.push_back(std::move(face));
+                }
+            }
+        }
+    }
+  } // namespace
+
+  MeshData
+  read_gmsh_data(const std::string &file)
+  {
+    check_readable(file);
+    MeshData mesh;
+    mesh.file = file;
+
+    const GmshSession     session;
+    const ScopedGmshModel model;
+    merge_gmsh_file(file);
+    const GmshNodes vertex_index(file, mesh);
+    read_gmsh_cells(file, vertex_index, mesh);
     // Faces: the triangles and quadrilaterals of each 2D physical group.
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups, 2);
-    for (const auto &[dim, tag] : groups)
-      {
-        std::string name;
-        gmsh::model::getPhysicalName(dim, tag, name);
-        if (!name.empty())
-          mesh.tag_names[tag] = name;
-        std::vector<int> entities;
-        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-        for (const int entity : entities)
-          {
-            gmsh::model::mesh::getElements(types,
-                                           element_tags,
-                                           element_nodes,
-                                           dim,
-                                           entity);
-            for (std::size_t t = 0; t < types.size(); ++t)
-              {
-                AssertThrow(types[t] == 2 || types[t] == 3 || types[t] == 9,
-                            dealii::ExcMessage(
-                              "Mesh file '" + file + "': physical surface " +
-                              std::to_string(tag) + " has " +
-                              std::to_string(element_tags[t].size()) + " " +
-                              type_name(types[t]) +
-                              " elements; Systole reads triangles of 3 or 6 "
-                              "nodes (types 2, 9) and 4-node quadrilaterals "
-                              "(type 3)."));
-                const unsigned int n       = types[t] == 3 ? 4 : 3;
-                const unsigned int n_nodes = types[t] == 9 ? 6 : n;
-                for (std::size_t e = 0; e < element_tags[t].size(); ++e)
-                  {
-                    MeshData::TaggedFace face;
-                    face.tag = tag;
-                    face.id  = element_tags[t][e];
-                    for (unsigned int v = 0; v < n; ++v) // the corners
-                      face.vertices.push_back(
-                        vertex_index(element_nodes[t][n_nodes * e + v]));
-                    mesh.faces.push_back(std::move(face));
-                  }
-              }
-          }
-      }
+    for (const auto &group : groups)
+      read_gmsh_physical_surface(file, group.second, vertex_index, mesh);
     if (!mesh.mid_edge_nodes.empty())
       keep_corners_only(mesh);
     return mesh;
@@ -517,6 +601,102 @@ namespace systole::Geometry
           (vtk_messages.empty() ? std::string(".") : ": " + vtk_messages)));
       return grid;
     }
+
+    /// The cell-data array @p name of @p grid that tags the boundary faces
+    /// (nullptr for an empty @p name); throws naming the arrays there are.
+    vtkDataArray *
+    vtu_face_tags(vtkUnstructuredGrid &grid,
+                  const std::string   &file,
+                  const std::string   &name)
+    {
+      if (name.empty())
+        return nullptr;
+      vtkCellData  *cell_data = grid.GetCellData();
+      vtkDataArray *tags      = cell_data->GetArray(name.c_str());
+      if (tags == nullptr)
+        {
+          const std::string arrays = vtk_array_names(*cell_data);
+          fail("Mesh file '" + file + "' has no cell-data array '" + name +
+               "' (its cell arrays: " + (arrays.empty() ? "none" : arrays) +
+               "). Set Face tag array to the array that tags its boundary "
+               "triangles or quadrilaterals.");
+        }
+      AssertThrow(tags->GetNumberOfComponents() == 1,
+                  dealii::ExcMessage(
+                    "Mesh file '" + file + "': the face tag array '" + name +
+                    "' has " + std::to_string(tags->GetNumberOfComponents()) +
+                    " components; it must have one integer per cell."));
+      return tags;
+    }
+
+    /// What read_vtu_cells() counted.
+    struct VtuCellCounts
+    {
+      std::size_t n_tets = 0, n_hexes = 0, n_face_cells = 0;
+      /// Per unsupported VTK cell type: how many, and the first cell.
+      std::map<int, std::pair<std::size_t, vtkIdType>> unsupported;
+    };
+
+    /// The cells of @p grid into @p mesh: tetrahedra and hexahedra, and,
+    /// with @p tags, the triangles and quadrilaterals as tagged faces.
+    VtuCellCounts
+    read_vtu_cells(vtkUnstructuredGrid &grid,
+                   const std::string   &file,
+                   vtkDataArray        *tags,
+                   const std::string   &tag_name,
+                   MeshData            &mesh)
+    {
+      VtuCellCounts     counts;
+      vtkNew<vtkIdList> points;
+      for (vtkIdType c = 0; c < grid.GetNumberOfCells(); ++c)
+        {
+          const int type = grid.GetCellType(c);
+          grid.GetCellPoints(c, points);
+          std::vector<unsigned int> ids(points->GetNumberOfIds());
+          for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
+            ids[i] = static_cast<unsigned int>(points->GetId(i));
+          if (type == VTK_TETRA)
+            {
+              mesh.cells.push_back(ids);
+              mesh.cell_ids.push_back(c);
+              ++counts.n_tets;
+            }
+          else if (type == VTK_HEXAHEDRON)
+            {
+              std::vector<unsigned int> cell(8);
+              for (unsigned int v = 0; v < 8; ++v)
+                cell[hex_to_lexicographic[v]] = ids[v];
+              mesh.cells.push_back(cell);
+              mesh.cell_ids.push_back(c);
+              ++counts.n_hexes;
+            }
+          else if (type == VTK_TRIANGLE || type == VTK_QUAD)
+            {
+              ++counts.n_face_cells;
+              if (tags == nullptr)
+                continue;
+              const double value = tags->GetComponent(c, 0);
+              AssertThrow(value == std::round(value) &&
+                            std::abs(value) < std::numeric_limits<int>::max(),
+                          dealii::ExcMessage("Mesh file '" + file +
+                                             "': the face tag array '" +
+                                             tag_name + "' has the value " +
+                                             std::to_string(value) +
+                                             " on cell " + std::to_string(c) +
+                                             "; face tags must be integers."));
+              mesh.faces.push_back(
+                {ids, static_cast<int>(value), static_cast<std::size_t>(c)});
+            }
+          else if (type != VTK_VERTEX && type != VTK_POLY_VERTEX &&
+                   type != VTK_LINE && type != VTK_POLY_LINE)
+            {
+              auto &entry = counts.unsupported[type];
+              if (entry.first++ == 0)
+                entry.second = c;
+            }
+        }
+      return counts;
+    }
   } // namespace
 
   MeshData
@@ -539,89 +719,12 @@ namespace systole::Geometry
         mesh.vertex_ids[i] = static_cast<std::size_t>(i);
       }
 
-    vtkDataArray *tags = nullptr;
-    if (!face_tag_array.empty())
+    vtkDataArray       *tags = vtu_face_tags(*grid, file, face_tag_array);
+    const VtuCellCounts counts =
+      read_vtu_cells(*grid, file, tags, face_tag_array, mesh);
+    if (!counts.unsupported.empty())
       {
-        vtkCellData *cell_data = grid->GetCellData();
-        tags                   = cell_data->GetArray(face_tag_array.c_str());
-        if (tags == nullptr)
-          {
-            std::string arrays;
-            for (int a = 0; a < cell_data->GetNumberOfArrays(); ++a)
-              arrays += std::string(arrays.empty() ? "" : ", ") + "'" +
-                        (cell_data->GetArrayName(a) != nullptr
-                           ? cell_data->GetArrayName(a)
-                           : "") +
-                        "'";
-            fail("Mesh file '" + file + "' has no cell-data array '" +
-                 face_tag_array +
-                 "' (its cell arrays: " + (arrays.empty() ? "none" : arrays) +
-                 "). Set Face tag array to the array that tags its boundary "
-                 "triangles or quadrilaterals.");
-          }
-        AssertThrow(tags->GetNumberOfComponents() == 1,
-                    dealii::ExcMessage(
-                      "Mesh file '" + file + "': the face tag array '" +
-                      face_tag_array + "' has " +
-                      std::to_string(tags->GetNumberOfComponents()) +
-                      " components; it must have one integer per cell."));
-      }
-
-    std::map<int, std::pair<std::size_t, vtkIdType>> unsupported;
-    std::size_t                                      n_tets = 0, n_hexes = 0;
-    std::size_t                                      n_face_cells = 0;
-    vtkNew<vtkIdList>                                points;
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
-      {
-        const int type = grid->GetCellType(c);
-        grid->GetCellPoints(c, points);
-        std::vector<unsigned int> ids(points->GetNumberOfIds());
-        for (vtkIdType i = 0; i < points->GetNumberOfIds(); ++i)
-          ids[i] = static_cast<unsigned int>(points->GetId(i));
-        if (type == VTK_TETRA)
-          {
-            mesh.cells.push_back(ids);
-            mesh.cell_ids.push_back(c);
-            ++n_tets;
-          }
-        else if (type == VTK_HEXAHEDRON)
-          {
-            std::vector<unsigned int> cell(8);
-            for (unsigned int v = 0; v < 8; ++v)
-              cell[hex_to_lexicographic[v]] = ids[v];
-            mesh.cells.push_back(cell);
-            mesh.cell_ids.push_back(c);
-            ++n_hexes;
-          }
-        else if (type == VTK_TRIANGLE || type == VTK_QUAD)
-          {
-            ++n_face_cells;
-            if (tags != nullptr)
-              {
-                const double value = tags->GetComponent(c, 0);
-                AssertThrow(value == std::round(value) &&
-                              std::abs(value) < std::numeric_limits<int>::max(),
-                            dealii::ExcMessage(
-                              "Mesh file '" + file + "': the face tag array '" +
-                              face_tag_array + "' has the value " +
-                              std::to_string(value) + " on cell " +
-                              std::to_string(c) +
-                              "; face tags must be integers."));
-                mesh.faces.push_back(
-                  {ids, static_cast<int>(value), static_cast<std::size_t>(c)});
-              }
-          }
-        else if (type != VTK_VERTEX && type != VTK_POLY_VERTEX &&
-                 type != VTK_LINE && type != VTK_POLY_LINE)
-          {
-            auto &entry = unsupported[type];
-            if (entry.first++ == 0)
-              entry.second = c;
-          }
-      }
-    if (!unsupported.empty())
-      {
-        const auto &[type, entry] = *unsupported.begin();
+        const auto &[type, entry] = *counts.unsupported.begin();
         fail("Mesh file '" + file + "' has " + std::to_string(entry.first) +
              " cells of VTK type " + std::to_string(type) + " (" +
              vtkCellTypes::GetClassNameFromTypeId(type) + "), the first cell " +
@@ -630,19 +733,20 @@ namespace systole::Geometry
              "(VTK_HEXAHEDRON), with triangles or quadrilaterals for the "
              "boundary faces.");
       }
-    AssertThrow(n_tets == 0 || n_hexes == 0,
+    AssertThrow(counts.n_tets == 0 || counts.n_hexes == 0,
                 dealii::ExcMessage(
-                  "Mesh file '" + file + "' mixes " + std::to_string(n_tets) +
-                  " tetrahedra and " + std::to_string(n_hexes) +
+                  "Mesh file '" + file + "' mixes " +
+                  std::to_string(counts.n_tets) + " tetrahedra and " +
+                  std::to_string(counts.n_hexes) +
                   " hexahedra; a mesh must be all tetrahedra or all "
                   "hexahedra."));
-    AssertThrow(n_tets + n_hexes > 0,
+    AssertThrow(counts.n_tets + counts.n_hexes > 0,
                 dealii::ExcMessage("Mesh file '" + file +
                                    "' has no tetrahedra or hexahedra."));
-    mesh.cell_type = n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
-                                : dealii::ReferenceCells::Hexahedron;
+    mesh.cell_type = counts.n_tets > 0 ? dealii::ReferenceCells::Tetrahedron
+                                       : dealii::ReferenceCells::Hexahedron;
     AssertThrow(
-      tags == nullptr || n_face_cells > 0,
+      tags == nullptr || counts.n_face_cells > 0,
       dealii::ExcMessage(
         "Mesh file '" + file + "' has only volume cells, so the cell array '" +
         face_tag_array +
@@ -828,6 +932,215 @@ namespace systole::Geometry
         c += mesh.vertices[v];
       return c / static_cast<double>(vertices.size());
     }
+
+    /// The parts by face tag (the first part of a tag); throws at a
+    /// negative tag.
+    std::map<int, std::string>
+    used_face_tags(const MeshData &mesh, const std::vector<Part> &parts)
+    {
+      std::map<int, std::string> used_tags; // tag -> its first part
+      for (const auto &part : parts)
+        {
+          AssertThrow(part.tag >= 0,
+                      dealii::ExcMessage(
+                        "Mesh file '" + mesh.file + "': face tag " +
+                        std::to_string(part.tag) + " (part '" + part.name +
+                        "') is negative; boundary ids are non-negative."));
+          used_tags.emplace(part.tag, part.name);
+        }
+      return used_tags;
+    }
+
+    /// The cells of @p mesh for deal.II, hexahedra consistently oriented.
+    std::vector<dealii::CellData<3>>
+    volume_cells(const MeshData &mesh)
+    {
+      std::vector<dealii::CellData<3>> cells(mesh.cells.size());
+      for (std::size_t c = 0; c < cells.size(); ++c)
+        cells[c].vertices = mesh.cells[c];
+      if (mesh.cell_type != dealii::ReferenceCells::Tetrahedron)
+        try
+          {
+            dealii::GridTools::consistently_order_cells(cells);
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            fail("Mesh file '" + mesh.file +
+                 "': deal.II cannot orient its hexahedra consistently (" +
+                 e.get_exc_name() +
+                 "); a hexahedral mesh must be orientable in deal.II's sense "
+                 "(see GridTools::consistently_order_cells).");
+          }
+      return cells;
+    }
+
+    /// Every face of every cell, sorted by its vertices, and for each entry
+    /// how many cells share its face: a face that occurs once is a boundary
+    /// face.
+    struct CellFaces
+    {
+      struct Entry
+      {
+        FaceKey      key;
+        unsigned int cell;
+        unsigned int face;
+      };
+      std::vector<Entry>        entries;
+      std::vector<unsigned int> multiplicity;
+      unsigned int              n_face_vertices; ///< 3 or 4
+
+      /// The vertices of the face of entry @p i.
+      dealii::CellData<2>
+      face(const std::vector<dealii::CellData<3>> &cells,
+           const dealii::ReferenceCell            &reference,
+           const std::size_t                       i) const
+      {
+        dealii::CellData<2> face(n_face_vertices);
+        for (unsigned int v = 0; v < n_face_vertices; ++v)
+          face.vertices[v] =
+            cells[entries[i].cell]
+              .vertices[reference.face_to_cell_vertices(entries[i].face, v, 1)];
+        return face;
+      }
+    };
+
+    /// The faces of @p cells; throws at a face of more than two cells.
+    CellFaces
+    cell_faces(const MeshData                         &mesh,
+               const std::vector<dealii::CellData<3>> &cells)
+    {
+      const dealii::ReferenceCell &reference = mesh.cell_type;
+      CellFaces                    faces;
+      faces.n_face_vertices =
+        mesh.cell_type == dealii::ReferenceCells::Tetrahedron ? 3 : 4;
+      auto &entries = faces.entries;
+      entries.reserve(cells.size() * reference.n_faces());
+      std::vector<unsigned int> face_vertices(faces.n_face_vertices);
+      for (unsigned int c = 0; c < cells.size(); ++c)
+        for (const unsigned int f : reference.face_indices())
+          {
+            for (unsigned int i = 0; i < faces.n_face_vertices; ++i)
+              face_vertices[i] =
+                cells[c].vertices[reference.face_to_cell_vertices(f, i, 1)];
+            entries.push_back({face_key(face_vertices), c, f});
+          }
+      std::sort(entries.begin(),
+                entries.end(),
+                [](const CellFaces::Entry &a, const CellFaces::Entry &b) {
+                  return a.key < b.key;
+                });
+      faces.multiplicity.resize(entries.size());
+      std::size_t n_overshared = 0, first_overshared = 0;
+      for (std::size_t i = 0; i < entries.size();)
+        {
+          std::size_t j = i;
+          while (j < entries.size() && entries[j].key == entries[i].key)
+            ++j;
+          for (std::size_t k = i; k < j; ++k)
+            faces.multiplicity[k] = j - i;
+          if (j - i > 2 && n_overshared++ == 0)
+            first_overshared = i;
+          i = j;
+        }
+      if (n_overshared > 0)
+        {
+          const auto &entry = entries[first_overshared];
+          fail("Mesh file '" + mesh.file +
+               "': " + std::to_string(n_overshared) +
+               " faces are shared by more than two cells (duplicate cells or "
+               "a non-manifold mesh); the first is a face of element " +
+               std::to_string(mesh.cell_ids[entry.cell]) + " near " +
+               format_point(centroid(mesh, mesh.cells[entry.cell])) +
+               ". Remove the duplicate cells.");
+        }
+      return faces;
+    }
+
+    /// The tag of each boundary face of @p faces (-1: none) from the file's
+    /// faces in a used tag; throws at a face in two parts, at tagged faces
+    /// that are no face of a cell, and (with a @p table) at a part without
+    /// a boundary face.
+    std::vector<int>
+    boundary_face_tags(const MeshData             &mesh,
+                       const BoundaryNameTable    &table,
+                       const std::vector<Part>    &parts,
+                       std::map<int, std::string> &used_tags,
+                       const CellFaces            &faces)
+    {
+      std::vector<int>            tag_of(faces.entries.size(), -1);
+      std::map<int, std::size_t>  n_boundary_faces; // per used tag
+      std::size_t                 n_dangling = 0, n_wrong_kind = 0;
+      const MeshData::TaggedFace *first_dangling = nullptr;
+      for (const auto &face : mesh.faces)
+        {
+          if (used_tags.count(face.tag) == 0)
+            continue;
+          if (face.vertices.size() != faces.n_face_vertices)
+            {
+              if (n_wrong_kind++ == 0)
+                first_dangling = &face;
+              continue;
+            }
+          const FaceKey key = face_key(face.vertices);
+          const auto    found =
+            std::lower_bound(faces.entries.begin(),
+                             faces.entries.end(),
+                             key,
+                             [](const CellFaces::Entry &a, const FaceKey &b) {
+                               return a.key < b;
+                             });
+          if (found == faces.entries.end() || found->key != key)
+            {
+              if (n_dangling++ == 0)
+                first_dangling = &face;
+              continue;
+            }
+          const std::size_t i = found - faces.entries.begin();
+          if (faces.multiplicity[i] != 1)
+            continue; // between two cells: not a boundary face
+          if (tag_of[i] >= 0 && tag_of[i] != face.tag)
+            fail("Mesh file '" + mesh.file + "': the boundary face at " +
+                 format_point(centroid(mesh, face.vertices)) +
+                 " is in face tag " + std::to_string(tag_of[i]) + " (part '" +
+                 used_tags[tag_of[i]] + "') and face tag " +
+                 std::to_string(face.tag) + " (part '" + used_tags[face.tag] +
+                 "'); a boundary face can carry one part only.");
+          if (tag_of[i] < 0)
+            ++n_boundary_faces[face.tag];
+          tag_of[i] = face.tag;
+        }
+      if (n_wrong_kind > 0)
+        fail("Mesh file '" + mesh.file + "': " + std::to_string(n_wrong_kind) +
+             " faces tagged " + std::to_string(first_dangling->tag) +
+             " and others have " +
+             std::to_string(first_dangling->vertices.size()) +
+             " vertices, but the faces of " + mesh.cell_kind() + " have " +
+             std::to_string(faces.n_face_vertices) + "; the first, element " +
+             std::to_string(first_dangling->id) + ", at " +
+             format_point(centroid(mesh, first_dangling->vertices)) +
+             ". Tag the faces of the volume mesh.");
+      if (n_dangling > 0)
+        fail("Mesh file '" + mesh.file + "': " + std::to_string(n_dangling) +
+             " tagged faces are no face of any of its " + mesh.cell_kind() +
+             "; the first, element " + std::to_string(first_dangling->id) +
+             " (tag " + std::to_string(first_dangling->tag) + "), at " +
+             format_point(centroid(mesh, first_dangling->vertices)) +
+             ". The surface and the volume mesh must share their nodes "
+             "(gmsh: mesh the volume from the tagged surfaces; Coherence "
+             "Mesh).");
+      if (!table.empty())
+        for (const auto &part : parts)
+          AssertThrow(n_boundary_faces[part.tag] > 0,
+                      dealii::ExcMessage(
+                        "Boundary names: '" + part.name + ": " +
+                        part.file_name +
+                        "' names no boundary face of mesh "
+                        "file '" +
+                        mesh.file + "' (face tag " + std::to_string(part.tag) +
+                        " has no face on its boundary; its face tags: " +
+                        list_face_tags(mesh) + ")."));
+      return tag_of;
+    }
   } // namespace
 
   unsigned int
@@ -857,173 +1170,24 @@ namespace systole::Geometry
                   "Triangulation (p4est) cannot hold: read it into a serial "
                   "Triangulation, or use an all-hexahedral mesh."));
 
-    const std::vector<Part>    parts = resolve_parts(mesh, table);
-    std::map<int, std::string> used_tags; // tag -> its first part
-    for (const auto &part : parts)
-      {
-        AssertThrow(part.tag >= 0,
-                    dealii::ExcMessage(
-                      "Mesh file '" + mesh.file + "': face tag " +
-                      std::to_string(part.tag) + " (part '" + part.name +
-                      "') is negative; boundary ids are non-negative."));
-        used_tags.emplace(part.tag, part.name);
-      }
-    const unsigned int default_id = default_boundary_id(mesh, table);
-
-    std::vector<dealii::CellData<3>> cells(mesh.cells.size());
-    for (std::size_t c = 0; c < cells.size(); ++c)
-      cells[c].vertices = mesh.cells[c];
-    if (!tets)
-      try
-        {
-          dealii::GridTools::consistently_order_cells(cells);
-        }
-      catch (const dealii::ExceptionBase &e)
-        {
-          fail("Mesh file '" + mesh.file +
-               "': deal.II cannot orient its hexahedra consistently (" +
-               e.get_exc_name() +
-               "); a hexahedral mesh must be orientable in deal.II's sense "
-               "(see GridTools::consistently_order_cells).");
-        }
-
-    // Every face of every cell, sorted by its vertices: a face that occurs
-    // once is a boundary face.
-    struct CellFace
-    {
-      FaceKey      key;
-      unsigned int cell;
-      unsigned int face;
-    };
-    const dealii::ReferenceCell &reference       = mesh.cell_type;
-    const unsigned int           n_face_vertices = tets ? 3 : 4;
-    std::vector<CellFace>        cell_faces;
-    cell_faces.reserve(cells.size() * reference.n_faces());
-    std::vector<unsigned int> face_vertices(n_face_vertices);
-    for (unsigned int c = 0; c < cells.size(); ++c)
-      for (const unsigned int f : reference.face_indices())
-        {
-          for (unsigned int i = 0; i < n_face_vertices; ++i)
-            face_vertices[i] =
-              cells[c].vertices[reference.face_to_cell_vertices(f, i, 1)];
-          cell_faces.push_back({face_key(face_vertices), c, f});
-        }
-    std::sort(cell_faces.begin(),
-              cell_faces.end(),
-              [](const CellFace &a, const CellFace &b) {
-                return a.key < b.key;
-              });
-    // For each entry: how many cells share its face.
-    std::vector<unsigned int> multiplicity(cell_faces.size());
-    std::size_t               n_overshared = 0, first_overshared = 0;
-    for (std::size_t i = 0; i < cell_faces.size();)
-      {
-        std::size_t j = i;
-        while (j < cell_faces.size() && cell_faces[j].key == cell_faces[i].key)
-          ++j;
-        for (std::size_t k = i; k < j; ++k)
-          multiplicity[k] = j - i;
-        if (j - i > 2 && n_overshared++ == 0)
-          first_overshared = i;
-        i = j;
-      }
-    if (n_overshared > 0)
-      {
-        const auto &entry = cell_faces[first_overshared];
-        fail("Mesh file '" + mesh.file + "': " + std::to_string(n_overshared) +
-             " faces are shared by more than two cells (duplicate cells or a "
-             "non-manifold mesh); the first is a face of element " +
-             std::to_string(mesh.cell_ids[entry.cell]) + " near " +
-             format_point(centroid(mesh, mesh.cells[entry.cell])) +
-             ". Remove the duplicate cells.");
-      }
-
-    // The tag of each boundary face from the file's faces in a used tag.
-    std::vector<int>            tag_of(cell_faces.size(), -1);
-    std::map<int, std::size_t>  n_boundary_faces; // per used tag
-    std::size_t                 n_dangling = 0, n_wrong_kind = 0;
-    const MeshData::TaggedFace *first_dangling = nullptr;
-    for (const auto &face : mesh.faces)
-      {
-        if (used_tags.count(face.tag) == 0)
-          continue;
-        if (face.vertices.size() != n_face_vertices)
-          {
-            if (n_wrong_kind++ == 0)
-              first_dangling = &face;
-            continue;
-          }
-        const FaceKey key = face_key(face.vertices);
-        const auto    found =
-          std::lower_bound(cell_faces.begin(),
-                           cell_faces.end(),
-                           key,
-                           [](const CellFace &a, const FaceKey &b) {
-                             return a.key < b;
-                           });
-        if (found == cell_faces.end() || found->key != key)
-          {
-            if (n_dangling++ == 0)
-              first_dangling = &face;
-            continue;
-          }
-        const std::size_t i = found - cell_faces.begin();
-        if (multiplicity[i] != 1)
-          continue; // between two cells: not a boundary face
-        if (tag_of[i] >= 0 && tag_of[i] != face.tag)
-          fail("Mesh file '" + mesh.file + "': the boundary face at " +
-               format_point(centroid(mesh, face.vertices)) +
-               " is in face tag " + std::to_string(tag_of[i]) + " (part '" +
-               used_tags[tag_of[i]] + "') and face tag " +
-               std::to_string(face.tag) + " (part '" + used_tags[face.tag] +
-               "'); a boundary face can carry one part only.");
-        if (tag_of[i] < 0)
-          ++n_boundary_faces[face.tag];
-        tag_of[i] = face.tag;
-      }
-    if (n_wrong_kind > 0)
-      fail("Mesh file '" + mesh.file + "': " + std::to_string(n_wrong_kind) +
-           " faces tagged " + std::to_string(first_dangling->tag) +
-           " and others have " +
-           std::to_string(first_dangling->vertices.size()) +
-           " vertices, but the faces of " + mesh.cell_kind() + " have " +
-           std::to_string(n_face_vertices) + "; the first, element " +
-           std::to_string(first_dangling->id) + ", at " +
-           format_point(centroid(mesh, first_dangling->vertices)) +
-           ". Tag the faces of the volume mesh.");
-    if (n_dangling > 0)
-      fail("Mesh file '" + mesh.file + "': " + std::to_string(n_dangling) +
-           " tagged faces are no face of any of its " + mesh.cell_kind() +
-           "; the first, element " + std::to_string(first_dangling->id) +
-           " (tag " + std::to_string(first_dangling->tag) + "), at " +
-           format_point(centroid(mesh, first_dangling->vertices)) +
-           ". The surface and the volume mesh must share their nodes (gmsh: "
-           "mesh the volume from the tagged surfaces; Coherence Mesh).");
-    if (!table.empty())
-      for (const auto &part : parts)
-        AssertThrow(n_boundary_faces[part.tag] > 0,
-                    dealii::ExcMessage(
-                      "Boundary names: '" + part.name + ": " + part.file_name +
-                      "' names no boundary face of mesh file '" + mesh.file +
-                      "' (face tag " + std::to_string(part.tag) +
-                      " has no face on its boundary; its face tags: " +
-                      list_face_tags(mesh) + ")."));
+    const std::vector<Part>    parts      = resolve_parts(mesh, table);
+    std::map<int, std::string> used_tags  = used_face_tags(mesh, parts);
+    const unsigned int         default_id = default_boundary_id(mesh, table);
+    const std::vector<dealii::CellData<3>> cells = volume_cells(mesh);
+    const CellFaces                        faces = cell_faces(mesh, cells);
+    const std::vector<int>                 tag_of =
+      boundary_face_tags(mesh, table, parts, used_tags, faces);
 
     dealii::SubCellData boundary;
-    for (std::size_t i = 0; i < cell_faces.size(); ++i)
-      if (multiplicity[i] == 1)
+    for (std::size_t i = 0; i < faces.entries.size(); ++i)
+      if (faces.multiplicity[i] == 1)
         {
-          dealii::CellData<2> face(n_face_vertices);
-          for (unsigned int v = 0; v < n_face_vertices; ++v)
-            face.vertices[v] =
-              cells[cell_faces[i].cell].vertices
-                [reference.face_to_cell_vertices(cell_faces[i].face, v, 1)];
+          dealii::CellData<2> face = faces.face(cells, mesh.cell_type, i);
           face.boundary_id =
             tag_of[i] >= 0 ? static_cast<dealii::types::boundary_id>(tag_of[i])
                            : default_id;
           boundary.boundary_quads.push_back(std::move(face));
         }
-
     try
       {
         tria.create_triangulation(mesh.vertices, cells, boundary);

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <string>
+
 class vtkObject;
+class vtkFieldData;
 
 namespace systole::Geometry
 {
@@ -14,4 +17,9 @@ namespace systole::Geometry
                       unsigned long event,
                       void         *client_data,
                       void         *call_data);
+
+  /// The names of the arrays of @p data for a message: 'a', 'b', ... ('' for
+  /// an unnamed array; empty without arrays).
+  std::string
+  vtk_array_names(vtkFieldData &data);
 } // namespace systole::Geometry

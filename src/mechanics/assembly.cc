@@ -15,6 +15,9 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
+#include <map>
+#include <memory>
 
 namespace systole::Mechanics
 {
@@ -456,6 +459,783 @@ namespace systole::Mechanics
         }
       return std::max(mu / 3.0, floor);
     }
+
+    /// The switches of one assembly: what it builds and which terms are on.
+    struct AssemblyOptions
+    {
+      bool with_matrix            = false;
+      bool with_volume_derivative = false;
+      /// The Schur-complement preconditioner of the mixed iterative solver.
+      bool with_pressure_matrix = false;
+      bool mixed                = false; ///< a pressure field
+      /// The volumetric penalty on its own (reduced) quadrature rule.
+      bool reduced_volumetric = false;
+      bool dynamic            = false; ///< the inertia of a time step
+      /// The rate terms (Kelvin-Voigt viscosity, dashpots) and the viscosity.
+      bool with_rates = false, viscous = false;
+      /// The augmented Lagrangian's gamma (0: none).
+      double gamma = 0.0;
+      /// 1 / (1 - alpha_f) and c / (1 - alpha_f) of the inertia (0 when
+      /// quasi-static), and dv/du of a time step.
+      double inertia_weight = 0.0, mass_weight = 0.0;
+      double velocity_coefficient = 0.0;
+    };
+
+    /// The material of the bulk term: the laws and their coefficients.
+    struct BulkMaterial
+    {
+      const Materials::PassiveLaw    &passive_law;
+      const Materials::VolumetricLaw &volumetric_law;
+      /// The two-way coupled tension model (none: nullptr) and its step.
+      const Materials::TensionModel *tension_model;
+      double                         tension_time, tension_time_step;
+      double                         active_tension; ///< uniform [kPa]
+      Materials::CrossFibreFractions active_cross_fibre;
+      double                         viscosity;                 ///< [kPa ms]
+      double                         inverse_bulk_modulus;      ///< [1/kPa]
+      double                         reference_shear_stiffness; ///< [kPa]
+    };
+
+    /// The work space of the cell loop: FEValues, field values at the
+    /// points, the cell system and the local DoF indices.
+    struct CellScratch
+    {
+      CellScratch(const dealii::Mapping<3>       &mapping,
+                  const dealii::FiniteElement<3> &fe,
+                  const dealii::Quadrature<3>    &quadrature,
+                  const dealii::Quadrature<3>    &volumetric_quadrature,
+                  const dealii::Quadrature<2>    &face_quadrature,
+                  const unsigned int              n_cavities,
+                  const unsigned int              n_tension_states,
+                  const double                    gamma)
+        : fe_values(mapping, fe, quadrature, cell_flags())
+        , fe_volumetric(mapping, fe, volumetric_quadrature, cell_flags())
+        , fe_face(mapping,
+                  fe,
+                  face_quadrature,
+                  dealii::update_values | dealii::update_gradients |
+                    dealii::update_quadrature_points |
+                    dealii::update_normal_vectors | dealii::update_JxW_values)
+        , cell_system(fe.n_dofs_per_cell(), n_cavities)
+        , shape(fe)
+        , dofs(fe.n_dofs_per_cell())
+        , pressure_dofs(shape.p_dofs.size())
+        , displacement_dofs(shape.u_dofs.size())
+        , grad_u(quadrature.size())
+        , volumetric_grad_u(volumetric_quadrature.size())
+        , grad_v(quadrature.size())
+        , face_grad_u(face_quadrature.size())
+        , p_values(quadrature.size())
+        , face_u(face_quadrature.size())
+        , face_v(face_quadrature.size())
+        , acceleration(quadrature.size())
+        , tension_trial(n_tension_states)
+      {
+        const unsigned int n_p = shape.p_dofs.size();
+        cell_system.pressure_matrix.reinit(n_p, n_p);
+        if (gamma > 0.0)
+          {
+            cell_system.pressure_weight.reinit(n_p, n_p);
+            cell_system.inverse_weight.reinit(n_p, n_p);
+            cell_system.coupling.reinit(shape.u_dofs.size(), n_p);
+          }
+        for (auto &a : alpha_local)
+          a.reinit(fe.n_dofs_per_cell());
+      }
+
+      static dealii::UpdateFlags
+      cell_flags()
+      {
+        return dealii::update_values | dealii::update_gradients |
+               dealii::update_JxW_values;
+      }
+
+      /// The passive (and active) stress is integrated with the full Gauss
+      /// rule; in the penalty formulation the volumetric penalty may use one
+      /// point less per direction (selective reduced integration,
+      /// "Volumetric integration = reduced"), which relieves its locking.
+      dealii::FEValues<3>                          fe_values, fe_volumetric;
+      dealii::FEFaceValues<3>                      fe_face;
+      CellSystem                                   cell_system;
+      ShapeScratch                                 shape;
+      std::vector<dealii::types::global_dof_index> dofs, pressure_dofs,
+        displacement_dofs;
+      std::vector<Tensor<2, 3>> grad_u, volumetric_grad_u, grad_v, face_grad_u;
+      std::vector<double>       p_values;
+      std::vector<Tensor<1, 3>> face_u, face_v, acceleration;
+      /// int da_k[phi] dA of a loaded lid's wall face.
+      std::array<dealii::Vector<double>, 3> alpha_local;
+      /// The tension model's trial state at a point (dropped).
+      std::vector<double> tension_trial;
+    };
+
+    /// The stress and tangent at one point of the bulk term.
+    struct PointStress
+    {
+      Materials::PassiveInput  in;
+      Materials::PassiveOutput out;
+      /// 1/mu of the Schur preconditioner (0 without it).
+      double inverse_mu = 0.0;
+      /// dT/dlambda / lambda of a stretch-dependent tension (0: none).
+      double cross_fibre_slope = 0.0;
+    };
+
+    /// Two-way coupling: the tension model's step at this iterate's stretch,
+    /// from the accepted state (the trial state is dropped;
+    /// accept_tension_step() recomputes it). Returns the model's tension and
+    /// adds dS/dE += f0 x f0 x dT/dE with dT/dE = dT/dlambda f0 x f0 /
+    /// lambda (lambda^2 = 1 + 2 f0.E f0); the cross-fibre part (not major
+    /// symmetric) goes in after add_stress_point().
+    double
+    add_tension_model(const BulkMaterial  &material,
+                      const bool           with_matrix,
+                      PointData           &data,
+                      std::vector<double> &trial,
+                      PointStress         &point)
+    {
+      double       dT_dstretch, stretch;
+      const double model_tension =
+        step_tension_model(*material.tension_model,
+                           data,
+                           point.in.F,
+                           material.tension_time,
+                           material.tension_time_step,
+                           trial.data(),
+                           dT_dstretch,
+                           stretch);
+      data.model_tension = model_tension;
+      if (with_matrix && dT_dstretch != 0.0)
+        {
+          const dealii::SymmetricTensor<2, 3> ff = dealii::symmetrize(
+            dealii::outer_product(point.in.basis.f, point.in.basis.f));
+          point.out.dS_dE +=
+            (dT_dstretch / stretch) * dealii::outer_product(ff, ff);
+          point.cross_fibre_slope = dT_dstretch / stretch;
+        }
+      return model_tension;
+    }
+
+    /// The stress S and tangent dS/dE of everything at point @p q of the
+    /// bulk term: passive, volumetric (penalty on the full rule) or
+    /// pressure, active, viscous. Returns false where the element is
+    /// inverted (J <= 0).
+    bool
+    evaluate_point(const BulkMaterial    &material,
+                   const AssemblyOptions &options,
+                   const unsigned int     q,
+                   PointData             &data,
+                   CellScratch           &w,
+                   PointStress           &point)
+    {
+      Materials::PassiveInput  &in  = point.in;
+      Materials::PassiveOutput &out = point.out;
+      in.F            = dealii::unit_symmetric_tensor<3>() + w.grad_u[q];
+      in.basis        = data.basis;
+      in.with_tangent = options.with_matrix;
+      if (!(dealii::determinant(in.F) > 0.0))
+        return false;
+      material.passive_law.evaluate(in, out);
+      point.inverse_mu =
+        options.with_pressure_matrix
+          ? 1.0 / shear_stiffness(in.F,
+                                  out.dS_dE,
+                                  material.reference_shear_stiffness)
+          : 0.0;
+      if (options.mixed)
+        Materials::add_volumetric_stress(in.F,
+                                         -w.p_values[q],
+                                         0.0,
+                                         out.S,
+                                         out.dS_dE,
+                                         options.with_matrix);
+      else if (!options.reduced_volumetric)
+        material.volumetric_law.add_to(in.F, out.S, out.dS_dE);
+      // The active stress comes after the volumetric part: it is not
+      // projected.
+      double tension = material.active_tension + data.tension;
+      if (material.tension_model != nullptr)
+        tension += add_tension_model(material,
+                                     options.with_matrix,
+                                     data,
+                                     w.tension_trial,
+                                     point);
+      if (tension != 0.0)
+        Materials::add_active_stress(tension,
+                                     material.active_cross_fibre,
+                                     in.basis,
+                                     out.S);
+      // Kelvin-Voigt: S += eta dE/dt, dE/dt = sym(F^T grad v); through v
+      // (dv/du = gamma / (beta dt)) it stiffens like eta dv/du dE.
+      if (options.viscous)
+        {
+          out.S += material.viscosity *
+                   dealii::symmetrize(dealii::transpose(in.F) * w.grad_v[q]);
+          if (options.with_matrix)
+            out.dS_dE += (material.viscosity * options.velocity_coefficient) *
+                         dealii::identity_tensor<3>();
+        }
+      return true;
+    }
+
+    /// The bulk term of one cell on the full Gauss rule (w.fe_values
+    /// reinitialized, w.grad_u, w.p_values and w.grad_v filled): stress,
+    /// cross-fibre and viscous tangents, pressure rows. Returns false where
+    /// the element is inverted.
+    bool
+    add_bulk_cell(const BulkMaterial                            &material,
+                  const AssemblyOptions                         &options,
+                  const std::vector<std::shared_ptr<PointData>> &data,
+                  CellScratch                                   &w)
+    {
+      const dealii::FEValues<3> &values = w.fe_values;
+      for (const unsigned int q : values.quadrature_point_indices())
+        {
+          PointStress point;
+          if (!evaluate_point(material, options, q, *data[q], w, point))
+            return false;
+          const Tensor<2, 3> &F = point.in.F;
+          add_stress_point(values,
+                           q,
+                           F,
+                           point.out.S,
+                           point.out.dS_dE,
+                           options.with_matrix,
+                           w.shape,
+                           w.cell_system);
+          if (point.cross_fibre_slope != 0.0 &&
+              material.active_cross_fibre.any())
+            add_cross_fibre_tangent(values,
+                                    q,
+                                    F,
+                                    point.in.basis,
+                                    material.active_cross_fibre,
+                                    point.cross_fibre_slope,
+                                    w.shape,
+                                    w.cell_system);
+          if (options.viscous && options.with_matrix)
+            add_viscous_point(values.JxW(q),
+                              F,
+                              w.grad_v[q],
+                              material.viscosity,
+                              w.shape,
+                              w.cell_system);
+          if (options.mixed)
+            add_pressure_point(values,
+                               q,
+                               F,
+                               w.p_values[q],
+                               material.inverse_bulk_modulus,
+                               point.inverse_mu,
+                               options.gamma,
+                               options.with_matrix,
+                               options.with_pressure_matrix,
+                               w.shape,
+                               w.cell_system);
+        }
+      return true;
+    }
+
+    /// The volumetric penalty of one cell on its reduced rule (selective
+    /// reduced integration). Returns false where the element is inverted.
+    bool
+    add_reduced_volumetric_cell(
+      const Materials::VolumetricLaw                    &volumetric_law,
+      const dealii::FEValuesExtractors::Vector          &displacement,
+      const dealii::DoFHandler<3>::active_cell_iterator &cell,
+      const LA::MPI::Vector                             &u,
+      const bool                                         with_matrix,
+      CellScratch                                       &w)
+    {
+      w.fe_volumetric.reinit(cell);
+      w.fe_volumetric[displacement].get_function_gradients(u,
+                                                           w.volumetric_grad_u);
+      for (const unsigned int q : w.fe_volumetric.quadrature_point_indices())
+        {
+          const Tensor<2, 3> F =
+            dealii::unit_symmetric_tensor<3>() + w.volumetric_grad_u[q];
+          if (!(dealii::determinant(F) > 0.0))
+            return false;
+          SymmetricTensor<2, 3> S;
+          SymmetricTensor<4, 3> dS_dE;
+          volumetric_law.add_to(F, S, dS_dE);
+          add_stress_point(w.fe_volumetric,
+                           q,
+                           F,
+                           S,
+                           dS_dE,
+                           with_matrix,
+                           w.shape,
+                           w.cell_system);
+        }
+      return true;
+    }
+
+    /// The cavity pressures of one assembly and the loaded lids' state: per
+    /// cavity whose pressure loads its moving lid too, the fan's apex c,
+    /// the wall's vector area (summed over the faces) for the lid's force
+    /// on the rim and, with the matrix, alpha_k = int da_k[phi] dA of the
+    /// wall (its rank-6 rim-wall coupling, low_rank_u/v).
+    struct PressureLoads
+    {
+      const dealii::Vector<double>                  &pressures;
+      const std::vector<dealii::types::boundary_id> &pressure_ids;
+      std::vector<bool>                              lid_loaded;
+      std::vector<dealii::Point<3>>                  lid_apex;
+      std::vector<Tensor<1, 3>>                      lid_area;
+      std::vector<std::array<LA::MPI::Vector, 3>>    lid_alpha;
+    };
+
+    /// The loads of @p pressures and, for every cavity whose lid is loaded
+    /// (@p lid_loaded), the fan's apex at the displacement @p u and, @p
+    /// with_matrix, the zeroed alpha_k.
+    PressureLoads
+    pressure_loads(const dealii::Vector<double>                  &pressures,
+                   const std::vector<dealii::types::boundary_id> &pressure_ids,
+                   const std::vector<CavityVolume>               &cavities,
+                   const std::function<bool(unsigned int)>       &lid_loaded,
+                   const dealii::DoFHandler<3>                   &dof_handler,
+                   const LA::MPI::Vector                         &u,
+                   const bool                                     with_matrix,
+                   const dealii::IndexSet                        &owned,
+                   const MPI_Comm                                 comm)
+    {
+      PressureLoads loads{pressures, pressure_ids, {}, {}, {}, {}};
+      loads.lid_loaded.resize(pressure_ids.size());
+      for (unsigned int i = 0; i < pressure_ids.size(); ++i)
+        loads.lid_loaded[i] = i < cavities.size() && lid_loaded(i);
+      loads.lid_apex.resize(cavities.size());
+      loads.lid_area.resize(cavities.size());
+      loads.lid_alpha.resize(cavities.size());
+      for (unsigned int i = 0; i < cavities.size(); ++i)
+        if (lid_loaded(i))
+          {
+            loads.lid_apex[i] = cavities[i].rim_center(dof_handler, u);
+            if (with_matrix)
+              for (auto &a : loads.lid_alpha[i])
+                a.reinit(owned, comm);
+          }
+      return loads;
+    }
+
+    /// The pressure load of the wall face w.fe_face of part @p part (and its
+    /// cavity's flux B_i = dV_i/du, the load per unit pressure, @p
+    /// with_volume_derivative). For a rim-fan cavity
+    /// (CavityVolume::Closure::rim_fan) whose rim moves, dV_i/du has the
+    /// lid's flux too; the bordered Newton then uses this B in its volume
+    /// row, so its Jacobian is not exact there (problem.h).
+    void
+    add_pressure_face(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                      const unsigned int                                 part,
+                      const AssemblyOptions                    &options,
+                      const dealii::FEValuesExtractors::Vector &displacement,
+                      const LA::MPI::Vector                    &u,
+                      const dealii::AffineConstraints<double>  &constraints,
+                      PressureLoads                            &loads,
+                      CellScratch                              &w)
+    {
+      CellSystem  &cell_system = w.cell_system;
+      const double pressure    = loads.pressures[part];
+      w.fe_face[displacement].get_function_gradients(u, w.face_grad_u);
+      if (options.with_volume_derivative)
+        {
+          add_volume_flux(w.fe_face,
+                          w.face_grad_u,
+                          -1.0,
+                          cell_system.volume_derivative[part],
+                          nullptr);
+          cell_system.on_cavity[part] = true;
+        }
+      dealii::FullMatrix<double> *matrix =
+        options.with_matrix ? &cell_system.matrix : nullptr;
+      // R -= p dV/du, K -= p d2V/du2 with the wall normal: the pressure
+      // pushes the wall along -N (into the body). With the lid loaded too:
+      // the fan's dV/du and d2V/du2 (at fixed c; the lid's force on the rim
+      // in add_lid_rim_terms()).
+      if (!loads.lid_loaded[part])
+        {
+          if (pressure != 0.0)
+            add_volume_flux(w.fe_face,
+                            w.face_grad_u,
+                            pressure,
+                            cell_system.residual,
+                            matrix);
+          return;
+        }
+      w.fe_face[displacement].get_function_values(u, w.face_u);
+      for (auto &a : w.alpha_local)
+        a = 0;
+      CavityVolume::add_fan_face(w.fe_face,
+                                 w.face_u,
+                                 w.face_grad_u,
+                                 loads.lid_apex[part],
+                                 -pressure,
+                                 cell_system.residual,
+                                 matrix,
+                                 loads.lid_area[part],
+                                 &w.alpha_local);
+      if (options.with_matrix)
+        {
+          cell->get_dof_indices(w.dofs);
+          for (unsigned int k = 0; k < 3; ++k)
+            constraints.distribute_local_to_global(w.alpha_local[k],
+                                                   w.dofs,
+                                                   loads.lid_alpha[part][k]);
+        }
+    }
+
+    /// The boundary terms of one cell: pressure loads (and cavity fluxes)
+    /// and the spring-dashpot supports.
+    void
+    add_boundary_cell(
+      const dealii::DoFHandler<3>::active_cell_iterator        &cell,
+      const AssemblyOptions                                    &options,
+      const dealii::FEValuesExtractors::Vector                 &displacement,
+      const LA::MPI::Vector                                    &u,
+      const LA::MPI::Vector                                    &velocity,
+      const dealii::AffineConstraints<double>                  &constraints,
+      const std::map<dealii::types::boundary_id, RobinSupport> &robin_supports,
+      PressureLoads                                            &loads,
+      CellScratch                                              &w)
+    {
+      CellSystem &cell_system = w.cell_system;
+      for (unsigned int i = 0; i < cell_system.on_cavity.size(); ++i)
+        if (cell_system.on_cavity[i])
+          {
+            cell_system.volume_derivative[i] = 0;
+            cell_system.on_cavity[i]         = false;
+          }
+      if (!cell->at_boundary())
+        return;
+      for (const auto &face : cell->face_iterators())
+        {
+          if (!face->at_boundary())
+            continue;
+          const auto id = face->boundary_id();
+          // The pressure part of the face (the cavity, when there are
+          // cavities), if any.
+          const auto part = std::find(loads.pressure_ids.begin(),
+                                      loads.pressure_ids.end(),
+                                      id) -
+                            loads.pressure_ids.begin();
+          if (part < static_cast<std::ptrdiff_t>(loads.pressure_ids.size()) &&
+              (loads.pressures[part] != 0.0 || options.with_volume_derivative))
+            {
+              w.fe_face.reinit(cell, face);
+              add_pressure_face(cell,
+                                part,
+                                options,
+                                displacement,
+                                u,
+                                constraints,
+                                loads,
+                                w);
+            }
+          const auto support = robin_supports.find(id);
+          if (support == robin_supports.end())
+            continue;
+          w.fe_face.reinit(cell, face);
+          w.fe_face[displacement].get_function_values(u, w.face_u);
+          if (options.with_rates && support->second.damping != 0.0)
+            w.fe_face[displacement].get_function_values(velocity, w.face_v);
+          add_robin_face(w.fe_face,
+                         w.face_u,
+                         w.face_v,
+                         support->second,
+                         options.with_rates,
+                         options.velocity_coefficient,
+                         options.with_matrix,
+                         w.shape,
+                         cell_system);
+        }
+    }
+
+    /// The inertia of one cell (w.fe_values reinitialized): int rho phi_i .
+    /// A dV / (1 - alpha_f) and c int rho phi_i . phi_j dV / (1 - alpha_f)
+    /// (the same component), A the effective acceleration.
+    void
+    add_inertia_cell(const dealii::FiniteElement<3>           &fe,
+                     const double                              density,
+                     const AssemblyOptions                    &options,
+                     const dealii::FEValuesExtractors::Vector &displacement,
+                     const LA::MPI::Vector &effective_acceleration,
+                     CellScratch           &w)
+    {
+      const dealii::FEValues<3> &values = w.fe_values;
+      const unsigned int         n      = fe.n_dofs_per_cell();
+      values[displacement].get_function_values(effective_acceleration,
+                                               w.acceleration);
+      for (const unsigned int q : values.quadrature_point_indices())
+        {
+          const double w_q        = density * values.JxW(q);
+          const double w_residual = w_q * options.inertia_weight;
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              const unsigned int ci    = fe.system_to_component_index(i).first;
+              const double       phi_i = values.shape_value(i, q);
+              w.cell_system.residual(i) +=
+                w_residual * phi_i * w.acceleration[q][ci];
+              if (options.with_matrix)
+                for (unsigned int j = 0; j < n; ++j)
+                  if (fe.system_to_component_index(j).first == ci)
+                    w.cell_system.matrix(i, j) += options.mass_weight * w_q *
+                                                  phi_i *
+                                                  values.shape_value(j, q);
+            }
+        }
+    }
+
+    /// The global objects one assembly adds to.
+    struct GlobalSystem
+    {
+      const dealii::AffineConstraints<double> &constraints;
+      LA::MPI::SparseMatrix                   &tangent;
+      LA::MPI::Vector                         &residual;
+      std::vector<LA::MPI::Vector>            &volume_derivatives;
+      PressureMatrix                          *pressure_matrix;
+      LA::MPI::SparseMatrix                   *augmentation;
+    };
+
+    /// Add the cell system of @p cell to the global objects (condensed by
+    /// the constraints).
+    void
+    distribute_cell(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                    const AssemblyOptions                             &options,
+                    GlobalSystem                                      &global,
+                    CellScratch                                       &w)
+    {
+      const CellSystem   &cell_system = w.cell_system;
+      const ShapeScratch &s           = w.shape;
+      cell->get_dof_indices(w.dofs);
+      if (options.with_matrix)
+        global.constraints.distribute_local_to_global(cell_system.matrix,
+                                                      cell_system.residual,
+                                                      w.dofs,
+                                                      global.tangent,
+                                                      global.residual);
+      else
+        global.constraints.distribute_local_to_global(cell_system.residual,
+                                                      w.dofs,
+                                                      global.residual);
+      if (options.with_volume_derivative)
+        for (unsigned int i = 0; i < cell_system.on_cavity.size(); ++i)
+          if (cell_system.on_cavity[i])
+            global.constraints.distribute_local_to_global(
+              cell_system.volume_derivative[i],
+              w.dofs,
+              global.volume_derivatives[i]);
+      if (options.with_pressure_matrix)
+        {
+          for (unsigned int i = 0; i < s.p_dofs.size(); ++i)
+            w.pressure_dofs[i] = w.dofs[s.p_dofs[i]];
+          global.pressure_matrix->add(w.pressure_dofs,
+                                      cell_system.pressure_matrix);
+        }
+      if (options.gamma > 0.0)
+        {
+          for (unsigned int i = 0; i < s.u_dofs.size(); ++i)
+            w.displacement_dofs[i] = w.dofs[s.u_dofs[i]];
+          global.constraints.distribute_local_to_global(cell_system.coupling,
+                                                        w.displacement_dofs,
+                                                        w.pressure_dofs,
+                                                        *global.augmentation);
+        }
+    }
+
+    /// Elastodynamics: the effective acceleration (1 - alpha_m) a_{n+1} +
+    /// alpha_m a_n + c_M ((1 - alpha_f) v_{n+1} + alpha_f v_n) of the
+    /// current displacement @p u_owned, and, @p with_velocity, v_{n+1} for
+    /// the rate terms.
+    void
+    update_dynamic_rates(const LA::MPI::Vector  &u_owned,
+                         const dealii::IndexSet &owned,
+                         const MPI_Comm          comm,
+                         const bool              with_velocity,
+                         Dynamics               &dynamics)
+    {
+      LA::MPI::Vector a(owned, comm), v(owned, comm), A(owned, comm);
+      dynamics.rates(u_owned, a, v);
+      A = a;
+      A *= 1.0 - dynamics.alpha_m;
+      A.add(dynamics.alpha_m, dynamics.a_n);
+      if (dynamics.mass_damping != 0.0)
+        {
+          A.add(dynamics.mass_damping * (1.0 - dynamics.alpha_f), v);
+          A.add(dynamics.mass_damping * dynamics.alpha_f, dynamics.v_n);
+        }
+      dynamics.effective_acceleration = A;
+      if (with_velocity)
+        dynamics.velocity = v;
+    }
+
+    /// The switches of an assembly from its arguments and the problem's
+    /// state (the dynamic coefficients stay 0 when quasi-static).
+    AssemblyOptions
+    assembly_options(const bool      with_matrix,
+                     const bool      with_volume_derivative,
+                     const bool      mixed,
+                     const bool      has_pressure_matrix,
+                     const double    augmented_lagrangian,
+                     const bool      reduced_volumetric,
+                     const double    viscosity,
+                     const Dynamics &dynamics)
+    {
+      AssemblyOptions options;
+      options.with_matrix            = with_matrix;
+      options.with_volume_derivative = with_volume_derivative;
+      options.mixed                  = mixed;
+      options.with_pressure_matrix =
+        with_matrix && mixed && has_pressure_matrix;
+      options.reduced_volumetric = reduced_volumetric;
+      // The augmented Lagrangian of the iterative solver (augmentation: G;
+      // augmented_lagrangian is 0 without it).
+      options.gamma = options.with_pressure_matrix ? augmented_lagrangian : 0.0;
+      // Elastodynamics: the residual becomes R(u) + (alpha_f R(u_n) + M
+      // A(u)) / (1 - alpha_f), A the effective acceleration (problem_impl.h,
+      // Dynamics), and the tangent K + c / (1 - alpha_f) M: the generalized-
+      // alpha balance divided by 1 - alpha_f, so that the cavity pressures
+      // enter as in the quasi-static residual (dR/dp_i = -dV_i/du, the
+      // border of the volume-constrained solves) and the tolerances keep
+      // their scale.
+      options.dynamic = dynamics.started && dynamics.time_step > 0.0;
+      if (options.dynamic)
+        {
+          options.inertia_weight = 1.0 / (1.0 - dynamics.alpha_f);
+          options.mass_weight =
+            dynamics.effective_mass_coefficient() * options.inertia_weight;
+          options.velocity_coefficient = dynamics.velocity_coefficient();
+        }
+      // The rate terms (Kelvin-Voigt viscosity, dashpots) in a time step and
+      // in the accepted state's residual R(u_n, v_n).
+      options.with_rates =
+        dynamics.started && (options.dynamic || dynamics.accepting);
+      options.viscous = options.with_rates && viscosity != 0.0;
+      return options;
+    }
+
+    /// Zero what this assembly adds to.
+    void
+    clear_global_system(const AssemblyOptions &options, GlobalSystem &global)
+    {
+      if (options.with_matrix)
+        global.tangent = 0;
+      if (options.with_pressure_matrix)
+        global.pressure_matrix->zero();
+      if (options.gamma > 0.0)
+        *global.augmentation = 0;
+      global.residual = 0;
+      if (options.with_volume_derivative)
+        for (auto &b : global.volume_derivatives)
+          b = 0;
+    }
+
+    /// Exchange the off-rank contributions (volume_derivatives: the caller
+    /// compresses them).
+    void
+    compress_global_system(const AssemblyOptions &options, GlobalSystem &global)
+    {
+      if (options.with_matrix)
+        global.tangent.compress(dealii::VectorOperation::add);
+      if (options.with_pressure_matrix)
+        global.pressure_matrix->compress();
+      if (options.gamma > 0.0)
+        global.augmentation->compress(dealii::VectorOperation::add);
+      global.residual.compress(dealii::VectorOperation::add);
+    }
+
+    /// Start @p cell: the field values on the full rule (u, p, v as needed)
+    /// and the cell system zeroed.
+    void
+    begin_cell(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+               const AssemblyOptions                             &options,
+               const FieldLayout                                 &layout,
+               const LA::MPI::Vector                             &u,
+               const LA::MPI::Vector                             &velocity,
+               CellScratch                                       &w)
+    {
+      w.fe_values.reinit(cell);
+      w.fe_values[layout.displacement].get_function_gradients(u, w.grad_u);
+      if (options.mixed)
+        w.fe_values[layout.pressure].get_function_values(u, w.p_values);
+      if (options.viscous)
+        w.fe_values[layout.displacement].get_function_gradients(velocity,
+                                                                w.grad_v);
+      w.cell_system.matrix          = 0;
+      w.cell_system.residual        = 0;
+      w.cell_system.pressure_matrix = 0;
+      if (options.gamma > 0.0)
+        w.cell_system.pressure_weight = 0;
+    }
+
+    /// What the terms of a cell read besides the cell: the switches, the
+    /// material, the fields and the boundary conditions.
+    struct CellTerms
+    {
+      const AssemblyOptions                                    &options;
+      const BulkMaterial                                        material;
+      const FieldLayout                                        &layout;
+      const dealii::FiniteElement<3>                           &fe;
+      const LA::MPI::Vector                                    &u;
+      const Dynamics                                           &dynamics;
+      const dealii::AffineConstraints<double>                  &constraints;
+      const std::map<dealii::types::boundary_id, RobinSupport> &robin_supports;
+      const double                                              density;
+    };
+
+    /// Every term of the locally owned @p cell (point data @p data) into
+    /// @p global (the lids' alpha into @p loads). Returns false, adding
+    /// nothing, where the element is inverted.
+    bool
+    assemble_cell(const CellTerms                                   &terms,
+                  const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                  const std::vector<std::shared_ptr<PointData>>     &data,
+                  PressureLoads                                     &loads,
+                  GlobalSystem                                      &global,
+                  CellScratch                                       &w)
+    {
+      const AssemblyOptions                    &options = terms.options;
+      const dealii::FEValuesExtractors::Vector &displacement =
+        terms.layout.displacement;
+      begin_cell(cell,
+                 options,
+                 terms.layout,
+                 terms.u,
+                 terms.dynamics.velocity,
+                 w);
+      if (!add_bulk_cell(terms.material, options, data, w))
+        return false;
+      if (options.reduced_volumetric &&
+          !add_reduced_volumetric_cell(terms.material.volumetric_law,
+                                       displacement,
+                                       cell,
+                                       terms.u,
+                                       options.with_matrix,
+                                       w))
+        return false;
+      if (options.with_matrix)
+        finish_displacement_block(w.shape, w.cell_system);
+      // (Before the boundary terms: the pressure rows hold B and K_pp
+      // alone.)
+      if (options.gamma > 0.0)
+        add_augmented_lagrangian(options.gamma, w.shape, w.cell_system);
+      add_boundary_cell(cell,
+                        options,
+                        displacement,
+                        terms.u,
+                        terms.dynamics.velocity,
+                        terms.constraints,
+                        terms.robin_supports,
+                        loads,
+                        w);
+      if (options.dynamic)
+        add_inertia_cell(terms.fe,
+                         terms.density,
+                         options,
+                         displacement,
+                         terms.dynamics.effective_acceleration,
+                         w);
+      distribute_cell(cell, options, global, w);
+      return true;
+    }
   } // namespace
 
   double
@@ -466,55 +1246,6 @@ namespace systole::Mechanics
   {
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
     last_active_tension = active_tension;
-    const bool mixed    = layout.mixed();
-    const bool with_pressure_matrix =
-      with_matrix && mixed && pressure_matrix != nullptr;
-
-    // The passive (and active) stress is integrated with the full Gauss rule;
-    // in the penalty formulation the volumetric penalty may use one point
-    // less per direction (selective reduced integration, "Volumetric
-    // integration = reduced"), which relieves its locking.
-    const dealii::Quadrature<3> quadrature = cell_quadrature(n_q_1d);
-    const dealii::Quadrature<3> volumetric_quadrature =
-      cell_quadrature(reduced_volumetric ? n_q_1d - 1 : n_q_1d);
-    const dealii::Quadrature<2> face_quadrature =
-      this->face_quadrature(n_q_face_1d);
-    const auto cell_flags = dealii::update_values | dealii::update_gradients |
-                            dealii::update_JxW_values;
-    dealii::FEValues<3>     fe_values(mapping, *fe, quadrature, cell_flags);
-    dealii::FEValues<3>     fe_volumetric(mapping,
-                                      *fe,
-                                      volumetric_quadrature,
-                                      cell_flags);
-    dealii::FEFaceValues<3> fe_face(mapping,
-                                    *fe,
-                                    face_quadrature,
-                                    dealii::update_values |
-                                      dealii::update_gradients |
-                                      dealii::update_quadrature_points |
-                                      dealii::update_normal_vectors |
-                                      dealii::update_JxW_values);
-
-    const unsigned int n = fe->n_dofs_per_cell();
-    CellSystem         cell_system(n, cavities.size());
-    ShapeScratch       scratch(*fe);
-    cell_system.pressure_matrix.reinit(scratch.p_dofs.size(),
-                                       scratch.p_dofs.size());
-    // The augmented Lagrangian of the iterative solver (augmentation: G).
-    const double gamma = with_pressure_matrix && augmentation != nullptr
-                           ? augmented_lagrangian
-                           : 0.0;
-    if (gamma > 0.0)
-      {
-        cell_system.pressure_weight.reinit(scratch.p_dofs.size(),
-                                           scratch.p_dofs.size());
-        cell_system.inverse_weight.reinit(scratch.p_dofs.size(),
-                                          scratch.p_dofs.size());
-        cell_system.coupling.reinit(scratch.u_dofs.size(),
-                                    scratch.p_dofs.size());
-      }
-    std::vector<dealii::types::global_dof_index> displacement_dofs(
-      scratch.u_dofs.size());
     AssertThrow(!with_volume_derivative || !cavities.empty(),
                 dealii::ExcMessage("This problem has no cavity."));
     AssertThrow(pressures.size() == pressure_ids.size(),
@@ -522,431 +1253,92 @@ namespace systole::Mechanics
                   "Mechanics: " + std::to_string(pressures.size()) +
                   " pressures given for " +
                   std::to_string(pressure_ids.size()) + " pressure parts."));
-    std::vector<dealii::types::global_dof_index> dofs(n),
-      pressure_dofs(scratch.p_dofs.size());
-    std::vector<Tensor<2, 3>> grad_u(quadrature.size()),
-      face_grad_u(face_quadrature.size());
-    std::vector<double>       p_values(quadrature.size());
-    std::vector<Tensor<1, 3>> face_u(face_quadrature.size());
-    // Cavities whose pressure loads their moving lid too: the fan's apex c,
-    // and the wall's vector area (summed below) for the lid's force on the
-    // rim.
-    std::vector<dealii::Point<3>> lid_apex(cavities.size());
-    std::vector<Tensor<1, 3>>     lid_area(cavities.size());
-    // With the matrix: alpha_k = int da_k[phi] dA of each loaded lid's wall
-    // (its rank-6 rim-wall coupling, low_rank_u/v).
-    std::vector<std::array<LA::MPI::Vector, 3>> lid_alpha(cavities.size());
-    std::array<dealii::Vector<double>, 3>       alpha_local;
-    for (auto &a : alpha_local)
-      a.reinit(n);
-    for (unsigned int i = 0; i < cavities.size(); ++i)
-      if (lid_loaded(i))
-        {
-          lid_apex[i] = cavities[i].rim_center(dof_handler, u);
-          if (with_matrix)
-            for (auto &a : lid_alpha[i])
-              a.reinit(owned, comm);
-        }
+    const AssemblyOptions options =
+      assembly_options(with_matrix,
+                       with_volume_derivative,
+                       layout.mixed(),
+                       pressure_matrix != nullptr,
+                       augmentation != nullptr ? augmented_lagrangian : 0.0,
+                       reduced_volumetric,
+                       params.viscosity,
+                       dynamics);
 
-    // Elastodynamics: the residual becomes R(u) + (alpha_f R(u_n) + M
-    // A(u)) / (1 - alpha_f), A the effective acceleration (problem_impl.h,
-    // Dynamics), and the tangent K + c / (1 - alpha_f) M: the generalized-
-    // alpha balance divided by 1 - alpha_f, so that the cavity pressures
-    // enter as in the quasi-static residual (dR/dp_i = -dV_i/du, the border
-    // of the volume-constrained solves) and the tolerances keep their scale.
-    const bool   dynamic = dynamics.started && dynamics.time_step > 0.0;
-    const double inertia_weight =
-      dynamic ? 1.0 / (1.0 - dynamics.alpha_f) : 0.0;
-    const double mass_weight =
-      dynamic ? dynamics.effective_mass_coefficient() * inertia_weight : 0.0;
-    std::vector<Tensor<1, 3>> acceleration(quadrature.size());
-    if (dynamic)
+    PressureLoads loads = pressure_loads(
+      pressures,
+      pressure_ids,
+      cavities,
+      [this](const unsigned int i) { return lid_loaded(i); },
+      dof_handler,
+      u,
+      with_matrix,
+      owned,
+      comm);
+    if (options.dynamic)
       {
-        AssertThrow(!mixed,
+        AssertThrow(!options.mixed,
                     dealii::ExcMessage("Mechanics: the inertia is implemented "
                                        "for the penalty formulation only."));
-        LA::MPI::Vector a(owned, comm), v(owned, comm), A(owned, comm);
-        dynamics.rates(u_owned, a, v);
-        A = a;
-        A *= 1.0 - dynamics.alpha_m;
-        A.add(dynamics.alpha_m, dynamics.a_n);
-        if (dynamics.mass_damping != 0.0)
-          {
-            A.add(dynamics.mass_damping * (1.0 - dynamics.alpha_f), v);
-            A.add(dynamics.mass_damping * dynamics.alpha_f, dynamics.v_n);
-          }
-        dynamics.effective_acceleration = A;
-        if (params.viscosity != 0.0 || !robin_supports.empty())
-          dynamics.velocity = v;
+        update_dynamic_rates(u_owned,
+                             owned,
+                             comm,
+                             params.viscosity != 0.0 || !robin_supports.empty(),
+                             dynamics);
       }
-    // The rate terms (Kelvin-Voigt viscosity, dashpots) in a time step and
-    // in the accepted state's residual R(u_n, v_n).
-    const bool with_rates = dynamics.started && (dynamic || dynamics.accepting);
-    const bool viscous    = with_rates && params.viscosity != 0.0;
-    const double velocity_coefficient =
-      dynamic ? dynamics.velocity_coefficient() : 0.0;
-    std::vector<Tensor<2, 3>> grad_v(quadrature.size());
-    std::vector<Tensor<1, 3>> face_v(face_quadrature.size());
 
+    GlobalSystem global{constraints,
+                        tangent,
+                        residual,
+                        volume_derivatives,
+                        pressure_matrix.get(),
+                        augmentation.get()};
     if (with_matrix)
-      {
-        tangent            = 0;
-        have_factorization = false; // PETSc would refactorize on next solve
-      }
-    if (with_pressure_matrix)
-      pressure_matrix->zero();
-    if (gamma > 0.0)
-      *augmentation = 0;
-    residual = 0;
-    if (with_volume_derivative)
-      for (auto &b : volume_derivatives)
-        b = 0;
+      have_factorization = false; // PETSc would refactorize on next solve
+    clear_global_system(options, global);
 
-    std::vector<double> tension_trial(
-      tension_model != nullptr ? tension_model->n_states() : 0);
-    unsigned int inverted = 0;
+    CellScratch     w(mapping,
+                  *fe,
+                  cell_quadrature(n_q_1d),
+                  cell_quadrature(reduced_volumetric ? n_q_1d - 1 : n_q_1d),
+                  face_quadrature(n_q_face_1d),
+                  cavities.size(),
+                  tension_model != nullptr ? tension_model->n_states() : 0,
+                  options.gamma);
+    const CellTerms terms{options,
+                          {passive_law,
+                           volumetric_law,
+                           tension_model,
+                           tension_time,
+                           tension_time_step,
+                           active_tension,
+                           params.active_cross_fibre,
+                           params.viscosity,
+                           inverse_bulk_modulus,
+                           reference_shear_stiffness},
+                          layout,
+                          *fe,
+                          u,
+                          dynamics,
+                          constraints,
+                          robin_supports,
+                          params.density};
+    unsigned int    inverted = 0;
     for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        if (!cell->is_locally_owned() || inverted)
-          continue;
-        fe_values.reinit(cell);
-        fe_values[layout.displacement].get_function_gradients(u, grad_u);
-        if (mixed)
-          fe_values[layout.pressure].get_function_values(u, p_values);
-        if (viscous)
-          fe_values[layout.displacement]
-            .get_function_gradients(dynamics.velocity, grad_v);
-        cell_system.matrix          = 0;
-        cell_system.residual        = 0;
-        cell_system.pressure_matrix = 0;
-        if (gamma > 0.0)
-          cell_system.pressure_weight = 0;
-        const auto data = point_data.get_data(cell);
+      if (cell->is_locally_owned() && !assemble_cell(terms,
+                                                     cell,
+                                                     point_data.get_data(cell),
+                                                     loads,
+                                                     global,
+                                                     w))
+        {
+          inverted = 1; // the assembly is void: skip the other cells
+          break;
+        }
 
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          {
-            Materials::PassiveInput in;
-            in.F            = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-            in.basis        = data[q]->basis;
-            in.with_tangent = with_matrix;
-            if (!(dealii::determinant(in.F) > 0.0))
-              {
-                inverted = 1;
-                break;
-              }
-            Materials::PassiveOutput out;
-            passive_law.evaluate(in, out);
-            const double inverse_mu =
-              with_pressure_matrix
-                ? 1.0 /
-                    shear_stiffness(in.F, out.dS_dE, reference_shear_stiffness)
-                : 0.0;
-            if (mixed)
-              Materials::add_volumetric_stress(in.F,
-                                               -p_values[q],
-                                               0.0,
-                                               out.S,
-                                               out.dS_dE,
-                                               with_matrix);
-            else if (!reduced_volumetric)
-              volumetric_law.add_to(in.F, out.S, out.dS_dE);
-            // The active stress comes after the volumetric part: it is not
-            // projected.
-            double tension = active_tension + data[q]->tension;
-            // dT/dlambda / lambda of a stretch-dependent tension, for the
-            // tangent of its cross-fibre part.
-            double cross_fibre_slope = 0.0;
-            if (tension_model != nullptr)
-              {
-                // Two-way coupling: the model's step at this iterate's
-                // stretch, from the accepted state (the trial state is
-                // dropped; accept_tension_step() recomputes it).
-                double       dT_dstretch, stretch;
-                const double model_tension =
-                  step_tension_model(*tension_model,
-                                     *data[q],
-                                     in.F,
-                                     tension_time,
-                                     tension_time_step,
-                                     tension_trial.data(),
-                                     dT_dstretch,
-                                     stretch);
-                data[q]->model_tension = model_tension;
-                tension += model_tension;
-                // dS/dE += f0 x f0 x dT/dE with dT/dE = dT/dlambda f0 x f0 /
-                // lambda (lambda^2 = 1 + 2 f0.E f0). The cross-fibre part
-                // (not major symmetric) goes in after add_stress_point().
-                if (with_matrix && dT_dstretch != 0.0)
-                  {
-                    const dealii::SymmetricTensor<2, 3> ff = dealii::symmetrize(
-                      dealii::outer_product(in.basis.f, in.basis.f));
-                    out.dS_dE +=
-                      (dT_dstretch / stretch) * dealii::outer_product(ff, ff);
-                    cross_fibre_slope = dT_dstretch / stretch;
-                  }
-              }
-            if (tension != 0.0)
-              Materials::add_active_stress(tension,
-                                           params.active_cross_fibre,
-                                           in.basis,
-                                           out.S);
-            // Kelvin-Voigt: S += eta dE/dt, dE/dt = sym(F^T grad v); through
-            // v (dv/du = gamma / (beta dt)) it stiffens like eta dv/du dE.
-            if (viscous)
-              {
-                out.S +=
-                  params.viscosity *
-                  dealii::symmetrize(dealii::transpose(in.F) * grad_v[q]);
-                if (with_matrix)
-                  out.dS_dE += (params.viscosity * velocity_coefficient) *
-                               dealii::identity_tensor<3>();
-              }
-            add_stress_point(fe_values,
-                             q,
-                             in.F,
-                             out.S,
-                             out.dS_dE,
-                             with_matrix,
-                             scratch,
-                             cell_system);
-            if (cross_fibre_slope != 0.0 && params.active_cross_fibre.any())
-              add_cross_fibre_tangent(fe_values,
-                                      q,
-                                      in.F,
-                                      in.basis,
-                                      params.active_cross_fibre,
-                                      cross_fibre_slope,
-                                      scratch,
-                                      cell_system);
-            if (viscous && with_matrix)
-              add_viscous_point(fe_values.JxW(q),
-                                in.F,
-                                grad_v[q],
-                                params.viscosity,
-                                scratch,
-                                cell_system);
-            if (mixed)
-              add_pressure_point(fe_values,
-                                 q,
-                                 in.F,
-                                 p_values[q],
-                                 inverse_bulk_modulus,
-                                 inverse_mu,
-                                 gamma,
-                                 with_matrix,
-                                 with_pressure_matrix,
-                                 scratch,
-                                 cell_system);
-          }
-
-        if (reduced_volumetric && !inverted)
-          {
-            fe_volumetric.reinit(cell);
-            fe_volumetric[layout.displacement].get_function_gradients(u,
-                                                                      grad_u);
-            for (const unsigned int q :
-                 fe_volumetric.quadrature_point_indices())
-              {
-                const Tensor<2, 3> F =
-                  dealii::unit_symmetric_tensor<3>() + grad_u[q];
-                if (!(dealii::determinant(F) > 0.0))
-                  {
-                    inverted = 1;
-                    break;
-                  }
-                SymmetricTensor<2, 3> S;
-                SymmetricTensor<4, 3> dS_dE;
-                volumetric_law.add_to(F, S, dS_dE);
-                add_stress_point(fe_volumetric,
-                                 q,
-                                 F,
-                                 S,
-                                 dS_dE,
-                                 with_matrix,
-                                 scratch,
-                                 cell_system);
-              }
-          }
-        if (inverted)
-          continue;
-        if (with_matrix)
-          finish_displacement_block(scratch, cell_system);
-        // (Before the boundary terms: the pressure rows hold B and K_pp
-        // alone.)
-        if (gamma > 0.0)
-          add_augmented_lagrangian(gamma, scratch, cell_system);
-
-        // Boundary terms.
-        for (unsigned int i = 0; i < cavities.size(); ++i)
-          if (cell_system.on_cavity[i])
-            {
-              cell_system.volume_derivative[i] = 0;
-              cell_system.on_cavity[i]         = false;
-            }
-        if (cell->at_boundary())
-          for (const auto &face : cell->face_iterators())
-            {
-              if (!face->at_boundary())
-                continue;
-              const auto id = face->boundary_id();
-              // The pressure part of the face (the cavity, when there are
-              // cavities), if any.
-              const auto part =
-                std::find(pressure_ids.begin(), pressure_ids.end(), id) -
-                pressure_ids.begin();
-              const bool on_part =
-                part < static_cast<std::ptrdiff_t>(pressure_ids.size());
-              if (on_part && (pressures[part] != 0.0 || with_volume_derivative))
-                {
-                  fe_face.reinit(cell, face);
-                  fe_face[layout.displacement]
-                    .get_function_gradients(u, face_grad_u);
-                  // B_i = the endocardial flux, the load per unit pressure.
-                  // For a rim-fan cavity (CavityVolume::Closure::rim_fan)
-                  // whose rim moves, dV_i/du has the lid's flux too; the
-                  // bordered Newton then uses this B in its volume row, so
-                  // its Jacobian is not exact there (problem.h).
-                  if (with_volume_derivative)
-                    {
-                      add_volume_flux(fe_face,
-                                      face_grad_u,
-                                      -1.0,
-                                      cell_system.volume_derivative[part],
-                                      nullptr);
-                      cell_system.on_cavity[part] = true;
-                    }
-                  // R -= p dV/du, K -= p d2V/du2 with the wall normal: the
-                  // pressure pushes the wall along -N (into the body).
-                  // With the lid loaded too: the fan's dV/du and d2V/du2
-                  // (at fixed c; the lid's force on the rim below).
-                  if (lid_loaded(part))
-                    {
-                      fe_face[layout.displacement].get_function_values(u,
-                                                                       face_u);
-                      for (auto &a : alpha_local)
-                        a = 0;
-                      CavityVolume::add_fan_face(fe_face,
-                                                 face_u,
-                                                 face_grad_u,
-                                                 lid_apex[part],
-                                                 -pressures[part],
-                                                 cell_system.residual,
-                                                 with_matrix
-                                                   ? &cell_system.matrix
-                                                   : nullptr,
-                                                 lid_area[part],
-                                                 &alpha_local);
-                      if (with_matrix)
-                        {
-                          cell->get_dof_indices(dofs);
-                          for (unsigned int k = 0; k < 3; ++k)
-                            constraints.distribute_local_to_global(
-                              alpha_local[k],
-                              dofs,
-                              lid_alpha[part][k]);
-                        }
-                    }
-                  else if (pressures[part] != 0.0)
-                    add_volume_flux(fe_face,
-                                    face_grad_u,
-                                    pressures[part],
-                                    cell_system.residual,
-                                    with_matrix ? &cell_system.matrix
-                                                : nullptr);
-                }
-              const auto support = robin_supports.find(id);
-              if (support != robin_supports.end())
-                {
-                  fe_face.reinit(cell, face);
-                  fe_face[layout.displacement].get_function_values(u, face_u);
-                  if (with_rates && support->second.damping != 0.0)
-                    fe_face[layout.displacement]
-                      .get_function_values(dynamics.velocity, face_v);
-                  add_robin_face(fe_face,
-                                 face_u,
-                                 face_v,
-                                 support->second,
-                                 with_rates,
-                                 velocity_coefficient,
-                                 with_matrix,
-                                 scratch,
-                                 cell_system);
-                }
-            }
-
-        if (dynamic)
-          {
-            // The inertia: int rho phi_i . A dV / (1 - alpha_f) and c int
-            // rho phi_i . phi_j dV / (1 - alpha_f) (the same component).
-            fe_values[layout.displacement].get_function_values(
-              dynamics.effective_acceleration,
-              acceleration);
-            for (const unsigned int q : fe_values.quadrature_point_indices())
-              {
-                const double w          = params.density * fe_values.JxW(q);
-                const double w_residual = w * inertia_weight;
-                for (unsigned int i = 0; i < n; ++i)
-                  {
-                    const unsigned int ci =
-                      fe->system_to_component_index(i).first;
-                    const double phi_i = fe_values.shape_value(i, q);
-                    cell_system.residual(i) +=
-                      w_residual * phi_i * acceleration[q][ci];
-                    if (with_matrix)
-                      for (unsigned int j = 0; j < n; ++j)
-                        if (fe->system_to_component_index(j).first == ci)
-                          cell_system.matrix(i, j) +=
-                            mass_weight * w * phi_i *
-                            fe_values.shape_value(j, q);
-                  }
-              }
-          }
-
-        cell->get_dof_indices(dofs);
-        if (with_matrix)
-          constraints.distribute_local_to_global(cell_system.matrix,
-                                                 cell_system.residual,
-                                                 dofs,
-                                                 tangent,
-                                                 residual);
-        else
-          constraints.distribute_local_to_global(cell_system.residual,
-                                                 dofs,
-                                                 residual);
-        if (with_volume_derivative)
-          for (unsigned int i = 0; i < cavities.size(); ++i)
-            if (cell_system.on_cavity[i])
-              constraints.distribute_local_to_global(
-                cell_system.volume_derivative[i],
-                dofs,
-                volume_derivatives[i]);
-        if (with_pressure_matrix)
-          {
-            for (unsigned int i = 0; i < scratch.p_dofs.size(); ++i)
-              pressure_dofs[i] = dofs[scratch.p_dofs[i]];
-            pressure_matrix->add(pressure_dofs, cell_system.pressure_matrix);
-          }
-        if (gamma > 0.0)
-          {
-            for (unsigned int i = 0; i < scratch.u_dofs.size(); ++i)
-              displacement_dofs[i] = dofs[scratch.u_dofs[i]];
-            constraints.distribute_local_to_global(cell_system.coupling,
-                                                   displacement_dofs,
-                                                   pressure_dofs,
-                                                   *augmentation);
-          }
-      }
-
-    add_lid_rim_terms(pressures, lid_area, lid_alpha, with_matrix);
-    if (with_matrix)
-      tangent.compress(dealii::VectorOperation::add);
-    if (with_pressure_matrix)
-      pressure_matrix->compress();
-    if (gamma > 0.0)
-      augmentation->compress(dealii::VectorOperation::add);
-    residual.compress(dealii::VectorOperation::add);
-    if (dynamic)
-      residual.add(dynamics.alpha_f * inertia_weight, dynamics.residual_n);
+    add_lid_rim_terms(pressures, loads.lid_area, loads.lid_alpha, with_matrix);
+    compress_global_system(options, global);
+    if (options.dynamic)
+      residual.add(dynamics.alpha_f * options.inertia_weight,
+                   dynamics.residual_n);
     if (with_volume_derivative)
       {
         for (auto &b : volume_derivatives)
@@ -955,8 +1347,8 @@ namespace systole::Mechanics
       }
 
     // An inverted element on any rank fails the step on every rank.
-    inverted = dealii::Utilities::MPI::max(inverted, comm);
-    AssertThrow(inverted == 0, ExcInvertedElement());
+    AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
+                ExcInvertedElement());
     return residual.l2_norm();
   }
 

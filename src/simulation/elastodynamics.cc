@@ -52,6 +52,263 @@ namespace systole
                                    "Density > 0 (kg/m^3; 1000 for tissue)."));
   }
 
+  namespace
+  {
+    /// The state of the time integration at the last accepted step.
+    struct AcceptedState
+    {
+      unsigned int step     = 0;
+      double       time     = 0.0; ///< [ms]
+      double       pressure = 0.0; ///< [kPa]
+      double       tension  = 0.0; ///< [kPa]
+      /// The energy dissipated and the work of the loads since the start,
+      /// by the trapezoidal rule over the steps [uJ].
+      double                 dissipated = 0.0, work = 0.0;
+      Mechanics::PowerReport powers; ///< of the accepted state
+      SolveCounts            counts;
+    };
+
+    /// A time integration of the mechanics (generalized alpha) under the
+    /// loads of subsection Elastodynamics, writing a row per accepted step.
+    class TimeIntegration
+    {
+    public:
+      TimeIntegration(const RunParameters  &run,
+                      MechanicsModel       &model,
+                      LoadCurve            &pressure_curve,
+                      LoadCurve            &tension_curve,
+                      Postprocess::Manager &postprocess,
+                      IO::ResultsFile      &results,
+                      Logger               &logger)
+        : run(run)
+        , model(model)
+        , problem(*model.problem)
+        , pressure_curve(pressure_curve)
+        , tension_curve(tension_curve)
+        , postprocess(postprocess)
+        , results(results)
+        , logger(logger)
+      {}
+
+      /// The loads at the start time (the ODE curves integrate from t = 0),
+      /// the dynamic state at rest and the first row.
+      void
+      start();
+
+      /// Steps to the end time: a failed solve halves the step (at most
+      /// Mechanics / Max step cuts times below the nominal one), an easy one
+      /// doubles it back. Stops early when interrupted.
+      void
+      run_to_end(Progress &progress, const MPI_Comm comm);
+
+      /// What was counted.
+      const SolveCounts &
+      counts() const
+      {
+        return state.counts;
+      }
+
+    private:
+      /// Solves the step to @p next; false (the problem restored, the step
+      /// counted as a cut) when Newton fails, throwing once @p can_cut is
+      /// false.
+      bool
+      try_step(const double next,
+               const double dt,
+               const bool   can_cut,
+               std::string &failure);
+
+      /// Accepts the solved step to @p next (of length @p dt) with the loads
+      /// @p pressure and @p tension.
+      void
+      accept(const Mechanics::NewtonReport &report,
+             const double                   next,
+             const double                   dt,
+             const double                   pressure,
+             const double                   tension);
+
+      /// p on every pressure part (none without a pressure boundary).
+      dealii::Vector<double>
+      pressures_of(const double p) const
+      {
+        dealii::Vector<double> pressures(
+          model.params.pressure_boundaries().size());
+        for (auto &value : pressures)
+          value = p;
+        return pressures;
+      }
+
+      /// The row of the accepted state (@p report: its solve over @p
+      /// time_step).
+      void
+      write_row(const Mechanics::NewtonReport &report, const double time_step);
+
+      const RunParameters  &run;
+      MechanicsModel       &model;
+      Mechanics::Problem   &problem;
+      LoadCurve            &pressure_curve, &tension_curve;
+      Postprocess::Manager &postprocess;
+      IO::ResultsFile      &results;
+      Logger               &logger;
+      AcceptedState         state;
+      /// Whether the last accepted step's solve was easy.
+      bool last_easy = false;
+    };
+
+    void
+    TimeIntegration::start()
+    {
+      state.time = run.start_time;
+      pressure_curve.accept(state.time);
+      tension_curve.accept(state.time);
+      state.pressure = pressure_curve.value(state.time);
+      state.tension  = tension_curve.value(state.time);
+      problem.start_dynamics(state.pressure, state.tension);
+      problem.save();
+      state.powers =
+        problem.accepted_powers(pressures_of(state.pressure), state.tension);
+      write_row({}, 0.0);
+    }
+
+    void
+    TimeIntegration::run_to_end(Progress &progress, const MPI_Comm comm)
+    {
+      const double nominal = run.time_step;
+      const double smallest =
+        nominal / std::pow(2.0, model.params.max_step_cuts);
+      double sub_step = nominal;
+      while (state.time < run.end_time - 1e-9 * nominal)
+        {
+          const double dt = std::min(sub_step, run.end_time - state.time);
+          progress.update(state.step, state.time, "elastodynamics");
+          std::string failure;
+          if (!try_step(state.time + dt,
+                        dt,
+                        sub_step > smallest * 1.5,
+                        failure))
+            {
+              sub_step *= 0.5;
+              logger.stream() << "  Newton failed (" << failure
+                              << "); cutting the time step to " << sub_step
+                              << " ms" << std::endl;
+              continue;
+            }
+          // Back towards the nominal step after an easy one.
+          if (sub_step < nominal && last_easy)
+            sub_step = std::min(2.0 * sub_step, nominal);
+          if (interrupted(comm))
+            {
+              logger.line("Interrupted: " + results.path() +
+                          " holds steps 0.." + std::to_string(state.step) +
+                          ".");
+              break;
+            }
+        }
+    }
+
+    bool
+    TimeIntegration::try_step(const double next,
+                              const double dt,
+                              const bool   can_cut,
+                              std::string &failure)
+    {
+      const double next_pressure = pressure_curve.value(next);
+      const double next_tension  = tension_curve.value(next);
+      logger.stream() << "  Time step " << state.step + 1 << ": t = " << next
+                      << " ms, dt = " << dt << " ms, p = " << next_pressure
+                      << " kPa, active stress = " << next_tension << " kPa"
+                      << std::endl;
+      problem.set_time_step(dt);
+      Mechanics::NewtonReport report;
+      try
+        {
+          report = problem.solve(next_pressure, next_tension);
+        }
+      catch (const ExcNewtonDidNotConverge &e)
+        {
+          problem.restore();
+          ++state.counts.cuts;
+          AssertThrow(
+            can_cut,
+            dealii::ExcMessage(
+              "The elastodynamics did not converge at t = " +
+              dealii::Utilities::to_string(next) + " ms with a step of " +
+              dealii::Utilities::to_string(dt) + " ms after " +
+              std::to_string(model.params.max_step_cuts) + " step cuts (" +
+              one_line_message(e) +
+              "). The loads may be too large for the material, or the mesh "
+              "too coarse; the results file holds the " +
+              std::to_string(state.step) + " converged steps."));
+          failure = one_line_message(e);
+          return false;
+        }
+      accept(report, next, dt, next_pressure, next_tension);
+      last_easy = report.easy();
+      return true;
+    }
+
+    void
+    TimeIntegration::accept(const Mechanics::NewtonReport &report,
+                            const double                   next,
+                            const double                   dt,
+                            const double                   pressure,
+                            const double                   tension)
+    {
+      problem.accept_time_step(pressure, tension);
+      problem.save();
+      pressure_curve.accept(next);
+      tension_curve.accept(next);
+      // The energy flows by the trapezoidal rule over the step.
+      const auto next_powers =
+        problem.accepted_powers(pressures_of(pressure), tension);
+      state.dissipated +=
+        0.5 * dt * (state.powers.dissipation + next_powers.dissipation);
+      state.work += 0.5 * dt * (state.powers.loads + next_powers.loads);
+      state.powers   = next_powers;
+      state.time     = next;
+      state.pressure = pressure;
+      state.tension  = tension;
+      ++state.step;
+      SolveCounts &counts = state.counts;
+      counts.steps        = state.step;
+      counts.newton += report.iterations;
+      counts.chord += report.reused_iterations;
+      counts.linear += report.linear_iterations;
+      counts.solves += report.iterations + report.reused_iterations;
+      write_row(report, dt);
+    }
+
+    void
+    TimeIntegration::write_row(const Mechanics::NewtonReport &report,
+                               const double                   time_step)
+    {
+      std::vector<IO::Column> row = {
+        {"step", "-", static_cast<double>(state.step)},
+        {"time", "ms", state.time},
+        {"time_step", "ms", time_step},
+        {"pressure", "kPa", state.pressure},
+        {"pressure_mmHg", "mmHg", Units::kPa_to_mmHg(state.pressure)},
+        {"active_tension", "kPa", state.tension}};
+      MechanicsModel::append_solve_columns(report, row);
+      model.append_shape_columns(row);
+      // Energies [µJ = kPa mm^3]: kinetic + strain + support + dissipated =
+      // work of the loads + the initial stored energy, to the scheme's
+      // accuracy.
+      row.push_back({"kinetic_energy", "uJ", problem.kinetic_energy()});
+      row.push_back({"strain_energy", "uJ", problem.strain_energy()});
+      row.push_back({"support_energy", "uJ", problem.support_energy()});
+      row.push_back({"dissipated_energy", "uJ", state.dissipated});
+      row.push_back({"load_work", "uJ", state.work});
+      model.write_step(run,
+                       state.step,
+                       state.time,
+                       state.time >= run.end_time - 1e-9,
+                       row,
+                       postprocess,
+                       results);
+    }
+  } // namespace
+
   void
   run_elastodynamics_problem(const dealii::ParameterHandler &prm,
                              const RunParameters            &run,
@@ -59,9 +316,8 @@ namespace systole
                              Logger                         &logger,
                              const MPI_Comm                  comm)
   {
-    MechanicsModel      model(prm, run, logger, comm);
-    const auto         &params  = model.params;
-    Mechanics::Problem &problem = *model.problem;
+    MechanicsModel model(prm, run, logger, comm);
+    const auto    &params = model.params;
     logger.line(model.banner(run));
     AssertThrow(!params.mixed(),
                 dealii::ExcMessage(
@@ -80,200 +336,31 @@ namespace systole
                   "but Mechanics / Pressure boundary is empty: name the "
                   "boundary part that carries it."));
 
-    std::vector<dealii::Point<3>> reference_points;
-    for (const auto &p : params.tracked_points)
-      reference_points.push_back(p.position);
-
     IO::ResultsFile      results(run.output_directory, parameter_text, comm);
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
-                                     problem,
+                                     *model.problem,
                                      model.names,
                                      &logger);
     Progress             progress(logger,
                       Progress::parse_mode(run.progress),
                       run.start_time,
                       run.end_time);
+    TimeIntegration      integration(run,
+                                model,
+                                *pressure_curve,
+                                *tension_curve,
+                                postprocess,
+                                results,
+                                logger);
+    integration.start();
+    integration.run_to_end(progress, comm);
 
-    // The loads at the start; the ODE curves integrate from t = 0.
-    double time = run.start_time;
-    pressure_curve->accept(time);
-    tension_curve->accept(time);
-    double pressure = pressure_curve->value(time);
-    double tension  = tension_curve->value(time);
-    problem.start_dynamics(pressure, tension);
-    problem.save();
-    const bool has_pressure = !params.pressure_boundaries().empty();
-    const auto pressures_of = [&](const double p) {
-      dealii::Vector<double> pressures(
-        has_pressure ? params.pressure_boundaries().size() : 0);
-      for (auto &value : pressures)
-        value = p;
-      return pressures;
-    };
-
-    unsigned int step       = 0;
-    double       dissipated = 0.0, work = 0.0;
-    auto powers = problem.accepted_powers(pressures_of(pressure), tension);
-    const auto write_row = [&](const Mechanics::NewtonReport &report,
-                               const double                   time_step) {
-      std::vector<IO::Column> row = {
-        {"step", "-", static_cast<double>(step)},
-        {"time", "ms", time},
-        {"time_step", "ms", time_step},
-        {"pressure", "kPa", pressure},
-        {"pressure_mmHg", "mmHg", Units::kPa_to_mmHg(pressure)},
-        {"active_tension", "kPa", tension},
-        {"newton_iterations", "-", static_cast<double>(report.iterations)},
-        {"chord_iterations",
-         "-",
-         static_cast<double>(report.reused_iterations)},
-        {"linear_iterations",
-         "-",
-         static_cast<double>(report.linear_iterations)},
-        {"residual", "mN", report.final_residual}};
-      if (problem.n_cavities() == 1)
-        {
-          const double volume = problem.cavity_volume();
-          row.push_back({"volume", "mm^3", volume});
-          row.push_back({"volume_mL", "mL", Units::mm3_to_mL(volume)});
-        }
-      else if (problem.n_cavities() > 1)
-        {
-          const auto volumes = problem.cavity_volumes();
-          const auto names   = problem.cavity_names();
-          for (unsigned int c = 0; c < volumes.size(); ++c)
-            row.push_back(
-              {names[c] + "_volume_mL", "mL", Units::mm3_to_mL(volumes[c])});
-        }
-      const auto deformed = problem.deformed_positions(reference_points);
-      for (unsigned int i = 0; i < deformed.size(); ++i)
-        for (unsigned int d = 0; d < 3; ++d)
-          row.push_back({params.tracked_points[i].name + "_" + "xyz"[d],
-                         "mm",
-                         deformed[i][d]});
-      // Energies [µJ = kPa mm^3]: kinetic + strain + support + dissipated =
-      // work of the loads + the initial stored energy, to the scheme's
-      // accuracy.
-      row.push_back({"kinetic_energy", "uJ", problem.kinetic_energy()});
-      row.push_back({"strain_energy", "uJ", problem.strain_energy()});
-      row.push_back({"support_energy", "uJ", problem.support_energy()});
-      row.push_back({"dissipated_energy", "uJ", dissipated});
-      row.push_back({"load_work", "uJ", work});
-      postprocess.step(time,
-                       0,
-                       0.0,
-                       problem.n_cavities() == 1
-                         ? problem.cavity_volume()
-                         : std::numeric_limits<double>::quiet_NaN(),
-                       row);
-      results.append_timeseries(row);
-      const bool last = time >= run.end_time - 1e-9;
-      if (run.field_output_interval > 0 &&
-          (step % run.field_output_interval == 0 || last))
-        {
-          dealii::DataOut<3> data_out;
-          problem.attach_output(data_out);
-          postprocess.attach_output(data_out);
-          data_out.build_patches(problem.mapping(),
-                                 problem.cell_kind().output_subdivisions(
-                                   run.polynomial_degree));
-          results.write_fields(data_out, step, time);
-        }
-    };
-    write_row({}, 0.0);
-
-    const double nominal  = run.time_step;
-    const double smallest = nominal / std::pow(2.0, params.max_step_cuts);
-    double       sub_step = nominal;
-    unsigned int cuts = 0, total_newton = 0, total_chord = 0, total_linear = 0,
-                 total_solves = 0;
-    while (time < run.end_time - 1e-9 * nominal)
-      {
-        const double dt   = std::min(sub_step, run.end_time - time);
-        const double next = time + dt;
-        progress.update(step, time, "elastodynamics");
-        const double next_pressure = pressure_curve->value(next);
-        const double next_tension  = tension_curve->value(next);
-        logger.stream() << "  Time step " << step + 1 << ": t = " << next
-                        << " ms, dt = " << dt << " ms, p = " << next_pressure
-                        << " kPa, active stress = " << next_tension << " kPa"
-                        << std::endl;
-        problem.set_time_step(dt);
-        Mechanics::NewtonReport report;
-        try
-          {
-            report = problem.solve(next_pressure, next_tension);
-          }
-        catch (const ExcNewtonDidNotConverge &e)
-          {
-            problem.restore();
-            ++cuts;
-            AssertThrow(sub_step > smallest * 1.5,
-                        dealii::ExcMessage(
-                          "The elastodynamics did not converge at t = " +
-                          dealii::Utilities::to_string(next) +
-                          " ms with a "
-                          "step of " +
-                          dealii::Utilities::to_string(dt) + " ms after " +
-                          std::to_string(params.max_step_cuts) +
-                          " step cuts (" + one_line_message(e) +
-                          "). The loads may be too large for the material, or "
-                          "the mesh too coarse; the results file holds the " +
-                          std::to_string(step) + " converged steps."));
-            sub_step *= 0.5;
-            logger.stream() << "  Newton failed (" << one_line_message(e)
-                            << "); cutting the time step to " << sub_step
-                            << " ms" << std::endl;
-            continue;
-          }
-        problem.accept_time_step(next_pressure, next_tension);
-        problem.save();
-        pressure_curve->accept(next);
-        tension_curve->accept(next);
-        // The energy flows by the trapezoidal rule over the step.
-        const auto next_powers =
-          problem.accepted_powers(pressures_of(next_pressure), next_tension);
-        dissipated += 0.5 * dt * (powers.dissipation + next_powers.dissipation);
-        work += 0.5 * dt * (powers.loads + next_powers.loads);
-        powers   = next_powers;
-        time     = next;
-        pressure = next_pressure;
-        tension  = next_tension;
-        ++step;
-        total_newton += report.iterations;
-        total_chord += report.reused_iterations;
-        total_linear += report.linear_iterations;
-        total_solves += report.iterations + report.reused_iterations;
-        write_row(report, dt);
-        // Back towards the nominal step after an easy one.
-        if (sub_step < nominal && report.easy())
-          sub_step = std::min(2.0 * sub_step, nominal);
-        if (interrupted(comm))
-          {
-            logger.line("Interrupted: " + results.path() + " holds steps 0.." +
-                        std::to_string(step) + ".");
-            break;
-          }
-      }
-
-    const SolveCounts       counts{step,
-                             cuts,
-                             total_newton,
-                             total_chord,
-                             total_linear,
-                             total_solves};
-    std::vector<IO::Column> summary = model.solve_summary("time_steps", counts);
-    postprocess.end_beat(nullptr, summary);
-    results.append_summary(summary);
-    std::vector<std::pair<std::string, std::string>> texts;
-    auto       statistics = model.statistics(texts);
-    const auto counted = MechanicsModel::solve_statistics("time_steps", counts);
-    statistics.insert(statistics.end(), counted.begin(), counted.end());
-    results.write_statistics(statistics, texts);
+    const SolveCounts &counts = integration.counts();
+    model.write_solve_summary("time_steps", counts, postprocess, results);
     std::ostringstream o;
-    o << step << " time steps (" << cuts << " cuts), " << total_newton
-      << " Newton iterations, " << total_chord << " chord iterations, "
-      << total_linear << " Krylov iterations";
+    o << counts.steps << " time steps (" << counts.cuts << " cuts), "
+      << counts.newton << " Newton iterations, " << counts.chord
+      << " chord iterations, " << counts.linear << " Krylov iterations";
     logger.line(o.str());
     logger.line("Wrote " + results.path());
   }

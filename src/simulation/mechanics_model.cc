@@ -1,13 +1,18 @@
 #include "simulation/mechanics_model.h"
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/numerics/data_out.h>
 
 #include "base/logger.h"
+#include "base/units.h"
 #include "fibres/fibre_field.h"
 #include "io/results_file.h"
 #include "materials/factory.h"
 #include "simulation/parameters.h"
 
+#include "postprocess/manager.h"
+
+#include <limits>
 #include <sstream>
 
 namespace systole
@@ -117,5 +122,92 @@ namespace systole
       << passive->name() << "\n  linear solver "
       << problem->linear_solver_name();
     return o.str();
+  }
+  void
+  MechanicsModel::append_solve_columns(const Mechanics::NewtonReport &report,
+                                       std::vector<IO::Column>       &row)
+  {
+    row.push_back(
+      {"newton_iterations", "-", static_cast<double>(report.iterations)});
+    row.push_back(
+      {"chord_iterations", "-", static_cast<double>(report.reused_iterations)});
+    row.push_back({"linear_iterations",
+                   "-",
+                   static_cast<double>(report.linear_iterations)});
+    row.push_back({"residual", "mN", report.final_residual});
+  }
+
+  void
+  MechanicsModel::append_shape_columns(std::vector<IO::Column> &row) const
+  {
+    if (problem->n_cavities() == 1)
+      {
+        const double volume = problem->cavity_volume();
+        row.push_back({"volume", "mm^3", volume});
+        row.push_back({"volume_mL", "mL", Units::mm3_to_mL(volume)});
+      }
+    else if (problem->n_cavities() > 1)
+      {
+        const auto volumes = problem->cavity_volumes();
+        const auto names   = problem->cavity_names();
+        for (unsigned int c = 0; c < volumes.size(); ++c)
+          row.push_back(
+            {names[c] + "_volume_mL", "mL", Units::mm3_to_mL(volumes[c])});
+      }
+    std::vector<dealii::Point<3>> reference_points;
+    for (const auto &p : params.tracked_points)
+      reference_points.push_back(p.position);
+    const auto deformed = problem->deformed_positions(reference_points);
+    for (unsigned int i = 0; i < deformed.size(); ++i)
+      for (unsigned int d = 0; d < 3; ++d)
+        row.push_back({params.tracked_points[i].name + "_" + "xyz"[d],
+                       "mm",
+                       deformed[i][d]});
+  }
+
+  void
+  MechanicsModel::write_step(const RunParameters     &run,
+                             const unsigned int       step,
+                             const double             time,
+                             const bool               last,
+                             std::vector<IO::Column> &row,
+                             Postprocess::Manager    &postprocess,
+                             IO::ResultsFile         &results) const
+  {
+    postprocess.step(time,
+                     0,
+                     0.0,
+                     problem->n_cavities() == 1
+                       ? problem->cavity_volume()
+                       : std::numeric_limits<double>::quiet_NaN(),
+                     row);
+    results.append_timeseries(row);
+    if (run.field_output_interval > 0 &&
+        (step % run.field_output_interval == 0 || last))
+      {
+        dealii::DataOut<3> data_out;
+        problem->attach_output(data_out);
+        postprocess.attach_output(data_out);
+        data_out.build_patches(problem->mapping(),
+                               problem->cell_kind().output_subdivisions(
+                                 run.polynomial_degree));
+        results.write_fields(data_out, step, time);
+      }
+  }
+
+  void
+  MechanicsModel::write_solve_summary(const std::string    &steps_name,
+                                      const SolveCounts    &counts,
+                                      Postprocess::Manager &postprocess,
+                                      IO::ResultsFile      &results) const
+  {
+    std::vector<IO::Column> summary = solve_summary(steps_name, counts);
+    postprocess.end_beat(nullptr, summary);
+    results.append_summary(summary);
+    std::vector<std::pair<std::string, std::string>> texts;
+    auto       statistics = this->statistics(texts);
+    const auto counted    = solve_statistics(steps_name, counts);
+    statistics.insert(statistics.end(), counted.begin(), counted.end());
+    results.write_statistics(statistics, texts);
   }
 } // namespace systole

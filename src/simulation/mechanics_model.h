@@ -24,6 +24,10 @@ namespace systole
 {
   class Logger;
   struct RunParameters;
+  namespace Postprocess
+  {
+    class Manager;
+  }
 
   /// The mechanics of a run as the parameter file describes it: the mesh
   /// (subsection Geometry), the material laws (Material), the fibre field
@@ -76,6 +80,41 @@ namespace systole
     /// Newton and Krylov iterations), to append to statistics().
     static std::vector<IO::Column>
     solve_statistics(const std::string &steps_name, const SolveCounts &counts);
+
+    /// Appends the counts of a solve to @p row: newton_iterations,
+    /// chord_iterations, linear_iterations and the final residual [mN].
+    static void
+    append_solve_columns(const Mechanics::NewtonReport &report,
+                         std::vector<IO::Column>       &row);
+
+    /// Appends the columns of the deformed shape to @p row: with one cavity
+    /// its volume [mm^3] and volume_mL, with several <part>_volume_mL each
+    /// (named after its boundary part), and the tracked points' positions
+    /// <name>_x, _y, _z [mm] (Mechanics / Tracked points). Collective.
+    void
+    append_shape_columns(std::vector<IO::Column> &row) const;
+
+    /// Writes the output of step @p step at @p time (a time [ms] or a load
+    /// fraction): the postprocessors' columns into @p row, @p row into
+    /// /timeseries and, every Output / Field output interval steps and at
+    /// the @p last step, the fields. Collective.
+    void
+    write_step(const RunParameters     &run,
+               const unsigned int       step,
+               const double             time,
+               const bool               last,
+               std::vector<IO::Column> &row,
+               Postprocess::Manager    &postprocess,
+               IO::ResultsFile         &results) const;
+
+    /// Writes the end of a run of solves counted by @p counts: the /summary
+    /// row (solve_summary() with the postprocessors' end-of-run columns)
+    /// and /statistics (statistics() and solve_statistics()).
+    void
+    write_solve_summary(const std::string    &steps_name,
+                        const SolveCounts    &counts,
+                        Postprocess::Manager &postprocess,
+                        IO::ResultsFile      &results) const;
 
     Geometry::Parameters                   geometry;
     Mechanics::Parameters                  params;

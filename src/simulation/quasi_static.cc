@@ -25,6 +25,35 @@
 
 namespace systole
 {
+  namespace
+  {
+    /// The time-series row of load step @p step at load @p fraction, solved
+    /// as @p report says: the loads, the solve, the stored energy (passive
+    /// law and volumetric penalty, for energy balances: with a fixed base it
+    /// equals the pressure work int p dV) and the deformed shape.
+    std::vector<IO::Column>
+    load_step_row(const MechanicsModel          &model,
+                  const unsigned int             step,
+                  const double                   fraction,
+                  const Mechanics::NewtonReport &report)
+    {
+      const Mechanics::Parameters &params = model.params;
+      std::vector<IO::Column>      row    = {
+                {"step", "-", static_cast<double>(step)},
+                {"load_fraction", "-", fraction},
+                {"pressure", "kPa", fraction * params.pressure},
+                {"pressure_mmHg",
+                 "mmHg",
+                 Units::kPa_to_mmHg(fraction * params.pressure)},
+                {"active_tension", "kPa", fraction * params.active_tension}};
+      MechanicsModel::append_solve_columns(report, row);
+      if (!params.mixed())
+        row.push_back({"strain_energy", "uJ", model.problem->strain_energy()});
+      model.append_shape_columns(row);
+      return row;
+    }
+  } // namespace
+
   void
   run_quasi_static_problem(const dealii::ParameterHandler &prm,
                            const RunParameters            &run,
@@ -37,10 +66,6 @@ namespace systole
     Mechanics::Problem &problem = *model.problem;
     logger.line(model.banner(run));
 
-    std::vector<dealii::Point<3>> reference_points;
-    for (const auto &p : params.tracked_points)
-      reference_points.push_back(p.position);
-
     IO::ResultsFile      results(run.output_directory, parameter_text, comm);
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
                                      problem,
@@ -51,69 +76,16 @@ namespace systole
     unsigned int step      = 0;
     const auto   write_row = [&](const double                   fraction,
                                const Mechanics::NewtonReport &report) {
-      std::vector<IO::Column> row = {
-        {"step", "-", static_cast<double>(step)},
-        {"load_fraction", "-", fraction},
-        {"pressure", "kPa", fraction * params.pressure},
-        {"pressure_mmHg",
-         "mmHg",
-         Units::kPa_to_mmHg(fraction * params.pressure)},
-        {"active_tension", "kPa", fraction * params.active_tension},
-        {"newton_iterations", "-", static_cast<double>(report.iterations)},
-        {"chord_iterations",
-         "-",
-         static_cast<double>(report.reused_iterations)},
-        {"linear_iterations",
-         "-",
-         static_cast<double>(report.linear_iterations)},
-        {"residual", "mN", report.final_residual}};
-      // The stored energy (passive law and volumetric penalty), for energy
-      // balances: with a fixed base it equals the pressure work int p dV.
-      if (!params.mixed())
-        row.push_back({"strain_energy", "uJ", problem.strain_energy()});
-      if (problem.n_cavities() == 1)
-        {
-          const double volume = problem.cavity_volume();
-          row.push_back({"volume", "mm^3", volume});
-          row.push_back({"volume_mL", "mL", Units::mm3_to_mL(volume)});
-        }
-      else if (problem.n_cavities() > 1)
-        {
-          // One column per cavity, named after its boundary part.
-          const auto volumes = problem.cavity_volumes();
-          const auto names   = problem.cavity_names();
-          for (unsigned int c = 0; c < volumes.size(); ++c)
-            row.push_back(
-              {names[c] + "_volume_mL", "mL", Units::mm3_to_mL(volumes[c])});
-        }
-      const auto deformed = problem.deformed_positions(reference_points);
-      for (unsigned int i = 0; i < deformed.size(); ++i)
-        for (unsigned int d = 0; d < 3; ++d)
-          row.push_back({params.tracked_points[i].name + "_" + "xyz"[d],
-                         "mm",
-                         deformed[i][d]});
+      std::vector<IO::Column> row =
+        load_step_row(model, step, fraction, report);
       // The chosen postprocessors' columns; time is the load fraction.
-      postprocess.step(fraction,
-                       0,
-                       0.0,
-                       problem.n_cavities() == 1
-                           ? problem.cavity_volume()
-                           : std::numeric_limits<double>::quiet_NaN(),
-                       row);
-      results.append_timeseries(row);
-
-      const bool last = fraction >= 1.0;
-      if (run.field_output_interval > 0 &&
-          (step % run.field_output_interval == 0 || last))
-        {
-          dealii::DataOut<3> data_out;
-          problem.attach_output(data_out);
-          postprocess.attach_output(data_out);
-          data_out.build_patches(problem.mapping(),
-                                 problem.cell_kind().output_subdivisions(
-                                   run.polynomial_degree));
-          results.write_fields(data_out, step, fraction);
-        }
+      model.write_step(run,
+                       step,
+                       fraction,
+                       fraction >= 1.0,
+                       row,
+                       postprocess,
+                       results);
     };
     write_row(0.0, {});
 
@@ -183,20 +155,13 @@ namespace systole
       }
     // One summary row: sizes, counts and the mechanics' timer sections
     // (this rank's wall times), read by scripts/bench.
-    const SolveCounts       counts{step,
+    const SolveCounts counts{step,
                              cuts,
                              total_newton,
                              total_chord,
                              total_linear,
                              total_solves};
-    std::vector<IO::Column> summary = model.solve_summary("load_steps", counts);
-    postprocess.end_beat(nullptr, summary);
-    results.append_summary(summary);
-    std::vector<std::pair<std::string, std::string>> texts;
-    auto       statistics = model.statistics(texts);
-    const auto counted = MechanicsModel::solve_statistics("load_steps", counts);
-    statistics.insert(statistics.end(), counted.begin(), counted.end());
-    results.write_statistics(statistics, texts);
+    model.write_solve_summary("load_steps", counts, postprocess, results);
     logger.line("Wrote " + results.path());
   }
 } // namespace systole

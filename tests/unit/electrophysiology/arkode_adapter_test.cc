@@ -264,3 +264,62 @@ TEST_CASE("Adaptive steps stay within the explicit stability interval of "
   CHECK(steps_bounded >= 100);
   CHECK(steps_bounded <= 130);
 }
+
+TEST_CASE("ARKode DIRK steps with Newton's method locate a root of the "
+          "solution of a nonlinear ODE",
+          "[ep][arkode]")
+{
+  // y' = -y^2 from y(0) = 1: y = 1 / (1 + t), implicit only (a DIRK method,
+  // Newton with the exact Jacobian -2 y). The root function g = y - 1/2 has
+  // its one root at t = 1, falling.
+  ImexIntegrator::Settings s;
+  s.order                            = GENERATE(2u, 5u);
+  s.adaptive                         = true;
+  s.relative_tolerance               = 1e-9;
+  s.absolute_tolerances              = {1e-12};
+  s.max_step                         = 0.25;
+  s.initial_step                     = 0.01;
+  unsigned int              n_solves = 0;
+  ImexIntegrator::Callbacks c;
+  c.nonlinear_implicit_rhs =
+    [](const double, const LA::MPI::Vector &y, LA::MPI::Vector &f) {
+      f(0) = -y(0) * y(0);
+      f.compress(dealii::VectorOperation::insert);
+    };
+  c.newton_solve = [&n_solves](const double,
+                               const LA::MPI::Vector &y,
+                               const double           gamma,
+                               const LA::MPI::Vector &b,
+                               LA::MPI::Vector       &x) {
+    x(0) = b(0) / (1 + gamma * 2 * y(0));
+    x.compress(dealii::VectorOperation::insert);
+    ++n_solves;
+  };
+  std::vector<double> root_times, root_values;
+  std::vector<int>    root_directions;
+  c.n_roots = 1;
+  c.roots = [](const double, const LA::MPI::Vector &y, std::vector<double> &g) {
+    g[0] = y(0) - 0.5;
+  };
+  c.at_root = [&](const double            t,
+                  const LA::MPI::Vector  &y,
+                  const std::vector<int> &found) {
+    root_times.push_back(t);
+    root_values.push_back(y(0));
+    root_directions.push_back(found[0]);
+  };
+  ImexIntegrator  ode(s, c, 0.0, MPI_COMM_SELF);
+  LA::MPI::Vector y(dealii::complete_index_set(1), MPI_COMM_SELF);
+  y = 1.0;
+  ode.evolve(y, 0.6);
+  CHECK(root_times.empty());
+  ode.evolve(y, 3.0);
+  CHECK(y(0) == Approx(0.25).epsilon(1e-6));
+  REQUIRE(root_times.size() == 1);
+  CHECK(root_times[0] == Approx(1.0).epsilon(1e-6));
+  CHECK(root_values[0] == Approx(0.5).epsilon(1e-6));
+  CHECK(root_directions[0] == -1);
+  CHECK(n_solves > 0);
+  CHECK(ode.n_implicit_evaluations() > 0);
+  CHECK(ode.n_explicit_evaluations() == 0);
+}
