@@ -339,7 +339,7 @@ namespace systole::Mechanics
         m.assemble(m.factorized_pressures,
                    m.factorized_active_tension,
                    true,
-                   true);
+                   /*with_volume_derivative=*/!m.cavities.empty());
         swap_model_inputs();
         swap_dynamic_state();
         m.linear_solver->setup(m.tangent,

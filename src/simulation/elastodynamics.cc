@@ -9,16 +9,26 @@
 #include "base/interrupt.h"
 #include "base/logger.h"
 #include "base/units.h"
+#include "io/checkpoint.h"
+#include "io/checkpoint_format.h"
 #include "io/results_file.h"
 #include "mechanics/problem.h"
 #include "simulation/load_curves.h"
 #include "simulation/mechanics_model.h"
 #include "simulation/parameters.h"
+#include "simulation/run_checkpoint.h"
 
 #include "postprocess/manager.h"
+#include <boost/archive/text_iarchive.hpp>
+#include <boost/archive/text_oarchive.hpp>
+#include <boost/serialization/vector.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 namespace systole
@@ -66,6 +76,21 @@ namespace systole
       double                 dissipated = 0.0, work = 0.0;
       Mechanics::PowerReport powers; ///< of the accepted state
       SolveCounts            counts;
+      /// The step the next one tries [ms] (0: the nominal one), and whether
+      /// the last accepted solve was easy.
+      double sub_step  = 0.0;
+      bool   last_easy = false;
+
+      /// Reads or writes the state (a checkpoint's).
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int)
+      {
+        archive &step &time &pressure &tension &dissipated &work;
+        archive &powers.dissipation &powers.loads;
+        archive &counts.steps &counts.cuts &counts.newton &counts.chord;
+        archive &counts.linear &counts.solves &sub_step &last_easy;
+      }
     };
 
     /// A time integration of the mechanics (generalized alpha) under the
@@ -94,6 +119,18 @@ namespace systole
       /// the dynamic state at rest and the first row.
       void
       start();
+
+      /// The state of a checkpoint: the time integration's, the load
+      /// curves', the postprocessors' and the mechanics' (after the rows and
+      /// the step of the results file, see RunCheckpointer).
+      void
+      save(boost::archive::text_oarchive &archive);
+      void
+      load(boost::archive::text_iarchive &archive);
+
+      /// Called after each accepted step with whether the run stops there
+      /// (interrupted): writes the checkpoints.
+      std::function<void(unsigned int step, bool stopping)> after_step;
 
       /// Steps to the end time: a failed solve halves the step (at most
       /// Mechanics / Max step cuts times below the nominal one), an easy one
@@ -151,8 +188,6 @@ namespace systole
       IO::ResultsFile      &results;
       Logger               &logger;
       AcceptedState         state;
-      /// Whether the last accepted step's solve was easy.
-      bool last_easy = false;
     };
 
     void
@@ -171,12 +206,41 @@ namespace systole
     }
 
     void
+    TimeIntegration::save(boost::archive::text_oarchive &archive)
+    {
+      archive            &state;
+      std::vector<double> curves[2] = {pressure_curve.state(),
+                                       tension_curve.state()};
+      archive            &curves[0] & curves[1];
+      // The postprocessors' reference values and peaks.
+      std::vector<double> postprocessing = postprocess.state();
+      archive            &postprocessing;
+      problem.prepare_checkpoint(archive);
+    }
+
+    void
+    TimeIntegration::load(boost::archive::text_iarchive &archive)
+    {
+      archive            &state;
+      std::vector<double> curves[2];
+      archive            &curves[0] & curves[1];
+      pressure_curve.set_state(curves[0]);
+      tension_curve.set_state(curves[1]);
+      std::vector<double> postprocessing;
+      archive            &postprocessing;
+      postprocess.set_state(postprocessing);
+      problem.load_checkpoint(archive);
+    }
+
+    void
     TimeIntegration::run_to_end(Progress &progress, const MPI_Comm comm)
     {
       const double nominal = run.time_step;
       const double smallest =
         nominal / std::pow(2.0, model.params.max_step_cuts);
-      double sub_step = nominal;
+      double &sub_step = state.sub_step;
+      if (sub_step <= 0.0)
+        sub_step = nominal;
       while (state.time < run.end_time - 1e-9 * nominal)
         {
           const double dt = std::min(sub_step, run.end_time - state.time);
@@ -194,13 +258,17 @@ namespace systole
               continue;
             }
           // Back towards the nominal step after an easy one.
-          if (sub_step < nominal && last_easy)
+          if (sub_step < nominal && state.last_easy)
             sub_step = std::min(2.0 * sub_step, nominal);
-          if (interrupted(comm))
+          const bool stop = interrupted(comm);
+          if (after_step)
+            after_step(state.step, stop);
+          if (stop)
             {
               logger.line("Interrupted: " + results.path() +
                           " holds steps 0.." + std::to_string(state.step) +
-                          ".");
+                          "; continue with systole --resume " +
+                          run.output_directory);
               break;
             }
         }
@@ -243,7 +311,7 @@ namespace systole
           return false;
         }
       accept(report, next, dt, next_pressure, next_tension);
-      last_easy = report.easy();
+      state.last_easy = report.easy();
       return true;
     }
 
@@ -307,6 +375,58 @@ namespace systole
                        postprocess,
                        results);
     }
+    /// The checks of the model a time integration needs (penalty
+    /// formulation, a density, a part for a pressure load).
+    void
+    check_elastodynamics_model(const MechanicsModel           &model,
+                               const dealii::ParameterHandler &prm,
+                               const RunParameters            &run)
+    {
+      const auto &params = model.params;
+      AssertThrow(!params.mixed(),
+                  dealii::ExcMessage(
+                    "Problem = elastodynamics: the inertia is implemented for "
+                    "Material / Incompressibility = penalty only."));
+      AssertThrow(params.density > 0.0,
+                  dealii::ExcMessage("Problem = elastodynamics needs "
+                                     "Mechanics / Density > 0 (kg/m^3)."));
+      AssertThrow(
+        !params.pressure_boundaries().empty() ||
+          LoadCurveParameters::create(prm, "Pressure")->value(run.start_time) ==
+            0.0,
+        dealii::ExcMessage(
+          "Problem = elastodynamics: Elastodynamics / Pressure is set but "
+          "Mechanics / Pressure boundary is empty: name the boundary part "
+          "that carries it."));
+    }
+
+    /// What runs after each accepted step: the checkpoint when due (or when
+    /// the run stops) and the test hook Output / Test kill after step.
+    std::function<void(unsigned int, bool)>
+    checkpoint_writer(RunCheckpointer     &checkpointer,
+                      TimeIntegration     &integration,
+                      const RunParameters &run,
+                      Mechanics::Problem  &problem,
+                      const MPI_Comm       comm)
+    {
+      auto last = std::make_shared<std::chrono::steady_clock::time_point>(
+        std::chrono::steady_clock::now());
+      return [&, last, comm](const unsigned int step, const bool stopping) {
+        if (stopping || checkpoint_due(run, step, *last, comm))
+          {
+            checkpointer.write(
+              step,
+              [&](boost::archive::text_oarchive &archive, const std::string &) {
+                integration.save(archive);
+              },
+              [&]() { problem.finish_checkpoint(); });
+            *last = std::chrono::steady_clock::now();
+          }
+        // Test hook (the checkpoint tests): SIGKILL after this step.
+        if (run.test_kill_after_step == static_cast<long>(step))
+          std::raise(SIGKILL);
+      };
+    }
   } // namespace
 
   void
@@ -316,27 +436,30 @@ namespace systole
                              Logger                         &logger,
                              const MPI_Comm                  comm)
   {
-    MechanicsModel model(prm, run, logger, comm);
-    const auto    &params = model.params;
+    // Checkpoints: the mesh with the mechanics' cell data (mechanics.mesh),
+    // the small state (rows, step, time integration, curves, mechanics).
+    std::ostringstream entries;
+    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    const std::string   all_entries = entries.str();
+    IO::CheckpointStore store(run.output_directory, comm);
+    const std::string   checkpoint =
+      resume_checkpoint(run, store, all_entries, logger, comm);
+    MechanicsModel model(prm,
+                         run,
+                         logger,
+                         comm,
+                         checkpoint.empty() ? ""
+                                            : checkpoint + "/mechanics.mesh");
+    check_elastodynamics_model(model, prm, run);
     logger.line(model.banner(run));
-    AssertThrow(!params.mixed(),
-                dealii::ExcMessage(
-                  "Problem = elastodynamics: the inertia is implemented for "
-                  "Material / Incompressibility = penalty only."));
-    AssertThrow(params.density > 0.0,
-                dealii::ExcMessage("Problem = elastodynamics needs Mechanics / "
-                                   "Density > 0 (kg/m^3)."));
     const auto pressure_curve = LoadCurveParameters::create(prm, "Pressure");
     const auto tension_curve =
       LoadCurveParameters::create(prm, "Active stress");
-    AssertThrow(!params.pressure_boundaries().empty() ||
-                  pressure_curve->value(run.start_time) == 0.0,
-                dealii::ExcMessage(
-                  "Problem = elastodynamics: Elastodynamics / Pressure is set "
-                  "but Mechanics / Pressure boundary is empty: name the "
-                  "boundary part that carries it."));
 
-    IO::ResultsFile      results(run.output_directory, parameter_text, comm);
+    std::unique_ptr<IO::StateReader> state_in;
+    const auto                       results_file =
+      open_results(checkpoint, run, parameter_text, state_in, comm);
+    IO::ResultsFile     &results = *results_file;
     Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
                                      *model.problem,
                                      model.names,
@@ -352,7 +475,21 @@ namespace systole
                                 postprocess,
                                 results,
                                 logger);
-    integration.start();
+    if (state_in)
+      integration.load(state_in->archive());
+    else
+      integration.start();
+    state_in.reset();
+    RunCheckpointer checkpointer(store,
+                                 results,
+                                 model.tria,
+                                 "mechanics.mesh",
+                                 all_entries,
+                                 run,
+                                 logger,
+                                 comm);
+    integration.after_step =
+      checkpoint_writer(checkpointer, integration, run, *model.problem, comm);
     integration.run_to_end(progress, comm);
 
     const SolveCounts &counts = integration.counts();
@@ -361,6 +498,9 @@ namespace systole
     o << counts.steps << " time steps (" << counts.cuts << " cuts), "
       << counts.newton << " Newton iterations, " << counts.chord
       << " chord iterations, " << counts.linear << " Krylov iterations";
+    if (checkpointer.count > 0)
+      o << "; " << checkpointer.count << " checkpoint(s), the last in "
+        << checkpointer.list().front();
     logger.line(o.str());
     logger.line("Wrote " + results.path());
   }

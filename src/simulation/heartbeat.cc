@@ -271,33 +271,6 @@ namespace systole
       return settings;
     }
 
-    /// The results file: new, or (resuming from @p checkpoint) reopened
-    /// with the rows of its small state, whose rest @p state_in then reads.
-    std::unique_ptr<IO::ResultsFile>
-    open_results(const std::string                &checkpoint,
-                 const RunParameters              &run,
-                 const std::string                &parameter_text,
-                 std::unique_ptr<IO::StateReader> &state_in,
-                 const MPI_Comm                    comm)
-    {
-      if (checkpoint.empty())
-        return std::make_unique<IO::ResultsFile>(run.output_directory,
-                                                 parameter_text,
-                                                 comm);
-      state_in =
-        std::make_unique<IO::StateReader>(IO::read_checkpoint_state(checkpoint,
-                                                                    comm),
-                                          checkpoint);
-      IO::ResultsFile::Rows rows;
-      unsigned int          resumed_step = 0;
-      state_in->archive() &
-        rows.timeseries &rows.summary &rows.events &resumed_step;
-      return std::make_unique<IO::ResultsFile>(run.output_directory,
-                                               rows,
-                                               resumed_step,
-                                               comm);
-    }
-
     /// The parts of a running heartbeat whose state a checkpoint holds, in
     /// the order of the state file (after the rows of the results file and the
     /// step).

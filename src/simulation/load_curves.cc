@@ -17,6 +17,20 @@ namespace systole
   LoadCurve::accept(const double)
   {}
 
+  std::vector<double>
+  LoadCurve::state() const
+  {
+    return {};
+  }
+
+  void
+  LoadCurve::set_state(const std::vector<double> &state)
+  {
+    AssertThrow(state.empty(),
+                dealii::ExcMessage("The checkpoint holds the state of an ODE "
+                                   "load curve for a function of time."));
+  }
+
   double
   ArosticaActivation::operator()(const double t) const
   {
@@ -69,6 +83,24 @@ namespace systole
   {
     accepted_value = value(time);
     accepted_time  = std::max(time, accepted_time);
+  }
+
+  std::vector<double>
+  ScalarOdeCurve::state() const
+  {
+    return {accepted_time, accepted_value};
+  }
+
+  void
+  ScalarOdeCurve::set_state(const std::vector<double> &state)
+  {
+    AssertThrow(state.size() == 2,
+                dealii::ExcMessage("The checkpoint's state of an ODE load "
+                                   "curve has " +
+                                   std::to_string(state.size()) +
+                                   " values, not 2."));
+    accepted_time  = state[0];
+    accepted_value = state[1];
   }
 
   ArosticaActiveStress::ArosticaActiveStress(

@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dealii
 {
@@ -27,6 +28,15 @@ namespace systole
     /// ODE curve integrates from there on.
     virtual void
     accept(const double time);
+
+    /// What a checkpoint keeps of the curve (nothing for a function of
+    /// time; the accepted time and value of an ODE curve).
+    virtual std::vector<double>
+    state() const;
+
+    /// Restore what state() returned; throws on a state of another size.
+    virtual void
+    set_state(const std::vector<double> &state);
   };
 
   /// The activation of the benchmark of Aróstica et al. 2025 (CMAME
@@ -60,6 +70,12 @@ namespace systole
 
     void
     accept(const double time) override;
+
+    std::vector<double>
+    state() const override;
+
+    void
+    set_state(const std::vector<double> &state) override;
 
     /// Right-hand side [unit/ms].
     virtual double

@@ -179,7 +179,7 @@ namespace systole
       "Checkpoint interval",
       "0",
       Integer(0),
-      "Problem = heartbeat and electrophysiology: write a checkpoint (the "
+      "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint (the "
       "whole state of the run, "
       "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
       "every this many accepted steps; 0: none by step count. A checkpoint is "
@@ -188,7 +188,7 @@ namespace systole
       "Checkpoint wall time interval",
       "0",
       Double(0.0),
-      "Problem = heartbeat and electrophysiology: write a checkpoint at the "
+      "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint at the "
       "end of the first step "
       "after this much wall-clock time since the start or the last "
       "checkpoint; 0: none by wall time. Units: minutes.");
@@ -196,7 +196,7 @@ namespace systole
       "Resume",
       "false",
       Bool(),
-      "Problem = heartbeat and electrophysiology: continue the run in "
+      "Problem = heartbeat, electrophysiology and elastodynamics: continue the run in "
       "<Directory>/<Run name> from "
       "its newest valid checkpoint, appending to its results.h5 (rows written "
       "after that checkpoint are discarded first). The parameter file must "

@@ -2,7 +2,21 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <chrono>
+#include <functional>
+#include <memory>
 #include <string>
+#include <vector>
+
+namespace boost::archive
+{
+  class text_oarchive;
+}
+namespace dealii::parallel
+{
+  template <int dim, int spacedim>
+  class DistributedTriangulationBase;
+}
 
 namespace systole
 {
@@ -11,7 +25,9 @@ namespace systole
   namespace IO
   {
     class CheckpointStore;
-  }
+    class ResultsFile;
+    class StateReader;
+  } // namespace IO
 
   /// Resume: the newest valid checkpoint of the run in @p store, of this
   /// build's checkpoint format (IO::check_checkpoint_format) and written for
@@ -34,4 +50,90 @@ namespace systole
                          const std::string   &state,
                          const std::string   &all_entries,
                          const RunParameters &run);
+
+  /// The results file of a run: new, or (resuming from @p checkpoint)
+  /// reopened with the rows of the checkpoint's small state, whose rest
+  /// @p state_in then reads (the rows and the step come first in it, see
+  /// RunCheckpointer::write()). Collective.
+  std::unique_ptr<IO::ResultsFile>
+  open_results(const std::string                &checkpoint,
+               const RunParameters              &run,
+               const std::string                &parameter_text,
+               std::unique_ptr<IO::StateReader> &state_in,
+               const MPI_Comm                    comm);
+
+  /// Whether the checkpoint of step @p step is due: every Output /
+  /// Checkpoint interval steps, or Output / Checkpoint minutes after
+  /// @p last (the latest rank decides). Collective when minutes are set.
+  bool
+  checkpoint_due(const RunParameters                         &run,
+                 const unsigned int                           step,
+                 const std::chrono::steady_clock::time_point &last,
+                 const MPI_Comm                               comm);
+
+  /// Writes the checkpoints of a run into @p store: the small state (the
+  /// results file's rows, the step, then what the caller saves) through
+  /// boost serialization, the parameters, and the mesh with its attached
+  /// cell data (Triangulation::save into `<mesh_file>`); into a temporary
+  /// folder renamed when complete. A write that fails stops every rank with
+  /// one line naming the file, the reason, the intact previous checkpoint
+  /// and the fix.
+  class RunCheckpointer
+  {
+  public:
+    /// Saves the run's state after the rows and the step; @p folder is the
+    /// checkpoint's (for files of its own).
+    using SaveState = std::function<void(boost::archive::text_oarchive &archive,
+                                         const std::string &folder)>;
+
+    RunCheckpointer(
+      IO::CheckpointStore                                        &store,
+      const IO::ResultsFile                                      &results,
+      const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+      const std::string                                          &mesh_file,
+      const std::string                                          &all_entries,
+      const RunParameters                                        &run,
+      Logger                                                     &logger,
+      const MPI_Comm                                              comm);
+
+    /// Writes the checkpoint of step @p step: @p save fills the small state
+    /// (it may attach cell data to the mesh), @p after_mesh runs after the
+    /// mesh's save (to release what @p save attached). Collective.
+    void
+    write(const unsigned int           step,
+          const SaveState             &save,
+          const std::function<void()> &after_mesh);
+
+    /// The checkpoint folders, newest first.
+    std::vector<std::string>
+    list() const;
+
+    /// Checkpoints written and the seconds they took.
+    unsigned int count   = 0;
+    double       seconds = 0;
+
+  private:
+    /// Throw on every rank, naming the intact previous checkpoint, if rank
+    /// @p failed_rank (< the number of ranks) has an @p error.
+    void
+    stop_if_failed(const std::string &error,
+                   const unsigned int failed_rank,
+                   const unsigned int step) const;
+
+    /// Write the small state, the parameters and the parameter file's name
+    /// into @p folder; returns "" or what failed (file and reason).
+    std::string
+    write_files(const std::string &folder,
+                const std::string &data,
+                const unsigned int step) const;
+
+    IO::CheckpointStore                                        &store;
+    const IO::ResultsFile                                      &results;
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+    const std::string                                           mesh_file;
+    const std::string                                          &all_entries;
+    const RunParameters                                        &run;
+    Logger                                                     &logger;
+    const MPI_Comm                                              comm;
+  };
 } // namespace systole

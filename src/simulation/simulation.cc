@@ -50,10 +50,12 @@ namespace systole
           impl->run.output_directory.pop_back();
       }
     AssertThrow(!impl->run.resume || impl->run.problem == "heartbeat" ||
-                  impl->run.problem == "electrophysiology",
+                  impl->run.problem == "electrophysiology" ||
+                  impl->run.problem == "elastodynamics",
                 dealii::ExcMessage(
-                  "Output / Resume: only Problem = heartbeat and Problem = "
-                  "electrophysiology write checkpoints (Problem = " +
+                  "Output / Resume: only Problem = heartbeat, "
+                  "electrophysiology and elastodynamics write checkpoints "
+                  "(Problem = " +
                   impl->run.problem + ")."));
     validate_component_parameters(impl->prm, parameter_file);
 
