@@ -1,7 +1,8 @@
 """Plot the activation map that the ``electrophysiology`` problem writes.
 
 The activation time of every node is the field ``activation_time`` [ms] of the
-/fields/step_NNNNNN groups (NaN where a node never activated), on the nodes of /mesh/nodes;
+/fields/step_NNNNNN groups (-1 in the file, NaN here, where a node has not activated), on the
+nodes of /mesh/nodes;
 the /summary row holds first, last, total and 90 % activation times. The figure has two
 panels: a histogram of the activation times and a picture of a plane slice of the map
 (filled isochrones). Uses matplotlib's Agg canvas directly (no pyplot, no display).
@@ -46,6 +47,7 @@ def activation_field(path: str | Path, step: int | None = None):
                              f"(steps with one: {steps})")
         group = h5file[f"fields/step_{step:06d}"]
         times = np.asarray(group["activation_time"][()], dtype=float).reshape(-1)
+        times[times < 0] = np.nan  # the file's -1: not activated
         nodes = np.asarray(h5file["mesh/nodes"][()], dtype=float)
         return nodes, times, step, float(group.attrs["time"])
 

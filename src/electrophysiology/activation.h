@@ -7,6 +7,11 @@
 
 namespace systole::Electrophysiology
 {
+  /// The activation time the field outputs write for a node that has not
+  /// activated [ms] (as openCARP's LAT maps do): NaN would spread through
+  /// DataOut's evaluation (0 x NaN) to every vertex of the node's cells.
+  inline constexpr double not_activated_time = -1.0;
+
   /// Activation times of a set of points from a sampled potential: a point
   /// activates when its potential crosses the threshold upwards between two
   /// samples (v_old < threshold <= v_new); the crossing time is located by

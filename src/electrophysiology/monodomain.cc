@@ -116,6 +116,7 @@ namespace systole::Electrophysiology
     m.potential_mV.reinit(m.owned, m.relevant, m.comm);
     m.activation_first.reinit(m.owned, m.relevant, m.comm);
     m.activation_latest.reinit(m.owned, m.relevant, m.comm);
+    m.activation_field.reinit(m.owned, m.relevant, m.comm);
     m.calcium_uM.reinit(m.owned, m.relevant, m.comm);
 
     m.assemble_lumped_mass();
@@ -521,7 +522,7 @@ namespace systole::Electrophysiology
                              impl->potential_mV,
                              "transmembrane_potential");
     data_out.add_data_vector(impl->dof_handler,
-                             impl->activation_first,
+                             impl->activation_field,
                              "activation_time");
     if (impl->model.has_calcium())
       data_out.add_data_vector(impl->dof_handler, impl->calcium_uM, "calcium");

@@ -229,7 +229,8 @@ namespace systole::Electrophysiology
     restore();
 
     /// Add the potential [mV] ("transmembrane_potential"), the first
-    /// activation time [ms] ("activation_time", NaN where none yet) and, for
+    /// activation time [ms] ("activation_time", not_activated_time = -1 where
+    /// none yet) and, for
     /// a model with calcium, the calcium [µM] ("calcium") to
     /// @p data_out, through this object's DoFHandler (so the DataOut may
     /// carry other DoFHandlers on the same mesh too). Call before

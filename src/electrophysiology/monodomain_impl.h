@@ -256,10 +256,12 @@ namespace systole::Electrophysiology
                                    : n_owned + ghosts.index_within_set(dof);
     }
 
-    /// Ghosted, node layout: potential [mV], first and latest activation,
-    /// calcium [µM] (NaN without calcium).
+    /// Ghosted, node layout: potential [mV], first and latest activation
+    /// (NaN where none), calcium [µM] (NaN without calcium); the first
+    /// activation as the field output writes it (not_activated_time where
+    /// none).
     LA::MPI::Vector potential_mV, activation_first, activation_latest,
-      calcium_uM;
+      calcium_uM, activation_field;
 
     /// The first step starts with a Rush-Larsen half step of the gates
     /// (the opening half of Strang's splitting, see create_integrator()).

@@ -366,19 +366,25 @@ namespace systole::Electrophysiology
       const LocalWrite first(activation_first);
       const LocalWrite latest(activation_latest);
       const LocalWrite calcium(calcium_uM);
+      const LocalWrite field(activation_field);
       for (unsigned int i = 0; i < n_owned; ++i)
         {
-          V.data()[i]       = model.to_mV(y.data()[i * n_components]);
-          first.data()[i]   = tracker.first()[i];
-          latest.data()[i]  = tracker.latest()[i];
+          V.data()[i]      = model.to_mV(y.data()[i * n_components]);
+          first.data()[i]  = tracker.first()[i];
+          field.data()[i]  = std::isnan(tracker.first()[i]) ? not_activated_time
+                                                            : tracker.first()[i];
+          latest.data()[i] = tracker.latest()[i];
           calcium.data()[i] = model.calcium_uM(y.data() + i * n_components + 1);
         }
     }
     // deal.II 9.4's PETSc update_ghost_values() does nothing (its ghosted
     // vectors are refreshed by assignment from a non-ghosted one): scatter
     // the owned values written above to the other ranks' ghosts here.
-    for (LA::MPI::Vector *v :
-         {&potential_mV, &activation_first, &activation_latest, &calcium_uM})
+    for (LA::MPI::Vector *v : {&potential_mV,
+                               &activation_first,
+                               &activation_latest,
+                               &calcium_uM,
+                               &activation_field})
       {
         const Vec      vec = static_cast<const Vec &>(*v);
         PetscErrorCode ierr =

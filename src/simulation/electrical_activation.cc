@@ -12,6 +12,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include "base/logger.h"
+#include "electrophysiology/activation.h"
 #include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
 #include "geometry/cell_kind.h"
@@ -758,8 +759,13 @@ namespace systole
     for (unsigned int i = 0; i < m.node_dofs.size(); ++i)
       {
         m.out_potential[m.node_dofs[i]] = values[i][0];
-        m.out_first[m.node_dofs[i]]     = values[i][1];
-        m.out_latest[m.node_dofs[i]]    = values[i][2];
+        // (A finite "not activated": NaN would spread through DataOut.)
+        m.out_first[m.node_dofs[i]]  = std::isnan(values[i][1])
+                                         ? Electrophysiology::not_activated_time
+                                         : values[i][1];
+        m.out_latest[m.node_dofs[i]] = std::isnan(values[i][2])
+                                         ? Electrophysiology::not_activated_time
+                                         : values[i][2];
       }
     for (auto *v : {&m.out_potential, &m.out_first, &m.out_latest})
       v->update_ghost_values();

@@ -147,7 +147,8 @@ namespace systole
 
     /// Add the fields "transmembrane_potential" [mV], "activation_time" (the
     /// first upstroke, the activation map of the run) and
-    /// "latest_activation_time" [ms] (NaN where none) on the mechanics mesh
+    /// "latest_activation_time" [ms] (-1, Electrophysiology::
+    /// not_activated_time, where none) on the mechanics mesh
     /// (interpolated from EP at the nodes of a Q(degree), on tetrahedra
     /// P(degree), field) to
     /// @p data_out, at time() (which may lie up to one step of the

@@ -194,6 +194,7 @@ def check_activation(path, summary, events, reference_path):
                 failures.append("no activation_time field")
             else:
                 times = np.asarray(last["activation_time"][()], dtype=float)
+                times[times == -1.0] = np.nan  # the file's "not activated"
                 print(f"activation_time field: {np.isfinite(times).mean():.3f} of the nodes "
                       f"activated, {np.nanmin(times):.2f} to {np.nanmax(times):.2f} ms")
                 if not np.all(np.isfinite(times)):

@@ -72,12 +72,11 @@ class Report:
 #: The fields compared: the primary unknowns, continuous, so one value per output node.
 #: (Derived fields such as stresses are discontinuous across cells, and the output keeps one
 #: of the values at a shared vertex, which one depending on the partition; they follow from
-#: the compared unknowns, and their reductions are in /timeseries and /summary.) Not the EP's
-#: activation_time field: NaN for "not activated" spreads through DataOut's interpolation to the
-#: vertices of every cell with such a node (docs/verification.md, "Any rank count"), so copies
-#: of a partition-boundary node can disagree (NaN and a time); the
-#: tracker's values are compared through activated_fraction and the /summary activation times.
-FIELDS = ("displacement", "transmembrane_potential")
+#: the compared unknowns, and their reductions are in /timeseries and /summary.) The EP's
+#: activation_time field too: its nodal values (-1 where not activated; it was NaN, which spread
+#: through DataOut's interpolation to every vertex of such a node's cells, docs/verification.md,
+#: "Any rank count").
+FIELDS = ("displacement", "transmembrane_potential", "activation_time")
 
 
 def by_position(nodes: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
