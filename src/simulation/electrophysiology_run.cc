@@ -99,14 +99,6 @@ namespace systole
       log_cost(const Electrophysiology::Statistics &stats,
                const double                         seconds);
 
-      static std::string
-      entries_of(const dealii::ParameterHandler &prm)
-      {
-        std::ostringstream entries;
-        prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
-        return entries.str();
-      }
-
       const RunParameters                                 &run;
       Logger                                              &logger;
       const MPI_Comm                                       comm;
@@ -142,7 +134,7 @@ namespace systole
       , comm(comm)
       , geometry(Geometry::Parameters::parse(prm, run.parameter_directory))
       , params(Electrophysiology::Parameters::parse(prm))
-      , all_entries(entries_of(prm))
+      , all_entries(checkpoint_entries(prm))
       , store(run.output_directory, comm)
       , checkpoint(resume_checkpoint(run, store, all_entries, logger, comm))
       , mesh(Geometry::create_distributed_mesh(geometry,

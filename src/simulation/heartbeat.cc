@@ -634,16 +634,6 @@ namespace systole
       return tension_model;
     }
 
-    /// Every entry of @p prm (a checkpoint's: a resumed run must describe
-    /// the same problem).
-    std::string
-    short_entries(const dealii::ParameterHandler &prm)
-    {
-      std::ostringstream entries;
-      prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
-      return entries.str();
-    }
-
     /// The parts of a heartbeat that the coupled run starts from: the
     /// options, the checkpoint to resume from, the mechanics, the 0D
     /// circulation and the activation (electrophysiology or a prescribed
@@ -657,7 +647,7 @@ namespace systole
         : circulation(Circulation::Parameters::parse(prm))
         , tension_model(checked_tension_model(prm, circulation.period))
         , inertia(prm.get_bool({"Mechanics"}, "Inertia"))
-        , all_entries(short_entries(prm))
+        , all_entries(checkpoint_entries(prm))
         , store(run.output_directory, comm)
         , checkpoint(resume_checkpoint(run, store, all_entries, logger, comm))
         , model(prm,

@@ -1,6 +1,7 @@
 #include "simulation/run_checkpoint.h"
 
 #include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
 
 #include "base/logger.h"
 #include "io/checkpoint.h"
@@ -15,6 +16,14 @@ namespace systole
   /// Resume: the newest valid checkpoint of the run, written for the same
   /// problem (every entry outside subsection Output equal to
   /// @p all_entries); "" when the run does not resume.
+  std::string
+  checkpoint_entries(const dealii::ParameterHandler &prm)
+  {
+    std::ostringstream entries;
+    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    return entries.str();
+  }
+
   std::string
   resume_checkpoint(const RunParameters &run,
                     IO::CheckpointStore &store,

@@ -4,6 +4,11 @@
 
 #include <string>
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace systole
 {
   class Logger;
@@ -12,6 +17,11 @@ namespace systole
   {
     class CheckpointStore;
   }
+
+  /// Every entry of @p prm as deal.II's ShortPRM text: what a checkpoint
+  /// records of the problem (the @p all_entries below).
+  std::string
+  checkpoint_entries(const dealii::ParameterHandler &prm);
 
   /// Resume: the newest valid checkpoint of the run in @p store, of this
   /// build's checkpoint format (IO::check_checkpoint_format) and written for
