@@ -159,6 +159,36 @@ namespace systole::Circulation
     void
     accumulate_phase_durations(const double time);
 
+    /// The pressure-volume loop of one cavity over the beat (finish()).
+    struct CavityBeat;
+
+    /// The loop of cavity @p c: its extreme volumes (at the valve closures
+    /// where the beat has them), pressures, work and dp/dt.
+    CavityBeat
+    cavity_beat(const unsigned int c) const;
+
+    /// The summary columns of cavity @p c with the loop @p b.
+    void
+    append_cavity_columns(const unsigned int          c,
+                          const CavityBeat           &b,
+                          std::vector<SummaryColumn> &row) const;
+
+    /// The spread of the @p stroke_volumes (of the 3D cavities only, if
+    /// @p external_only) relative to their mean; NaN unless the cavities
+    /// are in series.
+    double
+    stroke_volume_difference(const std::vector<double> &stroke_volumes,
+                             const bool                 external_only) const;
+
+    /// Max, min and time average of every pressure state and output.
+    void
+    append_pressure_columns(std::vector<SummaryColumn> &row) const;
+
+    /// The total blood volume at the end of the beat and its largest
+    /// relative drift from the start.
+    void
+    append_blood_volume_columns(std::vector<SummaryColumn> &row) const;
+
     struct Sample
     {
       double                 time;

@@ -29,6 +29,126 @@ namespace systole::Circulation
                                      str(value_in_file) + " " + unit +
                                      ": must be positive."));
     }
+
+    /// The tolerances and steps of the time integration of subsection
+    /// Circulation.
+    void
+    declare_time_stepping(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry("Relative tolerance",
+                        "1e-4",
+                        Double(0.0, 1.0),
+                        "Relative tolerance of the adaptive time steps: of "
+                        "the BDF2 local error of the 0D states and the "
+                        "curvature of the 3D cavity pressures for Problem = "
+                        "heartbeat; of SUNDIALS ARKode's implicit DIRK "
+                        "(order 5) for Problem = circulation. Units: -.");
+      prm.declare_entry("Absolute volume tolerance",
+                        "1e-3",
+                        Double(0.0),
+                        "Absolute tolerance of the cavity volume and the "
+                        "integrated flows; that of the arterial pressure is "
+                        "this divided by the compliance (Problem = "
+                        "circulation: every volume; a pressure gets this "
+                        "divided by its compliance, a flow this per ms). "
+                        "Units: mL.");
+      prm.declare_entry("Absolute pressure tolerance",
+                        "0.1",
+                        Double(0.0),
+                        "Problem = heartbeat: absolute tolerance of the 3D "
+                        "cavity pressures in the step-size control (beside "
+                        "the relative tolerance times the pressure); the "
+                        "steps are short where the pressure curves, as in "
+                        "the isovolumetric contraction. Units: mmHg "
+                        "(converted to kPa).");
+      prm.declare_entry("Event time tolerance",
+                        "0.1",
+                        Double(0.0),
+                        "Problem = heartbeat: a step that crosses a valve "
+                        "event (a valve's pressure drop changes sign) is "
+                        "redone until it ends at most this long after the "
+                        "event. Units: ms.");
+      prm.declare_entry(
+        "Displacement tolerance",
+        "0.25",
+        Double(0.0),
+        "Problem = heartbeat: the largest nodal distance by which the start of "
+        "a coupled step's Newton iteration (the displacement extrapolated from "
+        "the last two states) may miss its solution. After every step, the "
+        "next one is limited so that its miss is expected within this (it "
+        "grows with the square of the step): where the motion accelerates, as "
+        "at the contraction onset, the steps stay short enough for Newton to "
+        "converge within Mechanics / Maximum Newton iterations instead of "
+        "failing and being halved. 0: the steps follow the 0D and pressure "
+        "errors alone. Units: mm.");
+      prm.declare_entry("Maximum time step",
+                        "10",
+                        Double(0.0),
+                        "Largest time step (Problem = heartbeat: of the "
+                        "coupled mechanics and circulation step, in "
+                        "diastasis). Units: ms.");
+      prm.declare_entry("Initial time step",
+                        "0.5",
+                        Double(0.0),
+                        "First step of the integrator, and (Problem = "
+                        "heartbeat) the first step after every valve event. "
+                        "Units: ms.");
+    }
+
+
+    /// The Windkessel and valve entries of subsection Circulation.
+    void
+    declare_windkessel(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Peripheral resistance",
+        "1.0",
+        Double(0.0),
+        "R_p, systemic peripheral resistance. Units: mmHg s/mL. "
+        "Typical 1.0-1.3 (reference/physiology.md).");
+      prm.declare_entry("Compliance",
+                        "1.5",
+                        Double(0.0),
+                        "C, arterial compliance. Units: mL/mmHg. Typical 1-2.");
+      prm.declare_entry("Characteristic impedance",
+                        "0.05",
+                        Double(0.0),
+                        "Z_c of the proximal aorta (Model = 3- and 4-element "
+                        "Windkessel). "
+                        "Units: mmHg s/mL. Typical 0.03-0.07.");
+      prm.declare_entry("Aortic valve resistance",
+                        "0.0075",
+                        Double(0.0),
+                        "Resistance of the open aortic valve: the R_min of the "
+                        "aortic diode valve of every Model = n-element "
+                        "Windkessel. Units: "
+                        "mmHg s/mL.");
+      prm.declare_entry("Mitral valve resistance",
+                        "0.0075",
+                        Double(0.0),
+                        "Resistance of the open mitral valve: the filling flow "
+                        "is (atrial pressure - cavity pressure) / this. Units: "
+                        "mmHg s/mL.");
+      prm.declare_entry("Atrial pressure",
+                        "10",
+                        Double(0.0),
+                        "Left atrial pressure, constant. Units: mmHg. Typical "
+                        "end-diastolic pressure 8-12.");
+      prm.declare_entry("Venous pressure",
+                        "0",
+                        Double(0.0),
+                        "Pressure at the outflow end of the peripheral "
+                        "resistance. Units: mmHg.");
+      prm.declare_entry(
+        "Initial aortic pressure",
+        "80",
+        Double(0.0),
+        "Distal arterial (capacitor) pressure at time 0. Units: "
+        "mmHg. Typical diastolic aortic pressure 80.");
+    }
+
   } // namespace
 
   void
@@ -36,49 +156,7 @@ namespace systole::Circulation
   {
     using namespace dealii::Patterns;
     prm.enter_subsection("Circulation");
-    prm.declare_entry("Peripheral resistance",
-                      "1.0",
-                      Double(0.0),
-                      "R_p, systemic peripheral resistance. Units: mmHg s/mL. "
-                      "Typical 1.0-1.3 (reference/physiology.md).");
-    prm.declare_entry("Compliance",
-                      "1.5",
-                      Double(0.0),
-                      "C, arterial compliance. Units: mL/mmHg. Typical 1-2.");
-    prm.declare_entry("Characteristic impedance",
-                      "0.05",
-                      Double(0.0),
-                      "Z_c of the proximal aorta (Model = 3- and 4-element "
-                      "Windkessel). "
-                      "Units: mmHg s/mL. Typical 0.03-0.07.");
-    prm.declare_entry("Aortic valve resistance",
-                      "0.0075",
-                      Double(0.0),
-                      "Resistance of the open aortic valve: the R_min of the "
-                      "aortic diode valve of every Model = n-element "
-                      "Windkessel. Units: "
-                      "mmHg s/mL.");
-    prm.declare_entry("Mitral valve resistance",
-                      "0.0075",
-                      Double(0.0),
-                      "Resistance of the open mitral valve: the filling flow "
-                      "is (atrial pressure - cavity pressure) / this. Units: "
-                      "mmHg s/mL.");
-    prm.declare_entry("Atrial pressure",
-                      "10",
-                      Double(0.0),
-                      "Left atrial pressure, constant. Units: mmHg. Typical "
-                      "end-diastolic pressure 8-12.");
-    prm.declare_entry("Venous pressure",
-                      "0",
-                      Double(0.0),
-                      "Pressure at the outflow end of the peripheral "
-                      "resistance. Units: mmHg.");
-    prm.declare_entry("Initial aortic pressure",
-                      "80",
-                      Double(0.0),
-                      "Distal arterial (capacitor) pressure at time 0. Units: "
-                      "mmHg. Typical diastolic aortic pressure 80.");
+    declare_windkessel(prm);
     prm.declare_entry("Period",
                       "800",
                       Double(0.0),
@@ -100,64 +178,7 @@ namespace systole::Circulation
       "mesh), their stroke volumes differ by less than this fraction of "
       "their mean (the /summary columns EDV_change, SV_difference and "
       "periodicity); 0 runs all beats. Units: -.");
-    prm.declare_entry("Relative tolerance",
-                      "1e-4",
-                      Double(0.0, 1.0),
-                      "Relative tolerance of the adaptive time steps: of "
-                      "the BDF2 local error of the 0D states and the "
-                      "curvature of the 3D cavity pressures for Problem = "
-                      "heartbeat; of SUNDIALS ARKode's implicit DIRK "
-                      "(order 5) for Problem = circulation. Units: -.");
-    prm.declare_entry("Absolute volume tolerance",
-                      "1e-3",
-                      Double(0.0),
-                      "Absolute tolerance of the cavity volume and the "
-                      "integrated flows; that of the arterial pressure is "
-                      "this divided by the compliance (Problem = "
-                      "circulation: every volume; a pressure gets this "
-                      "divided by its compliance, a flow this per ms). "
-                      "Units: mL.");
-    prm.declare_entry("Absolute pressure tolerance",
-                      "0.1",
-                      Double(0.0),
-                      "Problem = heartbeat: absolute tolerance of the 3D "
-                      "cavity pressures in the step-size control (beside "
-                      "the relative tolerance times the pressure); the "
-                      "steps are short where the pressure curves, as in "
-                      "the isovolumetric contraction. Units: mmHg "
-                      "(converted to kPa).");
-    prm.declare_entry("Event time tolerance",
-                      "0.1",
-                      Double(0.0),
-                      "Problem = heartbeat: a step that crosses a valve "
-                      "event (a valve's pressure drop changes sign) is "
-                      "redone until it ends at most this long after the "
-                      "event. Units: ms.");
-    prm.declare_entry(
-      "Displacement tolerance",
-      "0.25",
-      Double(0.0),
-      "Problem = heartbeat: the largest nodal distance by which the start of "
-      "a coupled step's Newton iteration (the displacement extrapolated from "
-      "the last two states) may miss its solution. After every step, the "
-      "next one is limited so that its miss is expected within this (it "
-      "grows with the square of the step): where the motion accelerates, as "
-      "at the contraction onset, the steps stay short enough for Newton to "
-      "converge within Mechanics / Maximum Newton iterations instead of "
-      "failing and being halved. 0: the steps follow the 0D and pressure "
-      "errors alone. Units: mm.");
-    prm.declare_entry("Maximum time step",
-                      "10",
-                      Double(0.0),
-                      "Largest time step (Problem = heartbeat: of the "
-                      "coupled mechanics and circulation step, in "
-                      "diastasis). Units: ms.");
-    prm.declare_entry("Initial time step",
-                      "0.5",
-                      Double(0.0),
-                      "First step of the integrator, and (Problem = "
-                      "heartbeat) the first step after every valve event. "
-                      "Units: ms.");
+    declare_time_stepping(prm);
     prm.leave_subsection();
   }
 

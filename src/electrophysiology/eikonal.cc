@@ -185,6 +185,104 @@ namespace systole::Electrophysiology
   } // namespace
 
 
+  namespace
+  {
+    /// The points of the fast endocardial layer's boundary part (its faces'
+    /// vertices and centres, gathered from every rank), in a tree.
+    dealii::RTree<dealii::Point<3>>
+    layer_points(const dealii::DoFHandler<3>   &dofs,
+                 const Geometry::BoundaryNames &names,
+                 const EikonalSettings         &settings)
+    {
+      AssertThrow(settings.endocardial_velocity > 0,
+                  dealii::ExcMessage(
+                    "Electrophysiology / Fast endocardial layer velocity "
+                    "must be > 0."));
+      const auto &tria = dofs.get_triangulation();
+      Geometry::require_boundary(tria, names, settings.endocardial_part);
+      const auto                    id = names.id(settings.endocardial_part);
+      std::vector<dealii::Point<3>> local_points;
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const auto f : cell->face_indices())
+            if (cell->face(f)->at_boundary() &&
+                cell->face(f)->boundary_id() == id)
+              {
+                local_points.push_back(cell->face(f)->center());
+                for (const auto v : cell->face(f)->vertex_indices())
+                  local_points.push_back(cell->face(f)->vertex(v));
+              }
+      std::vector<dealii::Point<3>> points;
+      for (const auto &from_rank :
+           dealii::Utilities::MPI::all_gather(dofs.get_communicator(),
+                                              local_points))
+        points.insert(points.end(), from_rank.begin(), from_rank.end());
+      return dealii::pack_rtree(points);
+    }
+
+    /// The metric V^-1 of every owned cell, then of the ghost cells, indexed
+    /// by the active cell index: isotropic in the fast layer (the cells
+    /// whose centre lies within its thickness of a point of @p layer; none
+    /// when @p layer is null), from the fibres elsewhere.
+    std::vector<dealii::SymmetricTensor<2, 3>>
+    cell_metrics(const dealii::DoFHandler<3>           &dofs,
+                 const Fibres::FibreField              &fibres,
+                 const EikonalSettings                 &settings,
+                 const dealii::RTree<dealii::Point<3>> *layer)
+    {
+      std::vector<dealii::SymmetricTensor<2, 3>> metric(
+        dofs.get_triangulation().n_active_cells());
+      std::vector<Fibres::FibreBasis> bases;
+      for (const auto &cell : dofs.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const dealii::Point<3> centre = cell->center();
+            bool                   fast   = false;
+            if (layer != nullptr)
+              {
+                std::vector<dealii::Point<3>> nearest;
+                layer->query(boost::geometry::index::nearest(centre, 1),
+                             std::back_inserter(nearest));
+                fast = centre.distance(nearest.front()) <=
+                       settings.endocardial_thickness;
+              }
+            dealii::SymmetricTensor<2, 3> A;
+            if (fast)
+              A =
+                dealii::unit_symmetric_tensor<3>() /
+                (settings.endocardial_velocity * settings.endocardial_velocity);
+            else
+              {
+                fibres(cell, {centre}, bases);
+                const auto &b = bases.at(0);
+                for (unsigned int i = 0; i < 3; ++i)
+                  for (unsigned int j = i; j < 3; ++j)
+                    A[i][j] =
+                      b.f[i] * b.f[j] /
+                        (settings.velocity_fibre * settings.velocity_fibre) +
+                      b.s[i] * b.s[j] /
+                        (settings.velocity_sheet * settings.velocity_sheet) +
+                      b.n[i] * b.n[j] /
+                        (settings.velocity_normal * settings.velocity_normal);
+              }
+            metric[cell->active_cell_index()] = A;
+          }
+      dealii::GridTools::exchange_cell_data_to_ghosts<
+        dealii::SymmetricTensor<2, 3>,
+        dealii::DoFHandler<3>>(
+        dofs,
+        [&](const dealii::DoFHandler<3>::active_cell_iterator &cell) {
+          return metric[cell->active_cell_index()];
+        },
+        [&](const dealii::DoFHandler<3>::active_cell_iterator &cell,
+            const dealii::SymmetricTensor<2, 3>               &A) {
+          metric[cell->active_cell_index()] = A;
+        });
+      return metric;
+    }
+  } // namespace
+
+
   EikonalSolver::EikonalSolver(const dealii::DoFHandler<3>   &dofs,
                                const Fibres::FibreField      &fibres,
                                const Geometry::BoundaryNames &names,
@@ -217,86 +315,14 @@ namespace systole::Electrophysiology
       times.locally_owned_size() + partitioner.n_ghost_indices();
 
     // The fast endocardial layer: the distance of each owned cell's centre
-    // to the boundary part (to its faces' vertices and centres, gathered
-    // from every rank).
+    // to the boundary part.
     const bool layer =
       !settings.endocardial_part.empty() && settings.endocardial_thickness > 0;
     dealii::RTree<dealii::Point<3>> tree;
     if (layer)
-      {
-        AssertThrow(settings.endocardial_velocity > 0,
-                    dealii::ExcMessage(
-                      "Electrophysiology / Fast endocardial layer velocity "
-                      "must be > 0."));
-        const auto &tria = dofs.get_triangulation();
-        Geometry::require_boundary(tria, names, settings.endocardial_part);
-        const auto                    id = names.id(settings.endocardial_part);
-        std::vector<dealii::Point<3>> local_points;
-        for (const auto &cell : tria.active_cell_iterators())
-          if (cell->is_locally_owned())
-            for (const auto f : cell->face_indices())
-              if (cell->face(f)->at_boundary() &&
-                  cell->face(f)->boundary_id() == id)
-                {
-                  local_points.push_back(cell->face(f)->center());
-                  for (const auto v : cell->face(f)->vertex_indices())
-                    local_points.push_back(cell->face(f)->vertex(v));
-                }
-        std::vector<dealii::Point<3>> points;
-        for (const auto &from_rank :
-             dealii::Utilities::MPI::all_gather(comm, local_points))
-          points.insert(points.end(), from_rank.begin(), from_rank.end());
-        tree = dealii::pack_rtree(points);
-      }
-
-    // The metric V^-1 of every owned cell, then of the ghost cells.
-    std::vector<dealii::SymmetricTensor<2, 3>> metric(
-      dofs.get_triangulation().n_active_cells());
-    std::vector<Fibres::FibreBasis> bases;
-    for (const auto &cell : dofs.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const dealii::Point<3> centre = cell->center();
-          bool                   fast   = false;
-          if (layer)
-            {
-              std::vector<dealii::Point<3>> nearest;
-              tree.query(boost::geometry::index::nearest(centre, 1),
-                         std::back_inserter(nearest));
-              fast = centre.distance(nearest.front()) <=
-                     settings.endocardial_thickness;
-            }
-          dealii::SymmetricTensor<2, 3> A;
-          if (fast)
-            A = dealii::unit_symmetric_tensor<3>() /
-                (settings.endocardial_velocity * settings.endocardial_velocity);
-          else
-            {
-              fibres(cell, {centre}, bases);
-              const auto &b = bases.at(0);
-              for (unsigned int i = 0; i < 3; ++i)
-                for (unsigned int j = i; j < 3; ++j)
-                  A[i][j] =
-                    b.f[i] * b.f[j] /
-                      (settings.velocity_fibre * settings.velocity_fibre) +
-                    b.s[i] * b.s[j] /
-                      (settings.velocity_sheet * settings.velocity_sheet) +
-                    b.n[i] * b.n[j] /
-                      (settings.velocity_normal * settings.velocity_normal);
-            }
-          metric[cell->active_cell_index()] = A;
-        }
-    dealii::GridTools::exchange_cell_data_to_ghosts<
-      dealii::SymmetricTensor<2, 3>,
-      dealii::DoFHandler<3>>(
-      dofs,
-      [&](const dealii::DoFHandler<3>::active_cell_iterator &cell) {
-        return metric[cell->active_cell_index()];
-      },
-      [&](const dealii::DoFHandler<3>::active_cell_iterator &cell,
-          const dealii::SymmetricTensor<2, 3>               &A) {
-        metric[cell->active_cell_index()] = A;
-      });
+      tree = layer_points(dofs, names, settings);
+    const std::vector<dealii::SymmetricTensor<2, 3>> metric =
+      cell_metrics(dofs, fibres, settings, layer ? &tree : nullptr);
 
     // The owned and ghost cells: nodes in local numbering, positions.
     position.resize(n_local);

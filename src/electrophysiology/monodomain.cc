@@ -62,6 +62,126 @@ namespace systole::Electrophysiology
   {}
 
 
+  void
+  Monodomain::Impl::distribute_nodes()
+  {
+    dof_handler.distribute_dofs(*fe);
+    owned = dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    n_owned = owned.n_elements();
+    ghosts  = relevant;
+    ghosts.subtract_set(owned);
+    AssertThrow(owned.is_contiguous(), dealii::ExcInternalError());
+    {
+      dealii::AffineConstraints<double> hanging(relevant);
+      dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+      AssertThrow(dealii::Utilities::MPI::max(hanging.n_constraints(), comm) ==
+                    0,
+                  dealii::ExcMessage(
+                    "Electrophysiology needs a conforming mesh (no hanging "
+                    "nodes): refine it globally."));
+    }
+
+    // The ARKode state: v and the model's states of every owned node,
+    // interleaved, in the same rank order as the nodes.
+    const auto n_global   = dof_handler.n_dofs() * n_components;
+    const auto first_node = n_owned > 0 ? *owned.begin() : 0;
+    state_owned           = dealii::IndexSet(n_global);
+    state_owned.add_range(first_node * n_components,
+                          (first_node + n_owned) * n_components);
+  }
+
+
+  void
+  Monodomain::Impl::setup_matrices()
+  {
+    dealii::DynamicSparsityPattern dsp(relevant);
+    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       owned,
+                                                       comm,
+                                                       relevant);
+    stiffness.reinit(owned, owned, dsp, comm);
+    stage.reinit(owned, owned, dsp, comm);
+    amg_matrix.reinit(owned, owned, dsp, comm);
+    v_work.reinit(owned, comm);
+    Kv_work.reinit(owned, comm);
+    rhs_work.reinit(owned, comm);
+    potential_mV.reinit(owned, relevant, comm);
+    activation_first.reinit(owned, relevant, comm);
+    activation_latest.reinit(owned, relevant, comm);
+    activation_field.reinit(owned, relevant, comm);
+    calcium_uM.reinit(owned, relevant, comm);
+
+    assemble_lumped_mass();
+    if (params.consistent_mass)
+      {
+        mass.reinit(owned, owned, dsp, comm);
+        assemble_consistent_mass();
+      }
+  }
+
+
+  void
+  Monodomain::Impl::setup_lead_field(const Fibres::FibreField &fibres)
+  {
+    std::vector<dealii::Point<3>> electrodes;
+    for (const auto &e : params.ecg.electrodes)
+      electrodes.push_back(e.position);
+    AssertThrow(electrodes.size() == electrode_names().size(),
+                dealii::ExcMessage("Electrophysiology / ECG electrodes: "
+                                   "the 12 leads need nine electrodes."));
+    // One Gauss point more than the stiffness: 1/r varies over the
+    // cells of a coarse mesh near an electrode.
+    lead_field =
+      std::make_unique<LeadField>(dof_handler,
+                                  mapping,
+                                  kind.cell_quadrature(params.degree + 2),
+                                  fibres,
+                                  params.sigma_l,
+                                  params.sigma_t,
+                                  electrodes,
+                                  params.ecg.bath_conductivity);
+  }
+
+
+  void
+  Monodomain::Impl::log_setup() const
+  {
+    std::ostringstream o;
+    if (params.model != Parameters::Model::monodomain)
+      {
+        const double last = dealii::Utilities::MPI::max(
+          eikonal_times.empty()
+            ? 0.0
+            : *std::max_element(eikonal_times.begin(), eikonal_times.end()),
+          comm);
+        o << "Electrophysiology: "
+          << (params.model == Parameters::Model::eikonal
+                ? "eikonal"
+                : (params.reaction_eikonal_diffusion ? "reaction-eikonal RE+"
+                                                     : "reaction-eikonal RE-"))
+          << ", conduction velocities " << params.eikonal.velocity_fibre
+          << " / " << params.eikonal.velocity_sheet << " / "
+          << params.eikonal.velocity_normal
+          << " mm/ms (fibre / sheet / normal), last activation " << last
+          << " ms, eikonal solve " << eikonal_statistics.seconds << " s ("
+          << eikonal_statistics.rounds << " exchange rounds)";
+        logger.line(o.str());
+        o.str("");
+      }
+    o << "Electrophysiology: monodomain, " << model.name() << ", "
+      << (kind.simplex() ? "P" : "Q") << params.degree << ", "
+      << dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
+      << " / " << params.diffusivity_t()
+      << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
+      << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
+      << params.time_step << " ms, CG + " << params.preconditioner << ", "
+      << (params.consistent_mass ? "consistent" : "lumped") << " mass";
+    logger.line(o.str());
+  }
+
+
   Monodomain::Monodomain(
     const Parameters                                           &params,
     const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
@@ -76,77 +196,12 @@ namespace systole::Electrophysiology
     impl    = std::make_unique<Impl>(params, tria, mapping, logger, start_time);
     Impl &m = *impl;
 
-    m.dof_handler.distribute_dofs(*m.fe);
-    m.owned = m.dof_handler.locally_owned_dofs();
-    dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
-    m.n_owned = m.owned.n_elements();
-    m.ghosts  = m.relevant;
-    m.ghosts.subtract_set(m.owned);
-    AssertThrow(m.owned.is_contiguous(), dealii::ExcInternalError());
-    {
-      dealii::AffineConstraints<double> hanging(m.relevant);
-      dealii::DoFTools::make_hanging_node_constraints(m.dof_handler, hanging);
-      AssertThrow(dealii::Utilities::MPI::max(hanging.n_constraints(),
-                                              m.comm) == 0,
-                  dealii::ExcMessage(
-                    "Electrophysiology needs a conforming mesh (no hanging "
-                    "nodes): refine it globally."));
-    }
-
-    // The ARKode state: v and the model's states of every owned node,
-    // interleaved, in the same rank order as the nodes.
-    const auto n_global   = m.dof_handler.n_dofs() * m.n_components;
-    const auto first_node = m.n_owned > 0 ? *m.owned.begin() : 0;
-    m.state_owned         = dealii::IndexSet(n_global);
-    m.state_owned.add_range(first_node * m.n_components,
-                            (first_node + m.n_owned) * m.n_components);
-
-    dealii::DynamicSparsityPattern dsp(m.relevant);
-    dealii::DoFTools::make_sparsity_pattern(m.dof_handler, dsp);
-    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                       m.owned,
-                                                       m.comm,
-                                                       m.relevant);
-    m.stiffness.reinit(m.owned, m.owned, dsp, m.comm);
-    m.stage.reinit(m.owned, m.owned, dsp, m.comm);
-    m.amg_matrix.reinit(m.owned, m.owned, dsp, m.comm);
-    m.v_work.reinit(m.owned, m.comm);
-    m.Kv_work.reinit(m.owned, m.comm);
-    m.rhs_work.reinit(m.owned, m.comm);
-    m.potential_mV.reinit(m.owned, m.relevant, m.comm);
-    m.activation_first.reinit(m.owned, m.relevant, m.comm);
-    m.activation_latest.reinit(m.owned, m.relevant, m.comm);
-    m.activation_field.reinit(m.owned, m.relevant, m.comm);
-    m.calcium_uM.reinit(m.owned, m.relevant, m.comm);
-
-    m.assemble_lumped_mass();
-    if (params.consistent_mass)
-      {
-        m.mass.reinit(m.owned, m.owned, dsp, m.comm);
-        m.assemble_consistent_mass();
-      }
+    m.distribute_nodes();
+    m.setup_matrices();
     m.evaluate_fibres(fibres);
     m.assemble_stiffness(nullptr);
     if (params.ecg.enabled)
-      {
-        std::vector<dealii::Point<3>> electrodes;
-        for (const auto &e : params.ecg.electrodes)
-          electrodes.push_back(e.position);
-        AssertThrow(electrodes.size() == electrode_names().size(),
-                    dealii::ExcMessage("Electrophysiology / ECG electrodes: "
-                                       "the 12 leads need nine electrodes."));
-        // One Gauss point more than the stiffness: 1/r varies over the
-        // cells of a coarse mesh near an electrode.
-        m.lead_field =
-          std::make_unique<LeadField>(m.dof_handler,
-                                      m.mapping,
-                                      m.kind.cell_quadrature(params.degree + 2),
-                                      fibres,
-                                      params.sigma_l,
-                                      params.sigma_t,
-                                      electrodes,
-                                      params.ecg.bath_conductivity);
-      }
+      m.setup_lead_field(fibres);
     if (params.purkinje.enabled &&
         params.model == Parameters::Model::monodomain)
       m.setup_purkinje_stimuli(names);
@@ -162,38 +217,7 @@ namespace systole::Electrophysiology
     m.update_output_vectors();
     m.saved.state.reinit(m.state_owned, m.comm);
     save();
-
-    std::ostringstream o;
-    if (params.model != Parameters::Model::monodomain)
-      {
-        const double last = dealii::Utilities::MPI::max(
-          m.eikonal_times.empty()
-            ? 0.0
-            : *std::max_element(m.eikonal_times.begin(), m.eikonal_times.end()),
-          m.comm);
-        o << "Electrophysiology: "
-          << (params.model == Parameters::Model::eikonal
-                ? "eikonal"
-                : (params.reaction_eikonal_diffusion ? "reaction-eikonal RE+"
-                                                     : "reaction-eikonal RE-"))
-          << ", conduction velocities " << params.eikonal.velocity_fibre
-          << " / " << params.eikonal.velocity_sheet << " / "
-          << params.eikonal.velocity_normal
-          << " mm/ms (fibre / sheet / normal), last activation " << last
-          << " ms, eikonal solve " << m.eikonal_statistics.seconds << " s ("
-          << m.eikonal_statistics.rounds << " exchange rounds)";
-        logger.line(o.str());
-        o.str("");
-      }
-    o << "Electrophysiology: monodomain, " << m.model.name() << ", "
-      << (m.kind.simplex() ? "P" : "Q") << params.degree << ", "
-      << m.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
-      << " / " << params.diffusivity_t()
-      << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
-      << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
-      << params.time_step << " ms, CG + " << params.preconditioner << ", "
-      << (params.consistent_mass ? "consistent" : "lumped") << " mass";
-    logger.line(o.str());
+    m.log_setup();
   }
 
 

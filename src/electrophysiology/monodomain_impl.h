@@ -75,6 +75,21 @@ namespace systole::Electrophysiology
          Logger                                                     &logger,
          const double start_time);
 
+    // --- monodomain.cc (the set-up of the constructor) ---
+    /// The nodes (owned, relevant, ghosts) and the index set of the ARKode
+    /// state; stops on a mesh with hanging nodes.
+    void
+    distribute_nodes();
+    /// The sparse matrices and work vectors of the nodes, and the mass.
+    void
+    setup_matrices();
+    /// The lead field of the ECG's electrodes (Parameters::ecg).
+    void
+    setup_lead_field(const Fibres::FibreField &fibres);
+    /// The model, discretization and (eikonal) activation on the log.
+    void
+    log_setup() const;
+
     // --- assembly.cc ---
     /// Lumped (nodal quadrature) mass of the owned nodes and their
     /// positions.

@@ -135,6 +135,126 @@ namespace systole::Electrophysiology
         "Eikonal models: isotropic conduction velocity in the fast layer "
         "(Purkinje-like; 2-4 mm/ms in the literature). Units: mm/ms.");
     }
+
+    /// The element, time integration and linear solver of the monodomain.
+    void
+    declare_discretization(dealii::ParameterHandler &prm, const Parameters &d)
+    {
+      using namespace dealii::Patterns;
+      using Tools::to_string;
+      prm.declare_entry(
+        "Polynomial degree",
+        to_string(d.degree),
+        Integer(1, 2),
+        "Degree of the Lagrange elements of the potential (Q1 or Q2, with a "
+        "Gauss-Lobatto lumped mass), on the mesh of the problem. Units: -.");
+      prm.declare_entry(
+        "Mesh refinement",
+        to_string(d.mesh_refinement),
+        Integer(0, 6),
+        "Problem = heartbeat: the EP mesh is the mechanics mesh refined this "
+        "many times (each refinement halves the cell size; the wave front is "
+        "about a millimetre wide, so a ventricle meshed for the mechanics "
+        "needs 2-3; docs/verification.md has the study). The electrophysiology "
+        "problem uses the Geometry mesh as it is. Units: -.");
+      prm.declare_entry(
+        "Time step",
+        to_string(d.time_step),
+        Double(0.0),
+        "Step of the ARKode integration (the maximum step when adaptive); the "
+        "potential is sampled for activation times at this interval, and EP "
+        "sub-cycles with it inside each step of the outer time loop. Units: "
+        "ms. Typical 0.05-0.1 ms for the phenomenological models "
+        "(physiology.md), 0.005-0.05 ms for ten Tusscher-Panfilov (its gates "
+        "advance by Rush-Larsen, stable at any step; Problem = cell agrees "
+        "with SciPy to 0.05 % at 0.02 ms, docs/verification.md).");
+      prm.declare_entry(
+        "ARKode order",
+        to_string(d.order),
+        Integer(3, 5),
+        "Order of the IMEX additive Runge-Kutta method, SUNDIALS' default "
+        "table of that order (3: ARK-4(2)3, 4: ARK-6(3)4, 5: ARK-8(4)5 of "
+        "Kennedy and Carpenter; SUNDIALS 6.4 has no second-order pair): "
+        "diffusion implicit, ionic currents and stimulus explicit. Units: -.");
+      prm.declare_entry(
+        "Adaptive time step",
+        d.adaptive ? "true" : "false",
+        Bool(),
+        "Adapt the ARKode step to the tolerances below, bounded by Time step "
+        "and by the stability of the explicit ionic currents (0.9 of the "
+        "largest stable step at the stiffest node; docs/architecture.md); "
+        "false: fixed steps of Time step. Units: -.");
+      prm.declare_entry("Relative tolerance",
+                        to_string(d.relative_tolerance),
+                        Double(0.0),
+                        "Relative tolerance of the adaptive steps. Units: -.");
+      prm.declare_entry("Absolute tolerance",
+                        to_string(d.absolute_tolerance),
+                        Double(0.0),
+                        "Absolute tolerance of the adaptive steps, on the "
+                        "model's potential and states. Units: model units.");
+      prm.declare_entry(
+        "Linear solver tolerance",
+        to_string(d.linear_tolerance),
+        Double(0.0, 1.0),
+        "Relative residual reduction of CG + BoomerAMG on the implicit stage "
+        "systems (M + gamma K) x = M b. Units: -.");
+      prm.declare_entry(
+        "Preconditioner",
+        d.preconditioner,
+        Selection("AMG|Jacobi"),
+        "Preconditioner of CG on the stage systems: AMG (BoomerAMG, set up "
+        "once per step size; iteration counts independent of the mesh) or "
+        "Jacobi (cheaper per iteration; the systems are dominated by the mass "
+        "matrix at the usual steps, so its iteration count grows only slowly "
+        "under refinement; docs/verification.md compares the costs). Units: "
+        "-.");
+      prm.declare_entry(
+        "Mass matrix",
+        d.consistent_mass ? "consistent" : "lumped",
+        Selection("lumped|consistent"),
+        "Mass matrix M of M dv/dt = -K v - M I_ion: lumped (Gauss-Lobatto "
+        "points, diagonal; the cheaper one) or consistent (Gauss points; each "
+        "evaluation of the diffusion term solves with M by CG + Jacobi). The "
+        "ionic currents are evaluated at the nodes either way. On coarse "
+        "meshes the lumped mass slows a sharp front (ten Tusscher-Panfilov) "
+        "more than the consistent one (docs/verification.md, Niederer "
+        "benchmark). Units: -.");
+    }
+
+
+    /// The conductivities and membrane of the tissue.
+    void
+    declare_tissue(dealii::ParameterHandler &prm, const Parameters &d)
+    {
+      using namespace dealii::Patterns;
+      using Tools::to_string;
+      prm.declare_entry(
+        "Longitudinal conductivity",
+        to_string(d.sigma_l),
+        Double(0.0),
+        "Bulk conductivity sigma_l along the fibres (monodomain, "
+        "sigma = sigma_t I + (sigma_l - sigma_t) f0 x f0). Units: mS/mm "
+        "(= S/m). Source: physiology.md, Niederer et al. 2011, 0.1334.");
+      prm.declare_entry(
+        "Transverse conductivity",
+        to_string(d.sigma_t),
+        Double(0.0),
+        "Bulk conductivity sigma_t across the fibres. Units: mS/mm. Source: "
+        "physiology.md, Niederer et al. 2011, 0.0176.");
+      prm.declare_entry("Surface to volume ratio",
+                        to_string(d.chi),
+                        Double(0.0),
+                        "Membrane area per tissue volume chi. Units: 1/mm. "
+                        "Source: physiology.md, Niederer et al. 2011, 140.");
+      prm.declare_entry("Membrane capacitance",
+                        to_string(d.C_m),
+                        Double(0.0),
+                        "Membrane capacitance per area C_m; the diffusivity is "
+                        "D = sigma / (chi C_m). Units: µF/mm². Source: "
+                        "physiology.md, Niederer et al. 2011, 0.01.");
+    }
+
   } // namespace
 
 
@@ -148,108 +268,8 @@ namespace systole::Electrophysiology
     declare_eikonal(prm, d);
     PurkinjeParameters::declare(prm);
     declare_ionic_model_parameters(prm);
-    prm.declare_entry(
-      "Longitudinal conductivity",
-      to_string(d.sigma_l),
-      Double(0.0),
-      "Bulk conductivity sigma_l along the fibres (monodomain, "
-      "sigma = sigma_t I + (sigma_l - sigma_t) f0 x f0). Units: mS/mm "
-      "(= S/m). Source: physiology.md, Niederer et al. 2011, 0.1334.");
-    prm.declare_entry(
-      "Transverse conductivity",
-      to_string(d.sigma_t),
-      Double(0.0),
-      "Bulk conductivity sigma_t across the fibres. Units: mS/mm. Source: "
-      "physiology.md, Niederer et al. 2011, 0.0176.");
-    prm.declare_entry("Surface to volume ratio",
-                      to_string(d.chi),
-                      Double(0.0),
-                      "Membrane area per tissue volume chi. Units: 1/mm. "
-                      "Source: physiology.md, Niederer et al. 2011, 140.");
-    prm.declare_entry("Membrane capacitance",
-                      to_string(d.C_m),
-                      Double(0.0),
-                      "Membrane capacitance per area C_m; the diffusivity is "
-                      "D = sigma / (chi C_m). Units: µF/mm². Source: "
-                      "physiology.md, Niederer et al. 2011, 0.01.");
-    prm.declare_entry(
-      "Polynomial degree",
-      to_string(d.degree),
-      Integer(1, 2),
-      "Degree of the Lagrange elements of the potential (Q1 or Q2, with a "
-      "Gauss-Lobatto lumped mass), on the mesh of the problem. Units: -.");
-    prm.declare_entry(
-      "Mesh refinement",
-      to_string(d.mesh_refinement),
-      Integer(0, 6),
-      "Problem = heartbeat: the EP mesh is the mechanics mesh refined this "
-      "many times (each refinement halves the cell size; the wave front is "
-      "about a millimetre wide, so a ventricle meshed for the mechanics "
-      "needs 2-3; docs/verification.md has the study). The electrophysiology "
-      "problem uses the Geometry mesh as it is. Units: -.");
-    prm.declare_entry(
-      "Time step",
-      to_string(d.time_step),
-      Double(0.0),
-      "Step of the ARKode integration (the maximum step when adaptive); the "
-      "potential is sampled for activation times at this interval, and EP "
-      "sub-cycles with it inside each step of the outer time loop. Units: "
-      "ms. Typical 0.05-0.1 ms for the phenomenological models "
-      "(physiology.md), 0.005-0.05 ms for ten Tusscher-Panfilov (its gates "
-      "advance by Rush-Larsen, stable at any step; Problem = cell agrees "
-      "with SciPy to 0.05 % at 0.02 ms, docs/verification.md).");
-    prm.declare_entry(
-      "ARKode order",
-      to_string(d.order),
-      Integer(3, 5),
-      "Order of the IMEX additive Runge-Kutta method, SUNDIALS' default "
-      "table of that order (3: ARK-4(2)3, 4: ARK-6(3)4, 5: ARK-8(4)5 of "
-      "Kennedy and Carpenter; SUNDIALS 6.4 has no second-order pair): "
-      "diffusion implicit, ionic currents and stimulus explicit. Units: -.");
-    prm.declare_entry(
-      "Adaptive time step",
-      d.adaptive ? "true" : "false",
-      Bool(),
-      "Adapt the ARKode step to the tolerances below, bounded by Time step "
-      "and by the stability of the explicit ionic currents (0.9 of the "
-      "largest stable step at the stiffest node; docs/architecture.md); "
-      "false: fixed steps of Time step. Units: -.");
-    prm.declare_entry("Relative tolerance",
-                      to_string(d.relative_tolerance),
-                      Double(0.0),
-                      "Relative tolerance of the adaptive steps. Units: -.");
-    prm.declare_entry("Absolute tolerance",
-                      to_string(d.absolute_tolerance),
-                      Double(0.0),
-                      "Absolute tolerance of the adaptive steps, on the "
-                      "model's potential and states. Units: model units.");
-    prm.declare_entry(
-      "Linear solver tolerance",
-      to_string(d.linear_tolerance),
-      Double(0.0, 1.0),
-      "Relative residual reduction of CG + BoomerAMG on the implicit stage "
-      "systems (M + gamma K) x = M b. Units: -.");
-    prm.declare_entry(
-      "Preconditioner",
-      d.preconditioner,
-      Selection("AMG|Jacobi"),
-      "Preconditioner of CG on the stage systems: AMG (BoomerAMG, set up "
-      "once per step size; iteration counts independent of the mesh) or "
-      "Jacobi (cheaper per iteration; the systems are dominated by the mass "
-      "matrix at the usual steps, so its iteration count grows only slowly "
-      "under refinement; docs/verification.md compares the costs). Units: "
-      "-.");
-    prm.declare_entry(
-      "Mass matrix",
-      d.consistent_mass ? "consistent" : "lumped",
-      Selection("lumped|consistent"),
-      "Mass matrix M of M dv/dt = -K v - M I_ion: lumped (Gauss-Lobatto "
-      "points, diagonal; the cheaper one) or consistent (Gauss points; each "
-      "evaluation of the diffusion term solves with M by CG + Jacobi). The "
-      "ionic currents are evaluated at the nodes either way. On coarse "
-      "meshes the lumped mass slows a sharp front (ten Tusscher-Panfilov) "
-      "more than the consistent one (docs/verification.md, Niederer "
-      "benchmark). Units: -.");
+    declare_tissue(prm, d);
+    declare_discretization(prm, d);
     prm.declare_entry(
       "Activation threshold",
       to_string(d.activation_threshold_mV),

@@ -103,6 +103,105 @@ namespace systole::Electrophysiology
                         "Length of each fascicle, one per angle. Units: mm.");
       prm.leave_subsection();
     }
+
+    /// The branches after the fascicles: their lengths, angles and forks.
+    void
+    declare_branches(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Branch length",
+        "5",
+        Double(0.0),
+        "Mean length of the branches after the fascicles (each drawn "
+        "uniformly within Branch variation of it). Units: mm.");
+      prm.declare_entry(
+        "Branch angle",
+        "30",
+        Double(0.0, 90.0),
+        "Mean angle of each branch of a fork from the direction of its parent "
+        "(the two branches leave at -angle and +angle, each drawn uniformly "
+        "within Branch variation of it). Units: degrees.");
+      prm.declare_entry("Branch variation",
+                        "0.3",
+                        Double(0.0, 0.9),
+                        "Relative spread of the branch lengths and angles: "
+                        "uniform in (1 - v, 1 + v) times the mean. Units: -.");
+      prm.declare_entry("Number of generations",
+                        "10",
+                        Integer(0, 30),
+                        "Forks after the fascicles (a branch that stopped "
+                        "early does not fork). Units: -.");
+      prm.declare_entry(
+        "Minimum node distance",
+        "0.9",
+        Double(0.0),
+        "A branch stops where its next node would lie closer than this to a "
+        "node of another branch (not checked on a branch's first segment); "
+        "smaller than the Segment length. Units: mm.");
+    }
+
+
+    /// The Purkinje-muscle junctions: where, when, and how they stimulate.
+    void
+    declare_junctions(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry("Apex",
+                        "0, 0, -84",
+                        Anything(),
+                        "The endocardial apex 'x, y, z' (of the left "
+                        "ventricle): with Base, the long axis of the Junction "
+                        "height limit. Units: mm. Default: the default LV's "
+                        "(parameters/lv_heartbeat.prm).");
+      prm.declare_entry("Base",
+                        "0, 0, 5",
+                        Anything(),
+                        "A point 'x, y, z' of the base plane on the long axis. "
+                        "Units: mm. Default: the default LV's.");
+      prm.declare_entry(
+        "Junction height limit",
+        "1",
+        Double(0.0, 1.0),
+        "Purkinje-muscle junctions only up to this relative height h = (x - "
+        "Apex).(Base - Apex)/|Base - Apex|^2 (0 at the apex, 1 at the base): "
+        "the branches after the fascicles do not grow above it, and terminal "
+        "nodes above it (of the bundle or a fascicle) are no junctions; the "
+        "base above it is activated through the muscle. 1: no limit. The "
+        "human network's junctions are sparse towards the base, which "
+        "activates last (Durrer et al. 1970, Circulation 41); models keep the "
+        "junctions in the apical two thirds (2/3). Units: -.");
+      prm.declare_entry(
+        "Conduction velocity",
+        "3",
+        Double(0.0),
+        "Conduction velocity along the tree. Units: mm/ms (= m/s). Source: "
+        "Purkinje fibres conduct at 2-4 m/s (Durrer et al. 1970, Circulation "
+        "41; Sahli Costabal et al. 2016, J Biomech 49, use 3).");
+      prm.declare_entry(
+        "Junction delay",
+        "5",
+        Double(0.0),
+        "Delay from a junction's activation to the muscle's: the "
+        "Purkinje-muscle junction delay, 3-10 ms anterograde (Wiedmann et al. "
+        "1996, Circ Res 79; Behradfar et al. 2014, PLoS ONE 9). Units: ms.");
+      prm.declare_entry("Random seed",
+                        "1234",
+                        Integer(0),
+                        "Seed of the std::mt19937 that draws the branch "
+                        "lengths and angles: the same seed grows the same "
+                        "tree. Units: -.");
+      prm.declare_entry(
+        "Junction stimulus radius",
+        "1.5",
+        Double(0.0),
+        "Model = monodomain: each junction stimulates the nodes within this "
+        "distance of it (at least its nearest node), from its time plus the "
+        "Junction delay, with the first stimulus's duration and amplitude "
+        "(which then start at the His activation, the first stimulus's start). "
+        "Units: mm.");
+    }
+
   } // namespace
 
 
@@ -168,89 +267,8 @@ namespace systole::Electrophysiology
                       "Length of the segments the branches are made of "
                       "(each node is projected onto the surface). Units: "
                       "mm.");
-    prm.declare_entry(
-      "Branch length",
-      "5",
-      Double(0.0),
-      "Mean length of the branches after the fascicles (each drawn "
-      "uniformly within Branch variation of it). Units: mm.");
-    prm.declare_entry(
-      "Branch angle",
-      "30",
-      Double(0.0, 90.0),
-      "Mean angle of each branch of a fork from the direction of its parent "
-      "(the two branches leave at -angle and +angle, each drawn uniformly "
-      "within Branch variation of it). Units: degrees.");
-    prm.declare_entry("Branch variation",
-                      "0.3",
-                      Double(0.0, 0.9),
-                      "Relative spread of the branch lengths and angles: "
-                      "uniform in (1 - v, 1 + v) times the mean. Units: -.");
-    prm.declare_entry("Number of generations",
-                      "10",
-                      Integer(0, 30),
-                      "Forks after the fascicles (a branch that stopped "
-                      "early does not fork). Units: -.");
-    prm.declare_entry(
-      "Minimum node distance",
-      "0.9",
-      Double(0.0),
-      "A branch stops where its next node would lie closer than this to a "
-      "node of another branch (not checked on a branch's first segment); "
-      "smaller than the Segment length. Units: mm.");
-    prm.declare_entry("Apex",
-                      "0, 0, -84",
-                      Anything(),
-                      "The endocardial apex 'x, y, z' (of the left "
-                      "ventricle): with Base, the long axis of the Junction "
-                      "height limit. Units: mm. Default: the default LV's "
-                      "(parameters/lv_heartbeat.prm).");
-    prm.declare_entry("Base",
-                      "0, 0, 5",
-                      Anything(),
-                      "A point 'x, y, z' of the base plane on the long axis. "
-                      "Units: mm. Default: the default LV's.");
-    prm.declare_entry(
-      "Junction height limit",
-      "1",
-      Double(0.0, 1.0),
-      "Purkinje-muscle junctions only up to this relative height h = (x - "
-      "Apex).(Base - Apex)/|Base - Apex|^2 (0 at the apex, 1 at the base): "
-      "the branches after the fascicles do not grow above it, and terminal "
-      "nodes above it (of the bundle or a fascicle) are no junctions; the "
-      "base above it is activated through the muscle. 1: no limit. The "
-      "human network's junctions are sparse towards the base, which "
-      "activates last (Durrer et al. 1970, Circulation 41); models keep the "
-      "junctions in the apical two thirds (2/3). Units: -.");
-    prm.declare_entry(
-      "Conduction velocity",
-      "3",
-      Double(0.0),
-      "Conduction velocity along the tree. Units: mm/ms (= m/s). Source: "
-      "Purkinje fibres conduct at 2-4 m/s (Durrer et al. 1970, Circulation "
-      "41; Sahli Costabal et al. 2016, J Biomech 49, use 3).");
-    prm.declare_entry(
-      "Junction delay",
-      "5",
-      Double(0.0),
-      "Delay from a junction's activation to the muscle's: the "
-      "Purkinje-muscle junction delay, 3-10 ms anterograde (Wiedmann et al. "
-      "1996, Circ Res 79; Behradfar et al. 2014, PLoS ONE 9). Units: ms.");
-    prm.declare_entry("Random seed",
-                      "1234",
-                      Integer(0),
-                      "Seed of the std::mt19937 that draws the branch "
-                      "lengths and angles: the same seed grows the same "
-                      "tree. Units: -.");
-    prm.declare_entry(
-      "Junction stimulus radius",
-      "1.5",
-      Double(0.0),
-      "Model = monodomain: each junction stimulates the nodes within this "
-      "distance of it (at least its nearest node), from its time plus the "
-      "Junction delay, with the first stimulus's duration and amplitude "
-      "(which then start at the His activation, the first stimulus's start). "
-      "Units: mm.");
+    declare_branches(prm);
+    declare_junctions(prm);
     declare_right_bundle(prm);
     prm.leave_subsection();
   }

@@ -258,38 +258,54 @@ namespace systole::Electrophysiology
     }
 
 
-    /// The Rush-Larsen step of the 12 gates of a chunk in place:
-    /// TenTusscherPanfilov::gate_rates() and rush_larsen().
-    template <bool endocardial>
+    /// The Rush-Larsen update of the gates of point @p i of a chunk:
+    /// s <- s_inf + (s - s_inf) e^{-dt/tau}, or e^{-dt rate}.
+    struct GateUpdate
+    {
+      const Chunk       &c;
+      Chunk             &out;
+      const unsigned int i;
+      const double       dt;
+
+      SYSTOLE_TTP_INLINE void
+      relax(const unsigned int gate, const double steady, const double a) const
+      {
+        out.v[1 + gate][i] = steady + (c.v[1 + gate][i] - steady) * a;
+      }
+
+      SYSTOLE_TTP_INLINE double
+      decay(const double tau) const
+      {
+        return sm::exp(-dt / tau);
+      }
+    };
+
+
+    /// The Rush-Larsen step of the six gates of the potassium and sodium
+    /// channels (Xr1, Xr2, Xs, m, h, j) of a chunk: gate_rates() and
+    /// rush_larsen().
     SYSTOLE_TTP_INLINE void
-    gates_chunk(const Chunk &c, Chunk &out, const double dt)
+    channel_gates_chunk(const Chunk &c, Chunk &out, const double dt)
     {
 #pragma omp simd
       for (unsigned int i = 0; i < width; ++i)
         {
-          const double V = c.v[0][i];
-          // s <- s_inf + (s - s_inf) e^{-dt/tau}, or e^{-dt rate}.
-          const auto relax =
-            [&](const unsigned int gate, const double steady, const double a) {
-              out.v[1 + gate][i] = steady + (c.v[1 + gate][i] - steady) * a;
-            };
-          const auto decay = [&](const double tau) {
-            return sm::exp(-dt / tau);
-          };
+          const double     V = c.v[0][i];
+          const GateUpdate g{c, out, i, dt};
 
           // Xr1 gate
           {
             const double steady = 1 / (1 + sm::exp((-26 - V) / 7));
             const double alpha  = 450 / (1 + sm::exp((-45 - V) / 10));
             const double beta   = 6 / (1 + sm::exp((V + 30) / 11.5));
-            relax(TTP::x_r1, steady, decay(alpha * beta));
+            g.relax(TTP::x_r1, steady, g.decay(alpha * beta));
           }
           // Xr2 gate
           {
             const double steady = 1 / (1 + sm::exp((V + 88) / 24));
             const double alpha  = 3 / (1 + sm::exp((-60 - V) / 20));
             const double beta   = 1.12 / (1 + sm::exp((V - 60) / 20));
-            relax(TTP::x_r2, steady, decay(alpha * beta));
+            g.relax(TTP::x_r2, steady, g.decay(alpha * beta));
           }
           // Xs gate
           {
@@ -297,7 +313,7 @@ namespace systole::Electrophysiology
             const double alpha =
               1400 / __builtin_sqrt(1 + sm::exp((5 - V) / 6));
             const double beta = 1 / (1 + sm::exp((V - 35) / 15));
-            relax(TTP::x_s, steady, decay(alpha * beta + 80));
+            g.relax(TTP::x_s, steady, g.decay(alpha * beta + 80));
           }
           // m gate
           {
@@ -305,7 +321,7 @@ namespace systole::Electrophysiology
             const double alpha  = 1 / (1 + sm::exp((-60 - V) / 5));
             const double beta   = 0.1 / (1 + sm::exp((V + 35) / 5)) +
                                 0.1 / (1 + sm::exp((V - 50) / 200));
-            relax(TTP::m, steady, decay(alpha * beta));
+            g.relax(TTP::m, steady, g.decay(alpha * beta));
           }
           // h and j gates: both branches, selected by V < -40 mV
           const bool   low       = V < -40;
@@ -315,7 +331,7 @@ namespace systole::Electrophysiology
             const double beta =
               low ? 2.7 * sm::exp(0.079 * V) + 310000 * sm::exp(0.3485 * V)
                   : 0.77 / (0.13 * (1 + sm::exp((V + 10.66) / -11.1)));
-            relax(TTP::h, steady_hj, sm::exp(-dt * (alpha + beta)));
+            g.relax(TTP::h, steady_hj, sm::exp(-dt * (alpha + beta)));
           }
           {
             const double alpha = low ? (-25428 * sm::exp(0.2444 * V) -
@@ -327,15 +343,31 @@ namespace systole::Electrophysiology
               low ? 0.02424 * sm::exp(-0.01052 * V) /
                       (1 + sm::exp(-0.1378 * (V + 40.14)))
                   : 0.6 * sm::exp(0.057 * V) / (1 + sm::exp(-0.1 * (V + 32)));
-            relax(TTP::j, steady_hj, sm::exp(-dt * (alpha + beta)));
+            g.relax(TTP::j, steady_hj, sm::exp(-dt * (alpha + beta)));
           }
+        }
+    }
+
+
+    /// The Rush-Larsen step of the six gates of the L-type calcium and
+    /// transient outward currents (d, f, F2, FCass, s, r) of a chunk.
+    template <bool endocardial>
+    SYSTOLE_TTP_INLINE void
+    calcium_gates_chunk(const Chunk &c, Chunk &out, const double dt)
+    {
+#pragma omp simd
+      for (unsigned int i = 0; i < width; ++i)
+        {
+          const double     V = c.v[0][i];
+          const GateUpdate g{c, out, i, dt};
+
           // d gate
           {
             const double steady  = 1 / (1 + sm::exp((-8 - V) / 7.5));
             const double alpha   = 1.4 / (1 + sm::exp((-35 - V) / 13)) + 0.25;
             const double beta    = 1.4 / (1 + sm::exp((V + 5) / 5));
             const double gamma_d = 1 / (1 + sm::exp((50 - V) / 20));
-            relax(TTP::d, steady, decay(alpha * beta + gamma_d));
+            g.relax(TTP::d, steady, g.decay(alpha * beta + gamma_d));
           }
           // f gate
           {
@@ -343,7 +375,7 @@ namespace systole::Electrophysiology
             const double tau    = 1102.5 * sm::exp(-sq(V + 27) / 225) +
                                200 / (1 + sm::exp((13 - V) / 10)) +
                                180 / (1 + sm::exp((V + 30) / 10)) + 20;
-            relax(TTP::f, steady, decay(tau));
+            g.relax(TTP::f, steady, g.decay(tau));
           }
           // F2 gate
           {
@@ -351,36 +383,49 @@ namespace systole::Electrophysiology
             const double tau    = 562 * sm::exp(-sq(V + 27) / 240) +
                                31 / (1 + sm::exp((25 - V) / 10)) +
                                80 / (1 + sm::exp((V + 30) / 10));
-            relax(TTP::f2, steady, decay(tau));
+            g.relax(TTP::f2, steady, g.decay(tau));
           }
           // FCass gate
           {
             const double ca_ratio = sq(c.v[1 + TTP::ca_ss][i] / 0.05);
             const double steady   = 0.6 / (1 + ca_ratio) + 0.4;
             const double tau      = 80 / (1 + ca_ratio) + 2;
-            relax(TTP::f_cass, steady, decay(tau));
+            g.relax(TTP::f_cass, steady, g.decay(tau));
           }
           // s gate (the variant's)
           if constexpr (endocardial)
             {
               const double steady = 1 / (1 + sm::exp((V + 28) / 5));
               const double tau    = 1000 * sm::exp(-sq(V + 67) / 1000) + 8;
-              relax(TTP::s, steady, decay(tau));
+              g.relax(TTP::s, steady, g.decay(tau));
             }
           else
             {
               const double steady = 1 / (1 + sm::exp((V + 20) / 5));
               const double tau    = 85 * sm::exp(-sq(V + 45) / 320) +
                                  5 / (1 + sm::exp((V - 20) / 5)) + 3;
-              relax(TTP::s, steady, decay(tau));
+              g.relax(TTP::s, steady, g.decay(tau));
             }
           // r gate
           {
             const double steady = 1 / (1 + sm::exp((20 - V) / 6));
             const double tau    = 9.5 * sm::exp(-sq(V + 40) / 1800) + 0.8;
-            relax(TTP::r, steady, decay(tau));
+            g.relax(TTP::r, steady, g.decay(tau));
           }
         }
+    }
+
+
+    /// The Rush-Larsen step of the 12 gates of a chunk in place:
+    /// TenTusscherPanfilov::gate_rates() and rush_larsen(), in two
+    /// vectorized loops over the chunk (each gate reads the potential and
+    /// its own state only).
+    template <bool endocardial>
+    SYSTOLE_TTP_INLINE void
+    gates_chunk(const Chunk &c, Chunk &out, const double dt)
+    {
+      channel_gates_chunk(c, out, dt);
+      calcium_gates_chunk<endocardial>(c, out, dt);
     }
 
 

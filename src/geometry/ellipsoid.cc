@@ -285,6 +285,134 @@ namespace systole::Geometry
                                        weights));
   }
 
+  namespace
+  {
+    /// A cube face's (n_a + 1) x (n_b + 1) grid of directions.
+    struct Patch
+    {
+      unsigned int                                        n_a, n_b;
+      std::function<dealii::Tensor<1, 3>(double, double)> direction;
+    };
+
+    /// The coordinate on a cube face of the direction at @p s in [-1, 1]
+    /// (equal angles).
+    double
+    cube_angle(const double s)
+    {
+      return std::tan(0.25 * M_PI * s);
+    }
+
+    dealii::Tensor<1, 3>
+    normalized(const dealii::Tensor<1, 3> &d)
+    {
+      return d / d.norm();
+    }
+
+    /// Reference directions on the lower half of a cube, projected with
+    /// equal angles: the apex cap (@p N x @p N cells) and the four sides
+    /// (@p N x @p L cells each).
+    std::vector<Patch>
+    cube_patches(const unsigned int N, const unsigned int L)
+    {
+      std::vector<Patch> patches;
+      // Bottom (apex cap): face z = -1. Its first direction runs along -x so
+      // that (a, b, radius) is right-handed like on the sides: every cell
+      // then has positive volume.
+      patches.push_back(
+        {N, N, [](const double a, const double b) {
+           return normalized(dealii::Tensor<1, 3>(
+             {cube_angle(1.0 - 2.0 * a), cube_angle(-1.0 + 2.0 * b), -1.0}));
+         }});
+      // Four sides, from the bottom edge (c = -1) to the equator (c = 0).
+      // The side direction is rotated by k * 90 degrees about the z axis.
+      for (unsigned int k = 0; k < 4; ++k)
+        patches.push_back(
+          {N, L, [k](const double a, const double b) {
+             const double c  = -1.0 + b; // b in [0, 1]
+             const double u  = cube_angle(-1.0 + 2.0 * a);
+             const double cs = std::cos(0.5 * M_PI * k);
+             const double sn = std::sin(0.5 * M_PI * k);
+             // On face x = 1: (1, u, tan(c pi/4)); rotate
+             // about z.
+             return normalized(dealii::Tensor<1, 3>(
+               {cs * 1.0 - sn * u, sn * 1.0 + cs * u, cube_angle(c)}));
+           }});
+      return patches;
+    }
+
+    /// The cells of the wall, @p M across it, over the @p patches, with
+    /// their vertices pushed forward by @p manifold (merged by rounded
+    /// reference coordinates).
+    void
+    wall_cells(const std::vector<Patch>         &patches,
+               const unsigned int                M,
+               const EllipsoidalWallManifold    &manifold,
+               std::vector<Point<3>>            &vertices,
+               std::vector<dealii::CellData<3>> &cells)
+    {
+      std::map<std::array<long, 3>, unsigned int> index_of;
+      const auto vertex_index = [&](const Point<3> &reference) {
+        const std::array<long, 3> key = {{std::lround(reference[0] * 1e9),
+                                          std::lround(reference[1] * 1e9),
+                                          std::lround(reference[2] * 1e9)}};
+        const auto                it  = index_of.find(key);
+        if (it != index_of.end())
+          return it->second;
+        vertices.push_back(manifold.push_forward(reference));
+        index_of[key] = vertices.size() - 1;
+        return static_cast<unsigned int>(vertices.size() - 1);
+      };
+
+      for (const Patch &patch : patches)
+        for (unsigned int m = 0; m < M; ++m)
+          for (unsigned int j = 0; j < patch.n_b; ++j)
+            for (unsigned int i = 0; i < patch.n_a; ++i)
+              {
+                dealii::CellData<3> cell;
+                for (unsigned int v = 0; v < 8; ++v)
+                  {
+                    const unsigned int di = v % 2, dj = (v / 2) % 2, dm = v / 4;
+                    const double r = 1.0 + static_cast<double>(m + dm) / M;
+                    const auto   d =
+                      patch.direction(static_cast<double>(i + di) / patch.n_a,
+                                      static_cast<double>(j + dj) / patch.n_b);
+                    cell.vertices[v] = vertex_index(Point<3>(r * d));
+                  }
+                cells.push_back(cell);
+              }
+    }
+
+    /// Boundary ids endocardium 0, epicardium 1, base 2 from the reference
+    /// position of the face vertices.
+    void
+    set_wall_boundary_ids(dealii::Triangulation<3, 3>   &tria,
+                          const EllipsoidalWallManifold &manifold,
+                          BoundaryNames                 &names)
+    {
+      const dealii::types::boundary_id endo = 0, epi = 1, base = 2;
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              bool all_endo = true, all_epi = true, all_base = true;
+              for (const unsigned int v : face->vertex_indices())
+                {
+                  const Point<3> ref = manifold.pull_back(face->vertex(v));
+                  const double   r   = ref.norm();
+                  all_endo           = all_endo && std::abs(r - 1.0) < 1e-8;
+                  all_epi            = all_epi && std::abs(r - 2.0) < 1e-8;
+                  all_base           = all_base && std::abs(ref[2]) < 1e-8 * r;
+                }
+              Assert(all_endo + all_epi + all_base == 1,
+                     dealii::ExcInternalError());
+              face->set_boundary_id(all_endo ? endo : (all_epi ? epi : base));
+            }
+      names.add("endocardium", endo);
+      names.add("epicardium", epi);
+      names.add("base", base);
+    }
+  } // namespace
+
   void
   create_lv_mesh(dealii::Triangulation<3, 3> &tria,
                  const LVShape               &shape,
@@ -311,103 +439,13 @@ namespace systole::Geometry
       counts.longitudinal - N / 2; // rows on each side face
     const unsigned int M = counts.transmural;
 
-    // Reference directions on the lower half of a cube, projected with equal
-    // angles.
-    const auto angle = [](const double s) { return std::tan(0.25 * M_PI * s); };
-    const auto normalized = [](const dealii::Tensor<1, 3> &d) {
-      return d / d.norm();
-    };
-
-    // Each patch is a (n_a + 1) x (n_b + 1) grid of directions.
-    struct Patch
-    {
-      unsigned int                                        n_a, n_b;
-      std::function<dealii::Tensor<1, 3>(double, double)> direction;
-    };
-    std::vector<Patch> patches;
-    // Bottom (apex cap): face z = -1. Its first direction runs along -x so that
-    // (a, b, radius) is right-handed like on the sides: every cell then has
-    // positive volume.
-    patches.push_back(
-      {N, N, [&](const double a, const double b) {
-         return normalized(dealii::Tensor<1, 3>(
-           {angle(1.0 - 2.0 * a), angle(-1.0 + 2.0 * b), -1.0}));
-       }});
-    // Four sides, from the bottom edge (c = -1) to the equator (c = 0). The
-    // side direction is rotated by k * 90 degrees about the z axis.
-    for (unsigned int k = 0; k < 4; ++k)
-      patches.push_back({N, L, [&, k](const double a, const double b) {
-                           const double c  = -1.0 + b; // b in [0, 1]
-                           const double u  = angle(-1.0 + 2.0 * a);
-                           const double cs = std::cos(0.5 * M_PI * k);
-                           const double sn = std::sin(0.5 * M_PI * k);
-                           // On face x = 1: (1, u, tan(c pi/4)); rotate about
-                           // z.
-                           return normalized(dealii::Tensor<1, 3>(
-                             {cs * 1.0 - sn * u, sn * 1.0 + cs * u, angle(c)}));
-                         }});
-
-    const EllipsoidalWallManifold manifold(shape);
-
-    // Vertices (merged by rounded reference coordinates) and cells.
-    std::vector<Point<3>>                       vertices;
-    std::map<std::array<long, 3>, unsigned int> index_of;
-    const auto vertex_index = [&](const Point<3> &reference) {
-      const std::array<long, 3> key = {{std::lround(reference[0] * 1e9),
-                                        std::lround(reference[1] * 1e9),
-                                        std::lround(reference[2] * 1e9)}};
-      const auto                it  = index_of.find(key);
-      if (it != index_of.end())
-        return it->second;
-      vertices.push_back(manifold.push_forward(reference));
-      index_of[key] = vertices.size() - 1;
-      return static_cast<unsigned int>(vertices.size() - 1);
-    };
-
+    const EllipsoidalWallManifold    manifold(shape);
+    std::vector<Point<3>>            vertices;
     std::vector<dealii::CellData<3>> cells;
-    for (const Patch &patch : patches)
-      for (unsigned int m = 0; m < M; ++m)
-        for (unsigned int j = 0; j < patch.n_b; ++j)
-          for (unsigned int i = 0; i < patch.n_a; ++i)
-            {
-              dealii::CellData<3> cell;
-              for (unsigned int v = 0; v < 8; ++v)
-                {
-                  const unsigned int di = v % 2, dj = (v / 2) % 2, dm = v / 4;
-                  const double       r = 1.0 + static_cast<double>(m + dm) / M;
-                  const auto         d =
-                    patch.direction(static_cast<double>(i + di) / patch.n_a,
-                                    static_cast<double>(j + dj) / patch.n_b);
-                  cell.vertices[v] = vertex_index(Point<3>(r * d));
-                }
-              cells.push_back(cell);
-            }
-
+    wall_cells(cube_patches(N, L), M, manifold, vertices, cells);
     dealii::GridTools::consistently_order_cells(cells);
     tria.create_triangulation(vertices, cells, dealii::SubCellData());
-
-    // Boundary ids from the reference position of the face vertices.
-    const dealii::types::boundary_id endo = 0, epi = 1, base = 2;
-    for (const auto &cell : tria.active_cell_iterators())
-      for (const auto &face : cell->face_iterators())
-        if (face->at_boundary())
-          {
-            bool all_endo = true, all_epi = true, all_base = true;
-            for (const unsigned int v : face->vertex_indices())
-              {
-                const Point<3> ref = manifold.pull_back(face->vertex(v));
-                const double   r   = ref.norm();
-                all_endo           = all_endo && std::abs(r - 1.0) < 1e-8;
-                all_epi            = all_epi && std::abs(r - 2.0) < 1e-8;
-                all_base           = all_base && std::abs(ref[2]) < 1e-8 * r;
-              }
-            Assert(all_endo + all_epi + all_base == 1,
-                   dealii::ExcInternalError());
-            face->set_boundary_id(all_endo ? endo : (all_epi ? epi : base));
-          }
-    names.add("endocardium", endo);
-    names.add("epicardium", epi);
-    names.add("base", base);
+    set_wall_boundary_ids(tria, manifold, names);
 
     tria.set_all_manifold_ids(0);
     tria.set_manifold(0, manifold);

@@ -28,6 +28,148 @@ namespace systole::Geometry
                     text + "'."));
       return dealii::Point<3>(values[0], values[1], values[2]);
     }
+
+    /// Geometry / Ellipsoid: the truncated-ellipsoid ventricle.
+    void
+    declare_ellipsoid(dealii::ParameterHandler &prm)
+    {
+      using dealii::Patterns::Double;
+      using dealii::Patterns::Integer;
+      prm.enter_subsection("Ellipsoid");
+      {
+        prm.declare_entry(
+          "Endocardium short radius",
+          "7",
+          Double(0.0),
+          "Short (equatorial) radius r_s of the endocardium. Units: mm. "
+          "Default: Land et al. 2015 benchmark ventricle.");
+        prm.declare_entry(
+          "Endocardium long radius",
+          "17",
+          Double(0.0),
+          "Long (apex-base) radius r_l of the endocardium. Units: mm. "
+          "Default: Land et al. 2015.");
+        prm.declare_entry(
+          "Epicardium short radius",
+          "10",
+          Double(0.0),
+          "Short radius of the epicardium; the radii vary linearly through "
+          "the wall. Units: mm. Default: Land et al. 2015.");
+        prm.declare_entry(
+          "Epicardium long radius",
+          "20",
+          Double(0.0),
+          "Long radius of the epicardium. Units: mm. Default: Land et al. 2015.");
+        prm.declare_entry(
+          "Base height",
+          "5",
+          Double(),
+          "z of the base plane that truncates the ellipsoid (the apex points "
+          "to -z). Units: mm. Default: Land et al. 2015.");
+        prm.declare_entry(
+          "Cells around circumference",
+          "8",
+          Integer(8),
+          "Coarse cells around the long axis; a multiple of 8. Units: -.");
+        prm.declare_entry(
+          "Cells from apex to base",
+          "3",
+          Integer(2),
+          "Coarse cells along a meridian from apex to base; more than "
+          "(cells around circumference)/8. Units: -.");
+        prm.declare_entry("Cells through wall",
+                          "1",
+                          Integer(1),
+                          "Coarse cells across the wall. Units: -.");
+      }
+      prm.leave_subsection();
+    }
+
+
+    /// Geometry / Box: a brick of hexahedra.
+    void
+    declare_box(dealii::ParameterHandler &prm)
+    {
+      using dealii::Patterns::Double;
+      using dealii::Patterns::Integer;
+      prm.enter_subsection("Box");
+      {
+        prm.declare_entry("Lower corner",
+                          "0, 0, 0",
+                          dealii::Patterns::List(Double(), 3, 3),
+                          "Corner with the smallest coordinates. Units: mm.");
+        prm.declare_entry(
+          "Upper corner",
+          "10, 1, 1",
+          dealii::Patterns::List(Double(), 3, 3),
+          "Corner with the largest coordinates. Default: Land et al. 2015 "
+          "problem 1 beam. Units: mm.");
+        prm.declare_entry(
+          "Cells",
+          "10, 1, 1",
+          dealii::Patterns::List(Integer(1), 3, 3),
+          "Coarse cells along x, y, z. Boundary parts are named x_min, x_max, "
+          "y_min, y_max, z_min, z_max. Units: -.");
+      }
+      prm.leave_subsection();
+    }
+
+
+    /// Geometry / Gmsh: a mesh read from a file.
+    void
+    declare_gmsh(dealii::ParameterHandler &prm)
+    {
+      using dealii::Patterns::Double;
+      using dealii::Patterns::Integer;
+      prm.enter_subsection("Gmsh");
+      {
+        prm.declare_entry(
+          "Mesh file",
+          "../meshes/lv_coarse.msh",
+          dealii::Patterns::FileName(),
+          "The mesh, chosen by extension: a gmsh file (.msh, format 2.2 or "
+          "4.1, ASCII or binary; linear tetrahedra or hexahedra, with the "
+          "boundary faces as triangles or quadrilaterals in physical surfaces) "
+          "or a VTK XML unstructured grid (.vtu; VTK_TETRA or VTK_HEXAHEDRON "
+          "cells, the boundary faces as VTK_TRIANGLE or VTK_QUAD cells tagged "
+          "by 'Face tag array'). All cells of one kind. A relative path is "
+          "relative to the folder of this parameter file. The mesh is checked: "
+          "inverted or flat cells, duplicate or unused nodes stop the run. "
+          "Boundary ids are the file's face tags; boundary faces without a "
+          "used tag get id 0, or the smallest id no used tag has. Default: the "
+          "shipped hexahedral ventricle.");
+        prm.declare_entry(
+          "Scale",
+          "1",
+          Double(0.0),
+          "Factor from the file's length unit to mm (e.g. 10 for cm). Units: mm "
+          "per file unit.");
+        prm.declare_entry(
+          "Boundary names",
+          "",
+          dealii::Patterns::Anything(),
+          "Which faces of the file are which boundary parts: 'part: file name "
+          "or tag' entries separated by ';', e.g. 'base: BASE; endocardium: "
+          "ENDO; epicardium: 7'. A file name is a gmsh physical surface name; "
+          "a tag is the integer of a gmsh physical surface or a value of the "
+          "Face tag array of a .vtu file (a physical name is looked up first). "
+          "Only the parts listed are set; an entry that names no boundary face "
+          "is an error. Empty: every face tag becomes a part named by its "
+          "physical name, or by its number where it has none (.vtu files: "
+          "\"5\"). Units: -. Default: empty.");
+        prm.declare_entry(
+          "Face tag array",
+          "",
+          dealii::Patterns::Anything(),
+          "For .vtu files only: the name of the integer cell-data array that "
+          "tags the triangle or quadrilateral cells of the file (its boundary "
+          "faces). A file with volume cells only cannot tag faces this way. "
+          "Empty: the file's faces are not read and every boundary face has "
+          "id 0. Units: -. Default: empty.");
+      }
+      prm.leave_subsection();
+    }
+
   } // namespace
 
   void
@@ -92,123 +234,11 @@ namespace systole::Geometry
         "the mesh is fully distributed. A mesh file keeps its own cells. "
         "Units: -.");
 
-      prm.enter_subsection("Ellipsoid");
-      {
-        prm.declare_entry(
-          "Endocardium short radius",
-          "7",
-          Double(0.0),
-          "Short (equatorial) radius r_s of the endocardium. Units: mm. "
-          "Default: Land et al. 2015 benchmark ventricle.");
-        prm.declare_entry(
-          "Endocardium long radius",
-          "17",
-          Double(0.0),
-          "Long (apex-base) radius r_l of the endocardium. Units: mm. "
-          "Default: Land et al. 2015.");
-        prm.declare_entry(
-          "Epicardium short radius",
-          "10",
-          Double(0.0),
-          "Short radius of the epicardium; the radii vary linearly through "
-          "the wall. Units: mm. Default: Land et al. 2015.");
-        prm.declare_entry(
-          "Epicardium long radius",
-          "20",
-          Double(0.0),
-          "Long radius of the epicardium. Units: mm. Default: Land et al. 2015.");
-        prm.declare_entry(
-          "Base height",
-          "5",
-          Double(),
-          "z of the base plane that truncates the ellipsoid (the apex points "
-          "to -z). Units: mm. Default: Land et al. 2015.");
-        prm.declare_entry(
-          "Cells around circumference",
-          "8",
-          Integer(8),
-          "Coarse cells around the long axis; a multiple of 8. Units: -.");
-        prm.declare_entry(
-          "Cells from apex to base",
-          "3",
-          Integer(2),
-          "Coarse cells along a meridian from apex to base; more than "
-          "(cells around circumference)/8. Units: -.");
-        prm.declare_entry("Cells through wall",
-                          "1",
-                          Integer(1),
-                          "Coarse cells across the wall. Units: -.");
-      }
-      prm.leave_subsection();
+      declare_ellipsoid(prm);
 
-      prm.enter_subsection("Box");
-      {
-        prm.declare_entry("Lower corner",
-                          "0, 0, 0",
-                          dealii::Patterns::List(Double(), 3, 3),
-                          "Corner with the smallest coordinates. Units: mm.");
-        prm.declare_entry(
-          "Upper corner",
-          "10, 1, 1",
-          dealii::Patterns::List(Double(), 3, 3),
-          "Corner with the largest coordinates. Default: Land et al. 2015 "
-          "problem 1 beam. Units: mm.");
-        prm.declare_entry(
-          "Cells",
-          "10, 1, 1",
-          dealii::Patterns::List(Integer(1), 3, 3),
-          "Coarse cells along x, y, z. Boundary parts are named x_min, x_max, "
-          "y_min, y_max, z_min, z_max. Units: -.");
-      }
-      prm.leave_subsection();
+      declare_box(prm);
 
-      prm.enter_subsection("Gmsh");
-      {
-        prm.declare_entry(
-          "Mesh file",
-          "../meshes/lv_coarse.msh",
-          dealii::Patterns::FileName(),
-          "The mesh, chosen by extension: a gmsh file (.msh, format 2.2 or "
-          "4.1, ASCII or binary; linear tetrahedra or hexahedra, with the "
-          "boundary faces as triangles or quadrilaterals in physical surfaces) "
-          "or a VTK XML unstructured grid (.vtu; VTK_TETRA or VTK_HEXAHEDRON "
-          "cells, the boundary faces as VTK_TRIANGLE or VTK_QUAD cells tagged "
-          "by 'Face tag array'). All cells of one kind. A relative path is "
-          "relative to the folder of this parameter file. The mesh is checked: "
-          "inverted or flat cells, duplicate or unused nodes stop the run. "
-          "Boundary ids are the file's face tags; boundary faces without a "
-          "used tag get id 0, or the smallest id no used tag has. Default: the "
-          "shipped hexahedral ventricle.");
-        prm.declare_entry(
-          "Scale",
-          "1",
-          Double(0.0),
-          "Factor from the file's length unit to mm (e.g. 10 for cm). Units: mm "
-          "per file unit.");
-        prm.declare_entry(
-          "Boundary names",
-          "",
-          dealii::Patterns::Anything(),
-          "Which faces of the file are which boundary parts: 'part: file name "
-          "or tag' entries separated by ';', e.g. 'base: BASE; endocardium: "
-          "ENDO; epicardium: 7'. A file name is a gmsh physical surface name; "
-          "a tag is the integer of a gmsh physical surface or a value of the "
-          "Face tag array of a .vtu file (a physical name is looked up first). "
-          "Only the parts listed are set; an entry that names no boundary face "
-          "is an error. Empty: every face tag becomes a part named by its "
-          "physical name, or by its number where it has none (.vtu files: "
-          "\"5\"). Units: -. Default: empty.");
-        prm.declare_entry(
-          "Face tag array",
-          "",
-          dealii::Patterns::Anything(),
-          "For .vtu files only: the name of the integer cell-data array that "
-          "tags the triangle or quadrilateral cells of the file (its boundary "
-          "faces). A file with volume cells only cannot tag faces this way. "
-          "Empty: the file's faces are not read and every boundary face has "
-          "id 0. Units: -. Default: empty.");
-      }
-      prm.leave_subsection();
+      declare_gmsh(prm);
     }
     prm.leave_subsection();
   }

@@ -334,6 +334,45 @@ namespace systole::IO
     return any_write_failed;
   }
 
+  namespace
+  {
+    /// Where this rank's part of a field output goes in the global node
+    /// and cell arrays.
+    struct FieldLayout
+    {
+      hsize_t n_local_nodes, n_local_cells;
+      hsize_t node_offset = 0, cell_offset = 0;
+      hsize_t n_global_nodes, n_global_cells;
+    };
+
+    FieldLayout
+    field_layout(const dealii::DataOutBase::DataOutFilter &filter,
+                 const MPI_Comm                            comm,
+                 const bool                                root)
+    {
+      FieldLayout l;
+      l.n_local_nodes = filter.n_nodes();
+      l.n_local_cells = filter.n_cells();
+      MPI_Exscan(&l.n_local_nodes,
+                 &l.node_offset,
+                 1,
+                 MPI_UNSIGNED_LONG_LONG,
+                 MPI_SUM,
+                 comm);
+      MPI_Exscan(&l.n_local_cells,
+                 &l.cell_offset,
+                 1,
+                 MPI_UNSIGNED_LONG_LONG,
+                 MPI_SUM,
+                 comm);
+      if (root)
+        l.node_offset = l.cell_offset = 0;
+      l.n_global_nodes = dealii::Utilities::MPI::sum(l.n_local_nodes, comm);
+      l.n_global_cells = dealii::Utilities::MPI::sum(l.n_local_cells, comm);
+      return l;
+    }
+  } // namespace
+
   struct ResultsFile::Impl
   {
     MPI_Comm               comm;
@@ -417,6 +456,20 @@ namespace systole::IO
                     "with checkpoints: systole --resume " +
                     directory + ")."));
     }
+
+    /// The mesh group of a field output (/mesh, or /mesh_step_NNNNNN when
+    /// the patches changed) with this rank's nodes and cells.
+    void
+    write_mesh(const dealii::DataOutBase::DataOutFilter &filter,
+               const FieldLayout                        &layout,
+               const unsigned int                        step);
+
+    /// The fields of one step, /fields/step_NNNNNN; returns its record.
+    FieldStep
+    write_field_step(const dealii::DataOutBase::DataOutFilter &filter,
+                     const FieldLayout                        &layout,
+                     const unsigned int                        step,
+                     const double                              time);
 
     void
     write_xdmf() const
@@ -934,6 +987,115 @@ namespace systole::IO
   }
 
   void
+  ResultsFile::Impl::write_mesh(
+    const dealii::DataOutBase::DataOutFilter &filter,
+    const FieldLayout                        &layout,
+    const unsigned int                        step)
+  {
+    const bool first_mesh = H5Lexists(file, "mesh", H5P_DEFAULT) <= 0;
+    char       step_mesh_name[32];
+    std::snprintf(step_mesh_name,
+                  sizeof(step_mesh_name),
+                  "mesh_step_%06u",
+                  step);
+    mesh_group = first_mesh ? "mesh" : step_mesh_name;
+    std::vector<double> nodes;
+    filter.fill_node_data(nodes);
+    std::vector<unsigned int> cells;
+    filter.fill_cell_data(layout.node_offset, cells);
+    // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
+    // rank (a rank without cells has none to say).
+    nodes_per_cell =
+      dealii::Utilities::MPI::max(layout.n_local_cells > 0
+                                    ? cells.size() / layout.n_local_cells
+                                    : 0,
+                                  comm);
+    AssertThrow(nodes_per_cell == 8 || nodes_per_cell == 4,
+                dealii::ExcMessage(
+                  "Field output: cells of " + std::to_string(nodes_per_cell) +
+                  " nodes (the results file takes hexahedra and linear "
+                  "tetrahedra)."));
+    const hid_t group = checked(H5Gcreate2(file,
+                                           mesh_group.c_str(),
+                                           H5P_DEFAULT,
+                                           H5P_DEFAULT,
+                                           H5P_DEFAULT),
+                                "/" + mesh_group);
+    write_distributed(group,
+                      "nodes",
+                      H5T_NATIVE_DOUBLE,
+                      H5T_IEEE_F64LE,
+                      nodes.data(),
+                      layout.n_local_nodes,
+                      layout.node_offset,
+                      layout.n_global_nodes,
+                      3);
+    write_distributed(group,
+                      "cells",
+                      H5T_NATIVE_UINT,
+                      H5T_STD_U32LE,
+                      cells.data(),
+                      layout.n_local_cells,
+                      layout.cell_offset,
+                      layout.n_global_cells,
+                      nodes_per_cell);
+    H5Gclose(group);
+    n_global_nodes = layout.n_global_nodes;
+    n_global_cells = layout.n_global_cells;
+  }
+
+  FieldStep
+  ResultsFile::Impl::write_field_step(
+    const dealii::DataOutBase::DataOutFilter &filter,
+    const FieldLayout                        &layout,
+    const unsigned int                        step,
+    const double                              time)
+  {
+    hid_t fields = -1;
+    if (H5Lexists(file, "fields", H5P_DEFAULT) <= 0)
+      fields = checked(
+        H5Gcreate2(file, "fields", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+        "/fields");
+    else
+      fields = checked(H5Gopen2(file, "fields", H5P_DEFAULT), "/fields");
+    char name[32];
+    std::snprintf(name, sizeof(name), "step_%06u", step);
+    const hid_t group =
+      checked(H5Gcreate2(fields, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+              std::string("/fields/") + name +
+                " (a field step written twice?)");
+    write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
+    write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
+    write_string_attribute(group, "mesh", mesh_group);
+
+    FieldStep record{step,
+                     time,
+                     {},
+                     mesh_group,
+                     n_global_nodes,
+                     n_global_cells,
+                     nodes_per_cell};
+    for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
+      {
+        const std::string  set_name   = filter.get_data_set_name(i);
+        const unsigned int components = filter.get_data_set_dim(i);
+        write_distributed(group,
+                          set_name,
+                          H5T_NATIVE_DOUBLE,
+                          H5T_IEEE_F64LE,
+                          filter.get_data_set(i),
+                          layout.n_local_nodes,
+                          layout.node_offset,
+                          layout.n_global_nodes,
+                          components);
+        record.sets.emplace_back(set_name, components);
+      }
+    H5Gclose(group);
+    H5Gclose(fields);
+    return record;
+  }
+
+  void
   ResultsFile::write_fields(const dealii::DataOut<3, 3> &data_out,
                             const unsigned int           step,
                             const double                 time)
@@ -943,132 +1105,18 @@ namespace systole::IO
         /*filter_duplicate_vertices=*/true,
         /*xdmf_hdf5_output=*/true));
     data_out.write_filtered_data(filter);
-
-    const hsize_t n_local_nodes = filter.n_nodes(),
-                  n_local_cells = filter.n_cells();
-    hsize_t node_offset = 0, cell_offset = 0;
-    MPI_Exscan(&n_local_nodes,
-               &node_offset,
-               1,
-               MPI_UNSIGNED_LONG_LONG,
-               MPI_SUM,
-               impl->comm);
-    MPI_Exscan(&n_local_cells,
-               &cell_offset,
-               1,
-               MPI_UNSIGNED_LONG_LONG,
-               MPI_SUM,
-               impl->comm);
-    if (impl->root)
-      node_offset = cell_offset = 0;
-    const hsize_t n_global_nodes =
-      dealii::Utilities::MPI::sum(n_local_nodes, impl->comm);
-    const hsize_t n_global_cells =
-      dealii::Utilities::MPI::sum(n_local_cells, impl->comm);
+    const FieldLayout layout = field_layout(filter, impl->comm, impl->root);
 
     impl->guarded([&]() {
-      const bool first_mesh = H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0;
-      if (first_mesh || n_global_nodes != impl->n_global_nodes ||
-          n_global_cells != impl->n_global_cells)
-        {
-          // The first output, or the first after a resume on another number
-          // of ranks (other patches): a mesh group of its own.
-          char mesh_name[32];
-          std::snprintf(mesh_name, sizeof(mesh_name), "mesh_step_%06u", step);
-          impl->mesh_group = first_mesh ? "mesh" : mesh_name;
-          std::vector<double> nodes;
-          filter.fill_node_data(nodes);
-          std::vector<unsigned int> cells;
-          filter.fill_cell_data(node_offset, cells);
-          // Hexahedra (8 nodes) or linear tetrahedra (4): the same on every
-          // rank (a rank without cells has none to say).
-          impl->nodes_per_cell =
-            dealii::Utilities::MPI::max(n_local_cells > 0
-                                          ? cells.size() / n_local_cells
-                                          : 0,
-                                        impl->comm);
-          AssertThrow(impl->nodes_per_cell == 8 || impl->nodes_per_cell == 4,
-                      dealii::ExcMessage(
-                        "Field output: cells of " +
-                        std::to_string(impl->nodes_per_cell) +
-                        " nodes (the results file takes hexahedra and linear "
-                        "tetrahedra)."));
-          const hid_t group = checked(H5Gcreate2(impl->file,
-                                                 impl->mesh_group.c_str(),
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT),
-                                      "/" + impl->mesh_group);
-          write_distributed(group,
-                            "nodes",
-                            H5T_NATIVE_DOUBLE,
-                            H5T_IEEE_F64LE,
-                            nodes.data(),
-                            n_local_nodes,
-                            node_offset,
-                            n_global_nodes,
-                            3);
-          write_distributed(group,
-                            "cells",
-                            H5T_NATIVE_UINT,
-                            H5T_STD_U32LE,
-                            cells.data(),
-                            n_local_cells,
-                            cell_offset,
-                            n_global_cells,
-                            impl->nodes_per_cell);
-          H5Gclose(group);
-          impl->n_global_nodes = n_global_nodes;
-          impl->n_global_cells = n_global_cells;
-        }
-
-      hid_t fields = -1;
-      if (H5Lexists(impl->file, "fields", H5P_DEFAULT) <= 0)
-        fields = checked(H5Gcreate2(impl->file,
-                                    "fields",
-                                    H5P_DEFAULT,
-                                    H5P_DEFAULT,
-                                    H5P_DEFAULT),
-                         "/fields");
-      else
-        fields =
-          checked(H5Gopen2(impl->file, "fields", H5P_DEFAULT), "/fields");
-      char name[32];
-      std::snprintf(name, sizeof(name), "step_%06u", step);
-      const hid_t group =
-        checked(H5Gcreate2(fields, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                std::string("/fields/") + name +
-                  " (a field step written twice?)");
-      write_scalar_attribute(group, "time", H5T_NATIVE_DOUBLE, time);
-      write_scalar_attribute(group, "step", H5T_NATIVE_UINT, step);
-      write_string_attribute(group, "mesh", impl->mesh_group);
-
-      FieldStep record{step,
-                       time,
-                       {},
-                       impl->mesh_group,
-                       impl->n_global_nodes,
-                       impl->n_global_cells,
-                       impl->nodes_per_cell};
-      for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
-        {
-          const std::string  set_name   = filter.get_data_set_name(i);
-          const unsigned int components = filter.get_data_set_dim(i);
-          write_distributed(group,
-                            set_name,
-                            H5T_NATIVE_DOUBLE,
-                            H5T_IEEE_F64LE,
-                            filter.get_data_set(i),
-                            n_local_nodes,
-                            node_offset,
-                            n_global_nodes,
-                            components);
-          record.sets.emplace_back(set_name, components);
-        }
-      H5Gclose(group);
-      H5Gclose(fields);
+      // The first output, or the first after a resume on another number of
+      // ranks (other patches): a mesh group of its own.
+      if (H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0 ||
+          layout.n_global_nodes != impl->n_global_nodes ||
+          layout.n_global_cells != impl->n_global_cells)
+        impl->write_mesh(filter, layout, step);
+      const FieldStep record =
+        impl->write_field_step(filter, layout, step, time);
       impl->flush();
-
       impl->field_steps.push_back(record);
       impl->write_xdmf();
     });

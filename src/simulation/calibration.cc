@@ -79,6 +79,127 @@ namespace systole
       o << std::fixed << std::setprecision(digits) << v;
       return o.str();
     }
+
+    /// How the fit evaluates and minimizes its residuals.
+    void
+    declare_solver(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Finite difference step",
+        "1e-3",
+        Double(1e-8, 0.1),
+        "Relative step of the forward differences of the "
+        "volumes in the parameters (each value times 1 + step). "
+        "Units: -.");
+      prm.declare_entry("Pressure step",
+                        "2.5",
+                        Double(1e-6),
+                        "Largest pressure increment of the inflation ramp (cut "
+                        "in half when Newton fails, up to Mechanics / Maximum "
+                        "step cuts times). Units: mmHg.");
+      prm.declare_entry(
+        "Reference",
+        "given",
+        Selection("given|unloaded"),
+        "given: the mesh of subsection Geometry is the stress-free reference "
+        "of every inflation. unloaded: the mesh is the ventricle imaged at "
+        "Unloading / Image pressure (loaded, as a patient's image is): every "
+        "evaluation of the fit unloads the image with its parameter values "
+        "(Problem = unloading's fixed point with Unloading / Tolerance, "
+        "Acceleration and Maximum iterations, started from the last "
+        "evaluation's reference) and inflates that reference; the "
+        "finite-difference derivatives unload anew for each perturbed value, "
+        "so choose Unloading / Tolerance small against Finite difference step "
+        "times the displacements (e.g. 1e-4 mm with a step of 1e-2). Fibres / "
+        "Generator must be rule-based (recomputed on every reference). Target "
+        "= Klotz with Klotz end-diastolic volume = 0 takes the image's cavity "
+        "volume (its vertices, trilinear cells), at Klotz end-diastolic "
+        "pressure, which must equal Unloading / Image pressure. Writes the "
+        "unloaded mesh of the fitted values (Unloading / Mesh file) beside the "
+        "results. Units: -.");
+      prm.declare_entry(
+        "Residual tolerance",
+        "0",
+        Double(0.0),
+        "Stop the fit when the norm of the relative residuals |r| is at most "
+        "this (the data are matched; 0: off, TAO's gradient tests and the "
+        "stagnation test only). With Reference = unloaded the unloading's "
+        "tolerance leaves a noise floor in r (about 1e-6 at Unloading / "
+        "Tolerance = 1e-4 mm on the coarse ventricle) below which the line "
+        "search fails. Units: -.");
+      prm.declare_entry("Maximum iterations",
+                        "30",
+                        Integer(1),
+                        "Iterations of the least-squares solver (PETSc TAO, "
+                        "bounded regularized Gauss-Newton; PETSc options with "
+                        "the prefix -calibration_ reach it). Units: -.");
+    }
+
+
+    /// What the fit matches: the Target and its data.
+    void
+    declare_target(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Target",
+        "Klotz",
+        Selection("Klotz|pressure-volume pairs|synthetic"),
+        "What to fit. 'Klotz': the end-diastolic pressure-volume relation of "
+        "Klotz et al. 2006 (Am. J. Physiol. 291:H403) through (Klotz "
+        "end-diastolic pressure, Klotz end-diastolic volume), at the Target "
+        "pressures. 'pressure-volume pairs': the pairs of Pressure-volume "
+        "pairs. 'synthetic': the volumes of this model with the entries set to "
+        "Synthetic values at the Target pressures, with relative Gaussian "
+        "noise of standard deviation Synthetic noise (a round-trip test). The "
+        "residuals are relative: V_model / V_target - 1 at each pressure.");
+      prm.declare_entry("Pressure-volume pairs",
+                        "",
+                        Anything(),
+                        "Target = pressure-volume pairs: 'p: V, p: V, ...' "
+                        "with p in mmHg (> 0) and V in mL (cavity volume). At "
+                        "least as many pairs as parameters (one more for the "
+                        "covariance). Units: mmHg: mL.");
+      prm.declare_entry("Target pressures",
+                        "5, 10, 15, 20, 25",
+                        Anything(),
+                        "Target = Klotz or synthetic: the pressures at which "
+                        "the target volumes are taken (> 0, comma-separated). "
+                        "Units: mmHg.");
+      prm.declare_entry("Klotz end-diastolic pressure",
+                        "10",
+                        Double(0.0, 100.0),
+                        "Target = Klotz: the measured end-diastolic pressure "
+                        "EDP_m (> 0 and < 100: the curve's V_0 = V_m (0.6 - "
+                        "0.006 EDP_m) must be positive). Units: mmHg.");
+      prm.declare_entry(
+        "Klotz end-diastolic volume",
+        "0",
+        Double(0.0),
+        "Target = Klotz: the measured end-diastolic volume V_m; 0: the cavity "
+        "volume of this model with the parameters of the file at Klotz "
+        "end-diastolic pressure (an inflation before the fit). Units: mL.");
+      prm.declare_entry("Synthetic values",
+                        "",
+                        Anything(),
+                        "Target = synthetic: the true values of the fitted "
+                        "entries (one per parameter, > 0). Units: those of the "
+                        "entries (kPa for stiffnesses, - for exponents).");
+      prm.declare_entry(
+        "Synthetic noise",
+        "0",
+        Double(0.0, 0.5),
+        "Target = synthetic: standard deviation of the relative "
+        "Gaussian noise on the synthetic volumes (V (1 + noise "
+        "N(0, 1))). Units: -.");
+      prm.declare_entry("Noise seed",
+                        "42",
+                        Integer(0),
+                        "Target = synthetic: seed of the noise (std::mt19937). "
+                        "Units: -.");
+    }
+
   } // namespace
 
   void
@@ -106,109 +227,8 @@ namespace systole
                       Anything(),
                       "Upper bounds of the fitted scale factors, one per "
                       "parameter or one for all; >= 1. Units: -.");
-    prm.declare_entry(
-      "Target",
-      "Klotz",
-      Selection("Klotz|pressure-volume pairs|synthetic"),
-      "What to fit. 'Klotz': the end-diastolic pressure-volume relation of "
-      "Klotz et al. 2006 (Am. J. Physiol. 291:H403) through (Klotz "
-      "end-diastolic pressure, Klotz end-diastolic volume), at the Target "
-      "pressures. 'pressure-volume pairs': the pairs of Pressure-volume "
-      "pairs. 'synthetic': the volumes of this model with the entries set to "
-      "Synthetic values at the Target pressures, with relative Gaussian "
-      "noise of standard deviation Synthetic noise (a round-trip test). The "
-      "residuals are relative: V_model / V_target - 1 at each pressure.");
-    prm.declare_entry("Pressure-volume pairs",
-                      "",
-                      Anything(),
-                      "Target = pressure-volume pairs: 'p: V, p: V, ...' "
-                      "with p in mmHg (> 0) and V in mL (cavity volume). At "
-                      "least as many pairs as parameters (one more for the "
-                      "covariance). Units: mmHg: mL.");
-    prm.declare_entry("Target pressures",
-                      "5, 10, 15, 20, 25",
-                      Anything(),
-                      "Target = Klotz or synthetic: the pressures at which "
-                      "the target volumes are taken (> 0, comma-separated). "
-                      "Units: mmHg.");
-    prm.declare_entry("Klotz end-diastolic pressure",
-                      "10",
-                      Double(0.0, 100.0),
-                      "Target = Klotz: the measured end-diastolic pressure "
-                      "EDP_m (> 0 and < 100: the curve's V_0 = V_m (0.6 - "
-                      "0.006 EDP_m) must be positive). Units: mmHg.");
-    prm.declare_entry(
-      "Klotz end-diastolic volume",
-      "0",
-      Double(0.0),
-      "Target = Klotz: the measured end-diastolic volume V_m; 0: the cavity "
-      "volume of this model with the parameters of the file at Klotz "
-      "end-diastolic pressure (an inflation before the fit). Units: mL.");
-    prm.declare_entry("Synthetic values",
-                      "",
-                      Anything(),
-                      "Target = synthetic: the true values of the fitted "
-                      "entries (one per parameter, > 0). Units: those of the "
-                      "entries (kPa for stiffnesses, - for exponents).");
-    prm.declare_entry("Synthetic noise",
-                      "0",
-                      Double(0.0, 0.5),
-                      "Target = synthetic: standard deviation of the relative "
-                      "Gaussian noise on the synthetic volumes (V (1 + noise "
-                      "N(0, 1))). Units: -.");
-    prm.declare_entry("Noise seed",
-                      "42",
-                      Integer(0),
-                      "Target = synthetic: seed of the noise (std::mt19937). "
-                      "Units: -.");
-    prm.declare_entry("Finite difference step",
-                      "1e-3",
-                      Double(1e-8, 0.1),
-                      "Relative step of the forward differences of the "
-                      "volumes in the parameters (each value times 1 + step). "
-                      "Units: -.");
-    prm.declare_entry("Pressure step",
-                      "2.5",
-                      Double(1e-6),
-                      "Largest pressure increment of the inflation ramp (cut "
-                      "in half when Newton fails, up to Mechanics / Maximum "
-                      "step cuts times). Units: mmHg.");
-    prm.declare_entry(
-      "Reference",
-      "given",
-      Selection("given|unloaded"),
-      "given: the mesh of subsection Geometry is the stress-free reference "
-      "of every inflation. unloaded: the mesh is the ventricle imaged at "
-      "Unloading / Image pressure (loaded, as a patient's image is): every "
-      "evaluation of the fit unloads the image with its parameter values "
-      "(Problem = unloading's fixed point with Unloading / Tolerance, "
-      "Acceleration and Maximum iterations, started from the last "
-      "evaluation's reference) and inflates that reference; the "
-      "finite-difference derivatives unload anew for each perturbed value, "
-      "so choose Unloading / Tolerance small against Finite difference step "
-      "times the displacements (e.g. 1e-4 mm with a step of 1e-2). Fibres / "
-      "Generator must be rule-based (recomputed on every reference). Target "
-      "= Klotz with Klotz end-diastolic volume = 0 takes the image's cavity "
-      "volume (its vertices, trilinear cells), at Klotz end-diastolic "
-      "pressure, which must equal Unloading / Image pressure. Writes the "
-      "unloaded mesh of the fitted values (Unloading / Mesh file) beside the "
-      "results. Units: -.");
-    prm.declare_entry(
-      "Residual tolerance",
-      "0",
-      Double(0.0),
-      "Stop the fit when the norm of the relative residuals |r| is at most "
-      "this (the data are matched; 0: off, TAO's gradient tests and the "
-      "stagnation test only). With Reference = unloaded the unloading's "
-      "tolerance leaves a noise floor in r (about 1e-6 at Unloading / "
-      "Tolerance = 1e-4 mm on the coarse ventricle) below which the line "
-      "search fails. Units: -.");
-    prm.declare_entry("Maximum iterations",
-                      "30",
-                      Integer(1),
-                      "Iterations of the least-squares solver (PETSc TAO, "
-                      "bounded regularized Gauss-Newton; PETSc options with "
-                      "the prefix -calibration_ reach it). Units: -.");
+    declare_target(prm);
+    declare_solver(prm);
     prm.leave_subsection();
   }
 

@@ -235,6 +235,32 @@ namespace systole
   };
 
 
+  std::unique_ptr<Electrophysiology::Monodomain>
+  create_monodomain(const dealii::ParameterHandler      &prm,
+                    const RunParameters                 &run,
+                    const Electrophysiology::Parameters &params,
+                    const Geometry::Parameters          &geometry,
+                    const Geometry::DistributedMesh     &mesh,
+                    const dealii::Mapping<3, 3>         &mapping,
+                    Logger                              &logger,
+                    const double                         start_time)
+  {
+    return std::make_unique<Electrophysiology::Monodomain>(
+      params,
+      *mesh.tria,
+      mapping,
+      Fibres::create_fibre_field(
+        Fibres::Parameters::parse(prm, run.parameter_directory),
+        geometry.lv_shape,
+        *mesh.tria,
+        mesh.names,
+        &logger),
+      mesh.names,
+      logger,
+      start_time);
+  }
+
+
   ElectricalActivation::Impl::Impl(
     const dealii::ParameterHandler                             &prm,
     const RunParameters                                        &run,
@@ -264,19 +290,14 @@ namespace systole
     // The fibre generator runs again on the EP mesh (the rule-based one
     // solves its Laplace problems there); the monodomain model evaluates it
     // once, at its own quadrature points.
-    monodomain = std::make_unique<Electrophysiology::Monodomain>(
-      params,
-      *mesh.tria,
-      *mapping,
-      Fibres::create_fibre_field(
-        Fibres::Parameters::parse(prm, run.parameter_directory),
-        geometry.lv_shape,
-        *mesh.tria,
-        mesh.names,
-        &logger),
-      mesh.names,
-      logger,
-      0.0);
+    monodomain = create_monodomain(prm,
+                                   run,
+                                   params,
+                                   geometry,
+                                   mesh,
+                                   *mapping,
+                                   logger,
+                                   0.0);
 
     std::vector<std::vector<dealii::Point<3>>> points;
     problem.quadrature_points(points);

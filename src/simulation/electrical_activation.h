@@ -33,11 +33,26 @@ namespace systole
   namespace Geometry
   {
     struct Parameters;
-  }
+    struct DistributedMesh;
+  } // namespace Geometry
   namespace Mechanics
   {
     class Problem;
   }
+
+  /// The monodomain model of @p params on @p mesh (with @p mapping), with
+  /// its own fibre field: the Fibres generator of @p prm run on that mesh
+  /// (the rule-based one solves its Laplace problems there). The model
+  /// starts at @p start_time [ms].
+  std::unique_ptr<Electrophysiology::Monodomain>
+  create_monodomain(const dealii::ParameterHandler      &prm,
+                    const RunParameters                 &run,
+                    const Electrophysiology::Parameters &params,
+                    const Geometry::Parameters          &geometry,
+                    const Geometry::DistributedMesh     &mesh,
+                    const dealii::Mapping<3, 3>         &mapping,
+                    Logger                              &logger,
+                    const double                         start_time);
 
   /// The electrical activation of an electromechanical heartbeat: the
   /// monodomain model (subsection Electrophysiology) on its own mesh, the

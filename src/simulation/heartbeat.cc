@@ -596,6 +596,113 @@ namespace systole
                            checkpointer.store.list().front());
       results.write_statistics(statistics, texts);
     }
+
+    /// The tension model of @p prm, checked against the heartbeat's options.
+    std::unique_ptr<Materials::TensionModel>
+    checked_tension_model(const dealii::ParameterHandler &prm,
+                          const double                    period)
+    {
+      auto tension_model = Materials::create_tension_model(prm, period);
+      check_heartbeat_options(prm, *tension_model);
+      return tension_model;
+    }
+
+    /// The parts of a heartbeat that the coupled run starts from: the
+    /// options, the checkpoint to resume from, the mechanics, the 0D
+    /// circulation and the activation (electrophysiology or a prescribed
+    /// map).
+    struct HeartbeatSetUp
+    {
+      HeartbeatSetUp(const dealii::ParameterHandler &prm,
+                     const RunParameters            &run,
+                     Logger                         &logger,
+                     const MPI_Comm                  comm)
+        : circulation(Circulation::Parameters::parse(prm))
+        , tension_model(checked_tension_model(prm, circulation.period))
+        , inertia(prm.get_bool({"Mechanics"}, "Inertia"))
+        , all_entries(checkpoint_entries(prm))
+        , store(run.output_directory, comm)
+        , checkpoint(resume_checkpoint(run, store, all_entries, logger, comm))
+        , model(prm,
+                run,
+                logger,
+                comm,
+                checkpoint.empty() ? "" : checkpoint + "/mechanics.mesh")
+        , ventricle_names(ventricle_names_of(*model.problem, model.names))
+        , circulation_model(Circulation::create_model(prm, ventricle_names))
+        , unloaded_volumes(model.problem->cavity_volumes())
+      {
+        logger.line(model.banner(run) +
+                    unloaded_text(unloaded_volumes, ventricle_names) +
+                    "; circulation '" + circulation_model->name() + "'");
+        const bool calcium_driven =
+          tension_model->drive() == Materials::TensionDrive::calcium;
+        activation = create_activation(prm,
+                                       run,
+                                       model,
+                                       calcium_driven,
+                                       circulation.period,
+                                       checkpoint,
+                                       logger,
+                                       comm);
+      }
+
+      const Circulation::Parameters                  circulation;
+      const std::unique_ptr<Materials::TensionModel> tension_model;
+      const bool                                     inertia;
+      const std::string                              all_entries;
+      IO::CheckpointStore                            store;
+      const std::string                              checkpoint;
+      MechanicsModel                                 model;
+      const std::vector<std::string>                 ventricle_names;
+      const std::unique_ptr<Circulation::Model>      circulation_model;
+      const Vector                                   unloaded_volumes;
+      Activation                                     activation;
+    };
+
+    /// The coupled run from the end of its set-up: the time loop (to the
+    /// last beat, a periodic state or an interruption), the last output,
+    /// and the cost of the run on the log and in /statistics.
+    void
+    run_and_report(HeartbeatStepper           &stepper,
+                   HeartbeatWriter            &writer,
+                   Checkpointer               &checkpointer,
+                   MechanicsVentricles        &ventricles,
+                   const ElectricalActivation *ep,
+                   const MechanicsModel       &model,
+                   dealii::TimerOutput        &timer,
+                   IO::ResultsFile            &results,
+                   Logger                     &logger)
+    {
+      ventricles.timer = &timer;
+      writer.timer     = &timer;
+      timer.leave_subsection("Heartbeat / set-up");
+      const auto start = std::chrono::steady_clock::now();
+      const auto stats = run_or_checkpoint(stepper, writer, checkpointer);
+      {
+        const auto timed = timer_section(&timer, "Heartbeat / output");
+        writer.finish();
+      }
+      const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+      log_run(stats,
+              ventricles,
+              ep,
+              checkpointer,
+              *model.problem,
+              wall,
+              logger);
+      write_statistics(stats,
+                       ventricles,
+                       ep,
+                       checkpointer,
+                       model,
+                       wall,
+                       timer,
+                       results);
+      logger.line("Wrote " + results.path());
+    }
   } // namespace
 
   void
@@ -613,46 +720,16 @@ namespace systole
                               dealii::TimerOutput::never,
                               dealii::TimerOutput::wall_times);
     timer.enter_subsection("Heartbeat / set-up");
-    const auto circulation = Circulation::Parameters::parse(prm);
-    const auto tension_model =
-      Materials::create_tension_model(prm, circulation.period);
-    check_heartbeat_options(prm, *tension_model);
-    const bool inertia = prm.get_bool({"Mechanics"}, "Inertia");
-
-    std::ostringstream entries;
-    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
-    const std::string   all_entries = entries.str();
-    IO::CheckpointStore store(run.output_directory, comm);
-    const std::string   checkpoint =
-      resume_checkpoint(run, store, all_entries, logger, comm);
-
-    MechanicsModel      model(prm,
-                         run,
-                         logger,
-                         comm,
-                         checkpoint.empty() ? ""
-                                                 : checkpoint + "/mechanics.mesh");
-    Mechanics::Problem &problem = *model.problem;
-    const auto ventricle_names  = ventricle_names_of(problem, model.names);
-    const auto circulation_model =
-      Circulation::create_model(prm, ventricle_names);
-    const Circulation::Model &zero_d           = *circulation_model;
-    const Vector              unloaded_volumes = problem.cavity_volumes();
-    logger.line(model.banner(run) +
-                unloaded_text(unloaded_volumes, ventricle_names) +
-                "; circulation '" + zero_d.name() + "'");
-
-    const bool calcium_driven =
-      tension_model->drive() == Materials::TensionDrive::calcium;
-    Activation            activation = create_activation(prm,
-                                              run,
-                                              model,
-                                              calcium_driven,
-                                              circulation.period,
-                                              checkpoint,
-                                              logger,
-                                              comm);
-    ElectricalActivation *ep         = activation.ep.get();
+    HeartbeatSetUp            set_up(prm, run, logger, comm);
+    const auto               &circulation      = set_up.circulation;
+    const bool                inertia          = set_up.inertia;
+    const std::string        &checkpoint       = set_up.checkpoint;
+    MechanicsModel           &model            = set_up.model;
+    Mechanics::Problem       &problem          = *model.problem;
+    const Circulation::Model &zero_d           = *set_up.circulation_model;
+    const Vector             &unloaded_volumes = set_up.unloaded_volumes;
+    const auto               &activation       = set_up.activation;
+    ElectricalActivation     *ep               = activation.ep.get();
 
     Vector y0, p0;
     initial_state(zero_d, unloaded_volumes, y0, p0);
@@ -660,10 +737,10 @@ namespace systole
     // The tension starts to rise at the earliest activation plus the
     // model's onset delay, taken within the beat.
     const double onset =
-      std::fmod(activation.earliest + tension_model->onset_delay(),
+      std::fmod(activation.earliest + set_up.tension_model->onset_delay(),
                 circulation.period);
     MechanicsVentricles ventricles(problem,
-                                   *tension_model,
+                                   *set_up.tension_model,
                                    activation.times,
                                    ep,
                                    onset,
@@ -708,11 +785,11 @@ namespace systole
     if (state_in)
       state.load(state_in->archive());
     state_in.reset();
-    Checkpointer checkpointer{store,
+    Checkpointer checkpointer{set_up.store,
                               results,
                               state,
                               &model.tria,
-                              all_entries,
+                              set_up.all_entries,
                               run,
                               logger,
                               comm};
@@ -724,27 +801,14 @@ namespace systole
     if (ep != nullptr && !ep->checkpointable())
       writer.checkpoint = nullptr;
 
-    ventricles.timer = &timer;
-    writer.timer     = &timer;
-    timer.leave_subsection("Heartbeat / set-up");
-    const auto start = std::chrono::steady_clock::now();
-    const auto stats = run_or_checkpoint(stepper, writer, checkpointer);
-    {
-      const auto timed = timer_section(&timer, "Heartbeat / output");
-      writer.finish();
-    }
-    const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-        .count();
-    log_run(stats, ventricles, ep, checkpointer, problem, wall, logger);
-    write_statistics(stats,
-                     ventricles,
-                     ep,
-                     checkpointer,
-                     model,
-                     wall,
-                     timer,
-                     results);
-    logger.line("Wrote " + results.path());
+    run_and_report(stepper,
+                   writer,
+                   checkpointer,
+                   ventricles,
+                   ep,
+                   model,
+                   timer,
+                   results,
+                   logger);
   }
 } // namespace systole

@@ -96,6 +96,81 @@ namespace systole
       double           lambda;
       dealii::Point<3> centre;
     };
+
+    /// The run on the log: its size and the undeformed @p volumes of the
+    /// @p cavities.
+    void
+    log_start(const RunParameters            &run,
+              const dealii::Triangulation<3> &tria,
+              const dealii::DoFHandler<3>    &dof_handler,
+              const std::vector<std::string> &cavities,
+              const std::vector<double>      &volumes,
+              Logger                         &logger,
+              const MPI_Comm                  comm)
+    {
+      std::ostringstream o;
+      o << IO::code_version() << ": problem '" << run.problem << "', "
+        << tria.n_global_active_cells() << " cells, " << dof_handler.n_dofs()
+        << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
+        << " rank(s)";
+      logger.line(o.str());
+      for (unsigned int c = 0; c < volumes.size(); ++c)
+        {
+          o.str("");
+          o << "Undeformed cavity volume"
+            << (volumes.size() > 1 ? " " + cavities[c] : "") << ": "
+            << std::setprecision(10) << volumes[c] << " mm^3 ("
+            << Units::mm3_to_mL(volumes[c]) << " mL)";
+          logger.line(o.str());
+        }
+    }
+
+    /// The time-series row of a step: the stretch and the volume of each
+    /// cavity (named as Problem = mechanics names its cavities).
+    std::vector<IO::Column>
+    volume_row(const double                    time,
+               const unsigned int              step,
+               const double                    lambda,
+               const std::vector<std::string> &cavities,
+               const std::vector<double>      &volumes)
+    {
+      std::vector<IO::Column> row = {{"time", "ms", time},
+                                     {"step", "-", static_cast<double>(step)},
+                                     {"stretch", "-", lambda}};
+      for (unsigned int c = 0; c < volumes.size(); ++c)
+        {
+          const std::string name =
+            volumes.size() > 1 ? cavities[c] + "_volume" : "volume";
+          row.push_back({name, "mm^3", volumes[c]});
+          row.push_back({name + "_mL", "mL", Units::mm3_to_mL(volumes[c])});
+        }
+      return row;
+    }
+
+    /// The displacement @p u as the fields of @p step.
+    void
+    write_displacement(const dealii::DoFHandler<3> &dof_handler,
+                       const LA::MPI::Vector       &u,
+                       const dealii::Mapping<3>    &mapping,
+                       const unsigned int           subdivisions,
+                       const unsigned int           step,
+                       const double                 time,
+                       IO::ResultsFile             &results)
+    {
+      dealii::DataOut<3> data_out;
+      data_out.attach_dof_handler(dof_handler);
+      const std::vector<
+        dealii::DataComponentInterpretation::DataComponentInterpretation>
+        vector(
+          3,
+          dealii::DataComponentInterpretation::component_is_part_of_vector);
+      data_out.add_data_vector(u,
+                               std::vector<std::string>(3, "displacement"),
+                               dealii::DataOut<3>::type_dof_data,
+                               vector);
+      data_out.build_patches(mapping, subdivisions);
+      results.write_fields(data_out, step, time);
+    }
   } // namespace
 
   void
@@ -153,23 +228,13 @@ namespace systole
     };
     const std::vector<double> volumes0 = volumes();
 
-    {
-      std::ostringstream o;
-      o << IO::code_version() << ": problem '" << run.problem << "', "
-        << tria.n_global_active_cells() << " cells, " << dof_handler.n_dofs()
-        << " DOFs, " << dealii::Utilities::MPI::n_mpi_processes(comm)
-        << " rank(s)";
-      logger.line(o.str());
-      for (unsigned int c = 0; c < cavities.size(); ++c)
-        {
-          o.str("");
-          o << "Undeformed cavity volume"
-            << (cavities.size() > 1 ? " " + kinematics.cavities[c] : "") << ": "
-            << std::setprecision(10) << volumes0[c] << " mm^3 ("
-            << Units::mm3_to_mL(volumes0[c]) << " mL)";
-          logger.line(o.str());
-        }
-    }
+    log_start(run,
+              tria,
+              dof_handler,
+              kinematics.cavities,
+              volumes0,
+              logger,
+              comm);
 
     IO::ResultsFile results(run.output_directory, parameter_text, comm);
     Progress        progress(logger,
@@ -191,45 +256,19 @@ namespace systole
                                          dof_handler,
                                          UniformStretch(lambda, lid.point),
                                          u_owned);
-        u                           = u_owned;
-        const std::vector<double> v = volumes();
+        u = u_owned;
 
-        std::vector<IO::Column> row = {{"time", "ms", time},
-                                       {"step", "-", static_cast<double>(step)},
-                                       {"stretch", "-", lambda}};
-        for (unsigned int c = 0; c < cavities.size(); ++c)
-          {
-            // Named as Problem = mechanics names its cavities.
-            const std::string name = cavities.size() > 1
-                                       ? kinematics.cavities[c] + "_volume"
-                                       : "volume";
-            row.push_back({name, "mm^3", v[c]});
-            row.push_back({name + "_mL", "mL", Units::mm3_to_mL(v[c])});
-          }
-        results.append_timeseries(row);
-
-        const bool field_step =
-          run.field_output_interval > 0 &&
-          (step % run.field_output_interval == 0 || step == n_steps);
-        if (field_step)
-          {
-            dealii::DataOut<3> data_out;
-            data_out.attach_dof_handler(dof_handler);
-            const std::vector<
-              dealii::DataComponentInterpretation::DataComponentInterpretation>
-              vector(3,
-                     dealii::DataComponentInterpretation::
-                       component_is_part_of_vector);
-            data_out.add_data_vector(u,
-                                     std::vector<std::string>(3,
-                                                              "displacement"),
-                                     dealii::DataOut<3>::type_dof_data,
-                                     vector);
-            data_out.build_patches(mapping,
-                                   kind.output_subdivisions(
-                                     run.polynomial_degree));
-            results.write_fields(data_out, step, time);
-          }
+        results.append_timeseries(
+          volume_row(time, step, lambda, kinematics.cavities, volumes()));
+        if (run.field_output_interval > 0 &&
+            (step % run.field_output_interval == 0 || step == n_steps))
+          write_displacement(dof_handler,
+                             u,
+                             mapping,
+                             kind.output_subdivisions(run.polynomial_degree),
+                             step,
+                             time,
+                             results);
 
         if (interrupted(comm))
           {

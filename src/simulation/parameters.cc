@@ -121,153 +121,186 @@ namespace systole
                hint;
       return "parameter file '" + file + "': " + info + hint;
     }
+
+    /// Subsection Discretization: the elements and the mapping.
+    void
+    declare_discretization(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.enter_subsection("Discretization");
+      prm.declare_entry(
+        "Polynomial degree",
+        "1",
+        Integer(1, 2),
+        "Degree of the Lagrange elements of the displacement (Q1 or Q2). Units: -.");
+      prm.declare_entry(
+        "Mapping degree",
+        "2",
+        Integer(1, 4),
+        "Degree of the polynomial geometry of curved cells (1: straight edges). "
+        "Tetrahedra: 2 or more maps the cells of a file of 10-node tetrahedra "
+        "quadratically through its mid-edge nodes; other tetrahedral meshes "
+        "are affine. Units: -.");
+      Mechanics::Parameters::declare_pressure_element(prm);
+      prm.leave_subsection();
+    }
+
+
+    /// The test-only entries of subsection Output (the checkpoint,
+    /// write-failure and rank tests).
+    void
+    declare_test_hooks(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Test kill after step",
+        "-1",
+        Integer(-1),
+        "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
+        "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
+        "as a crash would; -1: never. Units: steps.");
+      prm.declare_entry(
+        "Test kill in checkpoint",
+        "-1",
+        Integer(-1),
+        "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
+        "SIGKILL halfway through writing the checkpoint of this step; -1: "
+        "never. Units: steps.");
+      prm.declare_entry(
+        "Test file size limit in checkpoint",
+        "-1",
+        Integer(-1),
+        "Test-only (write-failure tests): Problem = heartbeat limits the size "
+        "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
+        "writing the checkpoint of this step, so that its writes fail as on a "
+        "full disk; -1: never. Units: steps.");
+      prm.declare_entry(
+        "Test file size limit after step",
+        "-1",
+        Integer(-1),
+        "Test-only (write-failure tests): Problem = heartbeat limits the size "
+        "of the files it writes to the present size of its results file "
+        "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
+        "next write that grows the results file fails as on a full disk; -1: "
+        "never. Units: steps.");
+      prm.declare_entry(
+        "Test stop after step",
+        "-1",
+        Integer(-1),
+        "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
+        "after this accepted step, its fields and rows written, as an "
+        "interrupted run ends but without a checkpoint; -1: never. Units: "
+        "steps.");
+    }
+
+
+    /// Subsection Output: where the results go, how often, and the
+    /// checkpoints.
+    void
+    declare_output(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.enter_subsection("Output");
+      prm.declare_entry(
+        "Run name",
+        "",
+        Anything(),
+        "Name of the run; results go to <Directory>/<Run name>/results.h5. "
+        "Empty: the parameter file's name without extension.");
+      prm.declare_entry(
+        "Directory",
+        "results",
+        FileName(FileName::output),
+        "Folder that holds the run folders, relative to the working directory.");
+      prm.declare_entry(
+        "Field output interval",
+        "10",
+        Integer(0),
+        "Write the fields (displacement, ...) every this many steps, and at the "
+        "first and last step; 0 writes none. Units: steps.");
+      prm.declare_entry(
+        "Solver log",
+        "auto",
+        Selection("auto|on|off"),
+        "Newton residual histories of every mechanics solve on the console. "
+        "auto: on for the load steps of the mechanics problem, off for the "
+        "heartbeat (thousands of solves; its time series has the iteration "
+        "counts).");
+      prm.declare_entry(
+        "Checkpoint interval",
+        "0",
+        Integer(0),
+        "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint (the "
+        "whole state of the run, "
+        "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
+        "every this many accepted steps; 0: none by step count. A checkpoint is "
+        "also written when the run receives SIGTERM or SIGINT. Units: steps.");
+      prm.declare_entry(
+        "Checkpoint wall time interval",
+        "0",
+        Double(0.0),
+        "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint at the "
+        "end of the first step "
+        "after this much wall-clock time since the start or the last "
+        "checkpoint; 0: none by wall time. Units: minutes.");
+      prm.declare_entry(
+        "Resume",
+        "false",
+        Bool(),
+        "Problem = heartbeat, electrophysiology and elastodynamics: continue the run in "
+        "<Directory>/<Run name> from "
+        "its newest valid checkpoint, appending to its results.h5 (rows written "
+        "after that checkpoint are discarded first). The parameter file must "
+        "describe the same problem as the one the checkpoint was written with "
+        "(only subsection Output may differ). `systole --resume "
+        "<Directory>/<Run name>` does the same with the parameter file the run "
+        "was started with. Units: -.");
+      prm.declare_entry(
+        "Progress",
+        "auto",
+        Selection("auto|on|off"),
+        "Progress line on the console (step, time, activity, elapsed, ETA). "
+        "auto: on when the output is a terminal and the CI variable is unset.");
+      declare_test_hooks(prm);
+      prm.leave_subsection();
+    }
+
+
+    /// Subsection Time: the interval and step of the time loop.
+    void
+    declare_time(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.enter_subsection("Time");
+      prm.declare_entry("Start time",
+                        "0",
+                        Double(),
+                        "Simulated time of the first step. Units: ms.");
+      prm.declare_entry("End time",
+                        "100",
+                        Double(),
+                        "Simulated time of the last step. Units: ms.");
+      prm.declare_entry(
+        "Time step",
+        "10",
+        Double(0.0),
+        "Step of the time loop (an upper bound once steps adapt). Units: ms.");
+      prm.leave_subsection();
+    }
+
   } // namespace
 
   void
   declare_all_parameters(dealii::ParameterHandler &prm)
   {
-    using namespace dealii::Patterns;
     problem_types().declare_selection(prm,
                                       "Problem",
                                       "cavity volume",
                                       "What to simulate.");
     problem_types().declare_parameters(prm, /*own_subsections=*/false);
-
-    prm.enter_subsection("Time");
-    prm.declare_entry("Start time",
-                      "0",
-                      Double(),
-                      "Simulated time of the first step. Units: ms.");
-    prm.declare_entry("End time",
-                      "100",
-                      Double(),
-                      "Simulated time of the last step. Units: ms.");
-    prm.declare_entry(
-      "Time step",
-      "10",
-      Double(0.0),
-      "Step of the time loop (an upper bound once steps adapt). Units: ms.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Output");
-    prm.declare_entry(
-      "Run name",
-      "",
-      Anything(),
-      "Name of the run; results go to <Directory>/<Run name>/results.h5. "
-      "Empty: the parameter file's name without extension.");
-    prm.declare_entry(
-      "Directory",
-      "results",
-      FileName(FileName::output),
-      "Folder that holds the run folders, relative to the working directory.");
-    prm.declare_entry(
-      "Field output interval",
-      "10",
-      Integer(0),
-      "Write the fields (displacement, ...) every this many steps, and at the "
-      "first and last step; 0 writes none. Units: steps.");
-    prm.declare_entry(
-      "Solver log",
-      "auto",
-      Selection("auto|on|off"),
-      "Newton residual histories of every mechanics solve on the console. "
-      "auto: on for the load steps of the mechanics problem, off for the "
-      "heartbeat (thousands of solves; its time series has the iteration "
-      "counts).");
-    prm.declare_entry(
-      "Checkpoint interval",
-      "0",
-      Integer(0),
-      "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint (the "
-      "whole state of the run, "
-      "in <Directory>/<Run name>/checkpoint_NNNNNN; the last two are kept) "
-      "every this many accepted steps; 0: none by step count. A checkpoint is "
-      "also written when the run receives SIGTERM or SIGINT. Units: steps.");
-    prm.declare_entry(
-      "Checkpoint wall time interval",
-      "0",
-      Double(0.0),
-      "Problem = heartbeat, electrophysiology and elastodynamics: write a checkpoint at the "
-      "end of the first step "
-      "after this much wall-clock time since the start or the last "
-      "checkpoint; 0: none by wall time. Units: minutes.");
-    prm.declare_entry(
-      "Resume",
-      "false",
-      Bool(),
-      "Problem = heartbeat, electrophysiology and elastodynamics: continue the run in "
-      "<Directory>/<Run name> from "
-      "its newest valid checkpoint, appending to its results.h5 (rows written "
-      "after that checkpoint are discarded first). The parameter file must "
-      "describe the same problem as the one the checkpoint was written with "
-      "(only subsection Output may differ). `systole --resume "
-      "<Directory>/<Run name>` does the same with the parameter file the run "
-      "was started with. Units: -.");
-    prm.declare_entry(
-      "Progress",
-      "auto",
-      Selection("auto|on|off"),
-      "Progress line on the console (step, time, activity, elapsed, ETA). "
-      "auto: on when the output is a terminal and the CI variable is unset.");
-    prm.declare_entry(
-      "Test kill after step",
-      "-1",
-      Integer(-1),
-      "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
-      "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
-      "as a crash would; -1: never. Units: steps.");
-    prm.declare_entry(
-      "Test kill in checkpoint",
-      "-1",
-      Integer(-1),
-      "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
-      "SIGKILL halfway through writing the checkpoint of this step; -1: "
-      "never. Units: steps.");
-    prm.declare_entry(
-      "Test file size limit in checkpoint",
-      "-1",
-      Integer(-1),
-      "Test-only (write-failure tests): Problem = heartbeat limits the size "
-      "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
-      "writing the checkpoint of this step, so that its writes fail as on a "
-      "full disk; -1: never. Units: steps.");
-    prm.declare_entry(
-      "Test file size limit after step",
-      "-1",
-      Integer(-1),
-      "Test-only (write-failure tests): Problem = heartbeat limits the size "
-      "of the files it writes to the present size of its results file "
-      "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
-      "next write that grows the results file fails as on a full disk; -1: "
-      "never. Units: steps.");
-    prm.declare_entry(
-      "Test stop after step",
-      "-1",
-      Integer(-1),
-      "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
-      "after this accepted step, its fields and rows written, as an "
-      "interrupted run ends but without a checkpoint; -1: never. Units: "
-      "steps.");
-    prm.leave_subsection();
-
-    prm.enter_subsection("Discretization");
-    prm.declare_entry(
-      "Polynomial degree",
-      "1",
-      Integer(1, 2),
-      "Degree of the Lagrange elements of the displacement (Q1 or Q2). Units: -.");
-    prm.declare_entry(
-      "Mapping degree",
-      "2",
-      Integer(1, 4),
-      "Degree of the polynomial geometry of curved cells (1: straight edges). "
-      "Tetrahedra: 2 or more maps the cells of a file of 10-node tetrahedra "
-      "quadratically through its mid-edge nodes; other tetrahedral meshes "
-      "are affine. Units: -.");
-    Mechanics::Parameters::declare_pressure_element(prm);
-    prm.leave_subsection();
-
+    declare_time(prm);
+    declare_output(prm);
+    declare_discretization(prm);
     Geometry::Parameters::declare(prm);
     Fibres::Parameters::declare(prm);
     Materials::declare_parameters(prm);

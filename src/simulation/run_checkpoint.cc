@@ -2,6 +2,7 @@
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria_base.h>
 
 #include "base/errors.h"
@@ -27,6 +28,14 @@ namespace systole
   /// Resume: the newest valid checkpoint of the run, written for the same
   /// problem (every entry outside subsection Output equal to
   /// @p all_entries); "" when the run does not resume.
+  std::string
+  checkpoint_entries(const dealii::ParameterHandler &prm)
+  {
+    std::ostringstream entries;
+    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    return entries.str();
+  }
+
   std::string
   resume_checkpoint(const RunParameters &run,
                     IO::CheckpointStore &store,

@@ -18,6 +18,11 @@ namespace dealii::parallel
   class DistributedTriangulationBase;
 }
 
+namespace dealii
+{
+  class ParameterHandler;
+}
+
 namespace systole
 {
   class Logger;
@@ -28,6 +33,11 @@ namespace systole
     class ResultsFile;
     class StateReader;
   } // namespace IO
+
+  /// Every entry of @p prm as deal.II's ShortPRM text: what a checkpoint
+  /// records of the problem (the @p all_entries below).
+  std::string
+  checkpoint_entries(const dealii::ParameterHandler &prm);
 
   /// Resume: the newest valid checkpoint of the run in @p store, of this
   /// build's checkpoint format (IO::check_checkpoint_format) and written for
