@@ -112,15 +112,22 @@ def is_function_body(header: str) -> bool:
     return stripped.endswith("}") and ":" in stripped
 
 
-def scan(text: str):
-    """Yield (first line, last line, name) of every function body at namespace or class level."""
-    code = blank(text)
+def line_numbers(code: str):
+    """The line (from 1) of every character of code, and of its end."""
     line_of = [0] * (len(code) + 1)
     line = 1
     for k, ch in enumerate(code):
         line_of[k] = line
         if ch == "\n":
             line += 1
+    line_of[len(code)] = line
+    return line_of
+
+
+def scan(text: str):
+    """Yield (first line, last line, name) of every function body at namespace or class level."""
+    code = blank(text)
+    line_of = line_numbers(code)
     header_start, i, n = 0, 0, len(code)
     while i < n:
         c = code[i]
@@ -186,16 +193,12 @@ def count_declarators(statement: str) -> int:
         return 0
     if re.match(r"^(inline\s+)?(constexpr\s+)?static\b", statement) or "operator" in statement:
         return 0
-    commas = 0
     for _, ch in top_level(statement):
         if ch in "={":
             break
         if ch == "(":
             return 0  # a function declaration (or a function pointer)
-    for _, ch in top_level(statement):
-        if ch == ",":
-            commas += 1
-    return commas + 1
+    return 1 + sum(1 for _, ch in top_level(statement) if ch == ",")
 
 
 def walk_classes(code: str, start: int, end: int, scope: str, in_class: bool, out: list, line_of):
@@ -252,13 +255,7 @@ def walk_classes(code: str, start: int, end: int, scope: str, in_class: bool, ou
 def classes(text: str):
     """(first line, qualified name, non-static data members) of every class or struct in text."""
     code = blank(text)
-    line_of = [0] * (len(code) + 1)
-    line = 1
-    for k, ch in enumerate(code):
-        line_of[k] = line
-        if ch == "\n":
-            line += 1
-    line_of[len(code)] = line
+    line_of = line_numbers(code)
     out = []
     walk_classes(code, 0, len(code), "", False, out, line_of)
     return [tuple(entry) for entry in out]
