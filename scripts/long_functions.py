@@ -10,9 +10,17 @@ member, lambda at namespace level); `namespace`, `class`, `struct`, `union`, `en
 skipped. A function's length runs from the first line of its declaration (template line included)
 to its closing brace.
 
-Usage: python3 scripts/long_functions.py [--max-lines N] [--top K] [PATH ...]
-(default: src/ with N = 120). Prints the functions longer than N lines, longest first, then their
-count; exit status is always 0 (a report, not a gate).
+With --members M it lists instead the classes and structs with more than M non-static data
+members (issue 39: a class of one job). The same blanked text is walked recursively: in a class
+body every statement ending in `;` at class level is a declaration; those with a top-level `(`
+before any initialiser (functions, `= default`), `static`, `using`, `typedef`, `friend`,
+`template` and forward declarations are skipped; the others count one member per top-level
+declarator (`double a, b;` is two). Nested classes are counted on their own (`Outer::Inner`).
+
+Usage: python3 scripts/long_functions.py [--max-lines N] [--top K] [--members M] [PATH ...]
+(default: src/ with N = 120). Prints the functions longer than N lines (or the classes with more
+than M data members), largest first, then their count; exit status is always 0 (a report, not a
+gate).
 """
 
 import argparse
@@ -104,15 +112,22 @@ def is_function_body(header: str) -> bool:
     return stripped.endswith("}") and ":" in stripped
 
 
-def scan(text: str):
-    """Yield (first line, last line, name) of every function body at namespace or class level."""
-    code = blank(text)
+def line_numbers(code: str):
+    """The line (from 1) of every character of code, and of its end."""
     line_of = [0] * (len(code) + 1)
     line = 1
     for k, ch in enumerate(code):
         line_of[k] = line
         if ch == "\n":
             line += 1
+    line_of[len(code)] = line
+    return line_of
+
+
+def scan(text: str):
+    """Yield (first line, last line, name) of every function body at namespace or class level."""
+    code = blank(text)
+    line_of = line_numbers(code)
     header_start, i, n = 0, 0, len(code)
     while i < n:
         c = code[i]
@@ -146,26 +161,142 @@ def matching_brace(code: str, start: int) -> int:
     return len(code) - 1
 
 
+ACCESS = re.compile(r"^\s*(public|private|protected)\s*:(?!:)")
+NOT_MEMBER = re.compile(r"^\s*(static|using|typedef|friend|template|static_assert|class|struct|union|enum)\b")
+CLASS_NAME = re.compile(r"\b(class|struct|union)\s+(?:alignas\s*\([^)]*\)\s*)?([A-Za-z_][\w:]*)")
+
+
+def top_level(text: str):
+    """Yield (index, character) of the characters of text outside (), [], {} and <>."""
+    depth = angle = 0
+    for k, ch in enumerate(text):
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth -= 1
+        elif depth == 0 and ch == "<":
+            angle += 1
+        elif depth == 0 and ch == ">" and angle > 0 and text[k - 1] != "-":
+            angle -= 1
+        elif depth == 0 and angle == 0:
+            yield k, ch
+        if ch in "([{" and depth == 1 and angle == 0:
+            yield k, ch  # an opening bracket at top level
+
+
+def count_declarators(statement: str) -> int:
+    """Data members declared by one class-level statement (0 for functions and the like)."""
+    while ACCESS.match(statement):
+        statement = ACCESS.sub("", statement, count=1)
+    statement = statement.strip()
+    if not statement or NOT_MEMBER.match(statement):
+        return 0
+    if re.match(r"^(inline\s+)?(constexpr\s+)?static\b", statement) or "operator" in statement:
+        return 0
+    for _, ch in top_level(statement):
+        if ch in "={":
+            break
+        if ch == "(":
+            return 0  # a function declaration (or a function pointer)
+    return 1 + sum(1 for _, ch in top_level(statement) if ch == ",")
+
+
+def walk_classes(code: str, start: int, end: int, scope: str, in_class: bool, out: list, line_of):
+    """Append (first line, qualified name, data members) of every class in code[start:end]."""
+    header_start, i, members = start, start, 0
+    pending_declarators = False  # after `struct X {...}` the declarators before `;` are members
+    while i < end:
+        c = code[i]
+        if c == ";":
+            statement = code[header_start:i]
+            if pending_declarators:
+                members += len([d for d in statement.split(",") if d.strip()])
+                pending_declarators = False
+            elif in_class:
+                members += count_declarators(statement)
+            header_start = i + 1
+        elif c == "}":
+            header_start = i + 1
+        elif c == "{":
+            header = code[header_start:i]
+            close = matching_brace(code, i)
+            stripped = ACCESS.sub("", header) if in_class else header
+            while in_class and ACCESS.match(stripped):
+                stripped = ACCESS.sub("", stripped, count=1)
+            container = CONTAINER.match(stripped) and "(" not in stripped
+            if container and re.search(r"\b(class|struct|union)\b", stripped) \
+                    and not re.search(r"\benum\b", stripped):
+                name = CLASS_NAME.search(stripped)
+                name = name.group(2) if name else "<anonymous>"
+                qualified = f"{scope}::{name}" if scope else name
+                first = header_start + len(header) - len(header.lstrip())
+                out.append([line_of[first], qualified, 0])
+                entry = out[-1]
+                entry[2] = walk_classes(code, i + 1, close, qualified, True, out, line_of)
+                if in_class:
+                    pending_declarators = True
+                header_start = close + 1
+            elif container and re.search(r"\bnamespace\b|extern", stripped):
+                name = re.search(r"namespace\s+([\w:]+)", stripped)
+                inner = f"{scope}::{name.group(1)}" if scope and name else (name.group(1) if name else scope)
+                walk_classes(code, i + 1, close, inner, False, out, line_of)
+                header_start = close + 1
+            elif container:  # an enum
+                header_start = close + 1
+                if in_class:
+                    pending_declarators = True
+            elif is_function_body(header):
+                header_start = close + 1
+            i = close  # else a brace initialiser: the statement runs on to its `;`
+        i += 1
+    return members
+
+
+def classes(text: str):
+    """(first line, qualified name, non-static data members) of every class or struct in text."""
+    code = blank(text)
+    line_of = line_numbers(code)
+    out = []
+    walk_classes(code, 0, len(code), "", False, out, line_of)
+    return [tuple(entry) for entry in out]
+
+
+def source_files(paths):
+    for path in paths:
+        path = Path(path)
+        files = sorted(path.rglob("*")) if path.is_dir() else [path]
+        for f in files:
+            if f.suffix in (".cc", ".h") and f.is_file():
+                try:
+                    shown = f.resolve().relative_to(ROOT)
+                except ValueError:
+                    shown = f
+                yield f, shown
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("paths", nargs="*", default=[str(ROOT / "src")])
     parser.add_argument("--max-lines", type=int, default=120)
     parser.add_argument("--top", type=int, default=0, help="also list the K longest functions")
+    parser.add_argument("--members", type=int, default=None, metavar="M",
+                        help="list the classes with more than M data members instead")
     args = parser.parse_args()
 
+    if args.members is not None:
+        found = [(n, f"{shown}:{first}", name) for f, shown in source_files(args.paths)
+                 for first, name, n in classes(f.read_text(errors="ignore"))]
+        found.sort(key=lambda entry: (-entry[0], entry[1]))
+        big = [entry for entry in found if entry[0] > args.members]
+        for n, where, name in big:
+            print(f"{n:5d}  {where}  {name}")
+        print(f"{len(big)} of {len(found)} classes have more than {args.members} data members")
+        return 0
+
     functions = []
-    for path in args.paths:
-        path = Path(path)
-        files = sorted(path.rglob("*")) if path.is_dir() else [path]
-        for f in files:
-            if f.suffix not in (".cc", ".h") or not f.is_file():
-                continue
-            for first, last, name in scan(f.read_text(errors="ignore")):
-                try:
-                    shown = f.resolve().relative_to(ROOT)
-                except ValueError:
-                    shown = f
-                functions.append((last - first + 1, f"{shown}:{first}", name))
+    for f, shown in source_files(args.paths):
+        for first, last, name in scan(f.read_text(errors="ignore")):
+            functions.append((last - first + 1, f"{shown}:{first}", name))
     functions.sort(key=lambda entry: (-entry[0], entry[1]))
     long_ones = [entry for entry in functions if entry[0] > args.max_lines]
     for lines, where, name in long_ones:

@@ -76,3 +76,48 @@ def test_the_command_lists_the_functions_over_the_limit(tmp_path):
                          capture_output=True, text=True, check=True).stdout
     assert "Holder::long_one" in out and "short_one" not in out
     assert "1 of 3 functions are longer than 10 lines" in out
+
+
+MEMBERS = r'''
+namespace systole::Mechanics
+{
+  struct Problem::Impl
+  {
+  public:
+    Impl(const int a) : n{a} {}
+    static constexpr double tolerance = 1e-9; // static: not a member
+    using Map = std::map<int, double>;
+    double a = 0.0, b{1.0};                 // two
+    std::map<int, std::vector<double>> table; // a comma inside <>: one
+    std::function<void(int, int)> callback;   // a ( inside <>: one
+    int n;
+    void
+    f(const int x) const;
+    Impl &operator=(const Impl &) = delete;
+    struct Inner
+    {
+      int x, y;
+    } inner;                                  // one, Inner counted on its own
+    enum class Kind { a, b } kind = Kind::a;  // one
+  private:
+    mutable std::vector<int> cache;
+    double g() const { return a; }
+  };
+  class Empty;
+}
+'''
+
+
+def test_counts_the_non_static_data_members_of_each_class():
+    found = {name: n for _, name, n in long_functions.classes(MEMBERS)}
+    assert found == {"systole::Mechanics::Problem::Impl": 8,
+                     "systole::Mechanics::Problem::Impl::Inner": 2}
+
+
+def test_the_command_lists_the_classes_over_the_member_limit(tmp_path):
+    (tmp_path / "a.h").write_text(MEMBERS)
+    out = subprocess.run([sys.executable, str(SCRIPTS_DIR / "long_functions.py"),
+                          "--members", "5", str(tmp_path)],
+                         capture_output=True, text=True, check=True).stdout
+    assert "Problem::Impl" in out and "Inner" not in out
+    assert "1 of 2 classes have more than 5 data members" in out

@@ -500,6 +500,25 @@ namespace systole::Mechanics
     /// points, the cell system and the local DoF indices.
     struct CellScratch
     {
+      /// The scratch of the element and quadrature rules of
+      /// @p discretization.
+      CellScratch(const Discretization &discretization,
+                  const unsigned int    n_cavities,
+                  const unsigned int    n_tension_states,
+                  const double          gamma)
+        : CellScratch(
+            discretization.mapping,
+            *discretization.fe,
+            discretization.cell_quadrature(discretization.n_q_1d),
+            discretization.cell_quadrature(discretization.reduced_volumetric
+                                             ? discretization.n_q_1d - 1
+                                             : discretization.n_q_1d),
+            discretization.face_quadrature(discretization.n_q_face_1d),
+            n_cavities,
+            n_tension_states,
+            gamma)
+      {}
+
       CellScratch(const dealii::Mapping<3>       &mapping,
                   const dealii::FiniteElement<3> &fe,
                   const dealii::Quadrature<3>    &quadrature,
@@ -1236,6 +1255,23 @@ namespace systole::Mechanics
       distribute_cell(cell, options, global, w);
       return true;
     }
+
+    /// Throws unless there is one pressure per pressure part of @p loads,
+    /// and a cavity if @p with_volume_derivative.
+    void
+    check_loads(const dealii::Vector<double> &pressures,
+                const CavityLoads            &loads,
+                const bool                    with_volume_derivative)
+    {
+      AssertThrow(!with_volume_derivative || !loads.cavities.empty(),
+                  dealii::ExcMessage("This problem has no cavity."));
+      AssertThrow(pressures.size() == loads.pressure_ids.size(),
+                  dealii::ExcMessage(
+                    "Mechanics: " + std::to_string(pressures.size()) +
+                    " pressures given for " +
+                    std::to_string(loads.pressure_ids.size()) +
+                    " pressure parts."));
+    }
   } // namespace
 
   double
@@ -1245,33 +1281,29 @@ namespace systole::Mechanics
                           const bool                    with_volume_derivative)
   {
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
-    last_active_tension = active_tension;
-    AssertThrow(!with_volume_derivative || !cavities.empty(),
-                dealii::ExcMessage("This problem has no cavity."));
-    AssertThrow(pressures.size() == pressure_ids.size(),
-                dealii::ExcMessage(
-                  "Mechanics: " + std::to_string(pressures.size()) +
-                  " pressures given for " +
-                  std::to_string(pressure_ids.size()) + " pressure parts."));
+    points.last_active_tension = active_tension;
+    check_loads(pressures, loads, with_volume_derivative);
     const AssemblyOptions options =
       assembly_options(with_matrix,
                        with_volume_derivative,
-                       layout.mixed(),
-                       pressure_matrix != nullptr,
-                       augmentation != nullptr ? augmented_lagrangian : 0.0,
-                       reduced_volumetric,
+                       discretization.layout.mixed(),
+                       system.pressure_matrix != nullptr,
+                       system.augmentation != nullptr
+                         ? system.augmented_lagrangian
+                         : 0.0,
+                       discretization.reduced_volumetric,
                        params.viscosity,
                        dynamics);
 
-    PressureLoads loads = pressure_loads(
+    PressureLoads pressure_load = pressure_loads(
       pressures,
-      pressure_ids,
-      cavities,
+      loads.pressure_ids,
+      loads.cavities,
       [this](const unsigned int i) { return lid_loaded(i); },
-      dof_handler,
+      discretization.dof_handler,
       u,
       with_matrix,
-      owned,
+      discretization.owned,
       comm);
     if (options.dynamic)
       {
@@ -1279,69 +1311,72 @@ namespace systole::Mechanics
                     dealii::ExcMessage("Mechanics: the inertia is implemented "
                                        "for the penalty formulation only."));
         update_dynamic_rates(u_owned,
-                             owned,
+                             discretization.owned,
                              comm,
-                             params.viscosity != 0.0 || !robin_supports.empty(),
+                             params.viscosity != 0.0 ||
+                               !boundaries.robin_supports.empty(),
                              dynamics);
       }
 
-    GlobalSystem global{constraints,
-                        tangent,
-                        residual,
-                        volume_derivatives,
-                        pressure_matrix.get(),
-                        augmentation.get()};
+    GlobalSystem global{discretization.constraints,
+                        system.tangent,
+                        system.residual,
+                        loads.volume_derivatives,
+                        system.pressure_matrix.get(),
+                        system.augmentation.get()};
     if (with_matrix)
-      have_factorization = false; // PETSc would refactorize on next solve
+      factorized.held = false; // PETSc would refactorize on next solve
     clear_global_system(options, global);
 
-    CellScratch     w(mapping,
-                  *fe,
-                  cell_quadrature(n_q_1d),
-                  cell_quadrature(reduced_volumetric ? n_q_1d - 1 : n_q_1d),
-                  face_quadrature(n_q_face_1d),
-                  cavities.size(),
-                  tension_model != nullptr ? tension_model->n_states() : 0,
+    CellScratch     w(discretization,
+                  loads.cavities.size(),
+                  points.tension_model != nullptr
+                        ? points.tension_model->n_states()
+                        : 0,
                   options.gamma);
     const CellTerms terms{options,
-                          {passive_law,
-                           volumetric_law,
-                           tension_model,
-                           tension_time,
-                           tension_time_step,
+                          {material.passive_law,
+                           material.volumetric_law,
+                           points.tension_model,
+                           points.tension_time,
+                           points.tension_time_step,
                            active_tension,
                            params.active_cross_fibre,
                            params.viscosity,
-                           inverse_bulk_modulus,
-                           reference_shear_stiffness},
-                          layout,
-                          *fe,
+                           material.inverse_bulk_modulus,
+                           material.reference_shear_stiffness},
+                          discretization.layout,
+                          *discretization.fe,
                           u,
                           dynamics,
-                          constraints,
-                          robin_supports,
+                          discretization.constraints,
+                          boundaries.robin_supports,
                           params.density};
     unsigned int    inverted = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && !assemble_cell(terms,
-                                                     cell,
-                                                     point_data.get_data(cell),
-                                                     loads,
-                                                     global,
-                                                     w))
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned() &&
+          !assemble_cell(terms,
+                         cell,
+                         points.point_data.get_data(cell),
+                         pressure_load,
+                         global,
+                         w))
         {
           inverted = 1; // the assembly is void: skip the other cells
           break;
         }
 
-    add_lid_rim_terms(pressures, loads.lid_area, loads.lid_alpha, with_matrix);
+    add_lid_rim_terms(pressures,
+                      pressure_load.lid_area,
+                      pressure_load.lid_alpha,
+                      with_matrix);
     compress_global_system(options, global);
     if (options.dynamic)
-      residual.add(dynamics.alpha_f * options.inertia_weight,
-                   dynamics.residual_n);
+      system.residual.add(dynamics.alpha_f * options.inertia_weight,
+                          dynamics.residual_n);
     if (with_volume_derivative)
       {
-        for (auto &b : volume_derivatives)
+        for (auto &b : loads.volume_derivatives)
           b.compress(dealii::VectorOperation::add);
         update_volume_rows();
       }
@@ -1349,7 +1384,7 @@ namespace systole::Mechanics
     // An inverted element on any rank fails the step on every rank.
     AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
                 ExcInvertedElement());
-    return residual.l2_norm();
+    return system.residual.l2_norm();
   }
 
   // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on
@@ -1366,28 +1401,30 @@ namespace systole::Mechanics
   {
     if (with_matrix)
       {
-        low_rank_u.clear();
-        low_rank_v.clear();
+        loads.low_rank_u.clear();
+        loads.low_rank_v.clear();
       }
-    for (unsigned int i = 0; i < cavities.size(); ++i)
+    for (unsigned int i = 0; i < loads.cavities.size(); ++i)
       if (lid_loaded(i) && with_matrix)
         {
           std::array<LA::MPI::Vector, 3> C;
           dealii::Vector<double>         one(1);
-          one[0] = 1.0 / cavities[i].n_rim_vertices();
+          one[0] = 1.0 / loads.cavities[i].n_rim_vertices();
           std::vector<dealii::types::global_dof_index> dof(1);
           for (unsigned int k = 0; k < 3; ++k)
             {
-              C[k].reinit(owned, comm);
+              C[k].reinit(discretization.owned, comm);
               lid_alpha[i][k].compress(dealii::VectorOperation::add);
             }
-          cavities[i].for_each_rim_vertex(
-            dof_handler,
+          loads.cavities[i].for_each_rim_vertex(
+            discretization.dof_handler,
             [&](const std::array<dealii::types::global_dof_index, 3> &dofs) {
               for (unsigned int k = 0; k < 3; ++k)
                 {
                   dof[0] = dofs[k];
-                  constraints.distribute_local_to_global(one, dof, C[k]);
+                  discretization.constraints.distribute_local_to_global(one,
+                                                                        dof,
+                                                                        C[k]);
                 }
             });
           for (unsigned int k = 0; k < 3; ++k)
@@ -1396,27 +1433,28 @@ namespace systole::Mechanics
               LA::MPI::Vector scaled_C = C[k], scaled_A = lid_alpha[i][k];
               scaled_C *= -pressures[i] / 3.0;
               scaled_A *= -pressures[i] / 3.0;
-              low_rank_u.push_back(scaled_C);
-              low_rank_v.push_back(lid_alpha[i][k]);
-              low_rank_u.push_back(scaled_A);
-              low_rank_v.push_back(C[k]);
+              loads.low_rank_u.push_back(scaled_C);
+              loads.low_rank_v.push_back(lid_alpha[i][k]);
+              loads.low_rank_u.push_back(scaled_A);
+              loads.low_rank_v.push_back(C[k]);
             }
         }
-    for (unsigned int i = 0; i < cavities.size(); ++i)
+    for (unsigned int i = 0; i < loads.cavities.size(); ++i)
       if (lid_loaded(i))
         {
           const Tensor<1, 3> area =
             dealii::Utilities::MPI::sum(lid_area[i], comm);
           dealii::Vector<double> share(3);
           for (unsigned int k = 0; k < 3; ++k)
-            share[k] =
-              -pressures[i] * area[k] / (3.0 * cavities[i].n_rim_vertices());
+            share[k] = -pressures[i] * area[k] /
+                       (3.0 * loads.cavities[i].n_rim_vertices());
           std::vector<dealii::types::global_dof_index> rim(3);
-          cavities[i].for_each_rim_vertex(
-            dof_handler,
+          loads.cavities[i].for_each_rim_vertex(
+            discretization.dof_handler,
             [&](const std::array<dealii::types::global_dof_index, 3> &dofs) {
               rim.assign(dofs.begin(), dofs.end());
-              constraints.distribute_local_to_global(share, rim, residual);
+              discretization.constraints
+                .distribute_local_to_global(share, rim, system.residual);
             });
         }
   }
@@ -1425,25 +1463,31 @@ namespace systole::Mechanics
   Problem::Impl::update_volume_rows()
   {
     dealii::TimerOutput::Scope scope(timer, "Mechanics / cavity volume");
-    volume_rows.resize(cavities.size());
-    for (unsigned int i = 0; i < cavities.size(); ++i)
+    loads.volume_rows.resize(loads.cavities.size());
+    for (unsigned int i = 0; i < loads.cavities.size(); ++i)
       {
-        if (!moving_lid[i])
+        if (!loads.moving_lid[i])
           {
-            volume_rows[i] = volume_derivatives[i];
+            loads.volume_rows[i] = loads.volume_derivatives[i];
             continue;
           }
         // dV/du of the fan lid: the endocardial flux plus the lid's, then
         // condensed as the assembly condenses the flux. With the lid loaded
         // it is the load per unit pressure too.
-        LA::MPI::Vector exact(owned, comm);
-        cavities[i].derivative(mapping, dof_handler, u, n_q_face_1d, exact);
-        LA::MPI::Vector ghosted(owned, relevant, comm);
+        LA::MPI::Vector exact(discretization.owned, comm);
+        loads.cavities[i].derivative(discretization.mapping,
+                                     discretization.dof_handler,
+                                     u,
+                                     discretization.n_q_face_1d,
+                                     exact);
+        LA::MPI::Vector ghosted(discretization.owned,
+                                discretization.relevant,
+                                comm);
         ghosted = exact;
-        volume_rows[i].reinit(owned, comm);
-        constraints.condense(ghosted, volume_rows[i]);
+        loads.volume_rows[i].reinit(discretization.owned, comm);
+        discretization.constraints.condense(ghosted, loads.volume_rows[i]);
         if (lid_loaded(i))
-          volume_derivatives[i] = volume_rows[i];
+          loads.volume_derivatives[i] = loads.volume_rows[i];
       }
   }
 } // namespace systole::Mechanics

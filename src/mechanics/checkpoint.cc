@@ -69,12 +69,12 @@ namespace systole::Mechanics
   {
     const auto                       c = cell->active_cell_index();
     std::vector<std::vector<double>> data(3);
-    if (c < factorized_tension.size())
-      data[0] = factorized_tension[c];
-    if (c < factorized_model_inputs.size())
-      data[2] = factorized_model_inputs[c];
-    if (tension_model != nullptr)
-      for (const auto &point : point_data.get_data(cell))
+    if (c < factorized.tension.size())
+      data[0] = factorized.tension[c];
+    if (c < factorized.model_inputs.size())
+      data[2] = factorized.model_inputs[c];
+    if (points.tension_model != nullptr)
+      for (const auto &point : points.point_data.get_data(cell))
         {
           data[1].insert(data[1].end(),
                          point->tension_state.begin(),
@@ -89,13 +89,13 @@ namespace systole::Mechanics
   void
   Problem::Impl::remember_factorized_tension()
   {
-    factorized_tension.assign(tria.n_active_cells(), {});
-    factorized_model_inputs.assign(tension_model != nullptr
+    factorized.tension.assign(tria.n_active_cells(), {});
+    factorized.model_inputs.assign(points.tension_model != nullptr
                                      ? tria.n_active_cells()
                                      : 0,
                                    {});
-    factorized_tension_time      = tension_time;
-    factorized_tension_time_step = tension_time_step;
+    factorized.tension_time      = points.tension_time;
+    factorized.tension_time_step = points.tension_time_step;
     if (dynamics.started)
       {
         dynamics.factorized_time_step = dynamics.time_step;
@@ -105,13 +105,13 @@ namespace systole::Mechanics
       }
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const auto &data : point_data.get_data(cell))
+        for (const auto &data : points.point_data.get_data(cell))
           {
             const auto c = cell->active_cell_index();
-            factorized_tension[c].push_back(data->tension);
-            if (tension_model != nullptr)
+            factorized.tension[c].push_back(data->tension);
+            if (points.tension_model != nullptr)
               {
-                auto &inputs = factorized_model_inputs[c];
+                auto &inputs = factorized.model_inputs[c];
                 inputs.insert(inputs.end(),
                               data->tension_state.begin(),
                               data->tension_state.end());
@@ -130,9 +130,9 @@ namespace systole::Mechanics
     // In a time integration also the accepted dynamic state (u_n, v_n, a_n,
     // R(u_n)) and that of the factorized tangent.
     Dynamics                            &d       = m.dynamics;
-    std::vector<const LA::MPI::Vector *> sources = {&m.u_saved,
-                                                    &m.u_previous,
-                                                    &m.factorized_u};
+    std::vector<const LA::MPI::Vector *> sources = {&m.history.u_saved,
+                                                    &m.history.u_previous,
+                                                    &m.factorized.u};
     if (d.started)
       sources.insert(sources.end(),
                      {&d.u_n,
@@ -142,26 +142,29 @@ namespace systole::Mechanics
                       &d.factorized_u_n,
                       &d.factorized_v_n,
                       &d.factorized_a_n});
-    m.checkpoint_vectors.resize(sources.size());
+    m.pending_checkpoint.vectors.resize(sources.size());
     std::vector<const LA::MPI::Vector *> in;
     for (unsigned int i = 0; i < sources.size(); ++i)
       {
-        m.checkpoint_vectors[i].reinit(m.owned, m.relevant, m.comm);
-        m.checkpoint_vectors[i] = *sources[i];
-        in.push_back(&m.checkpoint_vectors[i]);
+        m.pending_checkpoint.vectors[i].reinit(m.discretization.owned,
+                                               m.discretization.relevant,
+                                               m.comm);
+        m.pending_checkpoint.vectors[i] = *sources[i];
+        in.push_back(&m.pending_checkpoint.vectors[i]);
       }
-    m.checkpoint_transfer = std::make_unique<Transfer>(m.dof_handler);
-    m.checkpoint_transfer->prepare_for_serialization(in);
+    m.pending_checkpoint.transfer =
+      std::make_unique<Transfer>(m.discretization.dof_handler);
+    m.pending_checkpoint.transfer->prepare_for_serialization(in);
     // The tension of the factorized iterate, and the tension model's
     // accepted state of every point (its states, the stretch, the tension),
     // packed per owned cell.
-    m.checkpoint_cell_data.assign(m.tria.n_active_cells(), {});
+    m.pending_checkpoint.cell_data.assign(m.tria.n_active_cells(), {});
     std::uint64_t longest = 0;
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           const auto &bytes =
-            m.checkpoint_cell_data[cell->active_cell_index()] =
+            m.pending_checkpoint.cell_data[cell->active_cell_index()] =
               dealii::Utilities::pack(m.checkpoint_data_of(cell), false);
           longest = std::max<std::uint64_t>(longest, bytes.size());
         }
@@ -169,22 +172,193 @@ namespace systole::Mechanics
     if (fixed)
       {
         longest = dealii::Utilities::MPI::max(longest, m.comm);
-        for (auto &bytes : m.checkpoint_cell_data)
+        for (auto &bytes : m.pending_checkpoint.cell_data)
           bytes = with_length(bytes, longest);
       }
     m.tria.register_data_attach(
       [&m](const CellIterator &cell, const CellStatus) {
-        return m.checkpoint_cell_data[cell->active_cell_index()];
+        return m.pending_checkpoint.cell_data[cell->active_cell_index()];
       },
       /*returns_variable_size_data=*/!fixed);
-    archive &m.n_saves &m.have_factorization &m.factorized_pressures;
-    archive                                  &m.factorized_active_tension;
-    archive &m.factorized_tension_time &m.factorized_tension_time_step;
+    archive &m.history.n_saves &m.factorized.held &m.factorized.pressures;
+    archive                                       &m.factorized.active_tension;
+    archive &m.factorized.tension_time &m.factorized.tension_time_step;
     // Whether the next solve may reuse the factorization (the last one
     // converged), and whether it is of a bordered system (B0, W0 stored).
-    bool     bordered = !m.factorized_volume_derivatives.empty();
-    archive &m.last_solve_converged &bordered;
+    bool     bordered = !m.factorized.volume_derivatives.empty();
+    archive &m.factorized.last_solve_converged &bordered;
     archive &d.started &d.time_step &d.factorized_time_step;
+  }
+
+
+  namespace
+  {
+    /// Reads the cell data prepare_checkpoint() attached: the tension of the
+    /// factorized iterate and the inputs of the tension model into
+    /// @p factorized, the tension model's accepted state into the points.
+    void
+    unpack_cell_data(dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+                     QuadraturePoints &points,
+                     Factorization    &factorized)
+    {
+      const bool         fixed  = fixed_size_cell_data(tria);
+      const unsigned int handle = tria.register_data_attach(
+        [](const CellIterator &, const CellStatus) {
+          return std::vector<char>();
+        },
+        !fixed);
+      const Materials::TensionModel *model = points.tension_model;
+      factorized.tension.assign(tria.n_active_cells(), {});
+      factorized.model_inputs.assign(model != nullptr ? tria.n_active_cells()
+                                                      : 0,
+                                     {});
+      tria.notify_ready_to_unpack(
+        handle,
+        [&points, &factorized, model, fixed](const CellIterator &cell,
+                                             const CellStatus,
+                                             const Range &packed) {
+          const Range range = fixed ? without_length(packed) : packed;
+          const auto  data =
+            dealii::Utilities::unpack<std::vector<std::vector<double>>>(
+              range.begin(),
+              range.end(),
+              false);
+          AssertThrow(data.size() == 3,
+                      dealii::ExcMessage("The checkpoint's mechanics cell "
+                                         "data are not of this version."));
+          factorized.tension[cell->active_cell_index()] = data[0];
+          if (model != nullptr)
+            factorized.model_inputs[cell->active_cell_index()] = data[2];
+          const unsigned int n = model != nullptr ? model->n_states() : 0;
+          const auto         at_points = points.point_data.get_data(cell);
+          AssertThrow((model == nullptr && data[1].empty()) ||
+                        data[1].size() == at_points.size() * (n + 2),
+                      dealii::ExcMessage(
+                        "The checkpoint's tension-model states do not fit "
+                        "this run (another Active tension / Model, or "
+                        "another quadrature)."));
+          if (model != nullptr)
+            for (unsigned int q = 0; q < at_points.size(); ++q)
+              {
+                const double *x = data[1].data() + q * (n + 2);
+                at_points[q]->tension_state.assign(x, x + n);
+                at_points[q]->stretch_n     = x[n];
+                at_points[q]->model_tension = x[n + 1];
+              }
+        });
+    }
+
+    /// The per-point active tension of the factorized iterate into the
+    /// points.
+    void
+    restore_factorized_tension(const dealii::Triangulation<3, 3> &tria,
+                               QuadraturePoints                  &points,
+                               const Factorization               &factorized)
+    {
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const auto  data = points.point_data.get_data(cell);
+            const auto &t    = factorized.tension[cell->active_cell_index()];
+            AssertThrow(t.size() == data.size(),
+                        dealii::ExcMessage(
+                          "The checkpoint's active tension does not fit "
+                          "the quadrature of the mechanics."));
+            for (unsigned int q = 0; q < data.size(); ++q)
+              data[q]->tension = t[q];
+          }
+    }
+
+    /// Swaps the tension model's inputs of the factorized iterate with the
+    /// accepted ones (and the step), so that its tangent can be assembled;
+    /// a second call swaps them back.
+    void
+    swap_model_inputs(const dealii::Triangulation<3, 3> &tria,
+                      QuadraturePoints                  &points,
+                      Factorization                     &factorized)
+    {
+      if (points.tension_model == nullptr)
+        return;
+      const unsigned int n = points.tension_model->n_states();
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const auto data = points.point_data.get_data(cell);
+            auto &inputs = factorized.model_inputs[cell->active_cell_index()];
+            AssertThrow(inputs.size() == data.size() * (n + 2),
+                        dealii::ExcMessage(
+                          "The checkpoint's tension-model inputs do not "
+                          "fit the quadrature of the mechanics."));
+            for (unsigned int q = 0; q < data.size(); ++q)
+              {
+                double *x = inputs.data() + q * (n + 2);
+                for (unsigned int i = 0; i < n; ++i)
+                  std::swap(data[q]->tension_state[i], x[i]);
+                std::swap(data[q]->stretch_n, x[n]);
+                std::swap(data[q]->calcium, x[n + 1]);
+              }
+          }
+      std::swap(points.tension_time, factorized.tension_time);
+      std::swap(points.tension_time_step, factorized.tension_time_step);
+    }
+
+    /// Swaps the accepted dynamic state and the time step with those of the
+    /// factorized iterate (its mass and rate terms); a second call swaps
+    /// them back.
+    void
+    swap_dynamic_state(Dynamics &d)
+    {
+      if (!d.started)
+        return;
+      d.u_n.swap(d.factorized_u_n);
+      d.v_n.swap(d.factorized_v_n);
+      d.a_n.swap(d.factorized_a_n);
+      std::swap(d.time_step, d.factorized_time_step);
+    }
+  } // namespace
+
+
+  void
+  Problem::Impl::rebuild_factorization(const bool bordered)
+  {
+    // The tangent of the factorized iterate, assembled and factorized as the
+    // Newton iteration did (the same values on the same ranks), and W0 =
+    // K^-1 B0.
+    u_owned = factorized.u;
+    u       = u_owned;
+    restore_factorized_tension(tria, points, factorized);
+    // The tension model's inputs and the dynamic state of that iterate in
+    // place of the accepted ones while it is assembled (swapped in, then
+    // back).
+    swap_dynamic_state(dynamics);
+    swap_model_inputs(tria, points, factorized);
+    assemble(factorized.pressures,
+             factorized.active_tension,
+             true,
+             /*with_volume_derivative=*/!loads.cavities.empty());
+    swap_model_inputs(tria, points, factorized);
+    swap_dynamic_state(dynamics);
+    system.linear_solver->setup(system.tangent,
+                                system.pressure_matrix.get(),
+                                system.augmentation.get());
+    factorize_low_rank();
+    factorized.volume_derivatives.clear();
+    factorized.volume_rows.clear();
+    factorized.w.clear();
+    if (bordered)
+      {
+        std::vector<LA::MPI::Vector> w(loads.cavities.size());
+        for (unsigned int j = 0; j < w.size(); ++j)
+          {
+            w[j].reinit(discretization.owned, comm);
+            linear_solve(w[j], loads.volume_derivatives[j], 0, 0.0);
+          }
+        factorized.volume_derivatives = loads.volume_derivatives;
+        factorized.volume_rows        = loads.volume_rows;
+        factorized.w                  = w;
+      }
+    // (assemble() marks the factorization stale.)
+    factorized.held = true;
   }
 
 
@@ -192,15 +366,15 @@ namespace systole::Mechanics
   Problem::load_checkpoint(boost::archive::text_iarchive &archive)
   {
     Impl    &m = *impl;
-    archive &m.n_saves &m.have_factorization &m.factorized_pressures;
-    archive                                  &m.factorized_active_tension;
-    archive &m.factorized_tension_time &m.factorized_tension_time_step;
+    archive &m.history.n_saves &m.factorized.held &m.factorized.pressures;
+    archive                                       &m.factorized.active_tension;
+    archive &m.factorized.tension_time &m.factorized.tension_time_step;
     bool                                bordered = false;
-    archive &m.last_solve_converged &bordered;
-    Dynamics                        &d         = m.dynamics;
-    bool                             dynamic   = false;
-    double                           time_step = 0, factorized_time_step = 0;
-    archive &dynamic &time_step     &factorized_time_step;
+    archive &m.factorized.last_solve_converged &bordered;
+    Dynamics                                   &d       = m.dynamics;
+    bool                                        dynamic = false;
+    double                       time_step = 0, factorized_time_step = 0;
+    archive &dynamic &time_step &factorized_time_step;
     if (dynamic)
       m.setup_dynamics();
 
@@ -208,14 +382,14 @@ namespace systole::Mechanics
     std::vector<LA::MPI::Vector *> pointers;
     for (auto &v : out)
       {
-        v.reinit(m.owned, m.comm);
+        v.reinit(m.discretization.owned, m.comm);
         pointers.push_back(&v);
       }
-    Transfer transfer(m.dof_handler);
+    Transfer transfer(m.discretization.dof_handler);
     transfer.deserialize(pointers);
-    m.u_saved      = out[0];
-    m.u_previous   = out[1];
-    m.factorized_u = out[2];
+    m.history.u_saved    = out[0];
+    m.history.u_previous = out[1];
+    m.factorized.u       = out[2];
     if (dynamic)
       {
         d.started              = true;
@@ -229,142 +403,10 @@ namespace systole::Mechanics
         d.factorized_v_n       = out[8];
         d.factorized_a_n       = out[9];
       }
-
-    const bool         fixed  = fixed_size_cell_data(m.tria);
-    const unsigned int handle = m.tria.register_data_attach(
-      [](const CellIterator &, const CellStatus) {
-        return std::vector<char>();
-      },
-      !fixed);
-    m.factorized_tension.assign(m.tria.n_active_cells(), {});
-    m.factorized_model_inputs.assign(m.tension_model != nullptr
-                                       ? m.tria.n_active_cells()
-                                       : 0,
-                                     {});
-    m.tria.notify_ready_to_unpack(
-      handle,
-      [&m,
-       fixed](const CellIterator &cell, const CellStatus, const Range &packed) {
-        const Range range = fixed ? without_length(packed) : packed;
-        const auto  data =
-          dealii::Utilities::unpack<std::vector<std::vector<double>>>(
-            range.begin(),
-            range.end(),
-            false);
-        AssertThrow(data.size() == 3,
-                    dealii::ExcMessage("The checkpoint's mechanics cell data "
-                                       "are not of this version."));
-        m.factorized_tension[cell->active_cell_index()] = data[0];
-        if (m.tension_model != nullptr)
-          m.factorized_model_inputs[cell->active_cell_index()] = data[2];
-        const unsigned int n =
-          m.tension_model != nullptr ? m.tension_model->n_states() : 0;
-        const auto points = m.point_data.get_data(cell);
-        AssertThrow((m.tension_model == nullptr && data[1].empty()) ||
-                      data[1].size() == points.size() * (n + 2),
-                    dealii::ExcMessage(
-                      "The checkpoint's tension-model states do not fit "
-                      "this run (another Active tension / Model, or "
-                      "another quadrature)."));
-        if (m.tension_model != nullptr)
-          for (unsigned int q = 0; q < points.size(); ++q)
-            {
-              const double *x = data[1].data() + q * (n + 2);
-              points[q]->tension_state.assign(x, x + n);
-              points[q]->stretch_n     = x[n];
-              points[q]->model_tension = x[n + 1];
-            }
-      });
-
-    if (m.have_factorization)
-      {
-        // The tangent of the factorized iterate, assembled and factorized
-        // as the Newton iteration did (the same values on the same ranks),
-        // and W0 = K^-1 B0.
-        m.u_owned = m.factorized_u;
-        m.u       = m.u_owned;
-        for (const auto &cell : m.tria.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              const auto  data = m.point_data.get_data(cell);
-              const auto &t = m.factorized_tension[cell->active_cell_index()];
-              AssertThrow(t.size() == data.size(),
-                          dealii::ExcMessage(
-                            "The checkpoint's active tension does not fit "
-                            "the quadrature of the mechanics."));
-              for (unsigned int q = 0; q < data.size(); ++q)
-                data[q]->tension = t[q];
-            }
-        // The tension model's inputs of that iterate in place of the
-        // accepted ones while it is assembled (swapped in, then back).
-        const unsigned int n =
-          m.tension_model != nullptr ? m.tension_model->n_states() : 0;
-        const auto swap_model_inputs = [&]() {
-          if (m.tension_model == nullptr)
-            return;
-          for (const auto &cell : m.tria.active_cell_iterators())
-            if (cell->is_locally_owned())
-              {
-                const auto data = m.point_data.get_data(cell);
-                auto      &inputs =
-                  m.factorized_model_inputs[cell->active_cell_index()];
-                AssertThrow(inputs.size() == data.size() * (n + 2),
-                            dealii::ExcMessage(
-                              "The checkpoint's tension-model inputs do not "
-                              "fit the quadrature of the mechanics."));
-                for (unsigned int q = 0; q < data.size(); ++q)
-                  {
-                    double *x = inputs.data() + q * (n + 2);
-                    for (unsigned int i = 0; i < n; ++i)
-                      std::swap(data[q]->tension_state[i], x[i]);
-                    std::swap(data[q]->stretch_n, x[n]);
-                    std::swap(data[q]->calcium, x[n + 1]);
-                  }
-              }
-          std::swap(m.tension_time, m.factorized_tension_time);
-          std::swap(m.tension_time_step, m.factorized_tension_time_step);
-        };
-        // Likewise the accepted dynamic state and the time step of that
-        // iterate (its mass and rate terms).
-        const auto swap_dynamic_state = [&]() {
-          if (!d.started)
-            return;
-          d.u_n.swap(d.factorized_u_n);
-          d.v_n.swap(d.factorized_v_n);
-          d.a_n.swap(d.factorized_a_n);
-          std::swap(d.time_step, d.factorized_time_step);
-        };
-        swap_dynamic_state();
-        swap_model_inputs();
-        m.assemble(m.factorized_pressures,
-                   m.factorized_active_tension,
-                   true,
-                   /*with_volume_derivative=*/!m.cavities.empty());
-        swap_model_inputs();
-        swap_dynamic_state();
-        m.linear_solver->setup(m.tangent,
-                               m.pressure_matrix.get(),
-                               m.augmentation.get());
-        m.factorize_low_rank();
-        m.factorized_volume_derivatives.clear();
-        m.factorized_volume_rows.clear();
-        m.factorized_w.clear();
-        if (bordered)
-          {
-            std::vector<LA::MPI::Vector> w(m.cavities.size());
-            for (unsigned int j = 0; j < w.size(); ++j)
-              {
-                w[j].reinit(m.owned, m.comm);
-                m.linear_solve(w[j], m.volume_derivatives[j], 0, 0.0);
-              }
-            m.factorized_volume_derivatives = m.volume_derivatives;
-            m.factorized_volume_rows        = m.volume_rows;
-            m.factorized_w                  = w;
-          }
-        // (assemble() marks the factorization stale.)
-        m.have_factorization = true;
-      }
-    m.u_owned = m.u_saved;
+    unpack_cell_data(m.tria, m.points, m.factorized);
+    if (m.factorized.held)
+      m.rebuild_factorization(bordered);
+    m.u_owned = m.history.u_saved;
     m.u       = m.u_owned;
   }
 
@@ -372,8 +414,8 @@ namespace systole::Mechanics
   void
   Problem::finish_checkpoint()
   {
-    impl->checkpoint_transfer.reset();
-    impl->checkpoint_vectors.clear();
-    impl->checkpoint_cell_data.clear();
+    impl->pending_checkpoint.transfer.reset();
+    impl->pending_checkpoint.vectors.clear();
+    impl->pending_checkpoint.cell_data.clear();
   }
 } // namespace systole::Mechanics

@@ -85,7 +85,7 @@ namespace systole::Mechanics
     AssertThrow(m.params.density > 0.0,
                 dealii::ExcMessage("Mechanics / Density must be positive for "
                                    "a time integration with inertia."));
-    AssertThrow(!m.layout.mixed(),
+    AssertThrow(!m.discretization.layout.mixed(),
                 dealii::ExcMessage(
                   "Mechanics: the inertia is implemented for Material / "
                   "Incompressibility = penalty only."));
@@ -101,50 +101,62 @@ namespace systole::Mechanics
     // tangent (constant: the reference configuration does not move).
     if (d.u_n.size() == 0)
       {
-        dealii::DynamicSparsityPattern dsp(m.relevant);
-        dealii::DoFTools::make_sparsity_pattern(m.dof_handler,
+        dealii::DynamicSparsityPattern dsp(m.discretization.relevant);
+        dealii::DoFTools::make_sparsity_pattern(m.discretization.dof_handler,
                                                 dsp,
-                                                m.constraints,
+                                                m.discretization.constraints,
                                                 false);
-        dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                           m.owned,
-                                                           m.comm,
-                                                           m.relevant);
-        d.mass.reinit(m.owned, m.owned, dsp, m.comm);
-        const unsigned int         n = m.fe->n_dofs_per_cell();
+        dealii::SparsityTools::distribute_sparsity_pattern(
+          dsp,
+          m.discretization.owned,
+          m.comm,
+          m.discretization.relevant);
+        d.mass.reinit(m.discretization.owned,
+                      m.discretization.owned,
+                      dsp,
+                      m.comm);
+        const unsigned int         n = m.discretization.fe->n_dofs_per_cell();
         dealii::FullMatrix<double> cell_mass(n, n);
         std::vector<dealii::types::global_dof_index> dofs(n);
         const double                                 density = m.params.density;
         for_each_cell(
-          m.mapping,
-          *m.fe,
-          m.dof_handler,
-          m.cell_quadrature(m.n_q_1d),
+          m.discretization.mapping,
+          *m.discretization.fe,
+          m.discretization.dof_handler,
+          m.discretization.cell_quadrature(m.discretization.n_q_1d),
           [&](const auto &cell, const auto &fe_values) {
             cell_mass = 0;
             for (const unsigned int q : fe_values.quadrature_point_indices())
               for (unsigned int i = 0; i < n; ++i)
                 {
-                  const auto   ci = m.fe->system_to_component_index(i).first;
+                  const auto ci =
+                    m.discretization.fe->system_to_component_index(i).first;
                   const double wi =
                     density * fe_values.shape_value(i, q) * fe_values.JxW(q);
                   for (unsigned int j = 0; j < n; ++j)
-                    if (m.fe->system_to_component_index(j).first == ci)
+                    if (m.discretization.fe->system_to_component_index(j)
+                          .first == ci)
                       cell_mass(i, j) += wi * fe_values.shape_value(j, q);
                 }
             cell->get_dof_indices(dofs);
-            m.constraints.distribute_local_to_global(cell_mass, dofs, d.mass);
+            m.discretization.constraints.distribute_local_to_global(cell_mass,
+                                                                    dofs,
+                                                                    d.mass);
           });
         d.mass.compress(dealii::VectorOperation::add);
-        d.u_n.reinit(m.owned, m.comm);
-        d.v_n.reinit(m.owned, m.comm);
-        d.a_n.reinit(m.owned, m.comm);
-        d.residual_n.reinit(m.owned, m.comm);
-        d.effective_acceleration.reinit(m.owned, m.relevant, m.comm);
-        d.velocity.reinit(m.owned, m.relevant, m.comm);
+        d.u_n.reinit(m.discretization.owned, m.comm);
+        d.v_n.reinit(m.discretization.owned, m.comm);
+        d.a_n.reinit(m.discretization.owned, m.comm);
+        d.residual_n.reinit(m.discretization.owned, m.comm);
+        d.effective_acceleration.reinit(m.discretization.owned,
+                                        m.discretization.relevant,
+                                        m.comm);
+        d.velocity.reinit(m.discretization.owned,
+                          m.discretization.relevant,
+                          m.comm);
         for (auto *v :
              {&d.factorized_u_n, &d.factorized_v_n, &d.factorized_a_n})
-          v->reinit(m.owned, m.comm);
+          v->reinit(m.discretization.owned, m.comm);
       }
   }
 
@@ -165,7 +177,7 @@ namespace systole::Mechanics
     AssertThrow(elapsed >= 0.0,
                 dealii::ExcMessage("Mechanics: start_dynamics() needs a "
                                    "positive elapsed time (0: at rest)."));
-    AssertThrow(elapsed == 0.0 || m.n_saves > 0,
+    AssertThrow(elapsed == 0.0 || m.history.n_saves > 0,
                 dealii::ExcMessage("Mechanics: start_dynamics() in motion "
                                    "needs a save() before."));
     m.setup_dynamics();
@@ -180,9 +192,9 @@ namespace systole::Mechanics
     if (elapsed > 0.0)
       {
         d.v_n = m.u_owned;
-        d.v_n -= m.u_saved;
+        d.v_n -= m.history.u_saved;
         d.v_n *= 1.0 / elapsed;
-        m.constraints.set_zero(d.v_n);
+        m.discretization.constraints.set_zero(d.v_n);
       }
     d.velocity  = d.v_n;
     d.accepting = elapsed > 0.0; // the rate terms at v_0
@@ -196,7 +208,7 @@ namespace systole::Mechanics
         throw;
       }
     d.accepting  = false;
-    d.residual_n = m.residual;
+    d.residual_n = m.system.residual;
     LA::MPI::Vector rhs(d.residual_n);
     if (d.mass_damping != 0.0 && elapsed > 0.0)
       {
@@ -212,7 +224,7 @@ namespace systole::Mechanics
     dealii::PETScWrappers::PreconditionJacobi jacobi(d.mass);
     if (rhs.l2_norm() > 0.0)
       cg.solve(d.mass, d.a_n, rhs, jacobi);
-    m.constraints.distribute(d.a_n);
+    m.discretization.constraints.distribute(d.a_n);
   }
 
   void
@@ -242,10 +254,11 @@ namespace systole::Mechanics
     AssertThrow(d.started && d.time_step > 0.0,
                 dealii::ExcMessage("Mechanics: accept_time_step() needs a time "
                                    "step (set_time_step())."));
-    LA::MPI::Vector a(m.owned, m.comm), v(m.owned, m.comm);
+    LA::MPI::Vector a(m.discretization.owned, m.comm),
+      v(m.discretization.owned, m.comm);
     d.rates(m.u_owned, a, v);
-    m.constraints.distribute(a);
-    m.constraints.distribute(v);
+    m.discretization.constraints.distribute(a);
+    m.discretization.constraints.distribute(v);
     // The residual of the new state under its loads, with the rate terms
     // (viscosity, dashpots) of its velocity: R(u_{n+1}, v_{n+1}).
     const double dt = d.time_step;
@@ -264,7 +277,7 @@ namespace systole::Mechanics
       }
     d.accepting  = false;
     d.time_step  = dt;
-    d.residual_n = m.residual;
+    d.residual_n = m.system.residual;
     d.u_n        = m.u_owned;
     d.v_n        = v;
     d.a_n        = a;
@@ -282,23 +295,26 @@ namespace systole::Mechanics
     const Impl &m = *impl;
     if (!m.dynamics.started)
       return 0.0;
-    LA::MPI::Vector v(m.owned, m.relevant, m.comm);
+    LA::MPI::Vector v(m.discretization.owned,
+                      m.discretization.relevant,
+                      m.comm);
     v = m.dynamics.v_n;
     std::vector<dealii::Tensor<1, 3>> values(
-      m.cell_quadrature(m.n_q_1d).size());
+      m.discretization.cell_quadrature(m.discretization.n_q_1d).size());
     double energy = 0.0;
-    for_each_cell(
-      m.mapping,
-      *m.fe,
-      m.dof_handler,
-      m.cell_quadrature(m.n_q_1d),
-      [&](const auto &, const auto &fe_values) {
-        values.resize(fe_values.n_quadrature_points);
-        fe_values[m.layout.displacement].get_function_values(v, values);
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          energy +=
-            0.5 * m.params.density * values[q].norm_square() * fe_values.JxW(q);
-      });
+    for_each_cell(m.discretization.mapping,
+                  *m.discretization.fe,
+                  m.discretization.dof_handler,
+                  m.discretization.cell_quadrature(m.discretization.n_q_1d),
+                  [&](const auto &, const auto &fe_values) {
+                    values.resize(fe_values.n_quadrature_points);
+                    fe_values[m.discretization.layout.displacement]
+                      .get_function_values(v, values);
+                    for (const unsigned int q :
+                         fe_values.quadrature_point_indices())
+                      energy += 0.5 * m.params.density *
+                                values[q].norm_square() * fe_values.JxW(q);
+                  });
     return dealii::Utilities::MPI::sum(energy, m.comm);
   }
 
@@ -307,9 +323,9 @@ namespace systole::Mechanics
   {
     const Impl                 &m = *impl;
     const dealii::Quadrature<2> face_quadrature =
-      m.face_quadrature(m.n_q_face_1d);
-    dealii::FEFaceValues<3>           fe_face(m.mapping,
-                                    *m.fe,
+      m.discretization.face_quadrature(m.discretization.n_q_face_1d);
+    dealii::FEFaceValues<3>           fe_face(m.discretization.mapping,
+                                    *m.discretization.fe,
                                     face_quadrature,
                                     dealii::update_values |
                                       dealii::update_quadrature_points |
@@ -317,18 +333,21 @@ namespace systole::Mechanics
                                       dealii::update_JxW_values);
     std::vector<dealii::Tensor<1, 3>> u_at(face_quadrature.size());
     double                            energy = 0.0;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+    for (const auto &cell :
+         m.discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() && cell->at_boundary())
         for (const auto &face : cell->face_iterators())
           {
             if (!face->at_boundary())
               continue;
-            const auto support = m.robin_supports.find(face->boundary_id());
-            if (support == m.robin_supports.end() ||
+            const auto support =
+              m.boundaries.robin_supports.find(face->boundary_id());
+            if (support == m.boundaries.robin_supports.end() ||
                 support->second.stiffness == 0.0)
               continue;
             fe_face.reinit(cell, face);
-            fe_face[m.layout.displacement].get_function_values(m.u, u_at);
+            fe_face[m.discretization.layout.displacement]
+              .get_function_values(m.u, u_at);
             for (const unsigned int q : fe_face.quadrature_point_indices())
               {
                 const double u2 =
@@ -343,6 +362,72 @@ namespace systole::Mechanics
     return dealii::Utilities::MPI::sum(energy, m.comm);
   }
 
+  namespace
+  {
+    /// Adds the power of the dashpots of the Robin supports (to
+    /// @p dissipation) and of the cavity pressures (to @p loads) on the
+    /// boundary faces of @p cell, at displacement @p u and velocity @p v.
+    void
+    add_boundary_powers(const Discretization         &discretization,
+                        const BoundaryConditions     &boundaries,
+                        const CavityLoads            &cavity_loads,
+                        const dealii::Vector<double> &pressures,
+                        const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                        const LA::MPI::Vector                             &u,
+                        const LA::MPI::Vector                             &v,
+                        dealii::FEFaceValues<3> &fe_face,
+                        double                  &dissipation,
+                        double                  &loads)
+    {
+      const unsigned int                n_q = fe_face.get_quadrature().size();
+      std::vector<dealii::Tensor<2, 3>> face_grad_u(n_q);
+      std::vector<dealii::Tensor<1, 3>> face_v(n_q);
+      for (const auto &face : cell->face_iterators())
+        {
+          if (!face->at_boundary())
+            continue;
+          const auto id      = face->boundary_id();
+          const auto support = boundaries.robin_supports.find(id);
+          const auto part    = std::find(cavity_loads.pressure_ids.begin(),
+                                      cavity_loads.pressure_ids.end(),
+                                      id) -
+                            cavity_loads.pressure_ids.begin();
+          const bool on_part = part < static_cast<std::ptrdiff_t>(
+                                        cavity_loads.pressure_ids.size()) &&
+                               pressures[part] != 0.0;
+          const bool damped = support != boundaries.robin_supports.end() &&
+                              support->second.damping != 0.0;
+          if (!on_part && !damped)
+            continue;
+          fe_face.reinit(cell, face);
+          fe_face[discretization.layout.displacement]
+            .get_function_values(v, face_v);
+          fe_face[discretization.layout.displacement]
+            .get_function_gradients(u, face_grad_u);
+          for (const unsigned int q : fe_face.quadrature_point_indices())
+            {
+              const dealii::Tensor<1, 3> &N = fe_face.normal_vector(q);
+              if (damped)
+                {
+                  dissipation +=
+                    support->second.damping *
+                    (face_v[q] * (support->second.projection(N) * face_v[q])) *
+                    support->second.scale(fe_face.quadrature_point(q)) *
+                    fe_face.JxW(q);
+                }
+              if (on_part)
+                {
+                  const dealii::Tensor<2, 3> F =
+                    dealii::unit_symmetric_tensor<3>() + face_grad_u[q];
+                  loads -= pressures[part] *
+                           (face_v[q] * (dealii::cofactor(F) * N)) *
+                           fe_face.JxW(q);
+                }
+            }
+        }
+    }
+  } // namespace
+
   PowerReport
   Problem::accepted_powers(const dealii::Vector<double> &pressures,
                            const double                  active_tension) const
@@ -352,24 +437,27 @@ namespace systole::Mechanics
     PowerReport     report;
     if (!d.started)
       return report;
-    AssertThrow(pressures.size() == m.pressure_ids.size(),
+    AssertThrow(pressures.size() == m.loads.pressure_ids.size(),
                 dealii::ExcMessage("Mechanics: one pressure per pressure "
                                    "part."));
-    LA::MPI::Vector u(m.owned, m.relevant, m.comm),
-      v(m.owned, m.relevant, m.comm);
-    u                                      = d.u_n;
-    v                                      = d.v_n;
-    const dealii::Quadrature<3> quadrature = m.cell_quadrature(m.n_q_1d);
+    LA::MPI::Vector u(m.discretization.owned,
+                      m.discretization.relevant,
+                      m.comm),
+      v(m.discretization.owned, m.discretization.relevant, m.comm);
+    u = d.u_n;
+    v = d.v_n;
+    const dealii::Quadrature<3> quadrature =
+      m.discretization.cell_quadrature(m.discretization.n_q_1d);
     const dealii::Quadrature<2> face_quadrature =
-      m.face_quadrature(m.n_q_face_1d);
-    dealii::FEValues<3>               fe_values(m.mapping,
-                                  *m.fe,
+      m.discretization.face_quadrature(m.discretization.n_q_face_1d);
+    dealii::FEValues<3>               fe_values(m.discretization.mapping,
+                                  *m.discretization.fe,
                                   quadrature,
                                   dealii::update_values |
                                     dealii::update_gradients |
                                     dealii::update_JxW_values);
-    dealii::FEFaceValues<3>           fe_face(m.mapping,
-                                    *m.fe,
+    dealii::FEFaceValues<3>           fe_face(m.discretization.mapping,
+                                    *m.discretization.fe,
                                     face_quadrature,
                                     dealii::update_values |
                                       dealii::update_gradients |
@@ -377,19 +465,22 @@ namespace systole::Mechanics
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
     std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size()),
-      grad_v(quadrature.size()), face_grad_u(face_quadrature.size());
-    std::vector<dealii::Tensor<1, 3>> v_at(quadrature.size()),
-      face_v(face_quadrature.size());
-    double dissipation = 0.0, loads = 0.0;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+      grad_v(quadrature.size());
+    std::vector<dealii::Tensor<1, 3>> v_at(quadrature.size());
+    double                            dissipation = 0.0, loads = 0.0;
+    for (const auto &cell :
+         m.discretization.dof_handler.active_cell_iterators())
       {
         if (!cell->is_locally_owned())
           continue;
         fe_values.reinit(cell);
-        fe_values[m.layout.displacement].get_function_gradients(u, grad_u);
-        fe_values[m.layout.displacement].get_function_gradients(v, grad_v);
-        fe_values[m.layout.displacement].get_function_values(v, v_at);
-        const auto data = m.point_data.get_data(cell);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_gradients(u, grad_u);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_gradients(v, grad_v);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_values(v, v_at);
+        const auto data = m.points.point_data.get_data(cell);
         for (const unsigned int q : fe_values.quadrature_point_indices())
           {
             const dealii::Tensor<2, 3> F =
@@ -397,7 +488,7 @@ namespace systole::Mechanics
             const dealii::SymmetricTensor<2, 3> E_dot =
               dealii::symmetrize(dealii::transpose(F) * grad_v[q]);
             double tension = active_tension + data[q]->tension;
-            if (m.tension_model != nullptr)
+            if (m.points.tension_model != nullptr)
               tension += data[q]->model_tension;
             dealii::SymmetricTensor<2, 3> S_active;
             if (tension != 0.0)
@@ -411,50 +502,17 @@ namespace systole::Mechanics
               d.mass_damping * m.params.density * v_at[q].norm_square() * JxW;
             loads -= (S_active * E_dot) * JxW;
           }
-        if (!cell->at_boundary())
-          continue;
-        for (const auto &face : cell->face_iterators())
-          {
-            if (!face->at_boundary())
-              continue;
-            const auto id      = face->boundary_id();
-            const auto support = m.robin_supports.find(id);
-            const auto part =
-              std::find(m.pressure_ids.begin(), m.pressure_ids.end(), id) -
-              m.pressure_ids.begin();
-            const bool on_part =
-              part < static_cast<std::ptrdiff_t>(m.pressure_ids.size()) &&
-              pressures[part] != 0.0;
-            const bool damped = support != m.robin_supports.end() &&
-                                support->second.damping != 0.0;
-            if (!on_part && !damped)
-              continue;
-            fe_face.reinit(cell, face);
-            fe_face[m.layout.displacement].get_function_values(v, face_v);
-            fe_face[m.layout.displacement].get_function_gradients(u,
-                                                                  face_grad_u);
-            for (const unsigned int q : fe_face.quadrature_point_indices())
-              {
-                const dealii::Tensor<1, 3> &N = fe_face.normal_vector(q);
-                if (damped)
-                  {
-                    dissipation +=
-                      support->second.damping *
-                      (face_v[q] *
-                       (support->second.projection(N) * face_v[q])) *
-                      support->second.scale(fe_face.quadrature_point(q)) *
-                      fe_face.JxW(q);
-                  }
-                if (on_part)
-                  {
-                    const dealii::Tensor<2, 3> F =
-                      dealii::unit_symmetric_tensor<3>() + face_grad_u[q];
-                    loads -= pressures[part] *
-                             (face_v[q] * (dealii::cofactor(F) * N)) *
-                             fe_face.JxW(q);
-                  }
-              }
-          }
+        if (cell->at_boundary())
+          add_boundary_powers(m.discretization,
+                              m.boundaries,
+                              m.loads,
+                              pressures,
+                              cell,
+                              u,
+                              v,
+                              fe_face,
+                              dissipation,
+                              loads);
       }
     report.dissipation = dealii::Utilities::MPI::sum(dissipation, m.comm);
     report.loads       = dealii::Utilities::MPI::sum(loads, m.comm);
@@ -466,43 +524,45 @@ namespace systole::Mechanics
   {
     const Impl                       &m = *impl;
     std::vector<dealii::Tensor<2, 3>> grad_u(
-      m.cell_quadrature(m.n_q_1d).size());
+      m.discretization.cell_quadrature(m.discretization.n_q_1d).size());
     double energy = 0.0;
-    for_each_cell(
-      m.mapping,
-      *m.fe,
-      m.dof_handler,
-      m.cell_quadrature(m.n_q_1d),
-      [&](const auto &cell, const auto &fe_values) {
-        grad_u.resize(fe_values.n_quadrature_points);
-        fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);
-        const auto data = m.point_data.get_data(cell);
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          {
-            Materials::PassiveInput in;
-            in.F            = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-            in.basis        = data[q]->basis;
-            in.with_tangent = false;
-            Materials::PassiveOutput out;
-            m.passive_law.evaluate(in, out);
-            const double U =
-              m.reduced_volumetric
-                ? 0.0
-                : m.volumetric_law.energy(dealii::determinant(in.F));
-            energy += (out.psi + U) * fe_values.JxW(q);
-          }
-      });
-    if (m.reduced_volumetric)
+    for_each_cell(m.discretization.mapping,
+                  *m.discretization.fe,
+                  m.discretization.dof_handler,
+                  m.discretization.cell_quadrature(m.discretization.n_q_1d),
+                  [&](const auto &cell, const auto &fe_values) {
+                    grad_u.resize(fe_values.n_quadrature_points);
+                    fe_values[m.discretization.layout.displacement]
+                      .get_function_gradients(m.u, grad_u);
+                    const auto data = m.points.point_data.get_data(cell);
+                    for (const unsigned int q :
+                         fe_values.quadrature_point_indices())
+                      {
+                        Materials::PassiveInput in;
+                        in.F = dealii::unit_symmetric_tensor<3>() + grad_u[q];
+                        in.basis        = data[q]->basis;
+                        in.with_tangent = false;
+                        Materials::PassiveOutput out;
+                        m.material.passive_law.evaluate(in, out);
+                        const double U = m.discretization.reduced_volumetric
+                                           ? 0.0
+                                           : m.material.volumetric_law.energy(
+                                               dealii::determinant(in.F));
+                        energy += (out.psi + U) * fe_values.JxW(q);
+                      }
+                  });
+    if (m.discretization.reduced_volumetric)
       for_each_cell(
-        m.mapping,
-        *m.fe,
-        m.dof_handler,
-        m.cell_quadrature(m.n_q_1d - 1),
+        m.discretization.mapping,
+        *m.discretization.fe,
+        m.discretization.dof_handler,
+        m.discretization.cell_quadrature(m.discretization.n_q_1d - 1),
         [&](const auto &, const auto &fe_values) {
           grad_u.resize(fe_values.n_quadrature_points);
-          fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);
+          fe_values[m.discretization.layout.displacement]
+            .get_function_gradients(m.u, grad_u);
           for (const unsigned int q : fe_values.quadrature_point_indices())
-            energy += m.volumetric_law.energy(dealii::determinant(
+            energy += m.material.volumetric_law.energy(dealii::determinant(
                         dealii::unit_symmetric_tensor<3>() + grad_u[q])) *
                       fe_values.JxW(q);
         });

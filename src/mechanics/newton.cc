@@ -126,10 +126,10 @@ namespace systole::Mechanics
     , active_tension(active_tension)
     , target(target)
     , bordered(target != nullptr)
-    , mixed(problem.layout.mixed())
-    , k(bordered ? problem.cavities.size() : 0)
+    , mixed(problem.discretization.layout.mixed())
+    , k(bordered ? problem.loads.cavities.size() : 0)
     , out(problem.logger.detail())
-    , du(problem.owned, problem.comm)
+    , du(problem.discretization.owned, problem.comm)
     , w_volume(k)
     , target_volume(k)
     , volume_error(k)
@@ -145,7 +145,7 @@ namespace systole::Mechanics
     , anderson(problem.params.chord_acceleration_depth)
   {
     for (auto &w : w_volume)
-      w.reinit(m.owned, m.comm);
+      w.reinit(m.discretization.owned, m.comm);
   }
 
   std::string
@@ -154,7 +154,7 @@ namespace systole::Mechanics
     return with_block_residuals(what,
                                 residual,
                                 mixed,
-                                m.body_volume,
+                                m.discretization.body_volume,
                                 bordered,
                                 largest_volume_error());
   }
@@ -201,8 +201,8 @@ namespace systole::Mechanics
   {
     // The pressure rows are volumes: held to the relative tolerance times
     // the volume of the body.
-    return !mixed ||
-           residual[1] <= m.params.newton_relative_tolerance * m.body_volume;
+    return !mixed || residual[1] <= m.params.newton_relative_tolerance *
+                                      m.discretization.body_volume;
   }
 
   bool
@@ -217,7 +217,7 @@ namespace systole::Mechanics
   NewtonReport &
   NewtonSolver::converged_now()
   {
-    m.last_solve_converged = true;
+    m.factorized.last_solve_converged = true;
     return report;
   }
 
@@ -230,7 +230,7 @@ namespace systole::Mechanics
                    active_tension,
                    with_matrix,
                    with_matrix && bordered);
-        norms = block_norms(m.layout, m.residual);
+        norms = block_norms(m.discretization.layout, m.system.residual);
         if (bordered)
           {
             dealii::Vector<double> volumes;
@@ -255,7 +255,7 @@ namespace systole::Mechanics
                 AssertThrow(target_volume[i] != 0.0,
                             dealii::ExcMessage(
                               "Mechanics: the volume target of the cavity '" +
-                              m.pressure_names[i] +
+                              m.loads.pressure_names[i] +
                               "' is 0 mm^3 (the volume tolerance is "
                               "relative to it)."));
                 volume_error[i] =
@@ -283,8 +283,9 @@ namespace systole::Mechanics
     try
       {
         dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
-        m.residual *= -1.0;
-        report.linear_iterations += m.linear_solve(du, m.residual, 0, 0.0);
+        m.system.residual *= -1.0;
+        report.linear_iterations +=
+          m.linear_solve(du, m.system.residual, 0, 0.0);
         return true;
       }
     catch (const dealii::ExceptionBase &)
@@ -314,10 +315,10 @@ namespace systole::Mechanics
     dealii::TimerOutput::Scope scope(m.timer, "Mechanics / Newton");
     // The factorization of the last solve is worth reusing only if that
     // solve converged (its tangent is that of an iterate near its solution).
-    const bool reuse = m.params.reuse_factorization && m.have_factorization &&
-                       m.last_solve_converged;
-    m.last_solve_converged = false;
-    if (bordered && reuse && m.factorized_volume_derivatives.size() == k &&
+    const bool reuse = m.params.reuse_factorization && m.factorized.held &&
+                       m.factorized.last_solve_converged;
+    m.factorized.last_solve_converged = false;
+    if (bordered && reuse && m.factorized.volume_derivatives.size() == k &&
         bordered_chords())
       return converged_now();
 
@@ -350,7 +351,7 @@ namespace systole::Mechanics
       {
         reference = std::max({reference,
                               residual[0],
-                              pressure_load(m.factorized_volume_derivatives)});
+                              pressure_load(m.factorized.volume_derivatives)});
         if (largest_volume_error() <= Problem::Impl::volume_tolerance &&
             converged(reference))
           {
@@ -366,8 +367,8 @@ namespace systole::Mechanics
             break;
           }
         dealii::Vector<double> dp;
-        if (!bordered_update(m.factorized_volume_rows,
-                             m.factorized_w,
+        if (!bordered_update(m.factorized.volume_rows,
+                             m.factorized.w,
                              volume_residual(),
                              target_derivative,
                              du,
@@ -437,18 +438,19 @@ namespace systole::Mechanics
         const double start_residual = residual[0];
         // (With the direct solver the residual only: the next update is a
         // chord iteration too if this one cut |R| fast, see iterate().)
-        const bool with_tangent = !m.linear_solver->direct();
+        const bool with_tangent = !m.system.linear_solver->direct();
         ok                      = assemble(residual, with_tangent);
         if (ok)
           {
             reference = start_residual;
-            du_norm   = block_norms(m.layout, du);
+            du_norm   = block_norms(m.discretization.layout, du);
             ++report.reused_iterations;
             tangent_ready = with_tangent;
             out << "      chord 1: |R_u| = " << std::scientific
                 << std::setprecision(3) << residual[0];
             if (mixed)
-              out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+              out << "  |R_p|/|V_body| = "
+                  << residual[1] / m.discretization.body_volume;
             out << std::defaultfloat
                 << "  (Euler predictor on the last factorization)" << std::endl;
             return true;
@@ -473,7 +475,8 @@ namespace systole::Mechanics
     out << ": |R_u| = " << std::scientific << std::setprecision(3)
         << residual[0] << "  |R_u|/|R_u|max = " << relative;
     if (mixed)
-      out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume;
+      out << "  |R_p|/|V_body| = "
+          << residual[1] / m.discretization.body_volume;
     out << "  |du|/|u| = " << du_norm[0] / std::max(u_norm[0], 1e-300);
     if (mixed)
       out << "  |dp|/|p| = " << du_norm[1] / std::max(u_norm[1], 1e-300);
@@ -487,66 +490,154 @@ namespace systole::Mechanics
         << " s, solver "
         << m.seconds_in("Mechanics / linear solver") - solver_start << " s, "
         << report.linear_iterations << " linear its";
-    const long negative = m.linear_solver->negative_pivots();
+    const long negative = m.system.linear_solver->negative_pivots();
     if (negative >= 0)
       out << ", " << negative << " negative pivots";
     out << ")" << std::endl;
   }
 
+  NewtonSolver::ChordRules
+  NewtonSolver::chord_rules(const bool start_assembled) const
+  {
+    ChordRules s;
+    s.direct            = m.system.linear_solver->direct();
+    s.last_was_chord    = start_assembled;
+    s.previous_residual = start_assembled ? report.initial_residual : 0.0;
+    s.accelerated =
+      s.direct && !bordered && m.params.chord_acceleration_depth > 0;
+    s.chord_ratio      = s.accelerated ? 0.5 : 0.25;
+    s.newton_cut       = s.accelerated ? 0.4 : 0.1;
+    s.predictor_chords = start_assembled && s.accelerated;
+    return s;
+  }
+
+  bool
+  NewtonSolver::next_is_chord(ChordRules        &s,
+                              const unsigned int it,
+                              const double       relative)
+  {
+    // A chord update that raised |R| (accelerated: that cut it less than
+    // twofold; further out, where chords stall, an iterate they moved a
+    // little can be one Newton diverges from) is undone: Newton from the
+    // iterate before it.
+    const bool rejected =
+      s.undo_chord &&
+      residual[0] > (s.accelerated ? s.chord_ratio : 1.0) * s.previous_residual;
+    if (rejected)
+      {
+        m.u_owned     = u_start;
+        m.u           = m.u_owned;
+        pressures     = pressure_start;
+        tangent_ready = false;
+        out << "      (chord iteration undone: |R_u| "
+            << (s.accelerated ? "fell less than twofold" : "rose") << ")"
+            << std::endl;
+      }
+    if (rejected || (it > 0 && !s.last_was_chord))
+      s.predictor_chords = false;
+    s.undo_chord = false;
+    return !rejected && m.params.reuse_factorization && m.factorized.held &&
+           s.previous_residual > 0.0 &&
+           (s.direct
+              ? s.n_chord < ChordRules::max_chord_iterations &&
+                  (s.last_was_chord
+                     ? (s.predictor_chords && it == 0) ||
+                         residual[0] <= s.chord_ratio * s.previous_residual
+                     : relative <= s.newton_cut &&
+                         residual[0] <= s.newton_cut * s.previous_residual)
+              : it > 0 && s.n_chord < 3 && relative <= 1e-3 &&
+                  residual[0] <= 0.1 * s.previous_residual);
+  }
+
+  bool
+  NewtonSolver::accelerate(const bool              chord,
+                           const unsigned int      it,
+                           const double            relative,
+                           dealii::Vector<double> &dp,
+                           const double            chord_ratio)
+  {
+    // Deuflhard's natural monotonicity test: a chord update at least half as
+    // long as the last update says the held tangent no longer contracts
+    // here, however much |R_u| fell. (At large rotations |R_u| is no merit
+    // function: on the beam of Land problem 1 a chord continuing the
+    // predictor cut |R_u| 24-fold with an update of 1.45 |u|, to an iterate
+    // Newton then needed 12 iterations from.) It is not taken: Newton from
+    // the iterate.
+    bool         taken_chord = chord;
+    const double length      = du.l2_norm();
+    if (chord && !(length <= chord_ratio * last_update_length))
+      {
+        out << "      (chord update not taken: " << std::setprecision(3)
+            << length / last_update_length
+            << " times the length of the last update)" << std::endl;
+        taken_chord = false;
+        assemble(residual, true);
+        update(false, it, relative, dp);
+      }
+    last_update_length = taken_chord ? length : du.l2_norm();
+    // The history holds the updates of one factorization: a Newton update
+    // starts a new one.
+    if (!taken_chord)
+      anderson.reset();
+    anderson.accelerate(du);
+    return taken_chord;
+  }
+
+  void
+  NewtonSolver::take_step(ChordRules                   &s,
+                          const bool                    chord,
+                          const unsigned int            it,
+                          const double                  relative,
+                          const dealii::Vector<double> &dp)
+  {
+    // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial point
+    // is expected to be converged, or close enough for a chord iteration, so
+    // the tangent there is not needed (nor after a chord iteration, whose
+    // factorization the next one reuses). With chord iterations, the tangent
+    // waits for the trial point's residual, which says whether the next
+    // update needs it.
+    const bool trial_tangent =
+      !bordered && !chord && !(m.params.reuse_factorization && s.direct) &&
+      !(relative * relative <=
+        std::max(m.params.newton_relative_tolerance, 1e-3));
+    const double alpha =
+      step(dp, trial_tangent, it, relative, !s.newton_done && !chord);
+    if (alpha < 1.0)
+      ++report.damped_updates;
+    s.newton_done = s.newton_done || !chord;
+    tangent_ready = trial_tangent;
+    if (s.accelerated)
+      {
+        LA::MPI::Vector taken = du;
+        taken *= alpha;
+        anderson.record_step(taken);
+      }
+    du_norm = block_norms(m.discretization.layout, du);
+    du_norm[0] *= alpha;
+    du_norm[1] *= alpha;
+    if (chord)
+      ++s.n_chord;
+    s.last_was_chord = chord;
+  }
+
   NewtonReport
   NewtonSolver::iterate(const bool start_assembled)
   {
-    // Modified Newton. With the direct solver: after a Newton update that
-    // cut |R| tenfold (the iterate is where the tangent predicts the
-    // residual well), or a chord update that cut it fourfold, the next
-    // update reuses the factorization (a chord iteration: a residual and a
-    // back substitution instead of a tangent and a factorization, some 15
-    // times cheaper at 10^5 DOFs); a slower one is followed by a new
-    // tangent, one that raised |R| is undone first; the first chord after a
-    // Newton update waits until |R| <= 0.1 max|R| (further out a chord from
-    // a tangent at large rotations can throw the iterate far off); at most
-    // max_chord_iterations per solve. With an iterative
-    // solver, whose solves cost as much as a few preconditioner set-ups, the
-    // preconditioner is reused (with the trial point's tangent) only near the
-    // solution: once |R| is below 1e-3 of its largest value and the last
-    // update cut it tenfold, at most three times per solve. Neither counts
-    // against the Newton iteration limit.
-    const bool             direct               = m.linear_solver->direct();
-    constexpr unsigned int max_chord_iterations = 20;
-    unsigned int           n_chord              = 0;
-    bool                   last_was_chord       = start_assembled;
-    double previous_residual = start_assembled ? report.initial_residual : 0.0;
-    // Whether the last update was a chord update of the direct solver, to be
-    // undone if it raised |R|.
-    bool undo_chord = false;
-    // Anderson-accelerated chord iterations (direct solver, fixed cavity
-    // pressures; Chord acceleration depth > 0). The acceleration damps the
-    // slow contraction of a chord on an older tangent, so:
-    // chords continue while each cuts |R_u| twofold (not fourfold); they
-    // follow a Newton update that cut |R_u| 2.5-fold to below 0.4 of its
-    // largest value (not tenfold to below 0.1); and the Euler predictor is
-    // continued by chords on the last solve's factorization while each cuts
-    // |R_u| twofold, the first that does not being undone (Newton from the
-    // iterate before it). On Land problem 2 at 129k DOFs: 8 factorizations
-    // instead of 13 (docs/architecture.md, "Newton").
-    const bool accelerated =
-      direct && !bordered && m.params.chord_acceleration_depth > 0;
-    const double chord_ratio      = accelerated ? 0.5 : 0.25;
-    const double newton_cut       = accelerated ? 0.4 : 0.1;
-    bool         predictor_chords = start_assembled && accelerated;
-    report.accelerated            = accelerated;
-    // Whether a Newton update (new tangent) was made in this solve: the
-    // first one is guarded (step()).
-    bool newton_done = false;
+    // Modified Newton with chord iterations on the held factorization
+    // (ChordRules: when, next_is_chord()). Neither counts against the
+    // Newton iteration limit.
+    ChordRules s       = chord_rules(start_assembled);
+    report.accelerated = s.accelerated;
     for (unsigned int it = 0;; ++it)
       {
         reference = std::max(reference, residual[0]);
         if (it > 0)
-          reference = std::max(reference, pressure_load(m.volume_derivatives));
+          reference =
+            std::max(reference, pressure_load(m.loads.volume_derivatives));
         const double relative = residual[0] / std::max(reference, 1e-300);
-        const auto   u_norm   = block_norms(m.layout, m.u_owned);
+        const auto   u_norm   = block_norms(m.discretization.layout, m.u_owned);
         if (it > 0)
-          log_iteration(it, n_chord, last_was_chord, relative, u_norm);
+          log_iteration(it, s.n_chord, s.last_was_chord, relative, u_norm);
         // Converged: the residual fell by the relative tolerance, or is at
         // the absolute floor, or the last update was at round-off level; and
         // every cavity volume is on its target.
@@ -557,114 +648,32 @@ namespace systole::Mechanics
                           (it > 0 && (converged(reference) ||
                                       du_norm[0] <= 1e-12 * u_norm[0]))))
           {
-            report.iterations = it - n_chord;
-            report.reused_iterations += n_chord;
+            report.iterations = it - s.n_chord;
+            report.reused_iterations += s.n_chord;
             report.final_residual = residual[0];
             return converged_now();
           }
         // The final message names the residual of every block.
         AssertThrow(
-          it - n_chord < m.params.max_newton_iterations,
+          it - s.n_chord < m.params.max_newton_iterations,
           ExcNewtonDidNotConverge(failure(bordered ? "volume-constrained step"
                                                    : "load step"),
                                   it,
                                   relative));
 
-        // A chord update that raised |R| (accelerated: that cut it less than
-        // twofold; further out, where chords stall, an iterate they moved a
-        // little can be one Newton diverges from) is undone: Newton from the
-        // iterate before it.
-        const bool rejected =
-          undo_chord &&
-          residual[0] > (accelerated ? chord_ratio : 1.0) * previous_residual;
-        if (rejected)
-          {
-            m.u_owned     = u_start;
-            m.u           = m.u_owned;
-            pressures     = pressure_start;
-            tangent_ready = false;
-            out << "      (chord iteration undone: |R_u| "
-                << (accelerated ? "fell less than twofold" : "rose") << ")"
-                << std::endl;
-          }
-        if (rejected || (it > 0 && !last_was_chord))
-          predictor_chords = false;
-        undo_chord = false;
-        bool chord =
-          !rejected && m.params.reuse_factorization && m.have_factorization &&
-          previous_residual > 0.0 &&
-          (direct ? n_chord < max_chord_iterations &&
-                      (last_was_chord
-                         ? (predictor_chords && it == 0) ||
-                             residual[0] <= chord_ratio * previous_residual
-                         : relative <= newton_cut &&
-                             residual[0] <= newton_cut * previous_residual)
-                  : it > 0 && n_chord < 3 && relative <= 1e-3 &&
-                      residual[0] <= 0.1 * previous_residual);
+        bool chord = next_is_chord(s, it, relative);
         // The tangent (and dV/du) at this iterate, unless the last pass made
         // it; the residual again.
         if (!tangent_ready && !chord)
           assemble(residual, true);
-        previous_residual = residual[0];
-        tangent_ready     = false;
+        s.previous_residual = residual[0];
+        tangent_ready       = false;
         dealii::Vector<double> dp(pressures.size());
         update(chord, it, relative, dp);
-        if (accelerated)
-          {
-            // Deuflhard's natural monotonicity test: a chord update at least
-            // half as long as the last update says the held tangent no
-            // longer contracts here, however much |R_u| fell. (At large
-            // rotations |R_u| is no merit function: on the beam of Land
-            // problem 1 a chord continuing the predictor cut |R_u| 24-fold
-            // with an update of 1.45 |u|, to an iterate Newton then needed
-            // 12 iterations from.) It is not taken: Newton from the iterate.
-            const double length = du.l2_norm();
-            if (chord && !(length <= chord_ratio * last_update_length))
-              {
-                out << "      (chord update not taken: " << std::setprecision(3)
-                    << length / last_update_length
-                    << " times the length of the last update)" << std::endl;
-                chord = false;
-                assemble(residual, true);
-                update(false, it, relative, dp);
-              }
-            last_update_length = chord ? length : du.l2_norm();
-            // The history holds the updates of one factorization: a Newton
-            // update starts a new one.
-            if (!chord)
-              anderson.reset();
-            anderson.accelerate(du);
-          }
-        undo_chord = chord && direct;
-
-        // Quadratic convergence, |R_k+1| ~ |R_k|^2 (relative): the trial
-        // point is expected to be converged, or close enough for a chord
-        // iteration, so the tangent there is not needed (nor after a chord
-        // iteration, whose factorization the next one reuses).
-        // With chord iterations, the tangent waits for the trial point's
-        // residual, which says whether the next update needs it.
-        const bool trial_tangent =
-          !bordered && !chord && !(m.params.reuse_factorization && direct) &&
-          !(relative * relative <=
-            std::max(m.params.newton_relative_tolerance, 1e-3));
-        const double alpha =
-          step(dp, trial_tangent, it, relative, !newton_done && !chord);
-        if (alpha < 1.0)
-          ++report.damped_updates;
-        newton_done   = newton_done || !chord;
-        tangent_ready = trial_tangent;
-        if (accelerated)
-          {
-            LA::MPI::Vector taken = du;
-            taken *= alpha;
-            anderson.record_step(taken);
-          }
-        du_norm = block_norms(m.layout, du);
-        du_norm[0] *= alpha;
-        du_norm[1] *= alpha;
-        if (chord)
-          ++n_chord;
-        last_was_chord = chord;
+        if (s.accelerated)
+          chord = accelerate(chord, it, relative, dp, s.chord_ratio);
+        s.undo_chord = chord && s.direct;
+        take_step(s, chord, it, relative, dp);
       }
   }
 
@@ -679,14 +688,14 @@ namespace systole::Mechanics
     // with one factorization: K w_R = -R, K w_j = b_j; then the k x k Schur
     // complement (bordered_update).
     dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
-    m.residual *= -1.0;
+    m.system.residual *= -1.0;
     if (chord)
       {
         report.linear_iterations +=
-          m.linear_solve(du, m.residual, it, relative);
+          m.linear_solve(du, m.system.residual, it, relative);
         if (bordered)
-          bordered_correction(m.factorized_volume_rows,
-                              m.factorized_w,
+          bordered_correction(m.factorized.volume_rows,
+                              m.factorized.w,
                               dp,
                               it,
                               relative);
@@ -694,18 +703,18 @@ namespace systole::Mechanics
       }
     try
       {
-        m.linear_solver->setup(m.tangent,
-                               m.pressure_matrix.get(),
-                               m.augmentation.get());
+        m.system.linear_solver->setup(m.system.tangent,
+                                      m.system.pressure_matrix.get(),
+                                      m.system.augmentation.get());
         m.factorize_low_rank();
         // (Of K alone until the bordered update below stores B0, W0.)
-        m.have_factorization = true;
-        m.factorized_volume_derivatives.clear();
-        m.factorized_volume_rows.clear();
-        m.factorized_w.clear();
-        m.factorized_u              = m.u_owned;
-        m.factorized_pressures      = pressures;
-        m.factorized_active_tension = active_tension;
+        m.factorized.held = true;
+        m.factorized.volume_derivatives.clear();
+        m.factorized.volume_rows.clear();
+        m.factorized.w.clear();
+        m.factorized.u              = m.u_owned;
+        m.factorized.pressures      = pressures;
+        m.factorized.active_tension = active_tension;
         m.remember_factorized_tension();
       }
     catch (const dealii::ExceptionBase &e)
@@ -716,17 +725,21 @@ namespace systole::Mechanics
                                             it,
                                             relative));
       }
-    report.linear_iterations += m.linear_solve(du, m.residual, it, relative);
+    report.linear_iterations +=
+      m.linear_solve(du, m.system.residual, it, relative);
     if (bordered)
       {
         for (unsigned int j = 0; j < k; ++j)
           report.linear_iterations +=
-            m.linear_solve(w_volume[j], m.volume_derivatives[j], it, relative);
-        bordered_correction(m.volume_rows, w_volume, dp, it, relative);
-        m.factorized_volume_derivatives = m.volume_derivatives;
-        m.factorized_volume_rows        = m.volume_rows;
-        m.factorized_w                  = w_volume;
-        m.have_factorization            = true;
+            m.linear_solve(w_volume[j],
+                           m.loads.volume_derivatives[j],
+                           it,
+                           relative);
+        bordered_correction(m.loads.volume_rows, w_volume, dp, it, relative);
+        m.factorized.volume_derivatives = m.loads.volume_derivatives;
+        m.factorized.volume_rows        = m.loads.volume_rows;
+        m.factorized.w                  = w_volume;
+        m.factorized.held               = true;
       }
   }
 

@@ -69,6 +69,80 @@ namespace systole::Mechanics
     NewtonReport
     iterate(const bool start_assembled);
 
+    /// When iterate() reuses the factorization. With the direct solver:
+    /// after a Newton update that cut |R| tenfold (the iterate is where the
+    /// tangent predicts the residual well), or a chord update that cut it
+    /// fourfold, the next update reuses the factorization (a chord
+    /// iteration: a residual and a back substitution instead of a tangent
+    /// and a factorization, some 15 times cheaper at 10^5 DOFs); a slower
+    /// one is followed by a new tangent, one that raised |R| is undone
+    /// first; the first chord after a Newton update waits until |R| <= 0.1
+    /// max|R| (further out a chord from a tangent at large rotations can
+    /// throw the iterate far off); at most max_chord_iterations per solve.
+    /// With an iterative solver, whose solves cost as much as a few
+    /// preconditioner set-ups, the preconditioner is reused (with the trial
+    /// point's tangent) only near the solution: once |R| is below 1e-3 of
+    /// its largest value and the last update cut it tenfold, at most three
+    /// times per solve.
+    ///
+    /// Anderson-accelerated chord iterations (direct solver, fixed cavity
+    /// pressures; Chord acceleration depth > 0) damp the slow contraction
+    /// of a chord on an older tangent, so: chords continue while each cuts
+    /// |R_u| twofold (not fourfold); they follow a Newton update that cut
+    /// |R_u| 2.5-fold to below 0.4 of its largest value (not tenfold to
+    /// below 0.1); and the Euler predictor is continued by chords on the
+    /// last solve's factorization while each cuts |R_u| twofold, the first
+    /// that does not being undone (Newton from the iterate before it). On
+    /// Land problem 2 at 129k DOFs: 8 factorizations instead of 13
+    /// (docs/architecture.md, "Newton").
+    struct ChordRules
+    {
+      static constexpr unsigned int max_chord_iterations = 20;
+      bool                          direct               = true;
+      bool                          accelerated          = false;
+      /// The cut of |R_u| a chord must make to be followed by another.
+      double chord_ratio = 0.25;
+      /// The cut of |R_u| (and the largest |R_u|/|R_u|max) after which a
+      /// Newton update is followed by a chord.
+      double       newton_cut        = 0.1;
+      unsigned int n_chord           = 0;
+      bool         last_was_chord    = false;
+      double       previous_residual = 0.0;
+      /// The last update was a chord update of the direct solver, to be
+      /// undone if it raised |R|.
+      bool undo_chord = false;
+      /// Chords continuing the Euler predictor (accelerated).
+      bool predictor_chords = false;
+      /// A Newton update (new tangent) was made in this solve: the first
+      /// one is guarded (step()).
+      bool newton_done = false;
+    };
+    /// The rules of a solve that starts with an assembled residual (@p
+    /// start_assembled: after a chord of the Euler predictor) or not.
+    ChordRules
+    chord_rules(const bool start_assembled) const;
+    /// Whether update @p it is a chord iteration; first undoes a chord
+    /// update that raised |R| (accelerated: cut it less than twofold).
+    bool
+    next_is_chord(ChordRules &s, const unsigned int it, const double relative);
+    /// Accelerates the update du (Anderson); a @p chord update at least
+    /// @p chord_ratio as long as the last update is replaced by a Newton
+    /// update. Returns whether the update is a chord update.
+    bool
+    accelerate(const bool              chord,
+               const unsigned int      it,
+               const double            relative,
+               dealii::Vector<double> &dp,
+               const double            chord_ratio);
+    /// The safeguarded step along the update and the iteration's
+    /// bookkeeping (trial tangent, update norms, chord count).
+    void
+    take_step(ChordRules                   &s,
+              const bool                    chord,
+              const unsigned int            it,
+              const double                  relative,
+              const dealii::Vector<double> &dp);
+
     /// The update du (and dp) of iteration @p it: on the held factorization
     /// (@p chord) or on a new one of the tangent assembled at the iterate.
     void

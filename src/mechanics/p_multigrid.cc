@@ -154,6 +154,194 @@ namespace systole::Mechanics
     }
   };
 
+  namespace
+  {
+    /// The interpolation of one scalar component, Q1 -> Q_k, on the unit
+    /// cell (the same on every cell: the map is the reference-cell one).
+    /// Nodal interpolation: coarse shape functions at the fine support
+    /// points (what FE_Q::get_interpolation_matrix() gives; FE_SimplexP has
+    /// none).
+    dealii::FullMatrix<double>
+    unit_interpolation(const dealii::FiniteElement<3, 3> &fine_base,
+                       const dealii::FiniteElement<3, 3> &q1)
+    {
+      dealii::FullMatrix<double> interpolation(fine_base.n_dofs_per_cell(),
+                                               q1.n_dofs_per_cell());
+      const auto &fine_points = fine_base.get_unit_support_points();
+      for (unsigned int k = 0; k < fine_points.size(); ++k)
+        for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
+          interpolation(k, l) = q1.shape_value(l, fine_points[k]);
+      return interpolation;
+    }
+
+    /// The rows of the interpolation P from the Q1 displacement @p dof_q1 to
+    /// the owned displacement DoFs of @p dof_handler, rows from @p offset
+    /// (into the created, preallocated @p P).
+    void
+    fill_interpolation(const dealii::DoFHandler<3, 3>          &dof_handler,
+                       const dealii::DoFHandler<3>             &dof_q1,
+                       const FieldLayout                       &layout,
+                       const dealii::AffineConstraints<double> &constraints,
+                       const PetscInt                           offset,
+                       Mat                                      P)
+    {
+      const auto        &fe            = dof_handler.get_fe();
+      const auto        &fe_q1         = dof_q1.get_fe();
+      const auto        &q1            = fe_q1.base_element(0);
+      const auto        &fine_base     = fe.base_element(0);
+      const auto         interpolation = unit_interpolation(fine_base, q1);
+      const unsigned int n_vertex_dofs = fine_base.get_first_line_index();
+      const auto        &owned_u       = layout.owned(0);
+      const PetscInt     n_u           = owned_u.n_elements();
+      const dealii::types::global_dof_index u0 = n_u > 0 ? *owned_u.begin() : 0;
+      std::vector<bool>                     done(n_u, false);
+      std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
+        dofs_q1(fe_q1.n_dofs_per_cell());
+      std::vector<PetscInt>    columns;
+      std::vector<PetscScalar> values;
+      auto                     cell_q1 = dof_q1.begin_active();
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          if (cell->is_locally_owned())
+            {
+              cell->get_dof_indices(dofs);
+              cell_q1->get_dof_indices(dofs_q1);
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                {
+                  const auto [c, k] = fe.system_to_component_index(i);
+                  if (c >= 3 || !owned_u.is_element(dofs[i]) ||
+                      done[dofs[i] - u0])
+                    continue;
+                  done[dofs[i] - u0] = true;
+                  // A constrained DoF is decoupled in the tangent: only a
+                  // vertex keeps its coarse vertex (the row of the identity).
+                  if (constraints.is_constrained(dofs[i]) && k >= n_vertex_dofs)
+                    continue;
+                  columns.clear();
+                  values.clear();
+                  for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
+                    if (std::abs(interpolation(k, l)) > 1e-12)
+                      {
+                        columns.push_back(
+                          dofs_q1[fe_q1.component_to_system_index(c, l)]);
+                        values.push_back(interpolation(k, l));
+                      }
+                  const PetscInt row = offset + (dofs[i] - u0);
+                  check_petsc(MatSetValues(P,
+                                           1,
+                                           &row,
+                                           columns.size(),
+                                           columns.data(),
+                                           values.data(),
+                                           INSERT_VALUES),
+                              "MatSetValues");
+                }
+            }
+          ++cell_q1;
+        }
+      check_petsc(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
+      check_petsc(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
+    }
+
+    /// The interpolation P from the Q1 displacement @p dof_q1 to the
+    /// displacement block of @p dof_handler (a PETSc matrix of this rank's
+    /// owned rows).
+    Mat
+    interpolation_matrix(const dealii::DoFHandler<3, 3>          &dof_handler,
+                         const dealii::DoFHandler<3>             &dof_q1,
+                         const FieldLayout                       &layout,
+                         const dealii::AffineConstraints<double> &constraints,
+                         const MPI_Comm                           comm)
+    {
+      // Rows: the owned displacement DoFs [u0, u0 + n_u) of this rank are
+      // rows [offset, offset + n_u) of the displacement block.
+      const PetscInt n_u    = layout.owned(0).n_elements();
+      PetscInt       offset = 0;
+      MPI_Exscan(&n_u, &offset, 1, MPIU_INT, MPI_SUM, comm);
+      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+        offset = 0;
+      const PetscInt n_coarse = dof_q1.locally_owned_dofs().n_elements();
+
+      Mat P;
+      check_petsc(MatCreate(comm, &P), "MatCreate");
+      check_petsc(
+        MatSetSizes(P, n_u, n_coarse, PETSC_DETERMINE, PETSC_DETERMINE),
+        "MatSetSizes");
+      check_petsc(MatSetBlockSizes(P,
+                                   layout.displacement_interleaved() ? 3 : 1,
+                                   interleaved(dof_q1) ? 3 : 1),
+                  "MatSetBlockSizes");
+      // MPIAIJ also on one rank: the tangent is one (PETSc multiplies like
+      // types only).
+      check_petsc(MatSetType(P, MATMPIAIJ), "MatSetType");
+      // A row of one component interpolates the (up to 8) vertices of a
+      // cell.
+      const PetscInt per_row =
+        dof_q1.get_fe().base_element(0).n_dofs_per_cell();
+      check_petsc(
+        MatMPIAIJSetPreallocation(P, per_row, nullptr, per_row, nullptr),
+        "MatMPIAIJSetPreallocation");
+      fill_interpolation(dof_handler, dof_q1, layout, constraints, offset, P);
+      return P;
+    }
+
+    /// The rigid-body modes of the coarse space @p dof_q1 as PETSc's null
+    /// space (PETSc keeps its own copies), in vectors like the columns of
+    /// @p P.
+    MatNullSpace
+    coarse_null_space(const dealii::Mapping<3, 3> &mapping,
+                      const dealii::DoFHandler<3> &dof_q1,
+                      const Mat                    P,
+                      const MPI_Comm               comm)
+    {
+      const auto         modes = rigid_body_modes(mapping, dof_q1);
+      std::array<Vec, 6> vectors;
+      for (unsigned int i = 0; i < modes.size(); ++i)
+        {
+          check_petsc(MatCreateVecs(P, &vectors[i], nullptr), "MatCreateVecs");
+          check_petsc(VecCopy(modes[i], vectors[i]), "VecCopy");
+        }
+      MatNullSpace space;
+      check_petsc(MatNullSpaceCreate(comm,
+                                     PETSC_FALSE,
+                                     vectors.size(),
+                                     vectors.data(),
+                                     &space),
+                  "MatNullSpaceCreate");
+      for (auto &v : vectors)
+        VecDestroy(&v);
+      return space;
+    }
+
+    /// Defaults, unless given in PETSc's options database (the measurements
+    /// behind them: docs/architecture.md). Fine level: three Chebyshev
+    /// iterations with point-block Jacobi (as good as GMRES or SOR
+    /// smoothing, and cheaper). Coarse level: an exact solve, MUMPS LU of
+    /// the Q1 operator (an eighth of the fine displacement DoFs, with a
+    /// quarter of the entries per row). One GAMG V-cycle there lost the
+    /// Newton iterate after the first update of a load step of Land problem
+    /// 2 (779 Krylov iterations for one solve at 128 731 DoFs, 96 with LU;
+    /// 414 and 67 at 17 903). With <prefix>mg_coarse_pc_type gamg, GAMG is
+    /// smoothed as the GAMG of the "amg" choice, two GMRES-Jacobi iterations
+    /// (Chebyshev-SOR breaks down in GAMG's eigenvalue estimate on the
+    /// ventricle refined twice).
+    void
+    set_default_options(const std::string &prefix)
+    {
+      const std::string p = "-" + prefix;
+      set_default_petsc_option(p + "mg_levels_ksp_type", "chebyshev");
+      set_default_petsc_option(p + "mg_levels_ksp_max_it", "3");
+      set_default_petsc_option(p + "mg_levels_pc_type", "pbjacobi");
+      set_default_petsc_option(p + "mg_coarse_ksp_type", "preonly");
+      set_default_petsc_option(p + "mg_coarse_pc_type", "lu");
+      set_default_petsc_option(p + "mg_coarse_pc_factor_mat_solver_type",
+                               "mumps");
+      set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_type", "gmres");
+      set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_max_it", "2");
+      set_default_petsc_option(p + "mg_coarse_mg_levels_pc_type", "jacobi");
+    }
+  } // namespace
+
   bool
   PMultigrid::applicable(const dealii::DoFHandler<3, 3> &dof_handler)
   {
@@ -167,12 +355,10 @@ namespace systole::Mechanics
                          const std::string                       &prefix)
     : impl(std::make_unique<Impl>())
   {
-    Impl &m               = *impl;
-    m.comm                = dof_handler.get_communicator();
-    m.prefix              = prefix;
-    const auto &fe        = dof_handler.get_fe();
-    const auto &fine_base = fe.base_element(0);
-    m.degree              = fine_base.degree;
+    Impl &m  = *impl;
+    m.comm   = dof_handler.get_communicator();
+    m.prefix = prefix;
+    m.degree = dof_handler.get_fe().base_element(0).degree;
     AssertThrow(applicable(dof_handler),
                 dealii::ExcMessage("p-multigrid needs a displacement of "
                                    "degree 2 or more."));
@@ -180,139 +366,13 @@ namespace systole::Mechanics
     // The coarse space: Q1^3 on the same mesh (deal.II numbers the DoFs of a
     // vertex consecutively, so its owned DoFs are node triples).
     const auto                q1_storage = layout.cell_kind().lagrange(1);
-    const auto               &q1         = *q1_storage;
-    const dealii::FESystem<3> fe_q1(q1, 3);
+    const dealii::FESystem<3> fe_q1(*q1_storage, 3);
     dealii::DoFHandler<3>     dof_q1(dof_handler.get_triangulation());
     dof_q1.distribute_dofs(fe_q1);
-    const bool coarse_interleaved = interleaved(dof_q1);
-
-    // The interpolation of one scalar component, Q1 -> Q_k, on the unit
-    // cell (the same on every cell: the map is the reference-cell one).
-    dealii::FullMatrix<double> interpolation(fine_base.n_dofs_per_cell(),
-                                             q1.n_dofs_per_cell());
-    // Nodal interpolation: coarse shape functions at the fine support points
-    // (what FE_Q::get_interpolation_matrix() gives; FE_SimplexP has none).
-    const auto &fine_points = fine_base.get_unit_support_points();
-    for (unsigned int k = 0; k < fine_points.size(); ++k)
-      for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
-        interpolation(k, l) = q1.shape_value(l, fine_points[k]);
-    const unsigned int n_vertex_dofs = fine_base.get_first_line_index();
-
-    // Rows: the owned displacement DoFs [u0, u0 + n_u) of this rank are rows
-    // [offset, offset + n_u) of the displacement block.
-    const auto                           &owned_u = layout.owned(0);
-    const PetscInt                        n_u     = owned_u.n_elements();
-    const dealii::types::global_dof_index u0 = n_u > 0 ? *owned_u.begin() : 0;
-    PetscInt                              offset = 0;
-    MPI_Exscan(&n_u, &offset, 1, MPIU_INT, MPI_SUM, m.comm);
-    if (dealii::Utilities::MPI::this_mpi_process(m.comm) == 0)
-      offset = 0;
-    const PetscInt n_coarse = dof_q1.locally_owned_dofs().n_elements();
-
-    check_petsc(MatCreate(m.comm, &m.P), "MatCreate");
-    check_petsc(
-      MatSetSizes(m.P, n_u, n_coarse, PETSC_DETERMINE, PETSC_DETERMINE),
-      "MatSetSizes");
-    check_petsc(MatSetBlockSizes(m.P,
-                                 layout.displacement_interleaved() ? 3 : 1,
-                                 coarse_interleaved ? 3 : 1),
-                "MatSetBlockSizes");
-    // MPIAIJ also on one rank: the tangent is one (PETSc multiplies like
-    // types only).
-    check_petsc(MatSetType(m.P, MATMPIAIJ), "MatSetType");
-    // A row of one component interpolates the (up to 8) vertices of a cell.
-    const PetscInt per_row = q1.n_dofs_per_cell();
-    check_petsc(
-      MatMPIAIJSetPreallocation(m.P, per_row, nullptr, per_row, nullptr),
-      "MatMPIAIJSetPreallocation");
-
-    std::vector<bool>                            done(n_u, false);
-    std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
-      dofs_q1(fe_q1.n_dofs_per_cell());
-    std::vector<PetscInt>    columns;
-    std::vector<PetscScalar> values;
-    auto                     cell_q1 = dof_q1.begin_active();
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      {
-        if (cell->is_locally_owned())
-          {
-            cell->get_dof_indices(dofs);
-            cell_q1->get_dof_indices(dofs_q1);
-            for (unsigned int i = 0; i < dofs.size(); ++i)
-              {
-                const auto [c, k] = fe.system_to_component_index(i);
-                if (c >= 3 || !owned_u.is_element(dofs[i]) ||
-                    done[dofs[i] - u0])
-                  continue;
-                done[dofs[i] - u0] = true;
-                // A constrained DoF is decoupled in the tangent: only a
-                // vertex keeps its coarse vertex (the row of the identity).
-                if (constraints.is_constrained(dofs[i]) && k >= n_vertex_dofs)
-                  continue;
-                columns.clear();
-                values.clear();
-                for (unsigned int l = 0; l < q1.n_dofs_per_cell(); ++l)
-                  if (std::abs(interpolation(k, l)) > 1e-12)
-                    {
-                      columns.push_back(
-                        dofs_q1[fe_q1.component_to_system_index(c, l)]);
-                      values.push_back(interpolation(k, l));
-                    }
-                const PetscInt row = offset + (dofs[i] - u0);
-                check_petsc(MatSetValues(m.P,
-                                         1,
-                                         &row,
-                                         columns.size(),
-                                         columns.data(),
-                                         values.data(),
-                                         INSERT_VALUES),
-                            "MatSetValues");
-              }
-          }
-        ++cell_q1;
-      }
-    check_petsc(MatAssemblyBegin(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
-    check_petsc(MatAssemblyEnd(m.P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-
-    // The rigid-body modes of the coarse space (PETSc keeps its own copies).
-    const auto         modes = rigid_body_modes(mapping, dof_q1);
-    std::array<Vec, 6> vectors;
-    for (unsigned int i = 0; i < modes.size(); ++i)
-      {
-        check_petsc(MatCreateVecs(m.P, &vectors[i], nullptr), "MatCreateVecs");
-        check_petsc(VecCopy(modes[i], vectors[i]), "VecCopy");
-      }
-    check_petsc(MatNullSpaceCreate(m.comm,
-                                   PETSC_FALSE,
-                                   vectors.size(),
-                                   vectors.data(),
-                                   &m.coarse_modes),
-                "MatNullSpaceCreate");
-    for (auto &v : vectors)
-      VecDestroy(&v);
-
-    // Defaults, unless given in PETSc's options database (the measurements
-    // behind them: docs/architecture.md). Fine level: three Chebyshev
-    // iterations with point-block Jacobi (as good as GMRES or SOR smoothing,
-    // and cheaper). Coarse level: an exact solve, MUMPS LU of the Q1 operator
-    // (an eighth of the fine displacement DoFs, with a quarter of the entries
-    // per row). One GAMG V-cycle there lost the Newton iterate after the first
-    // update of a load step of Land problem 2 (779 Krylov iterations for one
-    // solve at 128 731 DoFs, 96 with LU; 414 and 67 at 17 903). With
-    // <prefix>mg_coarse_pc_type gamg, GAMG is smoothed as the GAMG of the
-    // "amg" choice, two GMRES-Jacobi iterations (Chebyshev-SOR breaks down in
-    // GAMG's eigenvalue estimate on the ventricle refined twice).
-    const std::string p = "-" + prefix;
-    set_default_petsc_option(p + "mg_levels_ksp_type", "chebyshev");
-    set_default_petsc_option(p + "mg_levels_ksp_max_it", "3");
-    set_default_petsc_option(p + "mg_levels_pc_type", "pbjacobi");
-    set_default_petsc_option(p + "mg_coarse_ksp_type", "preonly");
-    set_default_petsc_option(p + "mg_coarse_pc_type", "lu");
-    set_default_petsc_option(p + "mg_coarse_pc_factor_mat_solver_type",
-                             "mumps");
-    set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_type", "gmres");
-    set_default_petsc_option(p + "mg_coarse_mg_levels_ksp_max_it", "2");
-    set_default_petsc_option(p + "mg_coarse_mg_levels_pc_type", "jacobi");
+    m.P =
+      interpolation_matrix(dof_handler, dof_q1, layout, constraints, m.comm);
+    m.coarse_modes = coarse_null_space(mapping, dof_q1, m.P, m.comm);
+    set_default_options(prefix);
   }
 
   PMultigrid::~PMultigrid() = default;

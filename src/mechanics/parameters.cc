@@ -116,327 +116,387 @@ namespace systole::Mechanics
         }
       return supports;
     }
+
+    /// The boundary conditions: fixed, sliding, pressure and Robin parts.
+    void
+    declare_boundaries(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Fixed boundaries",
+        "base",
+        Anything(),
+        "Comma-separated boundary parts on which the displacement "
+        "is zero in all directions (e.g. base, x_min). Units: -.");
+      prm.declare_entry("Sliding boundaries",
+                        "",
+                        Anything(),
+                        "Comma-separated flat boundary parts on which only the "
+                        "normal displacement is zero (a base free to slide in "
+                        "its plane). Units: -.");
+      prm.declare_entry(
+        "Pressure boundary",
+        "endocardium",
+        Anything(),
+        "Comma-separated boundary parts that carry a follower pressure each (it "
+        "acts along the deformed normal on the deformed area); empty for none. "
+        "When the mesh has a boundary part named base, every part listed is a "
+        "cavity closed by the base plane (e.g. endocardium, or the two "
+        "endocardia of a biventricular mesh): it has a volume, its pressure may "
+        "be the multiplier of a volume constraint, and the tangent is "
+        "symmetric. Each part carries its own pressure; the mechanics problem "
+        "applies Pressure to all of them. Units: -.");
+      prm.declare_entry(
+        "Pressure",
+        "0",
+        Double(),
+        "Pressure at the end of the load ramp, pushing into the "
+        "body, the same on every part of Pressure boundary "
+        "(cavity pressure on the endocardium). Units: kPa "
+        "(1 mmHg = 0.133322 kPa).");
+      prm.declare_entry("Robin boundaries",
+                        "",
+                        Anything(),
+                        "Comma-separated boundary parts held by linear springs "
+                        "(e.g. epicardium). Units: -.");
+      prm.declare_entry("Robin stiffness",
+                        "0",
+                        Double(0.0),
+                        "Spring stiffness per reference area of the Robin "
+                        "boundaries. Units: kPa/mm.");
+      prm.declare_entry("Robin type",
+                        "normal",
+                        Selection("normal|full"),
+                        "normal: springs resist the normal displacement only; "
+                        "full: all components. Units: -.");
+      prm.declare_entry(
+        "Robin damping",
+        "0",
+        Double(0.0),
+        "Dashpot coefficient per reference area of the Robin boundaries (the "
+        "traction -beta v, normal or full as Robin type says), in time "
+        "integrations with inertia (Problem = elastodynamics, or heartbeat "
+        "with Inertia = true); quasi-static solves see no velocity. 1 Pa s/m = 1e-3 kPa ms/mm (Arostica et al. "
+        "2025: 5e3 Pa s/m = 5). Units: kPa ms/mm.");
+      prm.declare_entry(
+        "Robin supports",
+        "",
+        Anything(),
+        "Spring-dashpot supports with their own values, one per boundary part: "
+        "'part: normal|tangential|full, alpha, beta; part: ...' gives the "
+        "traction -(alpha u + beta v) per reference area on the normal "
+        "component (normal: ((alpha u + beta v).N) N), on the tangential ones "
+        "(tangential: a base that may descend but not slide or turn) or on all "
+        "components (full; 'full r' scales the normal stiffness and damping "
+        "by r: a base held against turning more than against descending). "
+        "alpha in kPa/mm (1 Pa/m = 1e-6 kPa/mm), beta in kPa ms/mm "
+        "(1 Pa s/m = 1e-3 kPa ms/mm); the benchmark of Arostica et al. 2025: "
+        "'epicardium: normal, 100, 5; base: full, 0.1, 5'. An optional fourth "
+        "item 'taper h0 s_base' scales alpha and beta from the apex to the "
+        "base (a pericardium that holds the apex and lets the base descend, "
+        "after Strocchi et al. 2020): by 1 up to the height fraction h0 above "
+        "the apex, then linearly down to s_base at the base plane (h = 1; h "
+        "is the distance from the apex, the part's point farthest from the "
+        "base's best-fit plane, over the apex's distance; needs a part "
+        "'base'). A part may not be in Robin boundaries as well. Units: "
+        "kPa/mm, kPa ms/mm.");
+    }
+
+    /// The active stress and how the loads act (lid pressure, volumetric rule).
+    void
+    declare_active_stress(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Active tension",
+        "0",
+        Double(0.0),
+        "Prescribed active tension T_a at the end of the load "
+        "ramp: S_a = T_a f0 x f0 (2nd Piola-Kirchhoff, per "
+        "reference area, along the reference fibre; >= 0: the fibres "
+        "contract). Units: kPa.");
+      prm.declare_entry(
+        "Active sheet fraction",
+        "0",
+        Double(0.0, 1.0),
+        "Fraction eta_s of the active tension that acts along the sheet "
+        "direction s0: S_a = T_a (f0 x f0 + eta_s s0 x s0 + eta_n n0 x n0) "
+        "(Sommer et al. 2015; fenicsx-pulse's transversely isotropic eta is "
+        "eta_s = eta_n = eta). With the Land model (stretch-dependent) the "
+        "tangent is not symmetric and the direct solver uses LU. Units: -.");
+      prm.declare_entry(
+        "Lid pressure",
+        "false",
+        Bool(),
+        "With a base that is not held in its plane (on springs), where each "
+        "cavity is closed by the fan over its moving rim: true lets the "
+        "cavity pressure act on that lid as well, its force reaching the wall "
+        "through the rim (spread evenly over the rim vertices), so that the "
+        "load is p dV/du of the closed cavity and the pressure exerts no net "
+        "force on the ventricle (as the closed valves pass it to the annulus; "
+        "energy-consistent, after Regazzoni et al. 2022, J Comput Phys "
+        "457:111083); its tangent couples the rim to the whole wall (rank 6 "
+        "per cavity, applied by Woodbury in the solves). false: the pressure "
+        "acts on the endocardium only (the benchmark of Arostica et al. "
+        "2025).");
+      prm.declare_entry("Active normal fraction",
+                        "0",
+                        Double(0.0, 1.0),
+                        "Fraction eta_n of the active tension that acts along "
+                        "the sheet-normal direction n0 (see Active sheet "
+                        "fraction). Units: -.");
+      prm.declare_entry(
+        "Volumetric integration",
+        "full",
+        Selection("full|reduced"),
+        "full: the volumetric penalty is integrated with the "
+        "same Gauss rule as the rest; reduced: Q2 elements "
+        "integrate it with 2 x 2 x 2 points (selective reduced "
+        "integration), which relieves the volumetric locking of "
+        "thin, bending-dominated bodies (Land problem 1) but "
+        "makes Newton less robust on the ventricle. Q1 elements "
+        "always use the full rule. Units: -.");
+    }
+
+    /// The load ramp and its step control.
+    void
+    declare_load_steps(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Load steps",
+        "5",
+        Integer(1),
+        "The first increment of the load ramp (from zero to the "
+        "full pressure and active tension) is 1 / Load steps. "
+        "Later increments adapt: x1.5 after a load step that "
+        "took at most 4 Newton iterations, x0.5 after one that "
+        "took 8 or more or failed. Units: -.");
+      prm.declare_entry(
+        "Adaptive load steps",
+        "true",
+        Bool(),
+        "true: the load increments adapt to the Newton "
+        "iterations (see Load steps); false: every increment is "
+        "1 / Load steps (halved only when Newton fails). "
+        "Units: -.");
+      prm.declare_entry("Maximum step cuts",
+                        "8",
+                        Integer(0, 30),
+                        "How many times a load step may be halved when Newton "
+                        "fails before the run stops with an error. Units: -.");
+    }
+
+    /// Newton's method: tolerances and the reuse of the tangent.
+    void
+    declare_newton(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry("Newton relative tolerance",
+                        "1e-9",
+                        Double(0.0),
+                        "Newton converges when the residual norm falls below "
+                        "this fraction of the largest residual norm of the "
+                        "load step (or when an update is at round-off level, "
+                        "|du| <= 1e-12 |u|). Units: -.");
+      prm.declare_entry("Newton absolute tolerance",
+                        "1e-12",
+                        Double(0.0),
+                        "... or below this absolute value. Units: kPa mm^2 "
+                        "(force, mN).");
+      prm.declare_entry("Maximum Newton iterations",
+                        "12",
+                        Integer(1),
+                        "Iterations before a load step counts as failed and is "
+                        "cut. A converging Newton needs 3 to 6 (chord "
+                        "iterations, see Reuse factorization, do not count). "
+                        "Units: -.");
+      prm.declare_entry(
+        "Reuse factorization",
+        "true",
+        Bool(),
+        "true: Newton reuses the factorized (or preconditioned) tangent where "
+        "that is cheaper than a new one: a solve after a converged one starts "
+        "with a chord iteration on the last tangent (the Euler predictor of the "
+        "new load; for volume-constrained solves, chord iterations while they "
+        "converge fast); with the direct solver, after a Newton update that "
+        "cut the residual tenfold to below 0.1 of its largest value, or a "
+        "chord update that cut it fourfold, the next update is a chord "
+        "iteration too (at most 20 per solve; one that raises the residual is "
+        "undone); with an "
+        "iterative solver, the preconditioner is reused at most three times "
+        "per solve once the residual is below 1e-3 of its largest value and "
+        "fell tenfold in the last iteration. false: a new tangent and "
+        "factorization at every iteration (pure Newton, e.g. to see its "
+        "quadratic convergence). Units: -.");
+      prm.declare_entry(
+        "Chord acceleration depth",
+        "auto",
+        dealii::Patterns::Anything(),
+        "With the direct solver and fixed cavity pressures, > 0: the chord "
+        "iterations (see Reuse factorization) are Anderson-accelerated with "
+        "this many past updates (Walker and Ni 2011: a least-squares "
+        "combination that damps the error modes the held factorization "
+        "contracts slowly; an accelerated update over 3 times the plain one "
+        "is not taken). They then also continue the Euler predictor on the "
+        "last solve's factorization, continue while each cuts the residual "
+        "twofold instead of fourfold, and follow a Newton update that cut it "
+        "2.5-fold to below 0.4 of its largest value; a chord update at least "
+        "half as long as the update before it is not taken, and one that "
+        "cut the residual less than twofold is undone (Newton from the "
+        "iterate). Fewer factorizations (Land problem 2, 10 equal load steps, "
+        "129k DOFs: 8 instead of 13, 66-78 s instead of 89-98 s on 2 ranks), "
+        "more chord iterations, so it pays where factorizations dominate. "
+        "0: plain chord iterations with the rules of Reuse factorization; "
+        "auto: 5 with at least 50000 DOFs, 0 below (17.9k DOFs: 5.1-6.2 s "
+        "accelerated, 5.8-6.2 s plain: within the noise). An integer 0-50 or "
+        "auto. Units: -.");
+    }
+
+    /// The inertia and damping of time integrations.
+    void
+    declare_inertia(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Density",
+        "1000",
+        Double(0.0),
+        "Mass density of the tissue, for the inertia of time-dependent runs "
+        "that include it (Problem::set_time_step; the quasi-static problems "
+        "ignore it). Units: kg/m^3 (1000 kg/m^3 = 1 mg/mm^3, the code's unit).");
+      prm.declare_entry(
+        "Inertia",
+        "false",
+        Bool(),
+        "Problem = heartbeat: true integrates the mechanics of the cardiac "
+        "cycle with its inertia (Density), Rayleigh mass damping, Viscosity and "
+        "the dashpots of the Robin supports, one generalized-alpha step "
+        "(Spectral radius) per heartbeat step, the cavity pressures the "
+        "multipliers of the volume constraints as in the quasi-static beat; "
+        "false: every step is a quasi-static equilibrium (the rates and the "
+        "density are ignored). Material / Incompressibility = penalty only. "
+        "Problem = elastodynamics always has inertia. Units: -.");
+      prm.declare_entry(
+        "Spectral radius",
+        "0.8",
+        Double(0.0, 1.0),
+        "Spectral radius at infinite frequency of the generalized-alpha time "
+        "integration of the inertia (Chung and Hulbert 1993): 1 keeps every "
+        "frequency undamped (the trapezoidal rule, energy-conserving for "
+        "linear problems), smaller values damp the highest frequencies of the "
+        "mesh; second order for every value. In a heartbeat (Inertia = true) "
+        "0.5 damps the ringing of those frequencies at the valve closures, "
+        "which with 0.8 makes the mitral valve chatter (docs/verification.md). "
+        "Units: -.");
+      prm.declare_entry(
+        "Rayleigh mass damping",
+        "0",
+        Double(0.0),
+        "Damping proportional to the mass, C = c_M M, in time-dependent runs "
+        "with inertia. Units: 1/s.");
+      prm.declare_entry(
+        "Viscosity",
+        "0",
+        Double(0.0),
+        "Kelvin-Voigt viscosity eta of the tissue in time integrations with "
+        "inertia: the 2nd Piola-Kirchhoff stress eta dE/dt (E the Green strain) "
+        "adds to the elastic one; quasi-static solves see no rate. Arostica et "
+        "al. 2025: 0.1 kPa s (= 100 Pa s). Units: kPa s (1 kPa s = 1000 kPa "
+        "ms, the code's unit).");
+    }
+
+    /// The linear solver and its preconditioners.
+    void
+    declare_linear_solver(dealii::ParameterHandler &prm)
+    {
+      using namespace dealii::Patterns;
+      prm.declare_entry(
+        "Linear solver",
+        "auto",
+        Selection("auto|direct|iterative"),
+        "direct: MUMPS (LDL^T when the tangent is symmetric, else LU); "
+        "iterative: for the penalty formulation FGMRES with the "
+        "p-multigrid or GMRES with PETSc GAMG (algebraic multigrid "
+        "given the rigid-body modes; see Displacement "
+        "preconditioner), for the mixed ones FGMRES with a block "
+        "preconditioner (that V-cycle on the displacement block, "
+        "the pressure mass matrix scaled by 1/mu + 1/kappa for "
+        "the Schur complement; PETSc options with the prefix "
+        "-mechanics_ override it); auto: direct up to 'Direct "
+        "solver limit' DOFs. Units: -.");
+      prm.declare_entry(
+        "Direct solver limit",
+        "200000",
+        Integer(0),
+        "Largest number of DOFs for which 'auto' uses the direct "
+        "solver. Units: DOFs.");
+      prm.declare_entry("Linear solver tolerance",
+                        "1e-8",
+                        Double(0.0, 1.0),
+                        "Relative residual reduction of the iterative solver. "
+                        "Units: -.");
+      prm.declare_entry(
+        "Displacement preconditioner",
+        "p-multigrid",
+        Selection("amg|p-multigrid"),
+        "Preconditioner of the displacement (the displacement block of the "
+        "mixed formulations) in the iterative linear solver. p-multigrid: a "
+        "two-level V-cycle, three Chebyshev iterations with point-block Jacobi "
+        "on Q2, then an exact solve (MUMPS LU) with the Galerkin operator P^T A "
+        "P of the Q1 displacement of the same mesh (P the interpolation Q1 -> "
+        "Q2, built once per mesh); amg: one PETSc GAMG V-cycle on the Q_k "
+        "displacement (rigid-body modes as near-null space). On the measured "
+        "cases "
+        "p-multigrid takes less solver time (a third of the Krylov iterations "
+        "on the incompressible ventricle; docs/architecture.md). Q1 "
+        "displacements have no coarser degree and use amg (the run banner says "
+        "so). PETSc options with the prefix -mechanics_fieldsplit_u_pmg_ "
+        "(penalty: -mechanics_pmg_) override the smoother and the coarse "
+        "solver. Units: -.");
+      prm.declare_entry(
+        "Augmented Lagrangian factor",
+        "1",
+        Double(0.0, 100.0),
+        "The iterative solver of the mixed formulations with a discontinuous "
+        "pressure solves the system multiplied by T = [I, gamma B^T W^-1; 0, "
+        "I] (an augmented Lagrangian: the same solution; B the pressure rows "
+        "of the tangent, W the pressure mass matrix weighted by 1/kappa + "
+        "1/mu, block-diagonal by cells): its displacement block A + gamma B^T "
+        "W^-1 B then resists a change of volume as a bulk modulus of about "
+        "gamma mu would, where the isochoric law alone does not (A is "
+        "singular on dilations), and the scaled pressure mass matrix becomes a "
+        "mesh-independent approximation of its Schur complement. This is "
+        "gamma; 0 solves the plain saddle-point system. Ignored by the direct "
+        "solver, the penalty formulation and the continuous pressure. Must be "
+        "below (kappa + mu) / mu. Units: -.");
+    }
+
+    /// What the mechanics adds to the time series.
+    void
+    declare_output(dealii::ParameterHandler &prm)
+    {
+      prm.declare_entry(
+        "Tracked points",
+        "",
+        dealii::Patterns::Anything(),
+        "Reference points whose deformed position is written to "
+        "the time series: 'name: x, y, z; name: x, y, z' gives "
+        "columns name_x, name_y, name_z. Units: mm.");
+    }
   } // namespace
 
   void
   Parameters::declare(dealii::ParameterHandler &prm)
   {
-    using namespace dealii::Patterns;
     prm.enter_subsection("Mechanics");
-    prm.declare_entry(
-      "Fixed boundaries",
-      "base",
-      Anything(),
-      "Comma-separated boundary parts on which the displacement "
-      "is zero in all directions (e.g. base, x_min). Units: -.");
-    prm.declare_entry("Sliding boundaries",
-                      "",
-                      Anything(),
-                      "Comma-separated flat boundary parts on which only the "
-                      "normal displacement is zero (a base free to slide in "
-                      "its plane). Units: -.");
-    prm.declare_entry(
-      "Pressure boundary",
-      "endocardium",
-      Anything(),
-      "Comma-separated boundary parts that carry a follower pressure each (it "
-      "acts along the deformed normal on the deformed area); empty for none. "
-      "When the mesh has a boundary part named base, every part listed is a "
-      "cavity closed by the base plane (e.g. endocardium, or the two "
-      "endocardia of a biventricular mesh): it has a volume, its pressure may "
-      "be the multiplier of a volume constraint, and the tangent is "
-      "symmetric. Each part carries its own pressure; the mechanics problem "
-      "applies Pressure to all of them. Units: -.");
-    prm.declare_entry("Pressure",
-                      "0",
-                      Double(),
-                      "Pressure at the end of the load ramp, pushing into the "
-                      "body, the same on every part of Pressure boundary "
-                      "(cavity pressure on the endocardium). Units: kPa "
-                      "(1 mmHg = 0.133322 kPa).");
-    prm.declare_entry("Robin boundaries",
-                      "",
-                      Anything(),
-                      "Comma-separated boundary parts held by linear springs "
-                      "(e.g. epicardium). Units: -.");
-    prm.declare_entry("Robin stiffness",
-                      "0",
-                      Double(0.0),
-                      "Spring stiffness per reference area of the Robin "
-                      "boundaries. Units: kPa/mm.");
-    prm.declare_entry("Robin type",
-                      "normal",
-                      Selection("normal|full"),
-                      "normal: springs resist the normal displacement only; "
-                      "full: all components. Units: -.");
-    prm.declare_entry(
-      "Robin damping",
-      "0",
-      Double(0.0),
-      "Dashpot coefficient per reference area of the Robin boundaries (the "
-      "traction -beta v, normal or full as Robin type says), in time "
-      "integrations with inertia (Problem = elastodynamics, or heartbeat "
-      "with Inertia = true); quasi-static solves see no velocity. 1 Pa s/m = 1e-3 kPa ms/mm (Arostica et al. "
-      "2025: 5e3 Pa s/m = 5). Units: kPa ms/mm.");
-    prm.declare_entry(
-      "Robin supports",
-      "",
-      Anything(),
-      "Spring-dashpot supports with their own values, one per boundary part: "
-      "'part: normal|tangential|full, alpha, beta; part: ...' gives the "
-      "traction -(alpha u + beta v) per reference area on the normal "
-      "component (normal: ((alpha u + beta v).N) N), on the tangential ones "
-      "(tangential: a base that may descend but not slide or turn) or on all "
-      "components (full; 'full r' scales the normal stiffness and damping "
-      "by r: a base held against turning more than against descending). "
-      "alpha in kPa/mm (1 Pa/m = 1e-6 kPa/mm), beta in kPa ms/mm "
-      "(1 Pa s/m = 1e-3 kPa ms/mm); the benchmark of Arostica et al. 2025: "
-      "'epicardium: normal, 100, 5; base: full, 0.1, 5'. An optional fourth "
-      "item 'taper h0 s_base' scales alpha and beta from the apex to the "
-      "base (a pericardium that holds the apex and lets the base descend, "
-      "after Strocchi et al. 2020): by 1 up to the height fraction h0 above "
-      "the apex, then linearly down to s_base at the base plane (h = 1; h "
-      "is the distance from the apex, the part's point farthest from the "
-      "base's best-fit plane, over the apex's distance; needs a part "
-      "'base'). A part may not be in Robin boundaries as well. Units: "
-      "kPa/mm, kPa ms/mm.");
-    prm.declare_entry(
-      "Active tension",
-      "0",
-      Double(0.0),
-      "Prescribed active tension T_a at the end of the load "
-      "ramp: S_a = T_a f0 x f0 (2nd Piola-Kirchhoff, per "
-      "reference area, along the reference fibre; >= 0: the fibres "
-      "contract). Units: kPa.");
-    prm.declare_entry(
-      "Active sheet fraction",
-      "0",
-      Double(0.0, 1.0),
-      "Fraction eta_s of the active tension that acts along the sheet "
-      "direction s0: S_a = T_a (f0 x f0 + eta_s s0 x s0 + eta_n n0 x n0) "
-      "(Sommer et al. 2015; fenicsx-pulse's transversely isotropic eta is "
-      "eta_s = eta_n = eta). With the Land model (stretch-dependent) the "
-      "tangent is not symmetric and the direct solver uses LU. Units: -.");
-    prm.declare_entry(
-      "Lid pressure",
-      "false",
-      Bool(),
-      "With a base that is not held in its plane (on springs), where each "
-      "cavity is closed by the fan over its moving rim: true lets the "
-      "cavity pressure act on that lid as well, its force reaching the wall "
-      "through the rim (spread evenly over the rim vertices), so that the "
-      "load is p dV/du of the closed cavity and the pressure exerts no net "
-      "force on the ventricle (as the closed valves pass it to the annulus; "
-      "energy-consistent, after Regazzoni et al. 2022, J Comput Phys "
-      "457:111083); its tangent couples the rim to the whole wall (rank 6 "
-      "per cavity, applied by Woodbury in the solves). false: the pressure "
-      "acts on the endocardium only (the benchmark of Arostica et al. "
-      "2025).");
-    prm.declare_entry("Active normal fraction",
-                      "0",
-                      Double(0.0, 1.0),
-                      "Fraction eta_n of the active tension that acts along "
-                      "the sheet-normal direction n0 (see Active sheet "
-                      "fraction). Units: -.");
-    prm.declare_entry("Volumetric integration",
-                      "full",
-                      Selection("full|reduced"),
-                      "full: the volumetric penalty is integrated with the "
-                      "same Gauss rule as the rest; reduced: Q2 elements "
-                      "integrate it with 2 x 2 x 2 points (selective reduced "
-                      "integration), which relieves the volumetric locking of "
-                      "thin, bending-dominated bodies (Land problem 1) but "
-                      "makes Newton less robust on the ventricle. Q1 elements "
-                      "always use the full rule. Units: -.");
-    prm.declare_entry("Load steps",
-                      "5",
-                      Integer(1),
-                      "The first increment of the load ramp (from zero to the "
-                      "full pressure and active tension) is 1 / Load steps. "
-                      "Later increments adapt: x1.5 after a load step that "
-                      "took at most 4 Newton iterations, x0.5 after one that "
-                      "took 8 or more or failed. Units: -.");
-    prm.declare_entry("Adaptive load steps",
-                      "true",
-                      Bool(),
-                      "true: the load increments adapt to the Newton "
-                      "iterations (see Load steps); false: every increment is "
-                      "1 / Load steps (halved only when Newton fails). "
-                      "Units: -.");
-    prm.declare_entry("Maximum step cuts",
-                      "8",
-                      Integer(0, 30),
-                      "How many times a load step may be halved when Newton "
-                      "fails before the run stops with an error. Units: -.");
-    prm.declare_entry("Newton relative tolerance",
-                      "1e-9",
-                      Double(0.0),
-                      "Newton converges when the residual norm falls below "
-                      "this fraction of the largest residual norm of the "
-                      "load step (or when an update is at round-off level, "
-                      "|du| <= 1e-12 |u|). Units: -.");
-    prm.declare_entry("Newton absolute tolerance",
-                      "1e-12",
-                      Double(0.0),
-                      "... or below this absolute value. Units: kPa mm^2 "
-                      "(force, mN).");
-    prm.declare_entry("Maximum Newton iterations",
-                      "12",
-                      Integer(1),
-                      "Iterations before a load step counts as failed and is "
-                      "cut. A converging Newton needs 3 to 6 (chord "
-                      "iterations, see Reuse factorization, do not count). "
-                      "Units: -.");
-    prm.declare_entry(
-      "Reuse factorization",
-      "true",
-      Bool(),
-      "true: Newton reuses the factorized (or preconditioned) tangent where "
-      "that is cheaper than a new one: a solve after a converged one starts "
-      "with a chord iteration on the last tangent (the Euler predictor of the "
-      "new load; for volume-constrained solves, chord iterations while they "
-      "converge fast); with the direct solver, after a Newton update that "
-      "cut the residual tenfold to below 0.1 of its largest value, or a "
-      "chord update that cut it fourfold, the next update is a chord "
-      "iteration too (at most 20 per solve; one that raises the residual is "
-      "undone); with an "
-      "iterative solver, the preconditioner is reused at most three times "
-      "per solve once the residual is below 1e-3 of its largest value and "
-      "fell tenfold in the last iteration. false: a new tangent and "
-      "factorization at every iteration (pure Newton, e.g. to see its "
-      "quadratic convergence). Units: -.");
-    prm.declare_entry(
-      "Chord acceleration depth",
-      "auto",
-      dealii::Patterns::Anything(),
-      "With the direct solver and fixed cavity pressures, > 0: the chord "
-      "iterations (see Reuse factorization) are Anderson-accelerated with "
-      "this many past updates (Walker and Ni 2011: a least-squares "
-      "combination that damps the error modes the held factorization "
-      "contracts slowly; an accelerated update over 3 times the plain one "
-      "is not taken). They then also continue the Euler predictor on the "
-      "last solve's factorization, continue while each cuts the residual "
-      "twofold instead of fourfold, and follow a Newton update that cut it "
-      "2.5-fold to below 0.4 of its largest value; a chord update at least "
-      "half as long as the update before it is not taken, and one that "
-      "cut the residual less than twofold is undone (Newton from the "
-      "iterate). Fewer factorizations (Land problem 2, 10 equal load steps, "
-      "129k DOFs: 8 instead of 13, 66-78 s instead of 89-98 s on 2 ranks), "
-      "more chord iterations, so it pays where factorizations dominate. "
-      "0: plain chord iterations with the rules of Reuse factorization; "
-      "auto: 5 with at least 50000 DOFs, 0 below (17.9k DOFs: 5.1-6.2 s "
-      "accelerated, 5.8-6.2 s plain: within the noise). An integer 0-50 or "
-      "auto. Units: -.");
-    prm.declare_entry(
-      "Density",
-      "1000",
-      Double(0.0),
-      "Mass density of the tissue, for the inertia of time-dependent runs "
-      "that include it (Problem::set_time_step; the quasi-static problems "
-      "ignore it). Units: kg/m^3 (1000 kg/m^3 = 1 mg/mm^3, the code's unit).");
-    prm.declare_entry(
-      "Inertia",
-      "false",
-      Bool(),
-      "Problem = heartbeat: true integrates the mechanics of the cardiac "
-      "cycle with its inertia (Density), Rayleigh mass damping, Viscosity and "
-      "the dashpots of the Robin supports, one generalized-alpha step "
-      "(Spectral radius) per heartbeat step, the cavity pressures the "
-      "multipliers of the volume constraints as in the quasi-static beat; "
-      "false: every step is a quasi-static equilibrium (the rates and the "
-      "density are ignored). Material / Incompressibility = penalty only. "
-      "Problem = elastodynamics always has inertia. Units: -.");
-    prm.declare_entry(
-      "Spectral radius",
-      "0.8",
-      Double(0.0, 1.0),
-      "Spectral radius at infinite frequency of the generalized-alpha time "
-      "integration of the inertia (Chung and Hulbert 1993): 1 keeps every "
-      "frequency undamped (the trapezoidal rule, energy-conserving for "
-      "linear problems), smaller values damp the highest frequencies of the "
-      "mesh; second order for every value. In a heartbeat (Inertia = true) "
-      "0.5 damps the ringing of those frequencies at the valve closures, "
-      "which with 0.8 makes the mitral valve chatter (docs/verification.md). "
-      "Units: -.");
-    prm.declare_entry(
-      "Rayleigh mass damping",
-      "0",
-      Double(0.0),
-      "Damping proportional to the mass, C = c_M M, in time-dependent runs "
-      "with inertia. Units: 1/s.");
-    prm.declare_entry(
-      "Viscosity",
-      "0",
-      Double(0.0),
-      "Kelvin-Voigt viscosity eta of the tissue in time integrations with "
-      "inertia: the 2nd Piola-Kirchhoff stress eta dE/dt (E the Green strain) "
-      "adds to the elastic one; quasi-static solves see no rate. Arostica et "
-      "al. 2025: 0.1 kPa s (= 100 Pa s). Units: kPa s (1 kPa s = 1000 kPa "
-      "ms, the code's unit).");
-    prm.declare_entry(
-      "Linear solver",
-      "auto",
-      Selection("auto|direct|iterative"),
-      "direct: MUMPS (LDL^T when the tangent is symmetric, else LU); "
-      "iterative: for the penalty formulation FGMRES with the "
-      "p-multigrid or GMRES with PETSc GAMG (algebraic multigrid "
-      "given the rigid-body modes; see Displacement "
-      "preconditioner), for the mixed ones FGMRES with a block "
-      "preconditioner (that V-cycle on the displacement block, "
-      "the pressure mass matrix scaled by 1/mu + 1/kappa for "
-      "the Schur complement; PETSc options with the prefix "
-      "-mechanics_ override it); auto: direct up to 'Direct "
-      "solver limit' DOFs. Units: -.");
-    prm.declare_entry("Direct solver limit",
-                      "200000",
-                      Integer(0),
-                      "Largest number of DOFs for which 'auto' uses the direct "
-                      "solver. Units: DOFs.");
-    prm.declare_entry("Linear solver tolerance",
-                      "1e-8",
-                      Double(0.0, 1.0),
-                      "Relative residual reduction of the iterative solver. "
-                      "Units: -.");
-    prm.declare_entry(
-      "Displacement preconditioner",
-      "p-multigrid",
-      Selection("amg|p-multigrid"),
-      "Preconditioner of the displacement (the displacement block of the "
-      "mixed formulations) in the iterative linear solver. p-multigrid: a "
-      "two-level V-cycle, three Chebyshev iterations with point-block Jacobi "
-      "on Q2, then an exact solve (MUMPS LU) with the Galerkin operator P^T A "
-      "P of the Q1 displacement of the same mesh (P the interpolation Q1 -> "
-      "Q2, built once per mesh); amg: one PETSc GAMG V-cycle on the Q_k "
-      "displacement (rigid-body modes as near-null space). On the measured "
-      "cases "
-      "p-multigrid takes less solver time (a third of the Krylov iterations "
-      "on the incompressible ventricle; docs/architecture.md). Q1 "
-      "displacements have no coarser degree and use amg (the run banner says "
-      "so). PETSc options with the prefix -mechanics_fieldsplit_u_pmg_ "
-      "(penalty: -mechanics_pmg_) override the smoother and the coarse "
-      "solver. Units: -.");
-    prm.declare_entry(
-      "Augmented Lagrangian factor",
-      "1",
-      Double(0.0, 100.0),
-      "The iterative solver of the mixed formulations with a discontinuous "
-      "pressure solves the system multiplied by T = [I, gamma B^T W^-1; 0, "
-      "I] (an augmented Lagrangian: the same solution; B the pressure rows "
-      "of the tangent, W the pressure mass matrix weighted by 1/kappa + "
-      "1/mu, block-diagonal by cells): its displacement block A + gamma B^T "
-      "W^-1 B then resists a change of volume as a bulk modulus of about "
-      "gamma mu would, where the isochoric law alone does not (A is "
-      "singular on dilations), and the scaled pressure mass matrix becomes a "
-      "mesh-independent approximation of its Schur complement. This is "
-      "gamma; 0 solves the plain saddle-point system. Ignored by the direct "
-      "solver, the penalty formulation and the continuous pressure. Must be "
-      "below (kappa + mu) / mu. Units: -.");
-    prm.declare_entry("Tracked points",
-                      "",
-                      Anything(),
-                      "Reference points whose deformed position is written to "
-                      "the time series: 'name: x, y, z; name: x, y, z' gives "
-                      "columns name_x, name_y, name_z. Units: mm.");
+    declare_boundaries(prm);
+    declare_active_stress(prm);
+    declare_load_steps(prm);
+    declare_newton(prm);
+    declare_inertia(prm);
+    declare_linear_solver(prm);
+    declare_output(prm);
     prm.leave_subsection();
   }
 

@@ -105,9 +105,85 @@ namespace systole::Mechanics
     p_multigrid
   };
 
+  /// Newton's method of the mechanics (Parameters: entries "Newton ...",
+  /// "Maximum Newton iterations", "Reuse factorization", "Chord acceleration
+  /// depth").
+  struct NewtonSettings
+  {
+    /// Newton converges when |R| <= this * (largest |R| of the load step),
+    /// or |R| <= the absolute tolerance, or |du| <= 1e-12 |u|.
+    double       newton_relative_tolerance = 1e-9;
+    double       newton_absolute_tolerance = 1e-12;
+    unsigned int max_newton_iterations     = 12;
+    /// Chord iterations on the last factorized tangent where they are
+    /// cheaper than a new one (the entry "Reuse factorization").
+    bool reuse_factorization = true;
+    /// Differences kept by the Anderson acceleration of the chord iterations
+    /// of the direct solver (0: plain chord iterations; the entry "Chord
+    /// acceleration depth").
+    unsigned int chord_acceleration_depth = 0;
+    /// "Chord acceleration depth = auto": depth 5 with the direct solver on
+    /// at least auto_acceleration_dofs DOFs, 0 (plain chords) below; resolved
+    /// into chord_acceleration_depth when the problem is set up.
+    bool chord_acceleration_auto = true;
+    /// Where auto starts accelerating. Land problem 2, 10 equal steps, 2
+    /// ranks, plain against accelerated: 129k DOFs 89-98 s and 66-78 s (the
+    /// factorizations dominate); 17.9k 5.8-6.2 s and 5.1-6.2 s, 2.7k 0.9 s
+    /// and 0.7-1.1 s (within the noise; below, the plain path keeps 1 and 2
+    /// ranks equal to round-off).
+    static constexpr unsigned int auto_acceleration_dofs = 50000;
+    /// The depth auto takes there (8 factorizations instead of 13 at 129k).
+    static constexpr unsigned int auto_acceleration_depth = 5;
+  };
+
+  /// The linear solver of the mechanics and its preconditioners.
+  struct LinearSolverSettings
+  {
+    /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
+    /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES
+    /// with a block preconditioner: that V-cycle on the displacement block, the
+    /// scaled pressure mass matrix for the Schur complement).
+    std::string linear_solver = "auto";
+    /// Above this many DOFs "auto" picks the iterative solver.
+    unsigned int direct_solver_limit = 200000;
+    /// Relative tolerance of the iterative linear solver.
+    double linear_tolerance = 1e-8;
+    /// Preconditioner of the displacement (block) of the iterative solver.
+    DisplacementPreconditioner displacement_preconditioner =
+      DisplacementPreconditioner::p_multigrid;
+    /// Augmented-Lagrangian factor gamma [-] of the iterative solver of the
+    /// mixed formulations with a discontinuous pressure: it solves T K x =
+    /// T b, T = [I, gamma B^T W^-1; 0, I] (W the pressure mass matrix
+    /// weighted by 1/kappa + 1/mu), whose displacement block A + gamma B^T
+    /// W^-1 B holds the volume as a bulk modulus of about gamma mu would
+    /// (0: the plain saddle-point system).
+    double augmented_lagrangian = 1.0;
+  };
+
+  /// The inertia and damping of time integrations (Problem::set_time_step()).
+  struct InertiaSettings
+  {
+    /// Elastodynamics (Problem::set_time_step()): the inertia M a of the
+    /// density, integrated by the generalized-alpha method.
+    /// Density rho [mg/mm^3] (1 mg/mm^3 = 1000 kg/m^3; the entry is in
+    /// kg/m^3).
+    double density = 1.0;
+    /// Spectral radius rho_inf in [0, 1] of the generalized-alpha method at
+    /// infinite frequency (1: no numerical dissipation).
+    double spectral_radius = 0.8;
+    /// Rayleigh damping proportional to the mass, C = c_M M [1/ms] (the
+    /// entry is in 1/s).
+    double rayleigh_mass_damping = 0.0;
+    /// Kelvin-Voigt viscosity eta [kPa ms]: S_visc = eta dE/dt in time
+    /// integrations (the entry is in kPa s).
+    double viscosity = 0.0;
+  };
+
   /// Settings of the quasi-static mechanics (subsection "Mechanics", plus
   /// "Material / Incompressibility" and "Discretization / Pressure element").
-  struct Parameters
+  /// The settings of Newton's method, the linear solver and the inertia are
+  /// grouped in the bases (one job each), read as params.density etc.
+  struct Parameters : NewtonSettings, LinearSolverSettings, InertiaSettings
   {
     Incompressibility incompressibility = Incompressibility::penalty;
     PressureElement   pressure_element  = PressureElement::discontinuous;
@@ -180,67 +256,7 @@ namespace systole::Mechanics
     /// How often a load step may be halved when Newton fails.
     unsigned int max_step_cuts = 8;
 
-    /// Newton converges when |R| <= this * (largest |R| of the load step),
-    /// or |R| <= the absolute tolerance, or |du| <= 1e-12 |u|.
-    double       newton_relative_tolerance = 1e-9;
-    double       newton_absolute_tolerance = 1e-12;
-    unsigned int max_newton_iterations     = 12;
-    /// Chord iterations on the last factorized tangent where they are
-    /// cheaper than a new one (the entry "Reuse factorization").
-    bool reuse_factorization = true;
-    /// Differences kept by the Anderson acceleration of the chord iterations
-    /// of the direct solver (0: plain chord iterations; the entry "Chord
-    /// acceleration depth").
-    unsigned int chord_acceleration_depth = 0;
-    /// "Chord acceleration depth = auto": depth 5 with the direct solver on
-    /// at least auto_acceleration_dofs DOFs, 0 (plain chords) below; resolved
-    /// into chord_acceleration_depth when the problem is set up.
-    bool chord_acceleration_auto = true;
-    /// Where auto starts accelerating. Land problem 2, 10 equal steps, 2
-    /// ranks, plain against accelerated: 129k DOFs 89-98 s and 66-78 s (the
-    /// factorizations dominate); 17.9k 5.8-6.2 s and 5.1-6.2 s, 2.7k 0.9 s
-    /// and 0.7-1.1 s (within the noise; below, the plain path keeps 1 and 2
-    /// ranks equal to round-off).
-    static constexpr unsigned int auto_acceleration_dofs = 50000;
-    /// The depth auto takes there (8 factorizations instead of 13 at 129k).
-    static constexpr unsigned int auto_acceleration_depth = 5;
-
-    /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
-    /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES
-    /// with a block preconditioner: that V-cycle on the displacement block, the
-    /// scaled pressure mass matrix for the Schur complement).
-    std::string linear_solver = "auto";
-    /// Above this many DOFs "auto" picks the iterative solver.
-    unsigned int direct_solver_limit = 200000;
-    /// Relative tolerance of the iterative linear solver.
-    double linear_tolerance = 1e-8;
-    /// Preconditioner of the displacement (block) of the iterative solver.
-    DisplacementPreconditioner displacement_preconditioner =
-      DisplacementPreconditioner::p_multigrid;
-    /// Augmented-Lagrangian factor gamma [-] of the iterative solver of the
-    /// mixed formulations with a discontinuous pressure: it solves T K x =
-    /// T b, T = [I, gamma B^T W^-1; 0, I] (W the pressure mass matrix
-    /// weighted by 1/kappa + 1/mu), whose displacement block A + gamma B^T
-    /// W^-1 B holds the volume as a bulk modulus of about gamma mu would
-    /// (0: the plain saddle-point system).
-    double augmented_lagrangian = 1.0;
-
     std::vector<TrackedPoint> tracked_points;
-
-    /// Elastodynamics (Problem::set_time_step()): the inertia M a of the
-    /// density, integrated by the generalized-alpha method.
-    /// Density rho [mg/mm^3] (1 mg/mm^3 = 1000 kg/m^3; the entry is in
-    /// kg/m^3).
-    double density = 1.0;
-    /// Spectral radius rho_inf in [0, 1] of the generalized-alpha method at
-    /// infinite frequency (1: no numerical dissipation).
-    double spectral_radius = 0.8;
-    /// Rayleigh damping proportional to the mass, C = c_M M [1/ms] (the
-    /// entry is in 1/s).
-    double rayleigh_mass_damping = 0.0;
-    /// Kelvin-Voigt viscosity eta [kPa ms]: S_visc = eta dE/dt in time
-    /// integrations (the entry is in kPa s).
-    double viscosity = 0.0;
 
     static void
     declare(dealii::ParameterHandler &prm);

@@ -16,11 +16,12 @@ namespace systole::Mechanics
   void
   Problem::point_states(std::vector<std::vector<PointState>> &states) const
   {
-    const Impl                       &m          = *impl;
-    const bool                        mixed      = m.layout.mixed();
-    const dealii::Quadrature<3>       quadrature = m.cell_quadrature(m.n_q_1d);
-    dealii::FEValues<3>               fe_values(m.mapping,
-                                  *m.fe,
+    const Impl                 &m     = *impl;
+    const bool                  mixed = m.discretization.layout.mixed();
+    const dealii::Quadrature<3> quadrature =
+      m.discretization.cell_quadrature(m.discretization.n_q_1d);
+    dealii::FEValues<3>               fe_values(m.discretization.mapping,
+                                  *m.discretization.fe,
                                   quadrature,
                                   dealii::update_gradients |
                                     dealii::update_values |
@@ -28,14 +29,17 @@ namespace systole::Mechanics
     std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
     std::vector<double>               p_values(quadrature.size());
     states.assign(m.tria.n_active_cells(), {});
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+    for (const auto &cell :
+         m.discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
-          fe_values[m.layout.displacement].get_function_gradients(m.u, grad_u);
+          fe_values[m.discretization.layout.displacement]
+            .get_function_gradients(m.u, grad_u);
           if (mixed)
-            fe_values[m.layout.pressure].get_function_values(m.u, p_values);
-          const auto data = m.point_data.get_data(cell);
+            fe_values[m.discretization.layout.pressure]
+              .get_function_values(m.u, p_values);
+          const auto data = m.points.point_data.get_data(cell);
           auto      &out  = states[cell->active_cell_index()];
           out.resize(quadrature.size());
           for (unsigned int q = 0; q < quadrature.size(); ++q)
@@ -46,8 +50,9 @@ namespace systole::Mechanics
               s.F           = dealii::unit_symmetric_tensor<3>() + grad_u[q];
               s.basis       = data[q]->basis;
               s.active_tension =
-                m.last_active_tension + data[q]->tension +
-                (m.tension_model != nullptr ? data[q]->model_tension : 0.0);
+                m.points.last_active_tension + data[q]->tension +
+                (m.points.tension_model != nullptr ? data[q]->model_tension
+                                                   : 0.0);
               const double J = dealii::determinant(s.F);
               if (!(J > 0.0))
                 {
@@ -65,7 +70,7 @@ namespace systole::Mechanics
               in.basis        = s.basis;
               in.with_tangent = false;
               Materials::PassiveOutput law;
-              m.passive_law.evaluate(in, law);
+              m.material.passive_law.evaluate(in, law);
               if (mixed)
                 Materials::add_volumetric_stress(s.F,
                                                  -p_values[q],
@@ -73,7 +78,7 @@ namespace systole::Mechanics
                                                  law.S,
                                                  law.dS_dE);
               else
-                m.volumetric_law.add_to(s.F, law.S, law.dS_dE);
+                m.material.volumetric_law.add_to(s.F, law.S, law.dS_dE);
               if (s.active_tension != 0.0)
                 Materials::add_active_stress(s.active_tension,
                                              m.params.active_cross_fibre,
@@ -92,12 +97,13 @@ namespace systole::Mechanics
     const Impl              &m = *impl;
     std::vector<VertexState> result;
     std::set<unsigned int>   seen;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+    for (const auto &cell :
+         m.discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned int v : cell->vertex_indices())
           {
             const auto first = cell->vertex_dof_index(v, 0);
-            if (!m.owned.is_element(first) ||
+            if (!m.discretization.owned.is_element(first) ||
                 !seen.insert(cell->vertex_index(v)).second)
               continue;
             VertexState s;
@@ -113,26 +119,28 @@ namespace systole::Mechanics
   double
   Problem::deformed_area(const std::string &part) const
   {
-    const Impl                      &m     = *impl;
-    const dealii::types::boundary_id id    = m.boundary_names.id(part);
-    const dealii::Quadrature<2> quadrature = m.face_quadrature(m.n_q_face_1d);
-    dealii::FEFaceValues<3>     fe_face(m.mapping,
-                                    *m.fe,
+    const Impl                      &m  = *impl;
+    const dealii::types::boundary_id id = m.boundaries.boundary_names.id(part);
+    const dealii::Quadrature<2>      quadrature =
+      m.discretization.face_quadrature(m.discretization.n_q_face_1d);
+    dealii::FEFaceValues<3>           fe_face(m.discretization.mapping,
+                                    *m.discretization.fe,
                                     quadrature,
                                     dealii::update_gradients |
                                       dealii::update_normal_vectors |
                                       dealii::update_JxW_values);
     std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
     double                            area = 0;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
+    for (const auto &cell :
+         m.discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned int f : cell->face_indices())
           if (cell->face(f)->at_boundary() &&
               cell->face(f)->boundary_id() == id)
             {
               fe_face.reinit(cell, f);
-              fe_face[m.layout.displacement].get_function_gradients(m.u,
-                                                                    grad_u);
+              fe_face[m.discretization.layout.displacement]
+                .get_function_gradients(m.u, grad_u);
               for (unsigned int q = 0; q < quadrature.size(); ++q)
                 {
                   const dealii::Tensor<2, 3> F =
@@ -150,7 +158,7 @@ namespace systole::Mechanics
   unsigned int
   Problem::n_quadrature_points_1d() const
   {
-    return impl->n_q_1d;
+    return impl->discretization.n_q_1d;
   }
 
   const dealii::Triangulation<3, 3> &
@@ -162,6 +170,6 @@ namespace systole::Mechanics
   const Geometry::CellKind &
   Problem::cell_kind() const
   {
-    return impl->layout.cell_kind();
+    return impl->discretization.layout.cell_kind();
   }
 } // namespace systole::Mechanics

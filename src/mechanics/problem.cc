@@ -73,40 +73,15 @@ namespace systole::Mechanics
     }
   } // namespace
 
-  Problem::Impl::Impl(
-    const Parameters                                     &params,
-    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-    const Geometry::BoundaryNames                        &names,
-    const unsigned int                                    degree,
-    const unsigned int                                    mapping_degree,
-    const Materials::PassiveLaw                          &passive_law,
-    const Materials::VolumetricLaw                       &volumetric_law,
-    Logger                                               &logger)
-    : params(params)
-    , tria(tria)
-    , comm(tria.get_communicator())
-    , logger(logger)
-    , isochoric_law(
+  MaterialLaws::MaterialLaws(const Parameters               &params,
+                             const Materials::PassiveLaw    &passive_law,
+                             const Materials::VolumetricLaw &volumetric_law)
+    : isochoric_law(
         params.mixed()
           ? std::optional<Materials::IsochoricPart>(std::in_place, passive_law)
           : std::nullopt)
     , passive_law(isochoric_law ? *isochoric_law : passive_law)
     , volumetric_law(volumetric_law)
-    , layout(degree, params, Geometry::CellKind(tria))
-    , fe(layout.make_fe())
-    , mapping_storage(layout.cell_kind().mapping(tria, mapping_degree))
-    , mapping(*mapping_storage)
-    , dof_handler(tria)
-    , n_q_1d(degree + 1)
-    // The cavity volume, the pressure load and their derivatives are
-    // polynomials of degree 3p - 1 per face coordinate (p the larger of the
-    // two degrees): p + 1 Gauss points integrate them exactly for p <= 2.
-    , n_q_face_1d(
-        std::max(degree, layout.cell_kind().mapping_degree(mapping_degree)) + 1)
-    , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
-    , timer(timer_sink,
-            dealii::TimerOutput::never,
-            dealii::TimerOutput::wall_times)
   {
     if (params.incompressibility == Incompressibility::nearly_incompressible)
       {
@@ -138,6 +113,379 @@ namespace systole::Mechanics
     reference_shear_stiffness *= 0.1;
   }
 
+  Discretization::Discretization(
+    const Parameters                                     &params,
+    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const unsigned int                                    degree,
+    const unsigned int                                    mapping_degree)
+    : layout(degree, params, Geometry::CellKind(tria))
+    , fe(layout.make_fe())
+    , mapping_storage(layout.cell_kind().mapping(tria, mapping_degree))
+    , mapping(*mapping_storage)
+    , dof_handler(tria)
+    , n_q_1d(degree + 1)
+    // The cavity volume, the pressure load and their derivatives are
+    // polynomials of degree 3p - 1 per face coordinate (p the larger of the
+    // two degrees): p + 1 Gauss points integrate them exactly for p <= 2.
+    , n_q_face_1d(
+        std::max(degree, layout.cell_kind().mapping_degree(mapping_degree)) + 1)
+    , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
+  {}
+
+  Problem::Impl::Impl(
+    const Parameters                                     &params,
+    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const Geometry::BoundaryNames                        &names,
+    const unsigned int                                    degree,
+    const unsigned int                                    mapping_degree,
+    const Materials::PassiveLaw                          &passive_law,
+    const Materials::VolumetricLaw                       &volumetric_law,
+    Logger                                               &logger)
+    : params(params)
+    , tria(tria)
+    , comm(tria.get_communicator())
+    , logger(logger)
+    , material(params, passive_law, volumetric_law)
+    , discretization(params, tria, degree, mapping_degree)
+    , boundaries(params, tria, names)
+    , loads(params, tria, boundaries, logger)
+    , timer(timer_sink,
+            dealii::TimerOutput::never,
+            dealii::TimerOutput::wall_times)
+  {}
+
+  namespace
+  {
+    /// The boundary ids of the parts @p parts (Mechanics / @p entry): each
+    /// named part must exist and carry faces.
+    std::set<dealii::types::boundary_id>
+    boundary_ids(const dealii::Triangulation<3, 3> &tria,
+                 const Geometry::BoundaryNames     &names,
+                 const std::vector<std::string>    &parts,
+                 const std::string                 &entry)
+    {
+      std::set<dealii::types::boundary_id> result;
+      for (const auto &part : parts)
+        {
+          std::string known;
+          for (const auto &name : names.names())
+            known += (known.empty() ? "" : ", ") + name;
+          if (!names.has(part))
+            AssertThrow(false,
+                        dealii::ExcMessage(
+                          "Mechanics / " + entry + " names boundary part '" +
+                          part + "': " + names.source() +
+                          " has no such part (it has: " + known + ")."));
+          Geometry::require_boundary(tria, names, part);
+          result.insert(names.id(part));
+        }
+      return result;
+    }
+
+    /// The linear solver of @p n_dofs DoFs: "direct" or "iterative" (Linear
+    /// solver = auto resolved).
+    std::string
+    resolve_linear_solver(const Parameters                     &params,
+                          const dealii::types::global_dof_index n_dofs)
+    {
+      if (params.linear_solver != "auto")
+        return params.linear_solver;
+      return n_dofs <= params.direct_solver_limit ? "direct" : "iterative";
+    }
+
+    /// Whether the tangent is symmetric: when every load derives from a
+    /// potential: the hyperelastic energy, the springs, and the pressures on
+    /// cavities (each load is the exact derivative of the discrete cavity
+    /// volume while the rim stays in the base plane, so its tangent is a
+    /// Hessian). A follower pressure on an open surface is not.
+    bool
+    symmetric_tangent(const Parameters              &params,
+                      const Geometry::BoundaryNames &names,
+                      const BoundaryConditions      &boundaries,
+                      const CavityLoads             &loads)
+    {
+      // A cavity's load is that derivative only while its rim stays in the
+      // base plane: the base must be held in it (fixed or sliding). The
+      // viscous stress of a time step, eta dE/dt with E(F) and its rate, has
+      // a tangent that is not symmetric.
+      // A rim-fan cavity (CavityVolume::Closure::rim_fan) is closed by a lid
+      // that moves with its rim: the load (the endocardial flux) is dV/du
+      // only while the rim does not move at all, a fixed base.
+      bool fan = false;
+      for (const auto &cavity : loads.cavities)
+        fan = fan || cavity.closure() == CavityVolume::Closure::rim_fan;
+      const bool base_held =
+        !names.has("base") ||
+        boundaries.fixed_ids.count(names.id("base")) > 0 ||
+        (!fan && boundaries.sliding_ids.count(names.id("base")) > 0);
+      // With the pressure on the moving lids the load is p dV/du again (its
+      // assembled tangent omits the rim's low-rank coupling, and is
+      // symmetric).
+      return (loads.pressure_ids.empty() ||
+              (!loads.cavities.empty() &&
+               (base_held || params.lid_pressure))) &&
+             params.viscosity == 0.0;
+    }
+
+    /// The augmented Lagrangian (Mechanics / Augmented Lagrangian factor):
+    /// checks the factor and sets up the pattern of G, which couples the
+    /// displacement DoFs of a cell to its (discontinuous) pressure DoFs.
+    void
+    setup_augmentation(const Parameters     &params,
+                       const MaterialLaws   &material,
+                       const Discretization &discretization,
+                       const MPI_Comm        comm,
+                       LinearSystem         &system)
+    {
+      const double mu = 10.0 * material.reference_shear_stiffness;
+      AssertThrow(
+        material.inverse_bulk_modulus * params.augmented_lagrangian * mu <
+          1.0 + material.inverse_bulk_modulus * mu,
+        dealii::ExcMessage(
+          "Mechanics / Augmented Lagrangian factor (" +
+          dealii::Utilities::to_string(params.augmented_lagrangian) +
+          ") must be below (kappa + mu) / mu = " +
+          dealii::Utilities::to_string(
+            1.0 / (material.inverse_bulk_modulus * mu) + 1.0) +
+          " (Material / Volumetric / Bulk modulus against the law's shear "
+          "stiffness): lower it, or set it to 0."));
+      system.augmented_lagrangian = params.augmented_lagrangian;
+      dealii::DynamicSparsityPattern coupling_pattern(discretization.relevant);
+      const auto                    &fe = *discretization.fe;
+      std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
+        u_dofs, p_dofs;
+      for (const auto &cell :
+           discretization.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            cell->get_dof_indices(dofs);
+            u_dofs.clear();
+            p_dofs.clear();
+            for (unsigned int i = 0; i < dofs.size(); ++i)
+              (fe.system_to_component_index(i).first < 3 ? u_dofs : p_dofs)
+                .push_back(dofs[i]);
+            discretization.constraints.add_entries_local_to_global(
+              u_dofs,
+              p_dofs,
+              coupling_pattern,
+              false);
+          }
+      dealii::SparsityTools::distribute_sparsity_pattern(
+        coupling_pattern,
+        discretization.owned,
+        comm,
+        discretization.relevant);
+      system.augmentation = std::make_unique<LA::MPI::SparseMatrix>();
+      system.augmentation->reinit(discretization.owned,
+                                  discretization.owned,
+                                  coupling_pattern,
+                                  comm);
+    }
+  } // namespace
+
+  BoundaryConditions::BoundaryConditions(
+    const Parameters                  &params,
+    const dealii::Triangulation<3, 3> &tria,
+    const Geometry::BoundaryNames     &names)
+    : boundary_names(names)
+  {
+    fixed_ids =
+      boundary_ids(tria, names, params.fixed_boundaries, "Fixed boundaries");
+    sliding_ids = boundary_ids(tria,
+                               names,
+                               params.sliding_boundaries,
+                               "Sliding boundaries");
+    for (const auto &support : params.all_robin_supports())
+      {
+        const auto id = *boundary_ids(tria,
+                                      names,
+                                      {support.boundary},
+                                      "Robin boundaries (or Robin supports)")
+                           .begin();
+        robin_supports[id] = support;
+        if (support.tapered())
+          locate_taper(tria, names, id, robin_supports[id]);
+      }
+  }
+
+  CavityLoads::CavityLoads(const Parameters                  &params,
+                           const dealii::Triangulation<3, 3> &tria,
+                           const BoundaryConditions          &boundaries,
+                           Logger                            &logger)
+    : pressure_names(params.pressure_boundaries())
+  {
+    // Pressure parts, each with its own pressure; with a base, each is a
+    // cavity closed by the base plane.
+    const Geometry::BoundaryNames &names = boundaries.boundary_names;
+    for (const auto &part : pressure_names)
+      {
+        const auto id =
+          *boundary_ids(tria, names, {part}, "Pressure boundary").begin();
+        AssertThrow(
+          std::find(pressure_ids.begin(), pressure_ids.end(), id) ==
+            pressure_ids.end(),
+          dealii::ExcMessage(
+            "Mechanics / Pressure boundary lists the boundary part '" + part +
+            "' twice (or two names of one boundary id): list each "
+            "part once."));
+        pressure_ids.push_back(id);
+      }
+    if (!pressure_ids.empty() && names.has("base"))
+      close_cavities(tria, boundaries, logger);
+  }
+
+  void
+  CavityLoads::close_cavities(const dealii::Triangulation<3, 3> &tria,
+                              const BoundaryConditions          &boundaries,
+                              Logger                            &logger)
+  {
+    const Geometry::BoundaryNames &names = boundaries.boundary_names;
+    Geometry::require_boundary(tria, names, "base");
+    // The base plane; for a ruled base, each cavity's basal ring if it is
+    // planar, else the fan over the ring (a patient base, a warped cut),
+    // with a warning when it is far from a plane. A base that is not held in
+    // its plane (springs, free) moves the rim out of it: the fan over the
+    // moving rim closes every cavity then.
+    const auto base_id       = names.id("base");
+    const bool base_in_plane = boundaries.fixed_ids.count(base_id) > 0 ||
+                               boundaries.sliding_ids.count(base_id) > 0;
+    if (!base_in_plane)
+      logger.line("The base is not held in its plane: each cavity is "
+                  "closed by the fan from its moving rim's vertex mean.");
+    for (unsigned int c = 0; c < pressure_ids.size(); ++c)
+      {
+        Geometry::check_cavity_rim(tria, names, pressure_names[c], "base");
+        const auto closure =
+          Geometry::cavity_closure(tria, names, pressure_names[c]);
+        moving_lid.push_back(!base_in_plane);
+        if (!base_in_plane)
+          {
+            cavities.emplace_back(tria, pressure_ids[c], base_id);
+            continue;
+          }
+        if (closure.plane)
+          {
+            cavities.emplace_back(pressure_ids[c], *closure.plane);
+            continue;
+          }
+        if (closure.off_plane >
+            Geometry::rim_warning_fraction * closure.rim_size)
+          {
+            std::ostringstream line;
+            line << std::setprecision(3) << "Warning: the rim of cavity '"
+                 << pressure_names[c] << "' lies up to " << closure.off_plane
+                 << " mm off its best plane ("
+                 << 100.0 * closure.off_plane / closure.rim_size << " % of its "
+                 << closure.rim_size
+                 << " mm size); its volume is closed by the fan from the "
+                    "rim's vertex mean.";
+            logger.line(line.str());
+          }
+        cavities.emplace_back(tria, pressure_ids[c], base_id);
+      }
+  }
+
+  void
+  Discretization::distribute_dofs(const BoundaryConditions &boundaries)
+  {
+    // DoFs and constraints (zero displacement on fixed parts, zero normal
+    // displacement on sliding ones: the Newton updates are homogeneous too).
+    dof_handler.distribute_dofs(*fe);
+    layout.renumber(dof_handler);
+    owned = dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    constraints.reinit(relevant);
+    dealii::DoFTools::make_hanging_node_constraints(dof_handler, constraints);
+    for (const auto id : boundaries.fixed_ids)
+      dealii::VectorTools::interpolate_boundary_values(
+        mapping,
+        dof_handler,
+        id,
+        dealii::Functions::ZeroFunction<3>(layout.n_components()),
+        constraints,
+        fe->component_mask(layout.displacement));
+    if (!boundaries.sliding_ids.empty())
+      dealii::VectorTools::compute_no_normal_flux_constraints(
+        dof_handler,
+        0,
+        boundaries.sliding_ids,
+        constraints,
+        mapping);
+    constraints.close();
+  }
+
+  void
+  Discretization::measure(const MPI_Comm comm)
+  {
+    const dealii::Quadrature<3> rule = cell_quadrature(n_q_1d);
+    dealii::FEValues<3> fe_jxw(mapping, *fe, rule, dealii::update_JxW_values);
+    double              volume = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_jxw.reinit(cell);
+          for (const unsigned int q : fe_jxw.quadrature_point_indices())
+            volume += fe_jxw.JxW(q);
+        }
+    body_volume = dealii::Utilities::MPI::sum(volume, comm);
+    n_pressure_dofs =
+      dealii::Utilities::MPI::sum(static_cast<long>(
+                                    layout.owned(1).n_elements()),
+                                  comm);
+  }
+
+  void
+  QuadraturePoints::initialize(const Discretization &discretization,
+                               const FibreFunction  &fibres)
+  {
+    // Fibre frames at the quadrature points of the locally owned cells.
+    const dealii::Quadrature<3> quadrature =
+      discretization.cell_quadrature(discretization.n_q_1d);
+    dealii::FEValues<3>             fe_values(discretization.mapping,
+                                  *discretization.fe,
+                                  quadrature,
+                                  dealii::update_quadrature_points);
+    std::vector<Fibres::FibreBasis> bases;
+    for (const auto &cell : discretization.dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          fe_values.reinit(cell);
+          fibres(cell, fe_values.get_quadrature_points(), bases);
+          point_data.initialize(cell, quadrature.size());
+          const auto data = point_data.get_data(cell);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              data[q]->basis    = bases[q];
+              data[q]->position = fe_values.quadrature_point(q);
+            }
+        }
+  }
+
+  void
+  Problem::Impl::reinit_system()
+  {
+    const Discretization          &d = discretization;
+    dealii::DynamicSparsityPattern dsp(d.relevant);
+    dealii::DoFTools::make_sparsity_pattern(d.dof_handler,
+                                            dsp,
+                                            d.constraints,
+                                            false);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       d.owned,
+                                                       comm,
+                                                       d.relevant);
+    system.tangent.reinit(d.owned, d.owned, dsp, comm);
+    system.residual.reinit(d.owned, comm);
+    loads.volume_derivatives.resize(loads.cavities.size());
+    for (auto &b : loads.volume_derivatives)
+      b.reinit(d.owned, comm);
+    u_owned.reinit(d.owned, comm);
+    history.u_saved.reinit(d.owned, comm);
+    history.u_previous.reinit(d.owned, comm);
+    factorized.u.reinit(d.owned, comm);
+    u.reinit(d.owned, d.relevant, comm);
+  }
+
   Problem::Problem(const Parameters                                     &params,
                    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
                    const Geometry::BoundaryNames                        &names,
@@ -156,321 +504,78 @@ namespace systole::Mechanics
                                   volumetric_law,
                                   logger))
   {
-    Impl &m          = *impl;
-    m.boundary_names = names;
+    Impl &m = *impl;
+    m.discretization.distribute_dofs(m.boundaries);
+    m.reinit_system();
+    m.points.initialize(m.discretization, fibres);
+    m.discretization.measure(m.comm);
 
-    // Boundary parts: each named part must exist and carry faces.
-    const auto ids = [&](const std::vector<std::string> &parts,
-                         const std::string              &entry) {
-      std::set<dealii::types::boundary_id> result;
-      for (const auto &part : parts)
-        {
-          std::string known;
-          for (const auto &name : names.names())
-            known += (known.empty() ? "" : ", ") + name;
-          if (!names.has(part))
-            AssertThrow(false,
-                        dealii::ExcMessage(
-                          "Mechanics / " + entry + " names boundary part '" +
-                          part + "': " + names.source() +
-                          " has no such part (it has: " + known + ")."));
-          Geometry::require_boundary(tria, names, part);
-          result.insert(names.id(part));
-        }
-      return result;
-    };
-    m.fixed_ids   = ids(params.fixed_boundaries, "Fixed boundaries");
-    m.sliding_ids = ids(params.sliding_boundaries, "Sliding boundaries");
-    for (const auto &support : params.all_robin_supports())
-      {
-        const auto id =
-          *ids({support.boundary}, "Robin boundaries (or Robin supports)")
-             .begin();
-        m.robin_supports[id] = support;
-        if (support.tapered())
-          locate_taper(tria, names, id, m.robin_supports[id]);
-      }
-    // Pressure parts, each with its own pressure; with a base, each is a
-    // cavity closed by the base plane.
-    m.pressure_names = params.pressure_boundaries();
-    for (const auto &part : m.pressure_names)
-      {
-        const auto id = *ids({part}, "Pressure boundary").begin();
-        AssertThrow(
-          std::find(m.pressure_ids.begin(), m.pressure_ids.end(), id) ==
-            m.pressure_ids.end(),
-          dealii::ExcMessage(
-            "Mechanics / Pressure boundary lists the boundary part '" + part +
-            "' twice (or two names of one boundary id): list each "
-            "part once."));
-        m.pressure_ids.push_back(id);
-      }
-    if (!m.pressure_ids.empty() && names.has("base"))
-      {
-        Geometry::require_boundary(tria, names, "base");
-        // The base plane; for a ruled base, each cavity's basal ring if it
-        // is planar, else the fan over the ring (a patient base, a warped
-        // cut), with a warning when it is far from a plane. A base that is
-        // not held in its plane (springs, free) moves the rim out of it: the
-        // fan over the moving rim closes every cavity then.
-        const auto base_id = names.id("base");
-        const bool base_in_plane =
-          m.fixed_ids.count(base_id) > 0 || m.sliding_ids.count(base_id) > 0;
-        if (!base_in_plane)
-          logger.line("The base is not held in its plane: each cavity is "
-                      "closed by the fan from its moving rim's vertex mean.");
-        for (unsigned int c = 0; c < m.pressure_ids.size(); ++c)
-          {
-            Geometry::check_cavity_rim(tria,
-                                       names,
-                                       m.pressure_names[c],
-                                       "base");
-            const auto closure =
-              Geometry::cavity_closure(tria, names, m.pressure_names[c]);
-            m.moving_lid.push_back(!base_in_plane);
-            if (!base_in_plane)
-              {
-                m.cavities.emplace_back(tria, m.pressure_ids[c], base_id);
-                continue;
-              }
-            if (closure.plane)
-              {
-                m.cavities.emplace_back(m.pressure_ids[c], *closure.plane);
-                continue;
-              }
-            if (closure.off_plane >
-                Geometry::rim_warning_fraction * closure.rim_size)
-              {
-                std::ostringstream line;
-                line << std::setprecision(3) << "Warning: the rim of cavity '"
-                     << m.pressure_names[c] << "' lies up to "
-                     << closure.off_plane << " mm off its best plane ("
-                     << 100.0 * closure.off_plane / closure.rim_size
-                     << " % of its " << closure.rim_size
-                     << " mm size); its volume is closed by the fan from the "
-                        "rim's vertex mean.";
-                logger.line(line.str());
-              }
-            m.cavities.emplace_back(tria, m.pressure_ids[c], base_id);
-          }
-      }
-
-    // DoFs and constraints (zero displacement on fixed parts, zero normal
-    // displacement on sliding ones: the Newton updates are homogeneous too).
-    m.dof_handler.distribute_dofs(*m.fe);
-    m.layout.renumber(m.dof_handler);
-    m.owned = m.dof_handler.locally_owned_dofs();
-    dealii::DoFTools::extract_locally_relevant_dofs(m.dof_handler, m.relevant);
-    m.constraints.reinit(m.relevant);
-    dealii::DoFTools::make_hanging_node_constraints(m.dof_handler,
-                                                    m.constraints);
-    for (const auto id : m.fixed_ids)
-      dealii::VectorTools::interpolate_boundary_values(
-        m.mapping,
-        m.dof_handler,
-        id,
-        dealii::Functions::ZeroFunction<3>(m.layout.n_components()),
-        m.constraints,
-        m.fe->component_mask(m.layout.displacement));
-    if (!m.sliding_ids.empty())
-      dealii::VectorTools::compute_no_normal_flux_constraints(m.dof_handler,
-                                                              0,
-                                                              m.sliding_ids,
-                                                              m.constraints,
-                                                              m.mapping);
-    m.constraints.close();
-
-    dealii::DynamicSparsityPattern dsp(m.relevant);
-    dealii::DoFTools::make_sparsity_pattern(m.dof_handler,
-                                            dsp,
-                                            m.constraints,
-                                            false);
-    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                       m.owned,
-                                                       m.comm,
-                                                       m.relevant);
-    m.tangent.reinit(m.owned, m.owned, dsp, m.comm);
-    m.residual.reinit(m.owned, m.comm);
-    m.volume_derivatives.resize(m.cavities.size());
-    for (auto &b : m.volume_derivatives)
-      b.reinit(m.owned, m.comm);
-    m.u_owned.reinit(m.owned, m.comm);
-    m.u_saved.reinit(m.owned, m.comm);
-    m.u_previous.reinit(m.owned, m.comm);
-    m.factorized_u.reinit(m.owned, m.comm);
-    m.u.reinit(m.owned, m.relevant, m.comm);
-
-    // Fibre frames at the quadrature points of the locally owned cells.
-    const dealii::Quadrature<3>     quadrature = m.cell_quadrature(m.n_q_1d);
-    dealii::FEValues<3>             fe_values(m.mapping,
-                                  *m.fe,
-                                  quadrature,
-                                  dealii::update_quadrature_points);
-    std::vector<Fibres::FibreBasis> bases;
-    for (const auto &cell : m.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          fibres(cell, fe_values.get_quadrature_points(), bases);
-          m.point_data.initialize(cell, quadrature.size());
-          const auto data = m.point_data.get_data(cell);
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
-            {
-              data[q]->basis    = bases[q];
-              data[q]->position = fe_values.quadrature_point(q);
-            }
-        }
-    {
-      const dealii::Quadrature<3> rule = m.cell_quadrature(m.n_q_1d);
-      dealii::FEValues<3>         fe_jxw(m.mapping,
-                                 *m.fe,
-                                 rule,
-                                 dealii::update_JxW_values);
-      double                      volume = 0;
-      for (const auto &cell : m.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            fe_jxw.reinit(cell);
-            for (const unsigned int q : fe_jxw.quadrature_point_indices())
-              volume += fe_jxw.JxW(q);
-          }
-      m.body_volume = dealii::Utilities::MPI::sum(volume, m.comm);
-      m.n_pressure_dofs =
-        dealii::Utilities::MPI::sum(static_cast<long>(
-                                      m.layout.owned(1).n_elements()),
-                                    m.comm);
-    }
-
-    std::string solver = params.linear_solver;
-    if (solver == "auto")
-      solver = m.dof_handler.n_dofs() <= params.direct_solver_limit
-                 ? "direct"
-                 : "iterative";
+    const auto        n_dofs = m.discretization.dof_handler.n_dofs();
+    const std::string solver = resolve_linear_solver(params, n_dofs);
     // Accelerated chords pay where factorizations dominate the cost.
     if (params.chord_acceleration_auto)
       m.params.chord_acceleration_depth =
-        solver == "direct" &&
-            m.dof_handler.n_dofs() >= Parameters::auto_acceleration_dofs
+        solver == "direct" && n_dofs >= Parameters::auto_acceleration_dofs
           ? Parameters::auto_acceleration_depth
           : 0;
-    // The tangent is symmetric when every load derives from a potential: the
-    // hyperelastic energy, the springs, and the pressures on cavities (each
-    // load is the exact derivative of the discrete cavity volume while the
-    // rim stays in the base plane, so its tangent is a Hessian). A follower
-    // pressure on an open surface is not.
-    // A cavity's load is that derivative only while its rim stays in the base
-    // plane: the base must be held in it (fixed or sliding). The viscous
-    // stress of a time step, eta dE/dt with E(F) and its rate, has a
-    // tangent that is not symmetric.
-    // A rim-fan cavity (CavityVolume::Closure::rim_fan) is closed by a lid
-    // that moves with its rim: the load (the endocardial flux) is dV/du only
-    // while the rim does not move at all, a fixed base.
-    bool fan = false;
-    for (const auto &cavity : m.cavities)
-      fan = fan || cavity.closure() == CavityVolume::Closure::rim_fan;
-    const bool base_held = !names.has("base") ||
-                           m.fixed_ids.count(names.id("base")) > 0 ||
-                           (!fan && m.sliding_ids.count(names.id("base")) > 0);
-    // With the pressure on the moving lids the load is p dV/du again (its
-    // assembled tangent omits the rim's low-rank coupling, and is
-    // symmetric).
-    const bool symmetric =
-      (m.pressure_ids.empty() ||
-       (!m.cavities.empty() && (base_held || params.lid_pressure))) &&
-      params.viscosity == 0.0;
-    m.linear_solver_name = solver;
-    m.create_linear_solver(symmetric);
-    if (m.linear_solver->needs_pressure_matrix())
-      m.pressure_matrix = std::make_unique<PressureMatrix>(
-        m.layout,
+    m.system.linear_solver_name = solver;
+    m.create_linear_solver(
+      symmetric_tangent(params, names, m.boundaries, m.loads));
+    if (m.system.linear_solver->needs_pressure_matrix())
+      m.system.pressure_matrix = std::make_unique<PressureMatrix>(
+        m.discretization.layout,
         m.comm,
         params.pressure_element == PressureElement::discontinuous
-          ? m.fe->base_element(1).n_dofs_per_cell()
+          ? m.discretization.fe->base_element(1).n_dofs_per_cell()
           : 64);
-    // The augmented Lagrangian: G couples the displacement DoFs of a cell to
-    // its (discontinuous) pressure DoFs.
-    if (m.pressure_matrix != nullptr &&
+    if (m.system.pressure_matrix != nullptr &&
         params.pressure_element == PressureElement::discontinuous &&
         params.augmented_lagrangian > 0.0)
-      {
-        const double mu = 10.0 * m.reference_shear_stiffness;
-        AssertThrow(
-          m.inverse_bulk_modulus * params.augmented_lagrangian * mu <
-            1.0 + m.inverse_bulk_modulus * mu,
-          dealii::ExcMessage(
-            "Mechanics / Augmented Lagrangian factor (" +
-            dealii::Utilities::to_string(params.augmented_lagrangian) +
-            ") must be below (kappa + mu) / mu = " +
-            dealii::Utilities::to_string(1.0 / (m.inverse_bulk_modulus * mu) +
-                                         1.0) +
-            " (Material / Volumetric / Bulk modulus against the law's shear "
-            "stiffness): lower it, or set it to 0."));
-        m.augmented_lagrangian = params.augmented_lagrangian;
-        dealii::DynamicSparsityPattern coupling_pattern(m.relevant);
-        const auto                    &fe = *m.fe;
-        std::vector<dealii::types::global_dof_index> dofs(fe.n_dofs_per_cell()),
-          u_dofs, p_dofs;
-        for (const auto &cell : m.dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            {
-              cell->get_dof_indices(dofs);
-              u_dofs.clear();
-              p_dofs.clear();
-              for (unsigned int i = 0; i < dofs.size(); ++i)
-                (fe.system_to_component_index(i).first < 3 ? u_dofs : p_dofs)
-                  .push_back(dofs[i]);
-              m.constraints.add_entries_local_to_global(u_dofs,
-                                                        p_dofs,
-                                                        coupling_pattern,
-                                                        false);
-            }
-        dealii::SparsityTools::distribute_sparsity_pattern(coupling_pattern,
-                                                           m.owned,
-                                                           m.comm,
-                                                           m.relevant);
-        m.augmentation = std::make_unique<LA::MPI::SparseMatrix>();
-        m.augmentation->reinit(m.owned, m.owned, coupling_pattern, m.comm);
-      }
+      setup_augmentation(params,
+                         m.material,
+                         m.discretization,
+                         m.comm,
+                         m.system);
   }
 
   void
   Problem::Impl::tangent_vmult(LA::MPI::Vector       &dst,
                                const LA::MPI::Vector &src) const
   {
-    tangent.vmult(dst, src);
-    if (augmentation != nullptr)
+    system.tangent.vmult(dst, src);
+    if (system.augmentation != nullptr)
       {
-        LA::MPI::Vector correction(owned, comm);
-        augmentation->vmult(correction, dst);
+        LA::MPI::Vector correction(discretization.owned, comm);
+        system.augmentation->vmult(correction, dst);
         dst -= correction;
       }
-    for (unsigned int j = 0; j < low_rank_u.size(); ++j)
-      dst.add(low_rank_v[j] * src, low_rank_u[j]);
+    for (unsigned int j = 0; j < loads.low_rank_u.size(); ++j)
+      dst.add(loads.low_rank_v[j] * src, loads.low_rank_u[j]);
   }
 
   void
   Problem::Impl::factorize_low_rank()
   {
-    factorized_low_rank_v.clear();
-    factorized_low_rank_z.clear();
-    const unsigned int r = low_rank_u.size();
+    factorized.low_rank_v.clear();
+    factorized.low_rank_z.clear();
+    const unsigned int r = loads.low_rank_u.size();
     if (r == 0)
       return;
     std::vector<LA::MPI::Vector> z(r);
     for (unsigned int j = 0; j < r; ++j)
       {
-        z[j].reinit(owned, comm);
-        linear_solver->solve(z[j], low_rank_u[j]);
-        constraints.distribute(z[j]);
+        z[j].reinit(discretization.owned, comm);
+        system.linear_solver->solve(z[j], loads.low_rank_u[j]);
+        discretization.constraints.distribute(z[j]);
       }
     dealii::FullMatrix<double> small(r, r);
     for (unsigned int i = 0; i < r; ++i)
       for (unsigned int j = 0; j < r; ++j)
-        small(i, j) = (i == j ? 1.0 : 0.0) + low_rank_v[i] * z[j];
-    factorized_low_rank_inverse.reinit(r, r);
-    factorized_low_rank_inverse.invert(small);
-    factorized_low_rank_v = low_rank_v;
-    factorized_low_rank_z = std::move(z);
+        small(i, j) = (i == j ? 1.0 : 0.0) + loads.low_rank_v[i] * z[j];
+    factorized.low_rank_inverse.reinit(r, r);
+    factorized.low_rank_inverse.invert(small);
+    factorized.low_rank_v = loads.low_rank_v;
+    factorized.low_rank_z = std::move(z);
   }
 
   Problem::~Problem() = default;
@@ -484,18 +589,18 @@ namespace systole::Mechanics
     try
       {
         x                      = 0;
-        const unsigned int its = linear_solver->solve(x, b);
-        constraints.distribute(x);
+        const unsigned int its = system.linear_solver->solve(x, b);
+        discretization.constraints.distribute(x);
         // (K + U V^T)^-1 b = x - Z (I + V^T Z)^-1 V^T x (Woodbury).
-        const unsigned int r = factorized_low_rank_v.size();
+        const unsigned int r = factorized.low_rank_v.size();
         if (r > 0)
           {
             dealii::Vector<double> y(r), s(r);
             for (unsigned int j = 0; j < r; ++j)
-              y[j] = factorized_low_rank_v[j] * x;
-            factorized_low_rank_inverse.vmult(s, y);
+              y[j] = factorized.low_rank_v[j] * x;
+            factorized.low_rank_inverse.vmult(s, y);
             for (unsigned int j = 0; j < r; ++j)
-              x.add(-s[j], factorized_low_rank_z[j]);
+              x.add(-s[j], factorized.low_rank_z[j]);
           }
         return its;
       }
@@ -513,7 +618,7 @@ namespace systole::Mechanics
   dealii::Vector<double>
   Problem::Impl::uniform_pressures(const double pressure) const
   {
-    dealii::Vector<double> pressures(pressure_ids.size());
+    dealii::Vector<double> pressures(loads.pressure_ids.size());
     pressures = pressure;
     return pressures;
   }
@@ -529,11 +634,11 @@ namespace systole::Mechanics
   Problem::solve(const dealii::Vector<double> &pressures,
                  const double                  active_tension)
   {
-    AssertThrow(pressures.size() == impl->pressure_ids.size(),
+    AssertThrow(pressures.size() == impl->loads.pressure_ids.size(),
                 dealii::ExcMessage(
                   "Mechanics::Problem::solve: " +
                   std::to_string(pressures.size()) + " pressures given for " +
-                  std::to_string(impl->pressure_ids.size()) +
+                  std::to_string(impl->loads.pressure_ids.size()) +
                   " pressure parts (Mechanics / Pressure boundary)."));
     dealii::Vector<double> p = pressures;
     return impl->newton(p, active_tension, nullptr);
@@ -544,15 +649,15 @@ namespace systole::Mechanics
                           const double            active_tension,
                           dealii::Vector<double> &pressures)
   {
-    AssertThrow(!impl->cavities.empty(),
+    AssertThrow(!impl->loads.cavities.empty(),
                 dealii::ExcMessage(
                   "A volume constraint needs a cavity (a Mechanics / Pressure "
                   "boundary on a mesh with a boundary part 'base')."));
-    AssertThrow(pressures.size() == impl->cavities.size(),
+    AssertThrow(pressures.size() == impl->loads.cavities.size(),
                 dealii::ExcMessage(
                   "Mechanics::Problem::solve_cavities: " +
                   std::to_string(pressures.size()) + " pressures given for " +
-                  std::to_string(impl->cavities.size()) + " cavities."));
+                  std::to_string(impl->loads.cavities.size()) + " cavities."));
     return impl->newton(pressures, active_tension, &target);
   }
 
@@ -561,10 +666,10 @@ namespace systole::Mechanics
                         const double active_tension,
                         double      &pressure)
   {
-    AssertThrow(impl->cavities.size() == 1,
+    AssertThrow(impl->loads.cavities.size() == 1,
                 dealii::ExcMessage(
                   "solve_volume() constrains one cavity; this problem has " +
-                  std::to_string(impl->cavities.size()) +
+                  std::to_string(impl->loads.cavities.size()) +
                   " (use solve_cavities())."));
     dealii::Vector<double> p(1);
     p[0]              = pressure;
@@ -612,25 +717,28 @@ namespace systole::Mechanics
   void
   Problem::Impl::create_linear_solver(const bool symmetric)
   {
-    symmetric_tangent = symmetric;
-    linear_solver =
-      Mechanics::create_linear_solver(linear_solver_name,
-                                      mapping,
-                                      dof_handler,
-                                      layout,
-                                      constraints,
+    system.symmetric_tangent = symmetric;
+    system.linear_solver =
+      Mechanics::create_linear_solver(system.linear_solver_name,
+                                      discretization.mapping,
+                                      discretization.dof_handler,
+                                      discretization.layout,
+                                      discretization.constraints,
                                       params.linear_tolerance,
                                       symmetric,
                                       params.displacement_preconditioner);
-    have_factorization = false;
+    factorized.held = false;
   }
 
   dealii::Vector<double>
   Problem::Impl::cavity_volumes_now() const
   {
-    dealii::Vector<double> volumes(cavities.size());
-    for (unsigned int i = 0; i < cavities.size(); ++i)
-      volumes[i] = cavities[i].volume(mapping, dof_handler, u, n_q_face_1d);
+    dealii::Vector<double> volumes(loads.cavities.size());
+    for (unsigned int i = 0; i < loads.cavities.size(); ++i)
+      volumes[i] = loads.cavities[i].volume(discretization.mapping,
+                                            discretization.dof_handler,
+                                            u,
+                                            discretization.n_q_face_1d);
     return volumes;
   }
 
@@ -641,15 +749,16 @@ namespace systole::Mechanics
     // The load is what the pressures take from the residual (R = internal
     // forces - loads).
     m.assemble(dealii::Vector<double>(pressures.size()), 0.0, false);
-    LA::MPI::Vector load = m.residual;
+    LA::MPI::Vector load = m.system.residual;
     m.assemble(pressures, 0.0, false);
-    load -= m.residual;
+    load -= m.system.residual;
     dealii::Tensor<1, 3> force;
     for (unsigned int k = 0; k < 3; ++k)
       {
-        dealii::ComponentMask mask(m.fe->n_components(), false);
+        dealii::ComponentMask mask(m.discretization.fe->n_components(), false);
         mask.set(k, true);
-        for (const auto i : dealii::DoFTools::extract_dofs(m.dof_handler, mask))
+        for (const auto i :
+             dealii::DoFTools::extract_dofs(m.discretization.dof_handler, mask))
           force[k] += load(i);
       }
     return dealii::Utilities::MPI::sum(force, m.comm);
@@ -663,11 +772,12 @@ namespace systole::Mechanics
     Impl                        &m         = *impl;
     const dealii::Vector<double> pressures = m.uniform_pressures(pressure);
     m.assemble(pressures, active_tension, true);
-    LA::MPI::Vector d(m.owned, m.comm), Kd(m.owned, m.comm);
-    for (const auto i : m.owned)
+    LA::MPI::Vector d(m.discretization.owned, m.comm),
+      Kd(m.discretization.owned, m.comm);
+    for (const auto i : m.discretization.owned)
       d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
     d.compress(dealii::VectorOperation::insert);
-    m.constraints.set_zero(d);
+    m.discretization.constraints.set_zero(d);
     m.tangent_vmult(Kd, d);
 
     const LA::MPI::Vector u0          = m.u_owned;
@@ -676,7 +786,7 @@ namespace systole::Mechanics
       m.u_owned.add(step, d);
       m.u = m.u_owned;
       m.assemble(pressures, active_tension, false);
-      return LA::MPI::Vector(m.residual);
+      return LA::MPI::Vector(m.system.residual);
     };
     LA::MPI::Vector difference = residual_at(h);
     difference -= residual_at(-h);
@@ -694,7 +804,7 @@ namespace systole::Mechanics
                                    const double                  h)
   {
     Impl              &m = *impl;
-    const unsigned int k = m.cavities.size();
+    const unsigned int k = m.loads.cavities.size();
     AssertThrow(
       k > 0 && pressures.size() == k,
       dealii::ExcMessage(
@@ -702,11 +812,12 @@ namespace systole::Mechanics
         std::to_string(pressures.size()) + " given, " + std::to_string(k) +
         " cavities)."));
     m.assemble(pressures, active_tension, true, true);
-    LA::MPI::Vector d(m.owned, m.comm), Jd(m.owned, m.comm);
-    for (const auto i : m.owned)
+    LA::MPI::Vector d(m.discretization.owned, m.comm),
+      Jd(m.discretization.owned, m.comm);
+    for (const auto i : m.discretization.owned)
       d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
     d.compress(dealii::VectorOperation::insert);
-    m.constraints.set_zero(d);
+    m.discretization.constraints.set_zero(d);
     // The pressure direction: a different size and sign in each cavity.
     dealii::Vector<double> dp(k);
     for (unsigned int i = 0; i < k; ++i)
@@ -718,8 +829,8 @@ namespace systole::Mechanics
     dealii::Vector<double> volume_row(k);
     for (unsigned int i = 0; i < k; ++i)
       {
-        Jd.add(-dp[i], m.volume_derivatives[i]);
-        volume_row[i] = m.volume_rows[i] * d;
+        Jd.add(-dp[i], m.loads.volume_derivatives[i]);
+        volume_row[i] = m.loads.volume_rows[i] * d;
       }
 
     const LA::MPI::Vector u0          = m.u_owned;
@@ -732,7 +843,7 @@ namespace systole::Mechanics
       stepped.add(step, dp);
       m.assemble(stepped, active_tension, false);
       volumes = m.cavity_volumes_now();
-      return LA::MPI::Vector(m.residual);
+      return LA::MPI::Vector(m.system.residual);
     };
     dealii::Vector<double> v_plus, v_minus;
     LA::MPI::Vector        difference = evaluate_at(h, v_plus);
@@ -772,7 +883,7 @@ namespace systole::Mechanics
     points.assign(m.tria.n_active_cells(), {});
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const auto &data : m.point_data.get_data(cell))
+        for (const auto &data : m.points.point_data.get_data(cell))
           points[cell->active_cell_index()].push_back(data->position);
   }
 
@@ -786,7 +897,7 @@ namespace systole::Mechanics
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const auto data = m.point_data.get_data(cell);
+          const auto data = m.points.point_data.get_data(cell);
           const auto c    = cell->active_cell_index();
           AssertThrow(tension.empty() || tension[c].size() == data.size(),
                       dealii::ExcMessage("set_active_tension: one value per "
@@ -800,9 +911,9 @@ namespace systole::Mechanics
   Problem::set_displacement(const dealii::Function<3> &displacement)
   {
     Impl &m = *impl;
-    if (!m.layout.mixed())
-      dealii::VectorTools::interpolate(m.mapping,
-                                       m.dof_handler,
+    if (!m.discretization.layout.mixed())
+      dealii::VectorTools::interpolate(m.discretization.mapping,
+                                       m.discretization.dof_handler,
                                        displacement,
                                        m.u_owned);
     else
@@ -810,13 +921,13 @@ namespace systole::Mechanics
         // The pressure element has no support points: interpolate the
         // displacement on a displacement-only space and copy it node by node
         // (same FE_Q base, same cells); the pressure becomes zero.
-        const dealii::FESystem<3> fe_u(m.fe->base_element(0), 3);
+        const dealii::FESystem<3> fe_u(m.discretization.fe->base_element(0), 3);
         dealii::DoFHandler<3>     dof_u(m.tria);
         dof_u.distribute_dofs(fe_u);
         dealii::IndexSet relevant_u;
         dealii::DoFTools::extract_locally_relevant_dofs(dof_u, relevant_u);
         LA::MPI::Vector owned_u(dof_u.locally_owned_dofs(), m.comm);
-        dealii::VectorTools::interpolate(m.mapping,
+        dealii::VectorTools::interpolate(m.discretization.mapping,
                                          dof_u,
                                          displacement,
                                          owned_u);
@@ -826,10 +937,11 @@ namespace systole::Mechanics
         ghosted_u = owned_u;
         m.u_owned = 0;
         std::vector<dealii::types::global_dof_index> dofs(
-          m.fe->n_dofs_per_cell()),
+          m.discretization.fe->n_dofs_per_cell()),
           dofs_u(fe_u.n_dofs_per_cell());
         auto cell_u = dof_u.begin_active();
-        for (const auto &cell : m.dof_handler.active_cell_iterators())
+        for (const auto &cell :
+             m.discretization.dof_handler.active_cell_iterators())
           {
             if (cell->is_locally_owned())
               {
@@ -837,10 +949,11 @@ namespace systole::Mechanics
                 cell_u->get_dof_indices(dofs_u);
                 for (unsigned int j = 0; j < dofs_u.size(); ++j)
                   {
-                    const auto i = m.fe->component_to_system_index(
-                      fe_u.system_to_component_index(j).first,
-                      fe_u.system_to_component_index(j).second);
-                    if (m.owned.is_element(dofs[i]))
+                    const auto i =
+                      m.discretization.fe->component_to_system_index(
+                        fe_u.system_to_component_index(j).first,
+                        fe_u.system_to_component_index(j).second);
+                    if (m.discretization.owned.is_element(dofs[i]))
                       m.u_owned(dofs[i]) = ghosted_u(dofs_u[j]);
                   }
               }
@@ -848,7 +961,7 @@ namespace systole::Mechanics
           }
         m.u_owned.compress(dealii::VectorOperation::insert);
       }
-    m.constraints.distribute(m.u_owned);
+    m.discretization.constraints.distribute(m.u_owned);
     m.u = m.u_owned;
   }
 
@@ -856,7 +969,7 @@ namespace systole::Mechanics
   Problem::set_pressure_field(const double amplitude)
   {
     Impl &m = *impl;
-    for (const auto i : m.layout.owned(1))
+    for (const auto i : m.discretization.layout.owned(1))
       m.u_owned(i) = amplitude * std::sin(1.0 + 0.7 * i);
     m.u_owned.compress(dealii::VectorOperation::insert);
     m.u = m.u_owned;
@@ -865,23 +978,23 @@ namespace systole::Mechanics
   void
   Problem::save()
   {
-    impl->u_previous = impl->u_saved;
-    impl->u_saved    = impl->u_owned;
-    ++impl->n_saves;
+    impl->history.u_previous = impl->history.u_saved;
+    impl->history.u_saved    = impl->u_owned;
+    ++impl->history.n_saves;
   }
 
   void
   Problem::predict(const double ratio)
   {
     Impl &m   = *impl;
-    m.u_owned = m.u_saved;
-    if (m.n_saves >= 2)
+    m.u_owned = m.history.u_saved;
+    if (m.history.n_saves >= 2)
       {
-        m.u_owned.add(ratio, m.u_saved);
-        m.u_owned.add(-ratio, m.u_previous);
+        m.u_owned.add(ratio, m.history.u_saved);
+        m.u_owned.add(-ratio, m.history.u_previous);
       }
-    m.u           = m.u_owned;
-    m.u_predicted = m.u_owned;
+    m.u                   = m.u_owned;
+    m.history.u_predicted = m.u_owned;
   }
 
   double
@@ -890,17 +1003,17 @@ namespace systole::Mechanics
     // The largest nodal difference over the displacement entries (in the
     // mixed formulation the pressure entries follow them; kPa, not mm).
     const Impl &m = *impl;
-    if (m.u_predicted.size() != m.u_owned.size())
+    if (m.history.u_predicted.size() != m.u_owned.size())
       return 0.0;
-    const auto         n_u = m.layout.owned(0).n_elements();
+    const auto         n_u = m.discretization.layout.owned(0).n_elements();
     const PetscScalar *x, *y;
     VecGetArrayRead(m.u_owned, &x);
-    VecGetArrayRead(m.u_predicted, &y);
+    VecGetArrayRead(m.history.u_predicted, &y);
     double e = 0;
     for (std::size_t i = 0; i < n_u; ++i)
       e = std::max(e, std::abs(x[i] - y[i]));
     VecRestoreArrayRead(m.u_owned, &x);
-    VecRestoreArrayRead(m.u_predicted, &y);
+    VecRestoreArrayRead(m.history.u_predicted, &y);
     MPI_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_MAX, m.comm);
     return e;
   }
@@ -920,7 +1033,8 @@ namespace systole::Mechanics
         {
           return std::numeric_limits<double>::infinity();
         }
-      const auto norms = block_norms(m.layout, m.residual);
+      const auto norms =
+        block_norms(m.discretization.layout, m.system.residual);
       return std::isfinite(norms[0]) ? norms[0]
                                      : std::numeric_limits<double>::infinity();
     };
@@ -941,21 +1055,21 @@ namespace systole::Mechanics
   void
   Problem::restore()
   {
-    impl->u_owned = impl->u_saved;
+    impl->u_owned = impl->history.u_saved;
     impl->u       = impl->u_owned;
   }
 
   unsigned int
   Problem::n_cavities() const
   {
-    return impl->cavities.size();
+    return impl->loads.cavities.size();
   }
 
   std::vector<std::string>
   Problem::cavity_names() const
   {
-    return impl->cavities.empty() ? std::vector<std::string>()
-                                  : impl->pressure_names;
+    return impl->loads.cavities.empty() ? std::vector<std::string>()
+                                        : impl->loads.pressure_names;
   }
 
   dealii::Vector<double>
@@ -967,17 +1081,17 @@ namespace systole::Mechanics
   bool
   Problem::has_cavity() const
   {
-    return !impl->cavities.empty();
+    return !impl->loads.cavities.empty();
   }
 
   double
   Problem::cavity_volume() const
   {
-    AssertThrow(impl->cavities.size() == 1,
+    AssertThrow(impl->loads.cavities.size() == 1,
                 dealii::ExcMessage(
                   "cavity_volume() is the volume of the one cavity; this "
                   "problem has " +
-                  std::to_string(impl->cavities.size()) +
+                  std::to_string(impl->loads.cavities.size()) +
                   " (a cavity is a Mechanics / Pressure boundary part on a "
                   "mesh with a boundary part 'base'; use cavity_volumes())."));
     return impl->cavity_volumes_now()[0];
@@ -1000,8 +1114,8 @@ namespace systole::Mechanics
           {
             const auto cells =
               dealii::GridTools::find_all_active_cells_around_point(
-                m.mapping,
-                m.dof_handler,
+                m.discretization.mapping,
+                m.discretization.dof_handler,
                 points[i],
                 1e-10);
             for (const auto &c : cells)
@@ -1031,8 +1145,8 @@ namespace systole::Mechanics
               found.first->reference_cell().is_hyper_cube()
                 ? dealii::GeometryInfo<3>::project_to_unit_cell(found.second)
                 : found.second);
-            dealii::FEValues<3> fe_values(m.mapping,
-                                          *m.fe,
+            dealii::FEValues<3> fe_values(m.discretization.mapping,
+                                          *m.discretization.fe,
                                           at,
                                           dealii::update_values);
             fe_values.reinit(found.first);
@@ -1050,13 +1164,13 @@ namespace systole::Mechanics
   void
   Problem::attach_output(dealii::DataOut<3, 3> &data_out) const
   {
-    data_out.attach_dof_handler(impl->dof_handler);
+    data_out.attach_dof_handler(impl->discretization.dof_handler);
     std::vector<
       dealii::DataComponentInterpretation::DataComponentInterpretation>
                              kinds(3,
             dealii::DataComponentInterpretation::component_is_part_of_vector);
     std::vector<std::string> names(3, "displacement");
-    if (impl->layout.mixed())
+    if (impl->discretization.layout.mixed())
       {
         kinds.push_back(
           dealii::DataComponentInterpretation::component_is_scalar);
@@ -1071,21 +1185,21 @@ namespace systole::Mechanics
   const dealii::Mapping<3, 3> &
   Problem::mapping() const
   {
-    return impl->mapping;
+    return impl->discretization.mapping;
   }
 
   dealii::types::global_dof_index
   Problem::n_dofs() const
   {
-    return impl->dof_handler.n_dofs();
+    return impl->discretization.dof_handler.n_dofs();
   }
 
   std::string
   Problem::linear_solver_name() const
   {
     const unsigned int depth = impl->params.chord_acceleration_depth;
-    return impl->linear_solver->name() +
-           (impl->linear_solver->direct() && depth > 0
+    return impl->system.linear_solver->name() +
+           (impl->system.linear_solver->direct() && depth > 0
               ? ", Anderson-accelerated chords (depth " +
                   std::to_string(depth) + ")"
               : "");
@@ -1094,16 +1208,18 @@ namespace systole::Mechanics
   std::string
   Problem::discretization_name() const
   {
-    return impl->layout.name();
+    return impl->discretization.layout.name();
   }
 
   std::array<dealii::types::global_dof_index, 2>
   Problem::n_block_dofs() const
   {
-    return {{dealii::Utilities::MPI::sum(impl->layout.owned(0).n_elements(),
-                                         impl->comm),
-             dealii::Utilities::MPI::sum(impl->layout.owned(1).n_elements(),
-                                         impl->comm)}};
+    return {{dealii::Utilities::MPI::sum(
+               impl->discretization.layout.owned(0).n_elements(),
+               impl->comm),
+             dealii::Utilities::MPI::sum(
+               impl->discretization.layout.owned(1).n_elements(),
+               impl->comm)}};
   }
 
   std::map<std::string, double>

@@ -123,6 +123,241 @@ namespace systole::Mechanics
   std::array<double, 2>
   block_norms(const FieldLayout &layout, const LA::MPI::Vector &v);
 
+  /// The material laws as the assembly sees them, and the constants derived
+  /// from them once.
+  struct MaterialLaws
+  {
+    /// Checks the laws against the parameters (a nearly incompressible
+    /// formulation needs a bulk modulus, every law a shear stiffness).
+    MaterialLaws(const Parameters               &params,
+                 const Materials::PassiveLaw    &passive_law,
+                 const Materials::VolumetricLaw &volumetric_law);
+
+    /// The law as given (penalty) or its isochoric part (mixed formulations).
+    std::optional<Materials::IsochoricPart> isochoric_law;
+    const Materials::PassiveLaw            &passive_law;
+    const Materials::VolumetricLaw         &volumetric_law;
+    /// 1/kappa of the mixed formulations (0 when incompressible).
+    double inverse_bulk_modulus = 0.0;
+    /// Lower bound of the local shear stiffness in the Schur preconditioner
+    /// [kPa] (a tenth of the law's at F = I).
+    double reference_shear_stiffness = 0.0;
+  };
+
+  struct BoundaryConditions;
+
+  /// The discretization: the fields and their element, the geometry, the
+  /// DoFs and their constraints, the quadrature rules.
+  struct Discretization
+  {
+    Discretization(const Parameters                                     &params,
+                   dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+                   const unsigned int                                    degree,
+                   const unsigned int mapping_degree);
+
+    /// Distributes the DoFs and builds the constraints (zero displacement on
+    /// the fixed parts, zero normal displacement on the sliding ones).
+    void
+    distribute_dofs(const BoundaryConditions &boundaries);
+    /// body_volume and n_pressure_dofs (collective).
+    void
+    measure(const MPI_Comm comm);
+
+    /// The fields (u, or u and p) and their blocks.
+    FieldLayout                                  layout;
+    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
+    /// Reference volume of the body [mm^3] (the scale of the pressure rows).
+    double body_volume = 0.0;
+    /// Global number of pressure DoFs.
+    long n_pressure_dofs = 0;
+    /// The geometry (Geometry::CellKind::mapping(): on hexahedra a
+    /// MappingQCache of the manifolds, its support points computed once, as
+    /// the manifold evaluations would otherwise dominate every assembly; on
+    /// tetrahedra affine).
+    std::unique_ptr<dealii::Mapping<3, 3>> mapping_storage;
+    const dealii::Mapping<3, 3>           &mapping;
+    dealii::DoFHandler<3>                  dof_handler;
+    unsigned int n_q_1d;             ///< Gauss points per direction (cells)
+    unsigned int n_q_face_1d;        ///< Gauss points per direction (faces)
+    bool         reduced_volumetric; ///< volumetric term with n_q_1d - 1 points
+
+    /// The quadrature rules of cells and faces (CellKind of the mesh).
+    dealii::Quadrature<3>
+    cell_quadrature(const unsigned int n_points_1d) const
+    {
+      return layout.cell_kind().cell_quadrature(n_points_1d);
+    }
+    dealii::Quadrature<2>
+    face_quadrature(const unsigned int n_points_1d) const
+    {
+      return layout.cell_kind().face_quadrature(n_points_1d);
+    }
+
+    dealii::IndexSet                  owned, relevant;
+    dealii::AffineConstraints<double> constraints; ///< homogeneous
+  };
+
+  /// Where the displacement is held: the boundary parts by their role.
+  struct BoundaryConditions
+  {
+    /// The parts named by the parameters (each must exist and carry faces;
+    /// tapered supports located).
+    BoundaryConditions(const Parameters                  &params,
+                       const dealii::Triangulation<3, 3> &tria,
+                       const Geometry::BoundaryNames     &names);
+
+    /// The boundary parts of the mesh (deformed_area()).
+    Geometry::BoundaryNames              boundary_names;
+    std::set<dealii::types::boundary_id> fixed_ids, sliding_ids;
+    /// The spring-dashpot supports by boundary id (Parameters::
+    /// all_robin_supports()).
+    std::map<dealii::types::boundary_id, RobinSupport> robin_supports;
+  };
+
+  /// The pressure loads and the cavities they fill: the parts, the cavity
+  /// volumes, the volume rows of the bordered Newton system and the low-rank
+  /// coupling of loaded lids.
+  struct CavityLoads
+  {
+    /// The pressure parts of the parameters and, when the mesh has a base,
+    /// their cavities (close_cavities()).
+    CavityLoads(const Parameters                  &params,
+                const dealii::Triangulation<3, 3> &tria,
+                const BoundaryConditions          &boundaries,
+                Logger                            &logger);
+    /// One cavity per pressure part, closed by the base plane, its planar
+    /// rim or the fan over the rim (moving when the base is not held in its
+    /// plane); a warning for a rim far from a plane.
+    void
+    close_cavities(const dealii::Triangulation<3, 3> &tria,
+                   const BoundaryConditions          &boundaries,
+                   Logger                            &logger);
+
+    /// The pressure parts (Parameters::pressure_boundaries()), in order.
+    std::vector<std::string>                pressure_names;
+    std::vector<dealii::types::boundary_id> pressure_ids;
+    /// One per pressure part when the mesh has a base, else none.
+    std::vector<CavityVolume> cavities;
+    /// Owned: the endocardial flux of every cavity (the load per unit
+    /// pressure), condensed; dV_i/du unless the cavity's lid moves.
+    std::vector<LA::MPI::Vector> volume_derivatives;
+    /// Owned: dV_i/du exactly, condensed: the volume rows of the bordered
+    /// Newton system. volume_derivatives[i] except for a cavity with a
+    /// moving lid, whose dV_i/du has the lid's flux too
+    /// (CavityVolume::derivative).
+    std::vector<LA::MPI::Vector> volume_rows;
+    /// Per cavity: closed by the fan over a rim that moves (the base is not
+    /// held in its plane), so that dV/du is not the endocardial flux.
+    std::vector<bool> moving_lid;
+    /// The part of the tangent the sparse matrix does not hold: K = tangent
+    /// + sum_j low_rank_u[j] low_rank_v[j]^T (owned, condensed): the rank-6
+    /// coupling of each loaded lid's rim to its wall (Lid pressure), of the
+    /// last assembly with the matrix. Empty without.
+    std::vector<LA::MPI::Vector> low_rank_u, low_rank_v;
+  };
+
+  /// The state at the quadrature points and the inputs of the active
+  /// tension.
+  struct QuadraturePoints
+  {
+    /// The fibre frame and position of every quadrature point of the
+    /// locally owned cells.
+    void
+    initialize(const Discretization &discretization,
+               const FibreFunction  &fibres);
+
+    /// Fibre frame, position and active tension at the quadrature points of
+    /// the locally owned cells.
+    dealii::CellDataStorage<dealii::Triangulation<3, 3>::cell_iterator,
+                            PointData>
+      point_data;
+    /// The two-way coupled tension model (none: nullptr) and its step.
+    const Materials::TensionModel *tension_model     = nullptr;
+    double                         tension_time      = 0.0;
+    double                         tension_time_step = 0.0;
+    /// The uniform active tension of the last assembly [kPa] (for
+    /// point_states()).
+    double last_active_tension = 0.0;
+  };
+
+  /// The linear system of a Newton iteration and its solver.
+  struct LinearSystem
+  {
+    LA::MPI::SparseMatrix tangent;
+    LA::MPI::Vector       residual; ///< owned
+    /// The Schur-complement preconditioner of the mixed iterative solver.
+    std::unique_ptr<PressureMatrix> pressure_matrix;
+    /// The augmented Lagrangian of the mixed iterative solver with a
+    /// discontinuous pressure (null otherwise): G = gamma B^T W^-1
+    /// (displacement rows, pressure columns), with which the tangent holds
+    /// T K, T = [I, G; 0, I] (the linear solver applies T to its right-hand
+    /// sides; tangent_vmult() undoes it).
+    std::unique_ptr<LA::MPI::SparseMatrix> augmentation;
+    /// gamma of the augmented Lagrangian (Mechanics / Augmented Lagrangian
+    /// factor; 0 when there is no augmentation).
+    double augmented_lagrangian = 0.0;
+
+    std::unique_ptr<LinearSolver> linear_solver;
+    /// "direct" or "iterative" (auto resolved), and whether the tangent is
+    /// symmetric (the direct solver's LDL^T, the iterative one's CG).
+    std::string linear_solver_name;
+    bool        symmetric_tangent = true;
+  };
+
+  /// The displacements saved for a retry and the predictor (save(),
+  /// restore(), predict()).
+  struct SolutionHistory
+  {
+    LA::MPI::Vector u_saved;     ///< owned
+    LA::MPI::Vector u_previous;  ///< owned, the save() before u_saved
+    LA::MPI::Vector u_predicted; ///< owned, the last predict(ratio)
+    unsigned int    n_saves = 0;
+  };
+
+  /// The linear solver holds a factorization (or preconditioner) of the
+  /// tangent of an earlier Newton iteration: where it was assembled, so that
+  /// chord iterations can reuse it and a checkpoint can rebuild it.
+  struct Factorization
+  {
+    /// Whether there is one; for a bordered solve B0 = [dV_i/du] and W0 =
+    /// K^-1 B0 of that iterate (for the chord iterations that start a
+    /// solve).
+    bool                         held = false;
+    std::vector<LA::MPI::Vector> volume_derivatives, w;
+    /// The volume_rows of that iterate.
+    std::vector<LA::MPI::Vector> volume_rows;
+    /// The last solve converged: the factorization is that of an iterate
+    /// near its solution (not of a diverged one).
+    bool last_solve_converged = false;
+    /// Where that tangent was assembled: the iterate (owned), its pressures,
+    /// the uniform and the per-point active tension (by active cell index).
+    LA::MPI::Vector                  u;
+    dealii::Vector<double>           pressures;
+    double                           active_tension = 0;
+    std::vector<std::vector<double>> tension;
+    /// With a tension model: its inputs at the factorized iterate, per
+    /// point its accepted state, stretch and calcium (flat per cell), and
+    /// the step.
+    std::vector<std::vector<double>> model_inputs;
+    double                           tension_time = 0, tension_time_step = 0;
+    /// Of the low-rank part of the tangent (Woodbury): v_j, z_j = tangent^-1
+    /// u_j and (I + V^T Z)^-1, applied by linear_solve().
+    std::vector<LA::MPI::Vector> low_rank_v, low_rank_z;
+    dealii::FullMatrix<double>   low_rank_inverse;
+  };
+
+  /// A checkpoint being written: the ghosted vectors and their transfer
+  /// (alive until the triangulation's save()), and the packed cell data, by
+  /// active cell index.
+  struct CheckpointBuffers
+  {
+    std::vector<LA::MPI::Vector> vectors;
+    std::unique_ptr<
+      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
+                                   transfer;
+    std::vector<std::vector<char>> cell_data;
+  };
+
   struct Problem::Impl
   {
     Impl(const Parameters                                     &params,
@@ -178,115 +413,35 @@ namespace systole::Mechanics
     dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
     MPI_Comm                                              comm;
     Logger                                               &logger;
-    /// The law as given (penalty) or its isochoric part (mixed formulations).
-    std::optional<Materials::IsochoricPart> isochoric_law;
-    const Materials::PassiveLaw            &passive_law;
-    const Materials::VolumetricLaw         &volumetric_law;
 
-    /// The fields (u, or u and p) and their blocks.
-    FieldLayout                                  layout;
-    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
-    /// 1/kappa of the mixed formulations (0 when incompressible).
-    double inverse_bulk_modulus = 0.0;
-    /// Lower bound of the local shear stiffness in the Schur preconditioner
-    /// [kPa] (a tenth of the law's at F = I).
-    double reference_shear_stiffness = 0.0;
-    /// Reference volume of the body [mm^3] (the scale of the pressure rows).
-    double body_volume = 0.0;
-    /// Global number of pressure DoFs.
-    long n_pressure_dofs = 0;
-    /// The geometry (Geometry::CellKind::mapping(): on hexahedra a
-    /// MappingQCache of the manifolds, its support points computed once, as
-    /// the manifold evaluations would otherwise dominate every assembly; on
-    /// tetrahedra affine).
-    std::unique_ptr<dealii::Mapping<3, 3>> mapping_storage;
-    const dealii::Mapping<3, 3>           &mapping;
-    dealii::DoFHandler<3>                  dof_handler;
-    unsigned int n_q_1d;             ///< Gauss points per direction (cells)
-    unsigned int n_q_face_1d;        ///< Gauss points per direction (faces)
-    bool         reduced_volumetric; ///< volumetric term with n_q_1d - 1 points
+    MaterialLaws       material;
+    Discretization     discretization;
+    BoundaryConditions boundaries;
+    CavityLoads        loads;
+    QuadraturePoints   points;
+    LinearSystem       system;
 
-    /// The quadrature rules of cells and faces (CellKind of the mesh).
-    dealii::Quadrature<3>
-    cell_quadrature(const unsigned int n_points_1d) const
-    {
-      return layout.cell_kind().cell_quadrature(n_points_1d);
-    }
-    dealii::Quadrature<2>
-    face_quadrature(const unsigned int n_points_1d) const
-    {
-      return layout.cell_kind().face_quadrature(n_points_1d);
-    }
-
-    dealii::IndexSet                  owned, relevant;
-    dealii::AffineConstraints<double> constraints; ///< homogeneous
-
-    std::set<dealii::types::boundary_id> fixed_ids, sliding_ids;
-    /// The spring-dashpot supports by boundary id (Parameters::
-    /// all_robin_supports()).
-    std::map<dealii::types::boundary_id, RobinSupport> robin_supports;
-    /// The pressure parts (Parameters::pressure_boundaries()), in order.
-    std::vector<std::string>                pressure_names;
-    std::vector<dealii::types::boundary_id> pressure_ids;
-    /// One per pressure part when the mesh has a base, else none.
-    std::vector<CavityVolume> cavities;
-
-    /// Fibre frame, position and active tension at the quadrature points of
-    /// the locally owned cells.
-    dealii::CellDataStorage<dealii::Triangulation<3, 3>::cell_iterator,
-                            PointData>
-      point_data;
-
-    LA::MPI::SparseMatrix tangent;
-    /// The Schur-complement preconditioner of the mixed iterative solver.
-    std::unique_ptr<PressureMatrix> pressure_matrix;
-    /// The augmented Lagrangian of the mixed iterative solver with a
-    /// discontinuous pressure (null otherwise): G = gamma B^T W^-1
-    /// (displacement rows, pressure columns), with which the tangent holds
-    /// T K, T = [I, G; 0, I] (the linear solver applies T to its right-hand
-    /// sides; tangent_vmult() undoes it).
-    std::unique_ptr<LA::MPI::SparseMatrix> augmentation;
-    /// gamma of the augmented Lagrangian (Mechanics / Augmented Lagrangian
-    /// factor; 0 when there is no augmentation).
-    double augmented_lagrangian = 0.0;
+    /// The sparsity of the tangent and the vectors of the solution and the
+    /// system (after Discretization::distribute_dofs()).
+    void
+    reinit_system();
 
     /// dst = K src with the tangent as last assembled (T K when augmented:
     /// then K src = T^-1 (T K src) = (T K src) - G (T K src)).
     void
     tangent_vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;
-    LA::MPI::Vector residual; ///< owned
-    /// Owned: the endocardial flux of every cavity (the load per unit
-    /// pressure), condensed; dV_i/du unless the cavity's lid moves.
-    std::vector<LA::MPI::Vector> volume_derivatives;
-    /// Owned: dV_i/du exactly, condensed: the volume rows of the bordered
-    /// Newton system. volume_derivatives[i] except for a cavity with a
-    /// moving lid, whose dV_i/du has the lid's flux too
-    /// (CavityVolume::derivative).
-    std::vector<LA::MPI::Vector> volume_rows;
-    /// Per cavity: closed by the fan over a rim that moves (the base is not
-    /// held in its plane), so that dV/du is not the endocardial flux.
-    std::vector<bool> moving_lid;
     /// Whether cavity @p i's pressure loads its lid (Parameters::
     /// lid_pressure, and the lid moves).
     bool
     lid_loaded(const unsigned int i) const
     {
-      return params.lid_pressure && moving_lid[i];
+      return params.lid_pressure && loads.moving_lid[i];
     }
     /// volume_rows from volume_derivatives and the moving lids (after an
     /// assembly with the volume derivatives; collective).
     void
     update_volume_rows();
 
-    /// The part of the tangent the sparse matrix does not hold: K = tangent
-    /// + sum_j low_rank_u[j] low_rank_v[j]^T (owned, condensed): the rank-6
-    /// coupling of each loaded lid's rim to its wall (Lid pressure), of the
-    /// last assembly with the matrix. Empty without.
-    std::vector<LA::MPI::Vector> low_rank_u, low_rank_v;
-    /// Of the factorized tangent (Woodbury): v_j, z_j = tangent^-1 u_j and
-    /// (I + V^T Z)^-1, applied by linear_solve().
-    std::vector<LA::MPI::Vector> factorized_low_rank_v, factorized_low_rank_z;
-    dealii::FullMatrix<double>   factorized_low_rank_inverse;
     /// In assemble(), for every cavity whose lid is loaded: the lid's
     /// force on the rim vertices into the residual (@p lid_area: this
     /// rank's int cof(F) N dA of its wall) and, @p with_matrix, low_rank_u/v
@@ -301,29 +456,16 @@ namespace systole::Mechanics
     void
     factorize_low_rank();
 
-    LA::MPI::Vector u_owned;     ///< owned
-    LA::MPI::Vector u;           ///< ghosted copy of u_owned
-    LA::MPI::Vector u_saved;     ///< owned
-    LA::MPI::Vector u_previous;  ///< owned, the save() before u_saved
-    LA::MPI::Vector u_predicted; ///< owned, the last predict(ratio)
-    unsigned int    n_saves = 0;
+    LA::MPI::Vector u_owned; ///< owned
+    LA::MPI::Vector u;       ///< ghosted copy of u_owned
+    SolutionHistory history;
 
-    std::unique_ptr<LinearSolver> linear_solver;
-    /// "direct" or "iterative" (auto resolved), and whether the tangent is
-    /// symmetric (the direct solver's LDL^T, the iterative one's CG).
-    std::string linear_solver_name;
-    bool        symmetric_tangent = true;
     /// (Re)creates linear_solver (no factorization held afterwards).
     void
     create_linear_solver(const bool symmetric);
 
     /// Elastodynamics (time_step > 0: the assembly adds the inertia).
     Dynamics dynamics;
-
-    /// The two-way coupled tension model (none: nullptr) and its step.
-    const Materials::TensionModel *tension_model     = nullptr;
-    double                         tension_time      = 0.0;
-    double                         tension_time_step = 0.0;
 
     /// Calls @p f(active cell index, q, data, F) at every quadrature point
     /// of the locally owned cells, F of the current displacement.
@@ -332,12 +474,6 @@ namespace systole::Mechanics
                                             const unsigned int,
                                             PointData &,
                                             const dealii::Tensor<2, 3> &)> &f);
-
-    /// The uniform active tension of the last assembly [kPa] (for
-    /// point_states()).
-    double last_active_tension = 0.0;
-    /// The boundary parts of the mesh (deformed_area()).
-    Geometry::BoundaryNames boundary_names;
 
     /// Wall times of assembly and linear solves (sections "Mechanics /
     /// ..."), summed over the run.
@@ -352,32 +488,11 @@ namespace systole::Mechanics
     double
     seconds_in(const std::string &section) const;
 
-    /// The linear solver holds a factorization (or preconditioner) of the
-    /// tangent of an earlier Newton iteration, and for a bordered solve
-    /// B0 = [dV_i/du] and W0 = K^-1 B0 of that iterate (for the chord
-    /// iterations that start a solve).
-    bool                         have_factorization = false;
-    std::vector<LA::MPI::Vector> factorized_volume_derivatives, factorized_w;
-    /// The volume_rows of that iterate.
-    std::vector<LA::MPI::Vector> factorized_volume_rows;
-    /// The last solve converged: the factorization is that of an iterate
-    /// near its solution (not of a diverged one).
-    bool last_solve_converged = false;
-    /// Where that tangent was assembled: the iterate (owned), its pressures,
-    /// the uniform and the per-point active tension (by active cell index),
-    /// so that a checkpoint can rebuild the factorization.
-    LA::MPI::Vector                  factorized_u;
-    dealii::Vector<double>           factorized_pressures;
-    double                           factorized_active_tension = 0;
-    std::vector<std::vector<double>> factorized_tension;
-    /// With a tension model: its inputs at the factorized iterate, per
-    /// point its accepted state, stretch and calcium (flat per cell), and
-    /// the step.
-    std::vector<std::vector<double>> factorized_model_inputs;
-    double factorized_tension_time = 0, factorized_tension_time_step = 0;
+    /// The factorization the linear solver holds.
+    Factorization factorized;
 
     /// Copy the per-point active tension (and the tension model's inputs)
-    /// into factorized_tension (factorized_model_inputs), and in a time
+    /// into factorized.tension (factorized.model_inputs), and in a time
     /// integration the accepted dynamic state and the time step into
     /// Dynamics::factorized_*.
     void
@@ -389,14 +504,15 @@ namespace systole::Mechanics
     void
     setup_dynamics();
 
-    /// A checkpoint being written: the ghosted vectors and their transfer
-    /// (alive until the triangulation's save()).
-    std::vector<LA::MPI::Vector> checkpoint_vectors;
-    std::unique_ptr<
-      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
-      checkpoint_transfer;
-    /// ... and the packed cell data, by active cell index.
-    std::vector<std::vector<char>> checkpoint_cell_data;
+    /// A checkpoint being written.
+    CheckpointBuffers pending_checkpoint;
+
+    /// After a checkpoint's data are read: the tangent of the factorized
+    /// iterate assembled and factorized again (and for a @p bordered solve
+    /// W0 = K^-1 B0), so that the resumed run reuses it as the original
+    /// did.
+    void
+    rebuild_factorization(const bool bordered);
 
     /// What a checkpoint stores of a locally owned @p cell: the tension of
     /// the factorized iterate per point, the tension model's accepted state

@@ -45,12 +45,12 @@ namespace systole::Mechanics
     // dT/dlambda with a cross-fibre part, dT/dE x (eta_s s0 x s0 + eta_n
     // n0 x n0), is not major symmetric: the solver must not assume it.
     if (model != nullptr && m.params.active_cross_fibre.any() &&
-        m.symmetric_tangent)
+        m.system.symmetric_tangent)
       m.create_linear_solver(false);
-    m.tension_model = model;
+    m.points.tension_model = model;
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const auto &data : m.point_data.get_data(cell))
+        for (const auto &data : m.points.point_data.get_data(cell))
           {
             data->tension_state.assign(model ? model->n_states() : 0, 0.0);
             if (model)
@@ -66,8 +66,8 @@ namespace systole::Mechanics
     AssertThrow(time_step > 0.0,
                 dealii::ExcMessage("Mechanics: the tension model's time step "
                                    "must be positive."));
-    impl->tension_time      = time;
-    impl->tension_time_step = time_step;
+    impl->points.tension_time      = time;
+    impl->points.tension_time_step = time_step;
   }
 
   void
@@ -80,7 +80,7 @@ namespace systole::Mechanics
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const auto data = m.point_data.get_data(cell);
+          const auto data = m.points.point_data.get_data(cell);
           const auto c    = cell->active_cell_index();
           AssertThrow(calcium[c].size() == data.size(),
                       dealii::ExcMessage("set_calcium: one value per "
@@ -96,7 +96,7 @@ namespace systole::Mechanics
     Impl &m = *impl;
     for (const auto &cell : m.tria.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const auto &data : m.point_data.get_data(cell))
+        for (const auto &data : m.points.point_data.get_data(cell))
           data->calcium = uniform;
   }
 
@@ -109,19 +109,21 @@ namespace systole::Mechanics
   {
     Impl &m = *this;
     {
-      const dealii::Quadrature<3> quadrature = m.cell_quadrature(m.n_q_1d);
-      dealii::FEValues<3>         fe_values(m.mapping,
-                                    *m.fe,
+      const dealii::Quadrature<3> quadrature =
+        m.discretization.cell_quadrature(m.discretization.n_q_1d);
+      dealii::FEValues<3>               fe_values(m.discretization.mapping,
+                                    *m.discretization.fe,
                                     quadrature,
                                     dealii::update_gradients);
       std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
-      for (const auto &cell : m.dof_handler.active_cell_iterators())
+      for (const auto &cell :
+           m.discretization.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
             fe_values.reinit(cell);
-            fe_values[m.layout.displacement].get_function_gradients(m.u,
-                                                                    grad_u);
-            const auto data = m.point_data.get_data(cell);
+            fe_values[m.discretization.layout.displacement]
+              .get_function_gradients(m.u, grad_u);
+            const auto data = m.points.point_data.get_data(cell);
             for (unsigned int q = 0; q < quadrature.size(); ++q)
               f(cell->active_cell_index(),
                 q,
@@ -135,22 +137,22 @@ namespace systole::Mechanics
   Problem::accept_tension_step()
   {
     Impl &m = *impl;
-    AssertThrow(m.tension_model != nullptr,
+    AssertThrow(m.points.tension_model != nullptr,
                 dealii::ExcMessage("accept_tension_step: no tension model."));
-    AssertThrow(m.tension_time_step > 0.0,
+    AssertThrow(m.points.tension_time_step > 0.0,
                 dealii::ExcMessage("accept_tension_step: set_tension_step() "
                                    "first."));
-    std::vector<double> trial(m.tension_model->n_states());
+    std::vector<double> trial(m.points.tension_model->n_states());
     m.for_each_point([&](const unsigned int,
                          const unsigned int,
                          PointData                  &data,
                          const dealii::Tensor<2, 3> &F) {
       double dT, stretch;
-      data.model_tension = step_tension_model(*m.tension_model,
+      data.model_tension = step_tension_model(*m.points.tension_model,
                                               data,
                                               F,
-                                              m.tension_time,
-                                              m.tension_time_step,
+                                              m.points.tension_time,
+                                              m.points.tension_time_step,
                                               trial.data(),
                                               dT,
                                               stretch);
@@ -164,20 +166,20 @@ namespace systole::Mechanics
   {
     Impl                            &m = *impl;
     std::vector<std::vector<double>> tensions(m.tria.n_active_cells());
-    if (m.tension_model == nullptr)
+    if (m.points.tension_model == nullptr)
       return tensions;
-    std::vector<double> trial(m.tension_model->n_states());
+    std::vector<double> trial(m.points.tension_model->n_states());
     m.for_each_point([&](const unsigned int          c,
                          const unsigned int          q,
                          PointData                  &data,
                          const dealii::Tensor<2, 3> &F) {
       double dT, stretch;
       tensions[c].resize(q + 1);
-      tensions[c][q] = step_tension_model(*m.tension_model,
+      tensions[c][q] = step_tension_model(*m.points.tension_model,
                                           data,
                                           F,
-                                          m.tension_time,
-                                          m.tension_time_step,
+                                          m.points.tension_time,
+                                          m.points.tension_time_step,
                                           trial.data(),
                                           dT,
                                           stretch);
