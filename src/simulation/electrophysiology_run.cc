@@ -90,8 +90,6 @@ namespace systole
       write_row(const unsigned int step, const double time);
       void
       write_checkpoint(const unsigned int step);
-      bool
-      checkpoint_due(const unsigned int step, const bool stop) const;
       void
       write_summary(const Electrophysiology::ActivationSummary &summary,
                     const std::vector<double> &activation_times);
@@ -116,6 +114,7 @@ namespace systole
       /// The 12 leads of every row (the biomarkers at the end).
       EcgBeat                               ecg;
       std::unique_ptr<IO::ResultsFile>      results;
+      std::unique_ptr<RunCheckpointer>      checkpointer;
       unsigned int                          first_step = 1;
       const unsigned int                    n_steps;
       std::chrono::steady_clock::time_point last_checkpoint;
@@ -175,24 +174,28 @@ namespace systole
     void
     ElectrophysiologyRun::open_results(const std::string &parameter_text)
     {
-      if (checkpoint.empty())
+      std::unique_ptr<IO::StateReader> state_in;
+      unsigned int                     step = 0;
+      results                               = systole::open_results(checkpoint,
+                                      run,
+                                      parameter_text,
+                                      state_in,
+                                      comm,
+                                      &step);
+      checkpointer = std::make_unique<RunCheckpointer>(store,
+                                                       *results,
+                                                       *mesh.tria,
+                                                       "ep.mesh",
+                                                       all_entries,
+                                                       run,
+                                                       logger,
+                                                       comm);
+      if (!state_in)
         {
-          results = std::make_unique<IO::ResultsFile>(run.output_directory,
-                                                      parameter_text,
-                                                      comm);
           write_purkinje(*results, ep->purkinje(), comm);
           return;
         }
-      IO::StateReader       state(IO::read_checkpoint_state(checkpoint, comm),
-                            checkpoint);
-      auto                 &archive = state.archive();
-      IO::ResultsFile::Rows rows;
-      unsigned int          step = 0;
-      archive &rows.timeseries &rows.summary &rows.events &step;
-      results = std::make_unique<IO::ResultsFile>(run.output_directory,
-                                                  rows,
-                                                  step,
-                                                  comm);
+      auto    &archive = state_in->archive();
       archive &last.steps &last.linear_iterations;
       load_ecg(archive, ecg);
       ep->load_checkpoint(archive);
@@ -240,44 +243,20 @@ namespace systole
         }
     }
 
+    /// The small state after the rows and the step: the statistics, the
+    /// ECG samples, the integrator's; the EP state on the mesh (ep.mesh).
     void
     ElectrophysiologyRun::write_checkpoint(const unsigned int step)
     {
-      const std::string folder = store.begin(step);
-      IO::StateWriter   state;
-      {
-        auto      &archive = state.archive();
-        const auto rows    = results->rows();
-        archive &rows.timeseries &rows.summary &rows.events &step;
-        archive &last.steps &last.linear_iterations;
-        save_ecg(archive, ecg);
-        ep->prepare_checkpoint(archive);
-      }
-      const std::string text = state.finish();
-      mesh.tria->save(folder + "ep.mesh");
-      ep->finish_checkpoint();
-      if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-        write_checkpoint_files(folder, text, all_entries, run);
-      logger.detail() << "  checkpoint " << store.commit() << std::endl;
+      checkpointer->write(
+        step,
+        [&](boost::archive::text_oarchive &archive, const std::string &) {
+          archive &last.steps &last.linear_iterations;
+          save_ecg(archive, ecg);
+          ep->prepare_checkpoint(archive);
+        },
+        [&]() { ep->finish_checkpoint(); });
       last_checkpoint = std::chrono::steady_clock::now();
-    }
-
-    /// By step count, by wall time, or at an interruption (hexahedra).
-    bool
-    ElectrophysiologyRun::checkpoint_due(const unsigned int step,
-                                         const bool         stop) const
-    {
-      const double minutes =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                      last_checkpoint)
-          .count() /
-        60.0;
-      return (run.checkpoint_interval > 0 &&
-              step % run.checkpoint_interval == 0) ||
-             (run.checkpoint_minutes > 0 &&
-              dealii::Utilities::MPI::max(minutes, comm) >=
-                run.checkpoint_minutes) ||
-             (stop && !kind.simplex());
     }
 
     void
@@ -298,7 +277,8 @@ namespace systole
           ep->advance(time);
           write_row(step, time);
           const bool stop = interrupted(comm);
-          if (checkpoint_due(step, stop))
+          if (checkpoint_due(run, step, last_checkpoint, comm) ||
+              (stop && !kind.simplex()))
             write_checkpoint(step);
           // Test hook (the checkpoint tests): SIGKILL after this step.
           if (run.test_kill_after_step == static_cast<long>(step))

@@ -39,16 +39,10 @@
 #include <boost/archive/text_oarchive.hpp>
 #include <boost/serialization/array.hpp>
 #include <boost/serialization/vector.hpp>
-#include <sys/resource.h>
 
 #include <array>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
-#include <csignal>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <limits>
@@ -317,157 +311,13 @@ namespace systole
       }
     };
 
-    /// Writes checkpoints: the meshes with their cell data (the mechanics'
-    /// states, the EP state, the activation at the mechanics points)
-    /// through p::d::Triangulation::save, the small state through boost
-    /// serialization, the parameters; into a temporary folder that is
-    /// renamed when complete.
-    struct Checkpointer
-    {
-      IO::CheckpointStore                                     &store;
-      const IO::ResultsFile                                   &results;
-      HeartbeatState                                           state;
-      const dealii::parallel::DistributedTriangulationBase<3> *tria;
-      const std::string                                       &all_entries;
-      const RunParameters                                     &run;
-      Logger                                                  &logger;
-      MPI_Comm                                                 comm;
-      double                                                   seconds = 0;
-      unsigned int                                             count   = 0;
-
-      void
-      write(const unsigned int step)
-      {
-        const auto        begin  = std::chrono::steady_clock::now();
-        const std::string folder = store.begin(step);
-        IO::StateWriter   writer;
-        {
-          auto      &archive = writer.archive();
-          const auto rows    = results.rows();
-          archive &rows.timeseries &rows.summary &rows.events &step;
-          state.save(archive, folder);
-        }
-        // Test hook (Output / Test file size limit in checkpoint): from here
-        // on, writes that grow a file beyond 1 kB fail as on a full disk.
-        if (run.test_file_size_limit_in_checkpoint == static_cast<long>(step))
-          {
-            std::signal(SIGXFSZ, SIG_IGN);
-            const rlimit limit{1024, 1024};
-            setrlimit(RLIMIT_FSIZE, &limit);
-          }
-        // The small state first: the largest file, whose failure (a full
-        // disk) is reported here, before the mesh's save (p4est aborts on a
-        // failed write).
-        const std::string text = writer.finish();
-        std::string       error;
-        if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
-          error = write_files(folder, text, step);
-        stop_if_failed(error, 0, step);
-        // The mesh with its data (MPI-IO): a rank whose write failed tells
-        // the others, which would otherwise wait for it in the commit.
-        error.clear();
-        try
-          {
-            tria->save(folder + "mechanics.mesh");
-          }
-        catch (const std::exception &e)
-          {
-            error = one_line_message(e);
-          }
-        const unsigned int n_ranks =
-          dealii::Utilities::MPI::n_mpi_processes(comm);
-        stop_if_failed(error,
-                       dealii::Utilities::MPI::min(
-                         error.empty()
-                           ? n_ranks
-                           : dealii::Utilities::MPI::this_mpi_process(comm),
-                         comm),
-                       step);
-        state.problem.finish_checkpoint();
-        const std::string path = store.commit();
-        seconds += std::chrono::duration<double>(
-                     std::chrono::steady_clock::now() - begin)
-                     .count();
-        ++count;
-        logger.detail() << "  checkpoint " << path << std::endl;
-      }
-
-      /// Throw on every rank, naming the intact previous checkpoint, if
-      /// rank @p failed_rank (< the number of ranks) has an @p error.
-      void
-      stop_if_failed(const std::string &error,
-                     const unsigned int failed_rank,
-                     const unsigned int step) const
-      {
-        if (failed_rank >= dealii::Utilities::MPI::n_mpi_processes(comm))
-          return;
-        const std::string message =
-          dealii::Utilities::MPI::broadcast(comm, error, failed_rank);
-        if (message.empty())
-          return;
-        const auto        previous = store.list();
-        const std::string previous_note =
-          previous.empty()
-            ? std::string("none was written before")
-            : "the last one, " + previous.front() + ", is intact";
-        AssertThrow(false,
-                    dealii::ExcMessage(
-                      "Writing the checkpoint of step " + std::to_string(step) +
-                      " failed (" + message + "); " + previous_note +
-                      ". Free disk space (or raise the quota or file size "
-                      "limit), then continue with systole --resume " +
-                      run.output_directory + "."));
-      }
-
-      /// Write the small state, the parameters and the parameter file's name
-      /// into @p folder; returns "" or what failed (file and reason).
-      std::string
-      write_files(const std::string &folder,
-                  const std::string &data,
-                  const unsigned int step) const
-      {
-        const auto write = [](const std::string &file,
-                              const std::string &text,
-                              const std::size_t  n) -> std::string {
-          errno = 0;
-          std::ofstream out(file, std::ios::binary);
-          out.write(text.data(), n);
-          out.close();
-          if (out.fail())
-            return file + ": " +
-                   (errno != 0 ? std::strerror(errno) : "write error");
-          return "";
-        };
-        // Test hook (Output / Test kill in checkpoint): die by SIGKILL
-        // halfway through the state of the checkpoint of this step.
-        if (run.test_kill_in_checkpoint == static_cast<long>(step))
-          {
-            std::ofstream state_file(folder + IO::checkpoint_state_file,
-                                     std::ios::binary);
-            state_file.write(data.data(), data.size() / 2);
-            state_file.flush();
-            std::raise(SIGKILL);
-          }
-        std::string error =
-          write(folder + IO::checkpoint_state_file, data, data.size());
-        if (error.empty())
-          error =
-            write(folder + "parameters.prm", all_entries, all_entries.size());
-        if (error.empty())
-          error = write(folder + "parameter_file",
-                        run.parameter_file,
-                        run.parameter_file.size());
-        return error;
-      }
-    };
-
     /// stepper.run(writer); if a step fails for good, a checkpoint of the
     /// last accepted step first (where the run can write one), named in the
     /// one-line error.
     HeartbeatStepper::Statistics
     run_or_checkpoint(HeartbeatStepper &stepper,
                       HeartbeatWriter  &writer,
-                      Checkpointer     &checkpointer)
+                      RunCheckpointer  &checkpointer)
     {
       try
         {
@@ -482,7 +332,7 @@ namespace systole
               writer.checkpoint(e.last_step);
               where = " Wrote a checkpoint of the last accepted step (" +
                       std::to_string(e.last_step) + ") to " +
-                      checkpointer.store.list().front() +
+                      checkpointer.list().front() +
                       "; resume from it (Output / Resume = true) with "
                       "Output / Solver log = on to see the failing solves.";
             }
@@ -496,7 +346,7 @@ namespace systole
     log_run(const HeartbeatStepper::Statistics &stats,
             const MechanicsVentricles          &ventricles,
             const ElectricalActivation         *ep,
-            const Checkpointer                 &checkpointer,
+            const RunCheckpointer              &checkpointer,
             const Mechanics::Problem           &problem,
             const double                        wall,
             Logger                             &logger)
@@ -519,12 +369,12 @@ namespace systole
             << " checkpoint(s), " << checkpointer.seconds / checkpointer.count
             << " s per checkpoint, " << problem.n_dofs()
             << " mechanics DOFs;\n  the last in "
-            << checkpointer.store.list().front();
+            << checkpointer.list().front();
           logger.line(c.str());
         }
       if (stats.interrupted)
         logger.line("Interrupted: continue with systole --resume " +
-                    checkpointer.run.output_directory);
+                    checkpointer.output_directory());
       if (ep == nullptr)
         return;
       const auto         s = ep->statistics();
@@ -547,7 +397,7 @@ namespace systole
     write_statistics(const HeartbeatStepper::Statistics &stats,
                      const MechanicsVentricles          &ventricles,
                      const ElectricalActivation         *ep,
-                     const Checkpointer                 &checkpointer,
+                     const RunCheckpointer              &checkpointer,
                      const MechanicsModel               &model,
                      const double                        wall,
                      const dealii::TimerOutput          &timer,
@@ -592,8 +442,7 @@ namespace systole
          {"checkpoint_seconds", "s", checkpointer.seconds},
          {"mechanics_dofs", "-", count(model.problem->n_dofs())}});
       if (checkpointer.count > 0)
-        texts.emplace_back("last_checkpoint",
-                           checkpointer.store.list().front());
+        texts.emplace_back("last_checkpoint", checkpointer.list().front());
       results.write_statistics(statistics, texts);
     }
 
@@ -666,7 +515,7 @@ namespace systole
     void
     run_and_report(HeartbeatStepper           &stepper,
                    HeartbeatWriter            &writer,
-                   Checkpointer               &checkpointer,
+                   RunCheckpointer            &checkpointer,
                    MechanicsVentricles        &ventricles,
                    const ElectricalActivation *ep,
                    const MechanicsModel       &model,
@@ -785,16 +634,21 @@ namespace systole
     if (state_in)
       state.load(state_in->archive());
     state_in.reset();
-    Checkpointer checkpointer{set_up.store,
-                              results,
-                              state,
-                              &model.tria,
-                              set_up.all_entries,
-                              run,
-                              logger,
-                              comm};
+    RunCheckpointer checkpointer(set_up.store,
+                                 results,
+                                 model.tria,
+                                 "mechanics.mesh",
+                                 set_up.all_entries,
+                                 run,
+                                 logger,
+                                 comm);
     writer.checkpoint = [&](const unsigned int step) {
-      checkpointer.write(step);
+      checkpointer.write(
+        step,
+        [&](boost::archive::text_oarchive &archive, const std::string &folder) {
+          state.save(archive, folder);
+        },
+        [&]() { problem.finish_checkpoint(); });
     };
     // The electrophysiology on tetrahedra cannot be checkpointed yet (nor
     // can the mechanics there resume): an interrupted run stops without one.

@@ -81,29 +81,13 @@ namespace systole
   }
 
 
-  void
-  write_checkpoint_files(const std::string   &folder,
-                         const std::string   &state,
-                         const std::string   &all_entries,
-                         const RunParameters &run)
-  {
-    std::ofstream state_file(folder + "/" + IO::checkpoint_state_file,
-                             std::ios::binary);
-    state_file << state;
-    std::ofstream(folder + "/parameters.prm") << all_entries;
-    std::ofstream(folder + "/parameter_file") << run.parameter_file;
-    AssertThrow(state_file.good(),
-                dealii::ExcMessage("Cannot write " + folder + "/" +
-                                   IO::checkpoint_state_file + "."));
-  }
-
-
   std::unique_ptr<IO::ResultsFile>
   open_results(const std::string                &checkpoint,
                const RunParameters              &run,
                const std::string                &parameter_text,
                std::unique_ptr<IO::StateReader> &state_in,
-               const MPI_Comm                    comm)
+               const MPI_Comm                    comm,
+               unsigned int                     *resumed_step)
   {
     if (checkpoint.empty())
       return std::make_unique<IO::ResultsFile>(run.output_directory,
@@ -113,13 +97,14 @@ namespace systole
       std::make_unique<IO::StateReader>(IO::read_checkpoint_state(checkpoint,
                                                                   comm),
                                         checkpoint);
-    IO::ResultsFile::Rows rows;
-    unsigned int          resumed_step = 0;
-    state_in->archive() &
-      rows.timeseries &rows.summary &rows.events &resumed_step;
+    IO::ResultsFile::Rows                  rows;
+    unsigned int                           step = 0;
+    state_in->archive() & rows.timeseries &rows.summary &rows.events &step;
+    if (resumed_step != nullptr)
+      *resumed_step = step;
     return std::make_unique<IO::ResultsFile>(run.output_directory,
                                              rows,
-                                             resumed_step,
+                                             step,
                                              comm);
   }
 
@@ -166,6 +151,13 @@ namespace systole
   RunCheckpointer::list() const
   {
     return store.list();
+  }
+
+
+  const std::string &
+  RunCheckpointer::output_directory() const
+  {
+    return run.output_directory;
   }
 
 

@@ -51,26 +51,17 @@ namespace systole
                     Logger              &logger,
                     const MPI_Comm       comm);
 
-  /// The files rank 0 writes into the checkpoint folder @p folder besides
-  /// the meshes: the small state @p state (IO::checkpoint_state_file),
-  /// `parameters.prm` (@p all_entries) and `parameter_file` (the file the
-  /// run was started with, for `systole --resume`). Not collective.
-  void
-  write_checkpoint_files(const std::string   &folder,
-                         const std::string   &state,
-                         const std::string   &all_entries,
-                         const RunParameters &run);
-
   /// The results file of a run: new, or (resuming from @p checkpoint)
   /// reopened with the rows of the checkpoint's small state, whose rest
-  /// @p state_in then reads (the rows and the step come first in it, see
-  /// RunCheckpointer::write()). Collective.
+  /// @p state_in then reads (the rows and the step, into @p resumed_step if
+  /// given, come first in it, see RunCheckpointer::write()). Collective.
   std::unique_ptr<IO::ResultsFile>
   open_results(const std::string                &checkpoint,
                const RunParameters              &run,
                const std::string                &parameter_text,
                std::unique_ptr<IO::StateReader> &state_in,
-               const MPI_Comm                    comm);
+               const MPI_Comm                    comm,
+               unsigned int                     *resumed_step = nullptr);
 
   /// Whether the checkpoint of step @p step is due: every Output /
   /// Checkpoint interval steps, or Output / Checkpoint minutes after
@@ -117,6 +108,10 @@ namespace systole
     /// The checkpoint folders, newest first.
     std::vector<std::string>
     list() const;
+
+    /// The run's folder (for systole --resume).
+    const std::string &
+    output_directory() const;
 
     /// Checkpoints written and the seconds they took.
     unsigned int count   = 0;
