@@ -20,17 +20,18 @@ namespace systole::Electrophysiology
     // A rule on the nodes (Gauss-Lobatto points for FE_Q of degree 1 and 2,
     // the vertices for P1): the mass matrix integrated with it is diagonal
     // and positive.
-    const dealii::Quadrature<3> nodal = kind.nodal_quadrature(fe->degree);
-    dealii::FEValues<3>         fe_values(mapping,
-                                  *fe,
+    const dealii::Quadrature<3> nodal =
+      space.kind.nodal_quadrature(space.fe->degree);
+    dealii::FEValues<3>    fe_values(mapping,
+                                  *space.fe,
                                   nodal,
                                   dealii::update_values |
                                     dealii::update_JxW_values);
-    const unsigned int          n = fe->n_dofs_per_cell();
-    dealii::Vector<double>      local(n);
+    const unsigned int     n = space.fe->n_dofs_per_cell();
+    dealii::Vector<double> local(n);
     std::vector<dealii::types::global_dof_index> indices(n);
-    lumped_mass_vector.reinit(owned, comm);
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    matrices.lumped_mass_vector.reinit(space.owned, comm);
+    for (const auto &cell : space.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
@@ -39,42 +40,47 @@ namespace systole::Electrophysiology
             for (unsigned int i = 0; i < n; ++i)
               local[i] += fe_values.shape_value(i, q) * fe_values.JxW(q);
           cell->get_dof_indices(indices);
-          lumped_mass_vector.add(indices, local);
+          matrices.lumped_mass_vector.add(indices, local);
         }
-    lumped_mass_vector.compress(dealii::VectorOperation::add);
+    matrices.lumped_mass_vector.compress(dealii::VectorOperation::add);
 
-    lumped_mass.resize(n_owned);
+    matrices.lumped_mass.resize(space.n_owned);
     {
-      const LocalRead m(lumped_mass_vector);
-      std::copy(m.data(), m.data() + n_owned, lumped_mass.begin());
+      const LocalRead m(matrices.lumped_mass_vector);
+      std::copy(m.data(),
+                m.data() + space.n_owned,
+                matrices.lumped_mass.begin());
     }
-    for (const double m : lumped_mass)
+    for (const double m : matrices.lumped_mass)
       AssertThrow(m > 0,
                   dealii::ExcMessage("Electrophysiology: a lumped mass is not "
                                      "positive (inverted cell?)."));
 
     std::map<dealii::types::global_dof_index, dealii::Point<3>> support;
-    dealii::DoFTools::map_dofs_to_support_points(mapping, dof_handler, support);
-    node_positions.resize(n_owned);
-    for (unsigned int i = 0; i < n_owned; ++i)
-      node_positions[i] = support.at(owned.nth_index_in_set(i));
+    dealii::DoFTools::map_dofs_to_support_points(mapping,
+                                                 space.dof_handler,
+                                                 support);
+    space.node_positions.resize(space.n_owned);
+    for (unsigned int i = 0; i < space.n_owned; ++i)
+      space.node_positions[i] = support.at(space.owned.nth_index_in_set(i));
   }
 
 
   void
   Monodomain::Impl::assemble_consistent_mass()
   {
-    const dealii::Quadrature<3> gauss = kind.cell_quadrature(fe->degree + 1);
-    dealii::FEValues<3>         fe_values(mapping,
-                                  *fe,
+    const dealii::Quadrature<3> gauss =
+      space.kind.cell_quadrature(space.fe->degree + 1);
+    dealii::FEValues<3>        fe_values(mapping,
+                                  *space.fe,
                                   gauss,
                                   dealii::update_values |
                                     dealii::update_JxW_values);
-    const unsigned int          n = fe->n_dofs_per_cell();
-    dealii::FullMatrix<double>  local(n, n);
+    const unsigned int         n = space.fe->n_dofs_per_cell();
+    dealii::FullMatrix<double> local(n, n);
     std::vector<dealii::types::global_dof_index> indices(n);
-    mass = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    matrices.mass = 0;
+    for (const auto &cell : space.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
@@ -85,12 +91,13 @@ namespace systole::Electrophysiology
                 local(i, j) += fe_values.shape_value(i, q) *
                                fe_values.shape_value(j, q) * fe_values.JxW(q);
           cell->get_dof_indices(indices);
-          mass.add(indices, local);
+          matrices.mass.add(indices, local);
         }
-    mass.compress(dealii::VectorOperation::add);
-    mass_jacobi = std::make_unique<dealii::PETScWrappers::PreconditionJacobi>();
-    mass_jacobi->initialize(mass);
-    MinvKv_work.reinit(owned, comm);
+    matrices.mass.compress(dealii::VectorOperation::add);
+    matrices.mass_jacobi =
+      std::make_unique<dealii::PETScWrappers::PreconditionJacobi>();
+    matrices.mass_jacobi->initialize(matrices.mass);
+    matrices.MinvKv_work.reinit(space.owned, comm);
   }
 
 
@@ -98,19 +105,19 @@ namespace systole::Electrophysiology
   Monodomain::Impl::evaluate_fibres(const Fibres::FibreField &fibres)
   {
     dealii::FEValues<3>             fe_values(mapping,
-                                  *fe,
-                                  quadrature,
+                                  *space.fe,
+                                  space.quadrature,
                                   dealii::update_quadrature_points);
     std::vector<Fibres::FibreBasis> bases;
-    fibre_directions.assign(tria.n_active_cells(), {});
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    space.fibre_directions.assign(tria.n_active_cells(), {});
+    for (const auto &cell : space.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
           fibres(cell, fe_values.get_quadrature_points(), bases);
-          AssertThrow(bases.size() == quadrature.size(),
+          AssertThrow(bases.size() == space.quadrature.size(),
                       dealii::ExcInternalError());
-          auto &f = fibre_directions[cell->active_cell_index()];
+          auto &f = space.fibre_directions[cell->active_cell_index()];
           f.resize(bases.size());
           for (unsigned int q = 0; q < bases.size(); ++q)
             f[q] = bases[q].f;
@@ -123,37 +130,38 @@ namespace systole::Electrophysiology
     const std::vector<std::vector<dealii::Tensor<2, 3>>> *deformation)
   {
     const double D_l = params.diffusivity_l(), D_t = params.diffusivity_t();
-    dealii::FEValues<3>                          fe_values(mapping,
-                                  *fe,
-                                  quadrature,
+    dealii::FEValues<3>        fe_values(mapping,
+                                  *space.fe,
+                                  space.quadrature,
                                   dealii::update_gradients |
                                     dealii::update_JxW_values);
-    const unsigned int                           n = fe->n_dofs_per_cell();
-    dealii::FullMatrix<double>                   local(n, n);
+    const unsigned int         n = space.fe->n_dofs_per_cell();
+    dealii::FullMatrix<double> local(n, n);
     std::vector<dealii::types::global_dof_index> indices(n);
     std::vector<dealii::Tensor<1, 3>>            D_grad(n);
     const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
 
-    stiffness = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
+    matrices.stiffness = 0;
+    for (const auto &cell : space.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         {
           fe_values.reinit(cell);
-          local                = 0;
-          const auto &fibres_q = fibre_directions[cell->active_cell_index()];
+          local = 0;
+          const auto &fibres_q =
+            space.fibre_directions[cell->active_cell_index()];
           const std::vector<dealii::Tensor<2, 3>> *F_cell = nullptr;
           if (deformation != nullptr &&
               !(*deformation)[cell->active_cell_index()].empty())
             {
               F_cell = &(*deformation)[cell->active_cell_index()];
               AssertThrow(F_cell->size() == 1 ||
-                            F_cell->size() == quadrature.size(),
+                            F_cell->size() == space.quadrature.size(),
                           dealii::ExcMessage(
                             "Monodomain::set_deformation_gradients: give one "
                             "F per cell or one per point of "
                             "diffusion_quadrature()."));
             }
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
+          for (unsigned int q = 0; q < space.quadrature.size(); ++q)
             {
               dealii::Tensor<2, 3> D;
               if (F_cell == nullptr)
@@ -185,22 +193,22 @@ namespace systole::Electrophysiology
                   local(i, j) += fe_values.shape_grad(i, q) * D_grad[j] * JxW;
             }
           cell->get_dof_indices(indices);
-          stiffness.add(indices, local);
+          matrices.stiffness.add(indices, local);
         }
-    stiffness.compress(dealii::VectorOperation::add);
-    gamma_stage = -1;
-    gamma_amg   = -1;
+    matrices.stiffness.compress(dealii::VectorOperation::add);
+    matrices.gamma_stage = -1;
+    matrices.gamma_amg   = -1;
   }
 
 
   void
   Monodomain::Impl::locate_stimuli(const Geometry::BoundaryNames &names)
   {
-    stimulus_nodes.assign(params.stimuli.size(), {});
+    stimulation.nodes.assign(params.stimuli.size(), {});
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
       {
         const Stimulus     &stimulus = params.stimuli[s];
-        std::vector<double> distance(n_owned, 0.0);
+        std::vector<double> distance(space.n_owned, 0.0);
         if (stimulus.region.shape == StimulusRegion::Shape::surface)
           {
             // Distance to the boundary part: to the nearest of its face
@@ -210,13 +218,14 @@ namespace systole::Electrophysiology
             const auto &part = stimulus.region.boundary_part;
             const auto  id   = names.id(part);
             Geometry::require_boundary(tria, names, part);
-            const dealii::Quadrature<2> face_points = kind.face_sample_points();
-            dealii::FEFaceValues<3>     fe_face(mapping,
-                                            *fe,
+            const dealii::Quadrature<2> face_points =
+              space.kind.face_sample_points();
+            dealii::FEFaceValues<3>       fe_face(mapping,
+                                            *space.fe,
                                             face_points,
                                             dealii::update_quadrature_points);
             std::vector<dealii::Point<3>> local_points;
-            for (const auto &cell : dof_handler.active_cell_iterators())
+            for (const auto &cell : space.dof_handler.active_cell_iterators())
               if (cell->is_locally_owned())
                 for (const auto f : cell->face_indices())
                   if (cell->face(f)->at_boundary() &&
@@ -231,21 +240,21 @@ namespace systole::Electrophysiology
                  dealii::Utilities::MPI::all_gather(comm, local_points))
               points.insert(points.end(), from_rank.begin(), from_rank.end());
             const auto tree = dealii::pack_rtree(points);
-            for (unsigned int i = 0; i < n_owned; ++i)
+            for (unsigned int i = 0; i < space.n_owned; ++i)
               {
                 std::vector<dealii::Point<3>> nearest;
-                tree.query(boost::geometry::index::nearest(node_positions[i],
-                                                           1),
-                           std::back_inserter(nearest));
-                distance[i] = node_positions[i].distance(nearest.front());
+                tree.query(
+                  boost::geometry::index::nearest(space.node_positions[i], 1),
+                  std::back_inserter(nearest));
+                distance[i] = space.node_positions[i].distance(nearest.front());
               }
           }
-        for (unsigned int i = 0; i < n_owned; ++i)
-          if (stimulus.region.contains(node_positions[i], distance[i]))
-            stimulus_nodes[s].push_back(i);
+        for (unsigned int i = 0; i < space.n_owned; ++i)
+          if (stimulus.region.contains(space.node_positions[i], distance[i]))
+            stimulation.nodes[s].push_back(i);
         const auto n_nodes =
           dealii::Utilities::MPI::sum(static_cast<unsigned long>(
-                                        stimulus_nodes[s].size()),
+                                        stimulation.nodes[s].size()),
                                       comm);
         AssertThrow(n_nodes > 0,
                     dealii::ExcMessage(

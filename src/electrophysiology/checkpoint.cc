@@ -42,33 +42,34 @@ namespace systole::Electrophysiology
   Monodomain::prepare_checkpoint(boost::archive::text_oarchive &archive)
   {
     Impl &m = *impl;
-    require_hexahedra(m.kind);
-    const unsigned int           n = m.n_components + 2;
+    require_hexahedra(m.space.kind);
+    const unsigned int           n = m.space.n_components + 2;
     std::vector<LA::MPI::Vector> owned(n);
     {
       const LocalRead y(m.state);
       for (unsigned int c = 0; c < n; ++c)
         {
-          owned[c].reinit(m.owned, m.comm);
+          owned[c].reinit(m.space.owned, m.comm);
           const LocalWrite v(owned[c]);
-          for (unsigned int i = 0; i < m.n_owned; ++i)
-            v.data()[i] = c < m.n_components ? y.data()[i * m.n_components + c]
-                          : c == m.n_components ? m.tracker.first()[i]
-                                                : m.tracker.latest()[i];
+          for (unsigned int i = 0; i < m.space.n_owned; ++i)
+            v.data()[i] = c < m.space.n_components
+                            ? y.data()[i * m.space.n_components + c]
+                          : c == m.space.n_components ? m.tracker.first()[i]
+                                                      : m.tracker.latest()[i];
         }
     }
-    m.checkpoint_vectors.resize(n);
+    m.checkpoint.vectors.resize(n);
     std::vector<const LA::MPI::Vector *> in;
     for (unsigned int c = 0; c < n; ++c)
       {
         // Assigning an owned vector fills the ghosts (deal.II 9.4, PETSc).
-        m.checkpoint_vectors[c].reinit(m.owned, m.relevant, m.comm);
-        m.checkpoint_vectors[c] = owned[c];
-        in.push_back(&m.checkpoint_vectors[c]);
+        m.checkpoint.vectors[c].reinit(m.space.owned, m.space.relevant, m.comm);
+        m.checkpoint.vectors[c] = owned[c];
+        in.push_back(&m.checkpoint.vectors[c]);
       }
-    m.checkpoint_transfer = std::make_unique<Transfer>(m.dof_handler);
-    m.checkpoint_transfer->prepare_for_serialization(in);
-    archive &m.t &m.gamma_stage &m.gamma_amg;
+    m.checkpoint.transfer = std::make_unique<Transfer>(m.space.dof_handler);
+    m.checkpoint.transfer->prepare_for_serialization(in);
+    archive &m.t &m.matrices.gamma_stage &m.matrices.gamma_amg;
     serialize_statistics(archive, m.stats);
     // Whether the gates' opening Rush-Larsen half step is still to come.
     archive &m.gate_half_step_pending;
@@ -79,32 +80,32 @@ namespace systole::Electrophysiology
   Monodomain::load_checkpoint(boost::archive::text_iarchive &archive)
   {
     Impl &m = *impl;
-    require_hexahedra(m.kind);
+    require_hexahedra(m.space.kind);
     double   gamma_stage = -1, gamma_amg = -1;
     archive &m.t &gamma_stage &gamma_amg;
     serialize_statistics(archive, m.stats);
     archive &m.gate_half_step_pending;
 
-    const unsigned int             n = m.n_components + 2;
+    const unsigned int             n = m.space.n_components + 2;
     std::vector<LA::MPI::Vector>   out(n);
     std::vector<LA::MPI::Vector *> pointers;
     for (auto &v : out)
       {
-        v.reinit(m.owned, m.comm);
+        v.reinit(m.space.owned, m.comm);
         pointers.push_back(&v);
       }
-    Transfer transfer(m.dof_handler);
+    Transfer transfer(m.space.dof_handler);
     transfer.deserialize(pointers);
-    std::vector<double> first(m.n_owned), latest(m.n_owned);
+    std::vector<double> first(m.space.n_owned), latest(m.space.n_owned);
     {
       const LocalWrite y(m.state);
       for (unsigned int c = 0; c < n; ++c)
         {
           const LocalRead v(out[c]);
-          for (unsigned int i = 0; i < m.n_owned; ++i)
-            if (c < m.n_components)
-              y.data()[i * m.n_components + c] = v.data()[i];
-            else if (c == m.n_components)
+          for (unsigned int i = 0; i < m.space.n_owned; ++i)
+            if (c < m.space.n_components)
+              y.data()[i * m.space.n_components + c] = v.data()[i];
+            else if (c == m.space.n_components)
               first[i] = v.data()[i];
             else
               latest[i] = v.data()[i];
@@ -117,8 +118,8 @@ namespace systole::Electrophysiology
     // hierarchy of gamma_amg (it is kept while gamma stays within 20 %), the
     // stage matrix of gamma_stage.
     const Statistics counters = m.stats;
-    m.preconditioner.reset();
-    m.gamma_stage = m.gamma_amg = -1;
+    m.matrices.preconditioner.reset();
+    m.matrices.gamma_stage = m.matrices.gamma_amg = -1;
     if (gamma_amg > 0)
       m.prepare_stage(gamma_amg);
     if (gamma_stage > 0)
@@ -137,7 +138,7 @@ namespace systole::Electrophysiology
   void
   Monodomain::finish_checkpoint()
   {
-    impl->checkpoint_transfer.reset();
-    impl->checkpoint_vectors.clear();
+    impl->checkpoint.transfer.reset();
+    impl->checkpoint.vectors.clear();
   }
 } // namespace systole::Electrophysiology

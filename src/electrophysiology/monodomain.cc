@@ -36,6 +36,18 @@ namespace systole::Electrophysiology
   } // namespace
 
 
+  Monodomain::Impl::FESpace::FESpace(
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+    const unsigned int                                          degree,
+    const unsigned int                                          n_components)
+    : kind(tria)
+    , fe(element(kind, degree))
+    , dof_handler(tria)
+    , quadrature(kind.cell_quadrature(degree + 1))
+    , n_components(n_components)
+  {}
+
+
   Monodomain::Impl::Impl(
     const Parameters                                           &params,
     const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
@@ -48,15 +60,12 @@ namespace systole::Electrophysiology
     , mapping(mapping)
     , comm(tria.get_communicator())
     , logger(logger)
-    , kind(tria)
-    , fe(element(kind, params.degree))
-    , dof_handler(tria)
-    , quadrature(kind.cell_quadrature(params.degree + 1))
-    , n_owned(0)
-    , n_components(1 + params.ionic_model->n_states())
+    , space(tria, params.degree, 1 + params.ionic_model->n_states())
     , threshold(params.ionic_model->from_mV(params.activation_threshold_mV))
-    , stimulus_scale(1.0 / (params.chi * params.C_m *
-                            params.ionic_model->potential_scale_mV()))
+    , stimulation{1.0 / (params.chi * params.C_m *
+                         params.ionic_model->potential_scale_mV()),
+                  {},
+                  {}}
     , t(start_time)
     , tracker(0, threshold)
   {}
@@ -65,16 +74,18 @@ namespace systole::Electrophysiology
   void
   Monodomain::Impl::distribute_nodes()
   {
-    dof_handler.distribute_dofs(*fe);
-    owned = dof_handler.locally_owned_dofs();
-    dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    n_owned = owned.n_elements();
-    ghosts  = relevant;
-    ghosts.subtract_set(owned);
-    AssertThrow(owned.is_contiguous(), dealii::ExcInternalError());
+    space.dof_handler.distribute_dofs(*space.fe);
+    space.owned = space.dof_handler.locally_owned_dofs();
+    dealii::DoFTools::extract_locally_relevant_dofs(space.dof_handler,
+                                                    space.relevant);
+    space.n_owned = space.owned.n_elements();
+    space.ghosts  = space.relevant;
+    space.ghosts.subtract_set(space.owned);
+    AssertThrow(space.owned.is_contiguous(), dealii::ExcInternalError());
     {
-      dealii::AffineConstraints<double> hanging(relevant);
-      dealii::DoFTools::make_hanging_node_constraints(dof_handler, hanging);
+      dealii::AffineConstraints<double> hanging(space.relevant);
+      dealii::DoFTools::make_hanging_node_constraints(space.dof_handler,
+                                                      hanging);
       AssertThrow(dealii::Utilities::MPI::max(hanging.n_constraints(), comm) ==
                     0,
                   dealii::ExcMessage(
@@ -84,39 +95,40 @@ namespace systole::Electrophysiology
 
     // The ARKode state: v and the model's states of every owned node,
     // interleaved, in the same rank order as the nodes.
-    const auto n_global   = dof_handler.n_dofs() * n_components;
-    const auto first_node = n_owned > 0 ? *owned.begin() : 0;
-    state_owned           = dealii::IndexSet(n_global);
-    state_owned.add_range(first_node * n_components,
-                          (first_node + n_owned) * n_components);
+    const auto n_global   = space.dof_handler.n_dofs() * space.n_components;
+    const auto first_node = space.n_owned > 0 ? *space.owned.begin() : 0;
+    space.state_owned     = dealii::IndexSet(n_global);
+    space.state_owned.add_range(first_node * space.n_components,
+                                (first_node + space.n_owned) *
+                                  space.n_components);
   }
 
 
   void
   Monodomain::Impl::setup_matrices()
   {
-    dealii::DynamicSparsityPattern dsp(relevant);
-    dealii::DoFTools::make_sparsity_pattern(dof_handler, dsp);
+    dealii::DynamicSparsityPattern dsp(space.relevant);
+    dealii::DoFTools::make_sparsity_pattern(space.dof_handler, dsp);
     dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                       owned,
+                                                       space.owned,
                                                        comm,
-                                                       relevant);
-    stiffness.reinit(owned, owned, dsp, comm);
-    stage.reinit(owned, owned, dsp, comm);
-    amg_matrix.reinit(owned, owned, dsp, comm);
-    v_work.reinit(owned, comm);
-    Kv_work.reinit(owned, comm);
-    rhs_work.reinit(owned, comm);
-    potential_mV.reinit(owned, relevant, comm);
-    activation_first.reinit(owned, relevant, comm);
-    activation_latest.reinit(owned, relevant, comm);
-    activation_field.reinit(owned, relevant, comm);
-    calcium_uM.reinit(owned, relevant, comm);
+                                                       space.relevant);
+    matrices.stiffness.reinit(space.owned, space.owned, dsp, comm);
+    matrices.stage.reinit(space.owned, space.owned, dsp, comm);
+    matrices.amg_matrix.reinit(space.owned, space.owned, dsp, comm);
+    matrices.v_work.reinit(space.owned, comm);
+    matrices.Kv_work.reinit(space.owned, comm);
+    matrices.rhs_work.reinit(space.owned, comm);
+    outputs.potential_mV.reinit(space.owned, space.relevant, comm);
+    outputs.activation_first.reinit(space.owned, space.relevant, comm);
+    outputs.activation_latest.reinit(space.owned, space.relevant, comm);
+    outputs.activation_field.reinit(space.owned, space.relevant, comm);
+    outputs.calcium_uM.reinit(space.owned, space.relevant, comm);
 
     assemble_lumped_mass();
     if (params.consistent_mass)
       {
-        mass.reinit(owned, owned, dsp, comm);
+        matrices.mass.reinit(space.owned, space.owned, dsp, comm);
         assemble_consistent_mass();
       }
   }
@@ -134,9 +146,9 @@ namespace systole::Electrophysiology
     // One Gauss point more than the stiffness: 1/r varies over the
     // cells of a coarse mesh near an electrode.
     lead_field =
-      std::make_unique<LeadField>(dof_handler,
+      std::make_unique<LeadField>(space.dof_handler,
                                   mapping,
-                                  kind.cell_quadrature(params.degree + 2),
+                                  space.kind.cell_quadrature(params.degree + 2),
                                   fibres,
                                   params.sigma_l,
                                   params.sigma_t,
@@ -152,9 +164,9 @@ namespace systole::Electrophysiology
     if (params.model != Parameters::Model::monodomain)
       {
         const double last = dealii::Utilities::MPI::max(
-          eikonal_times.empty()
+          eikonal.times.empty()
             ? 0.0
-            : *std::max_element(eikonal_times.begin(), eikonal_times.end()),
+            : *std::max_element(eikonal.times.begin(), eikonal.times.end()),
           comm);
         o << "Electrophysiology: "
           << (params.model == Parameters::Model::eikonal
@@ -165,14 +177,14 @@ namespace systole::Electrophysiology
           << " / " << params.eikonal.velocity_sheet << " / "
           << params.eikonal.velocity_normal
           << " mm/ms (fibre / sheet / normal), last activation " << last
-          << " ms, eikonal solve " << eikonal_statistics.seconds << " s ("
-          << eikonal_statistics.rounds << " exchange rounds)";
+          << " ms, eikonal solve " << eikonal.statistics.seconds << " s ("
+          << eikonal.statistics.rounds << " exchange rounds)";
         logger.line(o.str());
         o.str("");
       }
     o << "Electrophysiology: monodomain, " << model.name() << ", "
-      << (kind.simplex() ? "P" : "Q") << params.degree << ", "
-      << dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
+      << (space.kind.simplex() ? "P" : "Q") << params.degree << ", "
+      << space.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
       << " / " << params.diffusivity_t()
       << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
       << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
@@ -208,14 +220,14 @@ namespace systole::Electrophysiology
     m.locate_stimuli(names);
     if (params.model != Parameters::Model::monodomain)
       m.setup_eikonal(fibres, names);
-    m.stimulus_on.assign(m.params.stimuli.size(), false);
+    m.stimulation.on.assign(m.params.stimuli.size(), false);
 
     m.initialize_state();
-    m.tracker = ActivationTracker(m.n_owned, m.threshold);
+    m.tracker = ActivationTracker(m.space.n_owned, m.threshold);
     m.extract_potential(m.v_sample);
     m.integrator = m.create_integrator(m.t);
     m.update_output_vectors();
-    m.saved.state.reinit(m.state_owned, m.comm);
+    m.saved.state.reinit(m.space.state_owned, m.comm);
     save();
     m.log_setup();
   }
@@ -237,9 +249,9 @@ namespace systole::Electrophysiology
     const Impl &m = *impl;
     if (!m.lead_field)
       return {};
-    const LocalRead v(m.potential_mV);
+    const LocalRead v(m.outputs.potential_mV);
     return m.lead_field->potentials(
-      dealii::ArrayView<const double>(v.data(), m.n_owned));
+      dealii::ArrayView<const double>(v.data(), m.space.n_owned));
   }
 
 
@@ -263,7 +275,7 @@ namespace systole::Electrophysiology
   std::vector<double>
   Monodomain::shape_values(const std::vector<dealii::Point<3>> &reference) const
   {
-    const auto         &fe = *impl->fe;
+    const auto         &fe = *impl->space.fe;
     const unsigned int  n  = fe.n_dofs_per_cell();
     std::vector<double> phi(reference.size() * n);
     for (unsigned int q = 0; q < reference.size(); ++q)
@@ -294,21 +306,20 @@ namespace systole::Electrophysiology
            dealii::ExcMessage("Monodomain::evaluate: the cell belongs to "
                               "another triangulation."));
     Assert(!cell->is_artificial(), dealii::ExcInternalError());
-    const dealii::DoFHandler<3>::active_cell_iterator dof_cell(&m.tria,
-                                                               cell->level(),
-                                                               cell->index(),
-                                                               &m.dof_handler);
-    const unsigned int     n = m.fe->n_dofs_per_cell();
+    const dealii::DoFHandler<3>::active_cell_iterator
+      dof_cell(&m.tria, cell->level(), cell->index(), &m.space.dof_handler);
+    const unsigned int     n = m.space.fe->n_dofs_per_cell();
     dealii::Vector<double> V(n), first(n), latest(n), calcium(n);
     std::vector<dealii::types::global_dof_index> indices(n);
     dof_cell->get_dof_indices(indices);
     for (unsigned int i = 0; i < n; ++i)
       {
-        const double *at = &m.output_values[4 * m.local_index(indices[i])];
-        V[i]             = at[0];
-        first[i]         = at[1];
-        latest[i]        = at[2];
-        calcium[i]       = at[3];
+        const double *at =
+          &m.outputs.values[4 * m.space.local_index(indices[i])];
+        V[i]       = at[0];
+        first[i]   = at[1];
+        latest[i]  = at[2];
+        calcium[i] = at[3];
       }
 
     // With repeated stimulation, the nodes of a cell that the current beat's
@@ -356,13 +367,13 @@ namespace systole::Electrophysiology
     // Each point is evaluated by the lowest rank that owns a cell around it.
     // The search is cached for the last set of points (the probes of a run
     // are asked for every step); every rank makes the same calls.
-    auto &cache = m.point_cache;
+    auto &cache = m.outputs.point_cache;
     if (cache.points != points)
       {
         cache.points = points;
         cache.owner.assign(n, ranks);
         cache.cells.assign(n, {});
-        if (m.kind.simplex())
+        if (m.space.kind.simplex())
           m.locate_on_tetrahedra(points);
         else
           for (unsigned int p = 0; p < n; ++p)
@@ -372,7 +383,7 @@ namespace systole::Electrophysiology
                   for (const auto &[cell, reference] :
                        dealii::GridTools::find_all_active_cells_around_point(
                          m.mapping,
-                         m.dof_handler,
+                         m.space.dof_handler,
                          points[p],
                          1e-10))
                     if (cell->is_locally_owned())
@@ -387,7 +398,7 @@ namespace systole::Electrophysiology
                   // Not in any cell this rank knows.
                 }
             }
-        if (!m.kind.simplex())
+        if (!m.space.kind.simplex())
           dealii::Utilities::MPI::min(
             dealii::ArrayView<const unsigned int>(cache.owner),
             m.comm,
@@ -446,7 +457,7 @@ namespace systole::Electrophysiology
     dealii::Utilities::MPI::min(dealii::ArrayView<const double>(outside),
                                 comm,
                                 dealii::ArrayView<double>(least));
-    auto &cache = point_cache;
+    auto &cache = outputs.point_cache;
     for (unsigned int p = 0; p < n; ++p)
       if (std::isfinite(outside[p]) && outside[p] == least[p])
         {
@@ -456,7 +467,7 @@ namespace systole::Electrophysiology
               dealii::DoFHandler<3>::active_cell_iterator(&tria,
                                                         cell->level(),
                                                         cell->index(),
-                                                        &dof_handler),
+                                                        &space.dof_handler),
               located[p].reference};
         }
     dealii::Utilities::MPI::min(dealii::ArrayView<const unsigned int>(
@@ -470,11 +481,11 @@ namespace systole::Electrophysiology
   Monodomain::activated_fraction() const
   {
     double active = 0, total = 0;
-    for (unsigned int i = 0; i < impl->n_owned; ++i)
+    for (unsigned int i = 0; i < impl->space.n_owned; ++i)
       {
-        total += impl->lumped_mass[i];
+        total += impl->matrices.lumped_mass[i];
         if (!std::isnan(impl->tracker.first()[i]))
-          active += impl->lumped_mass[i];
+          active += impl->matrices.lumped_mass[i];
       }
     return dealii::Utilities::MPI::sum(active, impl->comm) /
            dealii::Utilities::MPI::sum(total, impl->comm);
@@ -486,7 +497,7 @@ namespace systole::Electrophysiology
   {
     return summarize_activation(latest ? impl->tracker.latest()
                                        : impl->tracker.first(),
-                                impl->lumped_mass,
+                                impl->matrices.lumped_mass,
                                 fraction,
                                 impl->comm);
   }
@@ -508,7 +519,7 @@ namespace systole::Electrophysiology
   const dealii::Quadrature<3> &
   Monodomain::diffusion_quadrature() const
   {
-    return impl->quadrature;
+    return impl->space.quadrature;
   }
 
 
@@ -542,21 +553,23 @@ namespace systole::Electrophysiology
   void
   Monodomain::attach_output(dealii::DataOut<3, 3> &data_out) const
   {
-    data_out.add_data_vector(impl->dof_handler,
-                             impl->potential_mV,
+    data_out.add_data_vector(impl->space.dof_handler,
+                             impl->outputs.potential_mV,
                              "transmembrane_potential");
-    data_out.add_data_vector(impl->dof_handler,
-                             impl->activation_field,
+    data_out.add_data_vector(impl->space.dof_handler,
+                             impl->outputs.activation_field,
                              "activation_time");
     if (impl->model.has_calcium())
-      data_out.add_data_vector(impl->dof_handler, impl->calcium_uM, "calcium");
+      data_out.add_data_vector(impl->space.dof_handler,
+                               impl->outputs.calcium_uM,
+                               "calcium");
   }
 
 
   dealii::types::global_dof_index
   Monodomain::n_dofs() const
   {
-    return impl->dof_handler.n_dofs();
+    return impl->space.dof_handler.n_dofs();
   }
 
 

@@ -120,7 +120,7 @@ namespace systole::Electrophysiology
     /// Solve the eikonal equation from the stimuli (each stimulus's nodes
     /// start at its start time plus the cell's stimulus latency) and set up
     /// the nodal stimulus of the reaction-eikonal model (which replaces the
-    /// stimuli: stimulus_nodes are emptied).
+    /// stimuli: stimulation.nodes are emptied).
     void
     setup_eikonal(const Fibres::FibreField      &fibres,
                   const Geometry::BoundaryNames &names);
@@ -146,19 +146,23 @@ namespace systole::Electrophysiology
     void
     advance_eikonal_only(const double t_end);
 
-    /// Eikonal activation time of the first beat at the owned nodes [ms]
-    /// (+inf: not reached).
-    std::vector<double> eikonal_times;
-    /// Reaction-eikonal: the nodal stimulus onsets T - latency in ascending
-    /// order and their nodes; its duration and dv/dt.
-    std::vector<double>       eikonal_onsets;
-    std::vector<unsigned int> eikonal_onset_nodes;
-    double                    eikonal_duration = 0, eikonal_rate = 0;
-    /// The onset time's span over all ranks (first, last) [ms].
-    double eikonal_first_onset = 0, eikonal_last_onset = 0;
-    /// Nodes stimulated during the current step and their dv/dt.
-    std::vector<std::pair<unsigned int, double>> eikonal_stimulus;
-    EikonalStatistics                            eikonal_statistics;
+    /// The eikonal activation (Model = eikonal or reaction-eikonal).
+    struct EikonalActivation
+    {
+      /// Activation time of the first beat at the owned nodes [ms] (+inf:
+      /// not reached).
+      std::vector<double> times;
+      /// Reaction-eikonal: the nodal stimulus onsets T - latency in
+      /// ascending order and their nodes; its duration and dv/dt.
+      std::vector<double>       onsets;
+      std::vector<unsigned int> onset_nodes;
+      double                    duration = 0, rate = 0;
+      /// The onset time's span over all ranks (first, last) [ms].
+      double first_onset = 0, last_onset = 0;
+      /// Nodes stimulated during the current step and their dv/dt.
+      std::vector<std::pair<unsigned int, double>> stimulus;
+      EikonalStatistics                            statistics;
+    } eikonal;
     /// The Purkinje network (Parameters::purkinje; empty when off).
     PurkinjeNetwork purkinje;
 
@@ -208,75 +212,83 @@ namespace systole::Electrophysiology
     MPI_Comm                                                    comm;
     Logger                                                     &logger;
 
-    /// Hexahedra or tetrahedra: the element, the rules.
-    Geometry::CellKind                           kind;
-    std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
-    dealii::DoFHandler<3>                        dof_handler;
-    dealii::Quadrature<3> quadrature; ///< of the stiffness
-    dealii::IndexSet      owned, relevant;
-    unsigned int          n_owned;      ///< owned nodes
-    unsigned int          n_components; ///< 1 + model.n_states()
+    /// The finite element space of the potential: element, nodes, their
+    /// index sets and positions, and the fibres at the quadrature points.
+    struct FESpace
+    {
+      FESpace(const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
+              const unsigned int degree,
+              const unsigned int n_components);
 
-    /// Lumped mass [mm³] and positions [mm] of the owned nodes.
-    std::vector<double>           lumped_mass;
-    std::vector<dealii::Point<3>> node_positions;
-    LA::MPI::Vector               lumped_mass_vector; ///< owned
+      /// Hexahedra or tetrahedra: the element, the rules.
+      Geometry::CellKind                           kind;
+      std::unique_ptr<dealii::FiniteElement<3, 3>> fe;
+      dealii::DoFHandler<3>                        dof_handler;
+      dealii::Quadrature<3> quadrature; ///< of the stiffness
+      dealii::IndexSet      owned, relevant;
+      /// Relevant but not owned nodes (the ghosts, in local-form order).
+      dealii::IndexSet ghosts;
+      dealii::IndexSet state_owned;  ///< interleaved layout
+      unsigned int     n_owned = 0;  ///< owned nodes
+      unsigned int     n_components; ///< 1 + model.n_states()
+      /// Positions [mm] of the owned nodes.
+      std::vector<dealii::Point<3>> node_positions;
+      /// Fibre direction per owned cell (active_cell_index) and point.
+      std::vector<std::vector<dealii::Tensor<1, 3>>> fibre_directions;
 
-    /// Fibre direction per owned cell (active_cell_index) and point.
-    std::vector<std::vector<dealii::Tensor<1, 3>>> fibre_directions;
+      /// Position of the locally relevant node @p dof in the local form
+      /// (owned nodes, then ghosts).
+      unsigned int
+      local_index(const dealii::types::global_dof_index dof) const
+      {
+        return owned.is_element(dof) ? owned.index_within_set(dof)
+                                     : n_owned + ghosts.index_within_set(dof);
+      }
+    } space;
 
-    LA::MPI::SparseMatrix stiffness;  ///< K
-    LA::MPI::SparseMatrix stage;      ///< M + gamma_stage K
-    LA::MPI::SparseMatrix amg_matrix; ///< M + gamma_amg K
-    /// The consistent mass (Mass matrix = consistent; empty otherwise: M is
-    /// then M_L) and its Jacobi preconditioner.
-    LA::MPI::SparseMatrix                                      mass;
-    std::unique_ptr<dealii::PETScWrappers::PreconditionJacobi> mass_jacobi;
-    /// M^-1 K v of the last implicit_rhs(): the guess of the next one.
-    LA::MPI::Vector MinvKv_work;
-    double          gamma_stage = -1, gamma_amg = -1;
-    /// BoomerAMG of amg_matrix, or Jacobi of stage.
-    std::unique_ptr<dealii::PETScWrappers::PreconditionBase> preconditioner;
+    /// The matrices of the diffusion, the solvers of the mass and stage
+    /// systems and their work vectors.
+    struct Matrices
+    {
+      /// Lumped mass [mm³] of the owned nodes.
+      std::vector<double> lumped_mass;
+      LA::MPI::Vector     lumped_mass_vector; ///< owned
 
-    LA::MPI::Vector v_work, Kv_work, rhs_work; ///< owned, node layout
+      LA::MPI::SparseMatrix stiffness;  ///< K
+      LA::MPI::SparseMatrix stage;      ///< M + gamma_stage K
+      LA::MPI::SparseMatrix amg_matrix; ///< M + gamma_amg K
+      /// The consistent mass (Mass matrix = consistent; empty otherwise: M
+      /// is then M_L) and its Jacobi preconditioner.
+      LA::MPI::SparseMatrix                                      mass;
+      std::unique_ptr<dealii::PETScWrappers::PreconditionJacobi> mass_jacobi;
+      /// M^-1 K v of the last implicit_rhs(): the guess of the next one.
+      LA::MPI::Vector MinvKv_work;
+      double          gamma_stage = -1, gamma_amg = -1;
+      /// BoomerAMG of amg_matrix, or Jacobi of stage.
+      std::unique_ptr<dealii::PETScWrappers::PreconditionBase> preconditioner;
+
+      LA::MPI::Vector v_work, Kv_work, rhs_work; ///< owned, node layout
+    } matrices;
 
     /// v_local = model units; activation threshold in model units.
     double threshold;
-    /// dv/dt of a unit stimulus current density: 1/(χ C_m A).
-    double stimulus_scale;
-    /// Owned nodes of each stimulus.
-    std::vector<std::vector<unsigned int>> stimulus_nodes;
-    /// Whether each stimulus is on during the current step.
-    std::vector<bool> stimulus_on;
 
-    dealii::IndexSet                state_owned; ///< interleaved layout
-    LA::MPI::Vector                 state;
+    /// The stimuli of Parameters::stimuli.
+    struct Stimulation
+    {
+      /// dv/dt of a unit stimulus current density: 1/(χ C_m A).
+      double scale;
+      /// Owned nodes of each stimulus.
+      std::vector<std::vector<unsigned int>> nodes;
+      /// Whether each stimulus is on during the current step.
+      std::vector<bool> on;
+    } stimulation;
+
+    LA::MPI::Vector                 state; ///< interleaved layout
     double                          t;
     std::unique_ptr<ImexIntegrator> integrator;
     ActivationTracker               tracker;
     std::vector<double>             v_sample; ///< v at time t, owned nodes
-
-    /// The four output vectors below at the locally relevant nodes,
-    /// interleaved (potential, first, latest, calcium), in the order of
-    /// PETSc's local form (owned nodes, then ghosts): what evaluate() reads
-    /// (cheaper than a PETSc access per node).
-    std::vector<double> output_values;
-    /// Relevant but not owned nodes (the ghosts, in local-form order).
-    dealii::IndexSet ghosts;
-    /// Position of the locally relevant node @p dof in output_values / 4.
-    unsigned int
-    local_index(const dealii::types::global_dof_index dof) const
-    {
-      return owned.is_element(dof) ? owned.index_within_set(dof)
-                                   : n_owned + ghosts.index_within_set(dof);
-    }
-
-    /// Ghosted, node layout: potential [mV], first and latest activation
-    /// (NaN where none), calcium [µM] (NaN without calcium); the first
-    /// activation as the field output writes it (not_activated_time where
-    /// none).
-    LA::MPI::Vector potential_mV, activation_first, activation_latest,
-      calcium_uM, activation_field;
 
     /// The first step starts with a Rush-Larsen half step of the gates
     /// (the opening half of Strang's splitting, see create_integrator()).
@@ -290,6 +302,33 @@ namespace systole::Electrophysiology
       bool                gate_half_step_pending = true;
     } saved;
 
+    /// What evaluate() and values_at_points() read.
+    struct Outputs
+    {
+      /// The four vectors below at the locally relevant nodes, interleaved
+      /// (potential, first, latest, calcium), in the order of PETSc's local
+      /// form (owned nodes, then ghosts; FESpace::local_index()): cheaper
+      /// than a PETSc access per node.
+      std::vector<double> values;
+
+      /// Ghosted, node layout: potential [mV], first and latest activation
+      /// (NaN where none), calcium [µM] (NaN without calcium); the first
+      /// activation as the field output writes it (not_activated_time where
+      /// none).
+      LA::MPI::Vector potential_mV, activation_first, activation_latest,
+        calcium_uM, activation_field;
+
+      /// values_at_points(): the cells around the last points asked for.
+      struct PointCache
+      {
+        std::vector<dealii::Point<3>> points;
+        std::vector<unsigned int>     owner; ///< evaluating rank per point
+        std::vector<std::pair<dealii::DoFHandler<3>::active_cell_iterator,
+                              dealii::Point<3>>>
+          cells; ///< cell and reference point (on the owner)
+      } mutable point_cache;
+    } outputs;
+
     /// The pseudo-ECG's lead field (Parameters::ecg enabled; null
     /// otherwise).
     std::unique_ptr<LeadField> lead_field;
@@ -298,30 +337,23 @@ namespace systole::Electrophysiology
     /// ARKode steps before the integrator was last created (a restart).
     unsigned long steps_before = 0;
 
+    /// A checkpoint being written: node vectors and their transfer.
+    struct CheckpointTransfer
+    {
+      std::vector<LA::MPI::Vector> vectors;
+      std::unique_ptr<
+        dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
+        transfer;
+    } checkpoint;
+
     /// The stage matrix M_L + gamma K and its preconditioner for @p gamma
     /// (kept when gamma changes little; see solve_stage()).
     void
     prepare_stage(const double gamma);
 
-    /// A checkpoint being written: node vectors and their transfer.
-    std::vector<LA::MPI::Vector> checkpoint_vectors;
-    std::unique_ptr<
-      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
-      checkpoint_transfer;
-
-    /// values_at_points() on tetrahedra: fill point_cache's owners and
+    /// values_at_points() on tetrahedra: fill outputs.point_cache's owners and
     /// cells for @p points (collective).
     void
     locate_on_tetrahedra(const std::vector<dealii::Point<3>> &points) const;
-
-    /// values_at_points(): the cells around the last points asked for.
-    struct PointCache
-    {
-      std::vector<dealii::Point<3>> points;
-      std::vector<unsigned int>     owner; ///< evaluating rank per point
-      std::vector<std::pair<dealii::DoFHandler<3>::active_cell_iterator,
-                            dealii::Point<3>>>
-        cells; ///< cell and reference point (on the owner)
-    } mutable point_cache;
   };
 } // namespace systole::Electrophysiology

@@ -65,12 +65,12 @@ namespace systole::Electrophysiology
   Monodomain::Impl::setup_eikonal(const Fibres::FibreField      &fibres,
                                   const Geometry::BoundaryNames &names)
   {
-    EikonalSolver solver(dof_handler, fibres, names, params.eikonal);
+    EikonalSolver solver(space.dof_handler, fibres, names, params.eikonal);
     // A stimulated node activates when the stimulus has brought a cell to
     // the threshold (all of a stimulated region depolarises together:
     // there the diffusion nearly vanishes); the front leaves from there.
     constexpr double    infinity = std::numeric_limits<double>::infinity();
-    std::vector<double> initial(n_owned, infinity);
+    std::vector<double> initial(space.n_owned, infinity);
     std::vector<double> latency(params.stimuli.size());
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
       {
@@ -80,18 +80,18 @@ namespace systole::Electrophysiology
                                       threshold,
                                       params.time_step);
         if (!params.purkinje.enabled)
-          for (const unsigned int i : stimulus_nodes[s])
+          for (const unsigned int i : stimulation.nodes[s])
             initial[i] =
               std::min(initial[i], params.stimuli[s].start + latency[s]);
       }
     if (params.purkinje.enabled)
       {
         grow_purkinje(names, params.stimuli.front().start + latency[0]);
-        add_junction_sources(purkinje, node_positions, initial, comm);
+        add_junction_sources(purkinje, space.node_positions, initial, comm);
       }
     solver.solve(initial);
-    eikonal_times      = solver.owned_times();
-    eikonal_statistics = solver.statistics();
+    eikonal.times      = solver.owned_times();
+    eikonal.statistics = solver.statistics();
 
     // The reaction-eikonal stimulus: the first stimulus's current, from
     // its latency before each node's eikonal time, in place of the stimuli
@@ -99,27 +99,27 @@ namespace systole::Electrophysiology
     if (params.model == Parameters::Model::reaction_eikonal)
       {
         const Stimulus &first = params.stimuli.front();
-        eikonal_duration      = first.duration;
-        eikonal_rate          = first.amplitude * stimulus_scale;
+        eikonal.duration      = first.duration;
+        eikonal.rate          = first.amplitude * stimulation.scale;
         std::vector<std::pair<double, unsigned int>> onsets;
-        for (unsigned int i = 0; i < n_owned; ++i)
-          if (eikonal_times[i] < infinity)
-            onsets.emplace_back(eikonal_times[i] - latency[0], i);
+        for (unsigned int i = 0; i < space.n_owned; ++i)
+          if (eikonal.times[i] < infinity)
+            onsets.emplace_back(eikonal.times[i] - latency[0], i);
         std::sort(onsets.begin(), onsets.end());
         for (const auto &[onset, i] : onsets)
           {
-            eikonal_onsets.push_back(onset);
-            eikonal_onset_nodes.push_back(i);
+            eikonal.onsets.push_back(onset);
+            eikonal.onset_nodes.push_back(i);
           }
-        eikonal_first_onset =
+        eikonal.first_onset =
           dealii::Utilities::MPI::min(onsets.empty() ? infinity
                                                      : onsets.front().first,
                                       comm);
-        eikonal_last_onset =
+        eikonal.last_onset =
           dealii::Utilities::MPI::max(onsets.empty() ? -infinity
                                                      : onsets.back().first,
                                       comm);
-        for (auto &nodes : stimulus_nodes)
+        for (auto &nodes : stimulation.nodes)
           nodes.clear();
       }
   }
@@ -175,7 +175,7 @@ namespace systole::Electrophysiology
     const Stimulus first = params.stimuli.front();
     grow_purkinje(names, first.start);
     params.stimuli = junction_stimuli(purkinje,
-                                      node_positions,
+                                      space.node_positions,
                                       params.purkinje.junction_radius,
                                       first.duration,
                                       first.amplitude,
@@ -186,10 +186,10 @@ namespace systole::Electrophysiology
   void
   Monodomain::Impl::eikonal_step_stimulus(const double t0, const double t1)
   {
-    eikonal_stimulus.clear();
+    eikonal.stimulus.clear();
     const double period = params.stimulus_period;
     const double h      = t1 - t0;
-    if (!(h > 0) || eikonal_onsets.empty())
+    if (!(h > 0) || eikonal.onsets.empty())
       return;
     // Beats k >= 0 whose windows [onset + k P, onset + k P + duration) can
     // meet [t0, t1].
@@ -198,29 +198,29 @@ namespace systole::Electrophysiology
       {
         k_first =
           std::max(0.0,
-                   std::floor((t0 - eikonal_duration - eikonal_onsets.back()) /
+                   std::floor((t0 - eikonal.duration - eikonal.onsets.back()) /
                               period));
         k_last =
-          std::max(0.0, std::floor((t1 - eikonal_onsets.front()) / period));
+          std::max(0.0, std::floor((t1 - eikonal.onsets.front()) / period));
       }
     for (int k = k_first; k <= k_last; ++k)
       {
         const double shift = k * period;
         // Onsets in (t0 - duration - shift, t1 - shift).
-        const auto begin = std::upper_bound(eikonal_onsets.begin(),
-                                            eikonal_onsets.end(),
-                                            t0 - eikonal_duration - shift);
+        const auto begin = std::upper_bound(eikonal.onsets.begin(),
+                                            eikonal.onsets.end(),
+                                            t0 - eikonal.duration - shift);
         const auto end =
-          std::lower_bound(begin, eikonal_onsets.end(), t1 - shift);
+          std::lower_bound(begin, eikonal.onsets.end(), t1 - shift);
         for (auto it = begin; it != end; ++it)
           {
             const double on = *it + shift;
             const double overlap =
-              std::min(t1, on + eikonal_duration) - std::max(t0, on);
+              std::min(t1, on + eikonal.duration) - std::max(t0, on);
             if (overlap > 0)
-              eikonal_stimulus.emplace_back(
-                eikonal_onset_nodes[it - eikonal_onsets.begin()],
-                eikonal_rate * overlap / h);
+              eikonal.stimulus.emplace_back(
+                eikonal.onset_nodes[it - eikonal.onsets.begin()],
+                eikonal.rate * overlap / h);
           }
       }
   }
@@ -231,17 +231,17 @@ namespace systole::Electrophysiology
   {
     std::vector<double> times;
     if (params.model != Parameters::Model::reaction_eikonal ||
-        !(eikonal_last_onset >= eikonal_first_onset))
+        !(eikonal.last_onset >= eikonal.first_onset))
       return times;
     const double period = params.stimulus_period;
-    const double step   = 0.25 * eikonal_duration;
-    const double span   = eikonal_last_onset + eikonal_duration;
+    const double step   = 0.25 * eikonal.duration;
+    const double span   = eikonal.last_onset + eikonal.duration;
     for (int k = 0;; ++k)
       {
         const double shift = k * period;
-        if (eikonal_first_onset + shift >= t1)
+        if (eikonal.first_onset + shift >= t1)
           break;
-        for (double t = eikonal_first_onset + shift; t < span + shift + step;
+        for (double t = eikonal.first_onset + shift; t < span + shift + step;
              t += step)
           if (t > t0 && t < t1)
             times.push_back(t);
@@ -261,14 +261,14 @@ namespace systole::Electrophysiology
     const double        period   = params.stimulus_period;
     const double        duration = period > 0 ? 0.5 * period : 300;
     const double        nan      = std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> first(n_owned, nan), latest(n_owned, nan);
+    std::vector<double> first(space.n_owned, nan), latest(space.n_owned, nan);
     const LocalWrite    y(state);
     const double        rest = model.resting_potential();
     const double        peak = model.from_mV(20);
-    for (unsigned int i = 0; i < n_owned; ++i)
+    for (unsigned int i = 0; i < space.n_owned; ++i)
       {
-        const double T = eikonal_times[i];
-        double      &v = y.data()[i * n_components];
+        const double T = eikonal.times[i];
+        double      &v = y.data()[i * space.n_components];
         v              = rest;
         if (!(T <= t_end))
           continue;

@@ -42,23 +42,23 @@ namespace systole::Electrophysiology
   void
   Monodomain::Impl::initialize_state()
   {
-    state.reinit(state_owned, comm);
+    state.reinit(space.state_owned, comm);
     LocalWrite          y(state);
-    std::vector<double> rest(n_components);
+    std::vector<double> rest(space.n_components);
     rest[0] = model.resting_potential();
     model.resting_state(rest.data() + 1);
-    for (unsigned int i = 0; i < n_owned; ++i)
-      std::copy(rest.begin(), rest.end(), y.data() + i * n_components);
+    for (unsigned int i = 0; i < space.n_owned; ++i)
+      std::copy(rest.begin(), rest.end(), y.data() + i * space.n_components);
   }
 
 
   void
   Monodomain::Impl::extract_potential(std::vector<double> &v) const
   {
-    v.resize(n_owned);
+    v.resize(space.n_owned);
     const LocalRead y(state);
-    for (unsigned int i = 0; i < n_owned; ++i)
-      v[i] = y.data()[i * n_components];
+    for (unsigned int i = 0; i < space.n_owned; ++i)
+      v[i] = y.data()[i * space.n_components];
   }
 
 
@@ -70,19 +70,19 @@ namespace systole::Electrophysiology
     const LocalRead  y(y_vector);
     const LocalWrite f(f_vector);
     // All owned nodes in one call: the model's batched kernel.
-    model.rhs_batch(n_owned, n_components, y.data(), f.data());
+    model.rhs_batch(space.n_owned, space.n_components, y.data(), f.data());
     // On or off for the whole step (advance() ends steps at the switching
     // times), not by the stage time.
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
-      if (stimulus_on[s])
+      if (stimulation.on[s])
         {
-          const double dv_dt = params.stimuli[s].amplitude * stimulus_scale;
-          for (const unsigned int i : stimulus_nodes[s])
-            f.data()[i * n_components] += dv_dt;
+          const double dv_dt = params.stimuli[s].amplitude * stimulation.scale;
+          for (const unsigned int i : stimulation.nodes[s])
+            f.data()[i * space.n_components] += dv_dt;
         }
     // Reaction-eikonal: the nodal stimulus of this step.
-    for (const auto &[i, dv_dt] : eikonal_stimulus)
-      f.data()[i * n_components] += dv_dt;
+    for (const auto &[i, dv_dt] : eikonal.stimulus)
+      f.data()[i * space.n_components] += dv_dt;
   }
 
 
@@ -97,21 +97,23 @@ namespace systole::Electrophysiology
       }
     {
       const LocalRead  y(y_vector);
-      const LocalWrite v(v_work);
-      for (unsigned int i = 0; i < n_owned; ++i)
-        v.data()[i] = y.data()[i * n_components];
+      const LocalWrite v(matrices.v_work);
+      for (unsigned int i = 0; i < space.n_owned; ++i)
+        v.data()[i] = y.data()[i * space.n_components];
     }
-    stiffness.vmult(Kv_work, v_work);
+    matrices.stiffness.vmult(matrices.Kv_work, matrices.v_work);
     // M^-1 K v, from the last one as the guess (consistent mass).
-    solve_mass(Kv_work, MinvKv_work);
-    const LocalRead  MinvKv(params.consistent_mass ? MinvKv_work : Kv_work);
+    solve_mass(matrices.Kv_work, matrices.MinvKv_work);
+    const LocalRead  MinvKv(params.consistent_mass ? matrices.MinvKv_work
+                                                  : matrices.Kv_work);
     const LocalWrite f(f_vector);
-    for (unsigned int i = 0; i < n_owned; ++i)
+    for (unsigned int i = 0; i < space.n_owned; ++i)
       {
-        double *fi = f.data() + i * n_components;
-        fi[0]      = params.consistent_mass ? -MinvKv.data()[i]
-                                            : -MinvKv.data()[i] / lumped_mass[i];
-        for (unsigned int c = 1; c < n_components; ++c)
+        double *fi = f.data() + i * space.n_components;
+        fi[0]      = params.consistent_mass
+                       ? -MinvKv.data()[i]
+                       : -MinvKv.data()[i] / matrices.lumped_mass[i];
+        for (unsigned int c = 1; c < space.n_components; ++c)
           fi[c] = 0;
       }
   }
@@ -139,7 +141,7 @@ namespace systole::Electrophysiology
     dealii::SolverCG<LA::MPI::Vector> cg(control);
     try
       {
-        cg.solve(mass, x, b, *mass_jacobi);
+        cg.solve(matrices.mass, x, b, *matrices.mass_jacobi);
       }
     catch (const dealii::SolverControl::NoConvergence &e)
       {
@@ -169,12 +171,12 @@ namespace systole::Electrophysiology
     // The model's batched currents, a block of nodes at a time.
     constexpr unsigned int block = 256;
     double                 above[block], below[block];
-    for (unsigned int start = 0; start < n_owned; start += block)
+    for (unsigned int start = 0; start < space.n_owned; start += block)
       {
-        const unsigned int count = std::min(block, n_owned - start);
-        const double      *y0    = y.data() + std::size_t(start) * n_components;
-        model.ionic_current_batch(count, n_components, y0, dv, above);
-        model.ionic_current_batch(count, n_components, y0, -dv, below);
+        const unsigned int count = std::min(block, space.n_owned - start);
+        const double *y0 = y.data() + std::size_t(start) * space.n_components;
+        model.ionic_current_batch(count, space.n_components, y0, dv, above);
+        model.ionic_current_batch(count, space.n_components, y0, -dv, below);
         for (unsigned int i = 0; i < count; ++i)
           rho = std::max(rho, (above[i] - below[i]) / (2 * dv));
       }
@@ -186,7 +188,7 @@ namespace systole::Electrophysiology
   Monodomain::Impl::prepare_stage(const double gamma)
   {
     const auto update = [&](LA::MPI::SparseMatrix &matrix, double &gamma_of) {
-      PetscErrorCode ierr = MatCopy(static_cast<Mat>(stiffness),
+      PetscErrorCode ierr = MatCopy(static_cast<Mat>(matrices.stiffness),
                                     static_cast<Mat>(matrix),
                                     SAME_NONZERO_PATTERN);
       AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
@@ -195,32 +197,34 @@ namespace systole::Electrophysiology
       if (params.consistent_mass)
         ierr = MatAXPY(static_cast<Mat>(matrix),
                        1.0,
-                       static_cast<Mat>(mass),
+                       static_cast<Mat>(matrices.mass),
                        SAME_NONZERO_PATTERN);
       else
-        ierr = MatDiagonalSet(static_cast<Mat>(matrix),
-                              static_cast<const Vec &>(lumped_mass_vector),
-                              ADD_VALUES);
+        ierr =
+          MatDiagonalSet(static_cast<Mat>(matrix),
+                         static_cast<const Vec &>(matrices.lumped_mass_vector),
+                         ADD_VALUES);
       AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
       gamma_of = gamma;
     };
-    if (std::abs(gamma / gamma_stage - 1) > 1e-10)
+    if (std::abs(gamma / matrices.gamma_stage - 1) > 1e-10)
       {
-        update(stage, gamma_stage);
+        update(matrices.stage, matrices.gamma_stage);
         if (params.preconditioner == "Jacobi")
           {
             auto jacobi = std::make_unique<LA::MPI::PreconditionJacobi>();
-            jacobi->initialize(stage);
-            preconditioner = std::move(jacobi);
+            jacobi->initialize(matrices.stage);
+            matrices.preconditioner = std::move(jacobi);
           }
       }
     if (params.preconditioner == "AMG" &&
-        (!preconditioner || std::abs(gamma / gamma_amg - 1) > 0.2))
+        (!matrices.preconditioner ||
+         std::abs(gamma / matrices.gamma_amg - 1) > 0.2))
       {
         // Its own copy of the matrix: the AMG hierarchy is kept while the
         // stage matrix follows small changes of gamma (PETSc would set the
         // preconditioner up again whenever its matrix changes).
-        update(amg_matrix, gamma_amg);
+        update(matrices.amg_matrix, matrices.gamma_amg);
         // BoomerAMG for a 3D, mass-dominated operator: strong threshold 0.5
         // and one level of aggressive coarsening halve the cost of a
         // V-cycle against the defaults (2 CG iterations either way).
@@ -229,8 +233,8 @@ namespace systole::Electrophysiology
         data.strong_threshold                 = 0.5;
         data.aggressive_coarsening_num_levels = 1;
         auto amg = std::make_unique<LA::MPI::PreconditionAMG>();
-        amg->initialize(amg_matrix, data);
-        preconditioner = std::move(amg);
+        amg->initialize(matrices.amg_matrix, data);
+        matrices.preconditioner = std::move(amg);
         ++stats.amg_setups;
       }
   }
@@ -253,17 +257,17 @@ namespace systole::Electrophysiology
 
     {
       const LocalRead  b(b_vector);
-      const LocalWrite rhs(rhs_work);
-      const LocalWrite v(v_work);
-      for (unsigned int i = 0; i < n_owned; ++i)
+      const LocalWrite rhs(matrices.rhs_work);
+      const LocalWrite v(matrices.v_work);
+      for (unsigned int i = 0; i < space.n_owned; ++i)
         {
-          v.data()[i]   = b.data()[i * n_components]; // initial guess
-          rhs.data()[i] = lumped_mass[i] * v.data()[i];
+          v.data()[i]   = b.data()[i * space.n_components]; // initial guess
+          rhs.data()[i] = matrices.lumped_mass[i] * v.data()[i];
         }
     }
     if (params.consistent_mass)
-      mass.vmult(rhs_work, v_work);
-    const double rhs_norm = rhs_work.l2_norm();
+      matrices.mass.vmult(matrices.rhs_work, matrices.v_work);
+    const double rhs_norm = matrices.rhs_work.l2_norm();
     if (rhs_norm > 0)
       {
         dealii::SolverControl             control(1000,
@@ -273,7 +277,10 @@ namespace systole::Electrophysiology
         dealii::SolverCG<LA::MPI::Vector> cg(control);
         try
           {
-            cg.solve(stage, v_work, rhs_work, *preconditioner);
+            cg.solve(matrices.stage,
+                     matrices.v_work,
+                     matrices.rhs_work,
+                     *matrices.preconditioner);
           }
         catch (const dealii::SolverControl::NoConvergence &e)
           {
@@ -288,17 +295,18 @@ namespace systole::Electrophysiology
         stats.linear_iterations += control.last_step();
       }
     else
-      v_work = 0;
+      matrices.v_work = 0;
     ++stats.linear_solves;
 
     const LocalRead  b(b_vector);
-    const LocalRead  v(v_work);
+    const LocalRead  v(matrices.v_work);
     const LocalWrite x(x_vector);
-    for (unsigned int i = 0; i < n_owned; ++i)
+    for (unsigned int i = 0; i < space.n_owned; ++i)
       {
-        x.data()[i * n_components] = v.data()[i];
-        for (unsigned int c = 1; c < n_components; ++c)
-          x.data()[i * n_components + c] = b.data()[i * n_components + c];
+        x.data()[i * space.n_components] = v.data()[i];
+        for (unsigned int c = 1; c < space.n_components; ++c)
+          x.data()[i * space.n_components + c] =
+            b.data()[i * space.n_components + c];
       }
   }
 
@@ -351,7 +359,10 @@ namespace systole::Electrophysiology
       callbacks.after_step =
         [this](const double, const double h, LA::MPI::Vector &y) {
           const LocalWrite values(y);
-          model.advance_gates_batch(h, n_owned, n_components, values.data());
+          model.advance_gates_batch(h,
+                                    space.n_owned,
+                                    space.n_components,
+                                    values.data());
         };
     return std::make_unique<ImexIntegrator>(settings, callbacks, t0, comm);
   }
@@ -362,29 +373,30 @@ namespace systole::Electrophysiology
   {
     {
       const LocalRead  y(state);
-      const LocalWrite V(potential_mV);
-      const LocalWrite first(activation_first);
-      const LocalWrite latest(activation_latest);
-      const LocalWrite calcium(calcium_uM);
-      const LocalWrite field(activation_field);
-      for (unsigned int i = 0; i < n_owned; ++i)
+      const LocalWrite V(outputs.potential_mV);
+      const LocalWrite first(outputs.activation_first);
+      const LocalWrite latest(outputs.activation_latest);
+      const LocalWrite calcium(outputs.calcium_uM);
+      const LocalWrite field(outputs.activation_field);
+      for (unsigned int i = 0; i < space.n_owned; ++i)
         {
-          V.data()[i]      = model.to_mV(y.data()[i * n_components]);
+          V.data()[i]      = model.to_mV(y.data()[i * space.n_components]);
           first.data()[i]  = tracker.first()[i];
           field.data()[i]  = std::isnan(tracker.first()[i]) ? not_activated_time
                                                             : tracker.first()[i];
           latest.data()[i] = tracker.latest()[i];
-          calcium.data()[i] = model.calcium_uM(y.data() + i * n_components + 1);
+          calcium.data()[i] =
+            model.calcium_uM(y.data() + i * space.n_components + 1);
         }
     }
     // deal.II 9.4's PETSc update_ghost_values() does nothing (its ghosted
     // vectors are refreshed by assignment from a non-ghosted one): scatter
     // the owned values written above to the other ranks' ghosts here.
-    for (LA::MPI::Vector *v : {&potential_mV,
-                               &activation_first,
-                               &activation_latest,
-                               &calcium_uM,
-                               &activation_field})
+    for (LA::MPI::Vector *v : {&outputs.potential_mV,
+                               &outputs.activation_first,
+                               &outputs.activation_latest,
+                               &outputs.calcium_uM,
+                               &outputs.activation_field})
       {
         const Vec      vec = static_cast<const Vec &>(*v);
         PetscErrorCode ierr =
@@ -393,11 +405,13 @@ namespace systole::Electrophysiology
         ierr = VecGhostUpdateEnd(vec, INSERT_VALUES, SCATTER_FORWARD);
         AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
       }
-    const unsigned int n_local = n_owned + ghosts.n_elements();
-    output_values.resize(4 * n_local);
+    const unsigned int n_local = space.n_owned + space.ghosts.n_elements();
+    outputs.values.resize(4 * n_local);
     unsigned int c = 0;
-    for (LA::MPI::Vector *v :
-         {&potential_mV, &activation_first, &activation_latest, &calcium_uM})
+    for (LA::MPI::Vector *v : {&outputs.potential_mV,
+                               &outputs.activation_first,
+                               &outputs.activation_latest,
+                               &outputs.calcium_uM})
       {
         const Vec vec   = static_cast<const Vec &>(*v);
         Vec       local = nullptr;
@@ -412,7 +426,7 @@ namespace systole::Electrophysiology
         ierr = VecGetArrayRead(from, &a);
         AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
         for (unsigned int i = 0; i < n_local; ++i)
-          output_values[4 * i + c] = a[i];
+          outputs.values[4 * i + c] = a[i];
         ierr = VecRestoreArrayRead(from, &a);
         AssertThrow(ierr == 0, dealii::ExcPETScError(ierr));
         if (local != nullptr)
@@ -427,14 +441,15 @@ namespace systole::Electrophysiology
   {
     const double middle = 0.5 * (t + t_next);
     for (unsigned int s = 0; s < params.stimuli.size(); ++s)
-      stimulus_on[s] = params.stimuli[s].active(middle, params.stimulus_period);
+      stimulation.on[s] =
+        params.stimuli[s].active(middle, params.stimulus_period);
     if (gate_half_step_pending && model.n_gates() > 0)
       {
         // Before ARKode's first step (it reads the state then).
         const LocalWrite y(state);
         model.advance_gates_batch(0.5 * (t_next - t),
-                                  n_owned,
-                                  n_components,
+                                  space.n_owned,
+                                  space.n_components,
                                   y.data());
       }
     gate_half_step_pending = false;

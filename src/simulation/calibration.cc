@@ -395,7 +395,8 @@ namespace systole
       void
       broadcast(std::vector<double> &v) const;
 
-      /// target_mL from the target (pairs, the Klotz curve, or synthetic).
+      /// targets.volumes_mL from the target (pairs, the Klotz curve, or
+      /// synthetic).
       void
       set_target_volumes();
       void
@@ -456,30 +457,39 @@ namespace systole
       MechanicsModel                        model;
       IO::ResultsFile                       results;
 
-      // Reference = unloaded: the mesh is the image; the unloader moves
-      // the mesh's vertices to the unloaded reference of the current
-      // parameters (and rebuilds model.problem on it: use *model.problem
-      // afresh).
-      std::unique_ptr<ReferenceUnloader> unloader;
-      std::vector<dealii::Point<3>>      image, given;
-      double                             image_volume = 0;
+      /// The target pressures (ascending) and volumes.
+      struct Targets
+      {
+        std::vector<double> pressures_mmHg;
+        unsigned int        n_pressures = 0;
+        std::vector<double> pressures_kPa;
+        std::vector<double> volumes_mL;
+        /// Target = Klotz: the end-diastolic volume and the curve's V0, V30.
+        double klotz_edv = 0, klotz_v0 = 0, klotz_v30 = 0;
+      } targets;
 
-      std::vector<double> p_mmHg; ///< target pressures (ascending)
-      unsigned int        m = 0;
-      std::vector<double> p_kPa;
+      /// Reference = unloaded: the mesh is the image; the unloader moves
+      /// the mesh's vertices to the unloaded reference of the current
+      /// parameters (and rebuilds model.problem on it: use *model.problem
+      /// afresh).
+      struct Unloading
+      {
+        std::unique_ptr<ReferenceUnloader> unloader;
+        std::vector<dealii::Point<3>>      image, given;
+        double                             image_volume = 0;
+        /// The unloadings so far: totals, the last one's reference and
+        /// statistics.
+        UnloadingResult               total;
+        unsigned int                  fixed_point_iterations = 0;
+        std::vector<dealii::Point<3>> last_reference;
+        std::vector<double>           last_reference_stats;
+      } unloading;
+
       /// One inflation per reference (it holds the mechanics built on it);
       /// the counts of the earlier ones.
       std::unique_ptr<Inverse::PassiveInflation> inflation;
       Inverse::InflationCounts                   earlier;
-
-      std::vector<double> target_mL; ///< target volumes
-      double              klotz_edv = 0, klotz_v0 = 0, klotz_v30 = 0;
-      unsigned int        extra_solves = 0;
-
-      UnloadingResult               unloading_total;
-      unsigned int                  fixed_point_iterations = 0;
-      std::vector<dealii::Point<3>> last_reference;
-      std::vector<double>           last_reference_stats;
+      unsigned int                               extra_solves = 0;
 
       std::vector<double> initial_model_mL;
       unsigned int        evaluation = 0;
@@ -506,20 +516,20 @@ namespace systole
     {
       logger.line(model.banner(run));
       set_up_unloading(prm);
-      p_mmHg = cal.pressures_mmHg;
+      targets.pressures_mmHg = cal.pressures_mmHg;
       if (cal.target == "pressure-volume pairs")
         {
-          p_mmHg.clear();
+          targets.pressures_mmHg.clear();
           for (const auto &[p, v] : cal.pairs)
-            p_mmHg.push_back(p);
+            targets.pressures_mmHg.push_back(p);
         }
-      m = p_mmHg.size();
-      for (const double p : p_mmHg)
-        p_kPa.push_back(Units::mmHg_to_kPa(p));
-      inflation =
-        std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+      targets.n_pressures = targets.pressures_mmHg.size();
+      for (const double p : targets.pressures_mmHg)
+        targets.pressures_kPa.push_back(Units::mmHg_to_kPa(p));
+      inflation = std::make_unique<Inverse::PassiveInflation>(
+        inflation_over(targets.pressures_kPa));
       set_target_volumes();
-      last_reference = image;
+      unloading.last_reference = unloading.image;
     }
 
 
@@ -552,10 +562,10 @@ namespace systole
     UnloadingParameters
     CalibrationRun::checked_unloading(const dealii::ParameterHandler &prm) const
     {
-      const UnloadingParameters unloading = UnloadingParameters::parse(prm);
+      const UnloadingParameters checked = UnloadingParameters::parse(prm);
       AssertThrow(!unloaded || cal.target != "Klotz" ||
                     std::abs(cal.klotz_edp_mmHg -
-                             Units::kPa_to_mmHg(unloading.image_pressure)) <=
+                             Units::kPa_to_mmHg(checked.image_pressure)) <=
                       1e-9 * cal.klotz_edp_mmHg,
                   dealii::ExcMessage(
                     section +
@@ -564,9 +574,9 @@ namespace systole
                     "end-diastolic pressure (" +
                     fixed(cal.klotz_edp_mmHg, 3) +
                     " mmHg) must equal Unloading / Image pressure (" +
-                    fixed(Units::kPa_to_mmHg(unloading.image_pressure), 3) +
+                    fixed(Units::kPa_to_mmHg(checked.image_pressure), 3) +
                     " mmHg)."));
-      return unloading;
+      return checked;
     }
 
 
@@ -575,15 +585,15 @@ namespace systole
     {
       if (!unloaded)
         return;
-      unloader = std::make_unique<ReferenceUnloader>(
+      unloading.unloader = std::make_unique<ReferenceUnloader>(
         model,
         run_params,
         Fibres::Parameters::parse(prm, run_params.parameter_directory),
         logger,
         comm);
-      image        = unloader->vertices();
-      given        = image;
-      image_volume = model.problem->cavity_volume();
+      unloading.image        = unloading.unloader->vertices();
+      unloading.given        = unloading.image;
+      unloading.image_volume = model.problem->cavity_volume();
     }
 
 
@@ -626,11 +636,11 @@ namespace systole
     void
     CalibrationRun::set_target_volumes()
     {
-      target_mL.assign(m, 0.0);
-      klotz_edv = cal.klotz_edv_mL;
+      targets.volumes_mL.assign(targets.n_pressures, 0.0);
+      targets.klotz_edv = cal.klotz_edv_mL;
       if (cal.target == "pressure-volume pairs")
-        for (unsigned int j = 0; j < m; ++j)
-          target_mL[j] = cal.pairs[j].second;
+        for (unsigned int j = 0; j < targets.n_pressures; ++j)
+          targets.volumes_mL[j] = cal.pairs[j].second;
       else if (cal.target == "Klotz")
         set_klotz_targets();
       else
@@ -641,50 +651,50 @@ namespace systole
     void
     CalibrationRun::set_klotz_targets()
     {
-      if (klotz_edv == 0 && unloaded)
+      if (targets.klotz_edv == 0 && unloaded)
         {
-          klotz_edv = Units::mm3_to_mL(image_volume);
+          targets.klotz_edv = Units::mm3_to_mL(unloading.image_volume);
           logger.line("Klotz: the image's cavity volume at " +
                       fixed(cal.klotz_edp_mmHg, 2) +
                       " mmHg (its vertices, trilinear cells): " +
-                      fixed(klotz_edv, 3) + " mL");
+                      fixed(targets.klotz_edv, 3) + " mL");
         }
-      else if (klotz_edv == 0)
+      else if (targets.klotz_edv == 0)
         {
           auto own = inflation_over({Units::mmHg_to_kPa(cal.klotz_edp_mmHg)});
           std::vector<double> v = own.volumes(initial, nullptr, 0.0);
           broadcast(v);
-          klotz_edv = Units::mm3_to_mL(v[0]);
+          targets.klotz_edv = Units::mm3_to_mL(v[0]);
           extra_solves += own.counts().forward_solves;
           logger.line("Klotz: the model's own volume at " +
                       fixed(cal.klotz_edp_mmHg, 2) +
                       " mmHg with the "
                       "parameters of the file: " +
-                      fixed(klotz_edv, 3) + " mL");
+                      fixed(targets.klotz_edv, 3) + " mL");
         }
-      const Inverse::KlotzCurve curve(cal.klotz_edp_mmHg, klotz_edv);
-      klotz_v0  = curve.v0_mL();
-      klotz_v30 = curve.v30_mL();
-      for (unsigned int j = 0; j < m; ++j)
-        target_mL[j] = curve.volume_mL(p_mmHg[j]);
+      const Inverse::KlotzCurve curve(cal.klotz_edp_mmHg, targets.klotz_edv);
+      targets.klotz_v0  = curve.v0_mL();
+      targets.klotz_v30 = curve.v30_mL();
+      for (unsigned int j = 0; j < targets.n_pressures; ++j)
+        targets.volumes_mL[j] = curve.volume_mL(targets.pressures_mmHg[j]);
       logger.line("Klotz EDPVR through (" + fixed(cal.klotz_edp_mmHg, 2) +
-                  " mmHg, " + fixed(klotz_edv, 3) +
-                  " mL): V0 = " + fixed(klotz_v0, 3) +
-                  " mL, V30 = " + fixed(klotz_v30, 3) + " mL");
+                  " mmHg, " + fixed(targets.klotz_edv, 3) +
+                  " mL): V0 = " + fixed(targets.klotz_v0, 3) +
+                  " mL, V30 = " + fixed(targets.klotz_v30, 3) + " mL");
     }
 
 
     void
     CalibrationRun::set_synthetic_targets()
     {
-      auto                truth = inflation_over(p_kPa);
+      auto                truth = inflation_over(targets.pressures_kPa);
       std::vector<double> v = truth.volumes(cal.synthetic_values, nullptr, 0.0);
       broadcast(v);
       extra_solves += truth.counts().forward_solves;
       std::mt19937                     rng(cal.noise_seed);
       std::normal_distribution<double> normal(0.0, 1.0);
-      for (unsigned int j = 0; j < m; ++j)
-        target_mL[j] =
+      for (unsigned int j = 0; j < targets.n_pressures; ++j)
+        targets.volumes_mL[j] =
           Units::mm3_to_mL(v[j]) * (1 + cal.synthetic_noise * normal(rng));
       if (!unloaded)
         return;
@@ -692,18 +702,18 @@ namespace systole
       // its inflation with the true values to the image pressure (its
       // vertices), from which the calibration starts.
       law->set(rebuilder.build(cal.synthetic_values));
-      unloader->set_vertices(given);
-      const auto r = unloader->inflate(up.image_pressure);
+      unloading.unloader->set_vertices(unloading.given);
+      const auto r = unloading.unloader->inflate(up.image_pressure);
       extra_solves += r.load_steps;
-      image_volume = model.problem->cavity_volume();
-      const auto u = unloader->displacements();
-      for (unsigned int i = 0; i < image.size(); ++i)
-        image[i] = given[i] + u[i];
+      unloading.image_volume = model.problem->cavity_volume();
+      const auto u           = unloading.unloader->displacements();
+      for (unsigned int i = 0; i < unloading.image.size(); ++i)
+        unloading.image[i] = unloading.given[i] + u[i];
       law->set(rebuilder.build(initial));
       logger.line("Synthetic image: the true reference inflated to " +
                   fixed(Units::kPa_to_mmHg(up.image_pressure), 2) +
-                  " mmHg holds " + fixed(Units::mm3_to_mL(image_volume), 3) +
-                  " mL");
+                  " mmHg holds " +
+                  fixed(Units::mm3_to_mL(unloading.image_volume), 3) + " mL");
     }
 
 
@@ -720,29 +730,28 @@ namespace systole
       UnloadingResult                     &u)
     {
       law->set(rebuilder.build(values));
-      unloader->set_vertices(start);
-      u = unloader->unload(image,
-                           up.image_pressure,
-                           up.tolerance,
-                           up.tolerance,
-                           up.max_iterations,
-                           up.acceleration ==
-                             UnloadingParameters::Acceleration::aitken,
-                           cal.target == "synthetic" ? &given : nullptr,
-                           [&](const UnloadingIteration &it) {
-                             logger.detail()
-                               << "    unloading iteration " << it.iteration
-                               << ": reference "
-                               << Units::mm3_to_mL(it.reference_volume)
-                               << " mL, reload error " << it.reload_error
-                               << " mm" << std::endl;
-                           });
-      fixed_point_iterations += u.iterations;
-      unloading_total.forward_solves += u.forward_solves;
-      unloading_total.totals += u.totals;
-      earlier = counts();
-      inflation =
-        std::make_unique<Inverse::PassiveInflation>(inflation_over(p_kPa));
+      unloading.unloader->set_vertices(start);
+      u = unloading.unloader->unload(
+        unloading.image,
+        up.image_pressure,
+        up.tolerance,
+        up.tolerance,
+        up.max_iterations,
+        up.acceleration == UnloadingParameters::Acceleration::aitken,
+        cal.target == "synthetic" ? &unloading.given : nullptr,
+        [&](const UnloadingIteration &it) {
+          logger.detail() << "    unloading iteration " << it.iteration
+                          << ": reference "
+                          << Units::mm3_to_mL(it.reference_volume)
+                          << " mL, reload error " << it.reload_error << " mm"
+                          << std::endl;
+        });
+      unloading.fixed_point_iterations += u.iterations;
+      unloading.total.forward_solves += u.forward_solves;
+      unloading.total.totals += u.totals;
+      earlier   = counts();
+      inflation = std::make_unique<Inverse::PassiveInflation>(
+        inflation_over(targets.pressures_kPa));
       auto V = inflation->volumes(values, nullptr, 0.0);
       broadcast(V);
       return V;
@@ -755,25 +764,26 @@ namespace systole
                                      std::vector<double>       &stats)
     {
       UnloadingResult u;
-      const auto      V = unload_and_inflate(values, last_reference, u);
-      const std::vector<dealii::Point<3>> reference = unloader->vertices();
-      last_reference                                = reference;
-      unloading_total.last                          = u.last;
-      stats                = {static_cast<double>(u.iterations),
-                              Units::mm3_to_mL(u.last.reference_volume),
-                              u.last.reload_error};
-      last_reference_stats = stats;
+      const auto V = unload_and_inflate(values, unloading.last_reference, u);
+      const std::vector<dealii::Point<3>> reference =
+        unloading.unloader->vertices();
+      unloading.last_reference       = reference;
+      unloading.total.last           = u.last;
+      stats                          = {static_cast<double>(u.iterations),
+                                        Units::mm3_to_mL(u.last.reference_volume),
+                                        u.last.reload_error};
+      unloading.last_reference_stats = stats;
       if (!dV)
         return V;
       const double h = cal.finite_difference_step;
-      dV->assign(m * n, 0.0);
+      dV->assign(targets.n_pressures * n, 0.0);
       for (unsigned int i = 0; i < n; ++i)
         {
           std::vector<double> perturbed = values;
           perturbed[i] *= 1 + h;
           UnloadingResult up_i;
           const auto      Vi = unload_and_inflate(perturbed, reference, up_i);
-          for (unsigned int j = 0; j < m; ++j)
+          for (unsigned int j = 0; j < targets.n_pressures; ++j)
             (*dV)[j * n + i] = (Vi[j] - V[j]) / (h * values[i]);
         }
       // Back to the unperturbed reference (the next evaluation starts
@@ -823,9 +833,9 @@ namespace systole
             broadcast(dV);
         }
       double rss = 0;
-      for (unsigned int j = 0; j < m; ++j)
+      for (unsigned int j = 0; j < targets.n_pressures; ++j)
         {
-          const double target = Units::mL_to_mm3(target_mL[j]);
+          const double target = Units::mL_to_mm3(targets.volumes_mL[j]);
           r[j]                = failed ? 1.0 : V[j] / target - 1;
           rss += r[j] * r[j];
           if (J)
@@ -884,7 +894,7 @@ namespace systole
       // The least-squares problem in the scale factors x (value = x
       // initial).
       Inverse::LeastSquaresProblem ls;
-      ls.n_residuals = m;
+      ls.n_residuals = targets.n_pressures;
       ls.initial.assign(n, 1.0);
       ls.lower    = cal.lower;
       ls.upper    = cal.upper;
@@ -902,7 +912,7 @@ namespace systole
           std::vector<double> values(n);
           for (unsigned int i = 0; i < n; ++i)
             values[i] = fit.x[i] * initial[i];
-          unloaded_volumes(values, nullptr, last_reference_stats);
+          unloaded_volumes(values, nullptr, unloading.last_reference_stats);
         }
       const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -931,9 +941,10 @@ namespace systole
           upper[i]    = cal.upper[i] * initial[i];
           at_bound[i] = fit.at_bound[i] ? 1.0 : 0.0;
         }
-      std::vector<double> fitted_mL(m), residuals = fit.residual;
-      for (unsigned int j = 0; j < m; ++j)
-        fitted_mL[j] = (1 + fit.residual[j]) * target_mL[j];
+      std::vector<double> fitted_mL(targets.n_pressures),
+        residuals = fit.residual;
+      for (unsigned int j = 0; j < targets.n_pressures; ++j)
+        fitted_mL[j] = (1 + fit.residual[j]) * targets.volumes_mL[j];
       if (initial_model_mL.empty())
         initial_model_mL = fitted_mL;
 
@@ -943,9 +954,9 @@ namespace systole
         << evaluation << " inflations, "
         << counts().forward_solves + extra_solves << " forward solves";
       if (unloaded)
-        o << ", " << fixed_point_iterations
+        o << ", " << unloading.fixed_point_iterations
           << " fixed-point iterations of the unloading in "
-          << unloading_total.forward_solves << " unloading inflations";
+          << unloading.total.forward_solves << " unloading inflations";
       o << ", " << fixed(seconds, 1) << " s):\n"
         << "  parameter      initial       fitted    std. dev.   95 % "
            "interval\n";
@@ -957,16 +968,16 @@ namespace systole
           << (fit.at_bound[i] ? " at a bound" : "") << "\n";
       o << "  relative residual norm " << std::scientific
         << std::setprecision(4) << fit.residual_norm
-        << ", sigma^2 = " << fit.sigma2 << " (" << m - n
+        << ", sigma^2 = " << fit.sigma2 << " (" << targets.n_pressures - n
         << " degrees of freedom)\n"
         << std::fixed
         << "  p [mmHg]   target [mL]   fitted [mL]   initial [mL]   error [%]";
-      for (unsigned int j = 0; j < m; ++j)
-        o << "\n  " << std::setw(8) << std::setprecision(2) << p_mmHg[j]
-          << std::setw(14) << std::setprecision(3) << target_mL[j]
-          << std::setw(14) << fitted_mL[j] << std::setw(15)
-          << initial_model_mL[j] << std::setw(12) << std::setprecision(3)
-          << 100 * fit.residual[j];
+      for (unsigned int j = 0; j < targets.n_pressures; ++j)
+        o << "\n  " << std::setw(8) << std::setprecision(2)
+          << targets.pressures_mmHg[j] << std::setw(14) << std::setprecision(3)
+          << targets.volumes_mL[j] << std::setw(14) << fitted_mL[j]
+          << std::setw(15) << initial_model_mL[j] << std::setw(12)
+          << std::setprecision(3) << 100 * fit.residual[j];
       logger.line(o.str());
 
       results.write_table("calibration/parameters",
@@ -980,12 +991,13 @@ namespace systole
                            {"lower_bound", "entry units", lower, {}},
                            {"upper_bound", "entry units", upper, {}},
                            {"at_bound", "-", at_bound, {}}});
-      results.write_table("calibration/edpvr",
-                          {{"pressure_mmHg", "mmHg", p_mmHg, {}},
-                           {"volume_mL", "mL", fitted_mL, {}},
-                           {"target_volume_mL", "mL", target_mL, {}},
-                           {"initial_volume_mL", "mL", initial_model_mL, {}},
-                           {"relative_residual", "-", residuals, {}}});
+      results.write_table(
+        "calibration/edpvr",
+        {{"pressure_mmHg", "mmHg", targets.pressures_mmHg, {}},
+         {"volume_mL", "mL", fitted_mL, {}},
+         {"target_volume_mL", "mL", targets.volumes_mL, {}},
+         {"initial_volume_mL", "mL", initial_model_mL, {}},
+         {"relative_residual", "-", residuals, {}}});
       std::vector<double> covariance(n * n);
       for (unsigned int a = 0; a < n; ++a)
         for (unsigned int b = 0; b < n; ++b)
@@ -998,7 +1010,10 @@ namespace systole
         {"converged", "-", {fit.converged ? 1.0 : 0.0}, {}},
         {"residual_norm", "-", {fit.residual_norm}, {}},
         {"sigma2", "-", {fit.sigma2}, {}},
-        {"degrees_of_freedom", "-", {static_cast<double>(m - n)}, {}},
+        {"degrees_of_freedom",
+         "-",
+         {static_cast<double>(targets.n_pressures - n)},
+         {}},
         {"t_quantile", "-", {fit.t_quantile}, {}},
         {"tao_iterations", "-", {static_cast<double>(tao_iterations)}, {}},
         {"evaluations", "-", {static_cast<double>(evaluation)}, {}},
@@ -1008,9 +1023,9 @@ namespace systole
         fit_columns.insert(
           fit_columns.end(),
           {{"klotz_edp_mmHg", "mmHg", {cal.klotz_edp_mmHg}, {}},
-           {"klotz_edv_mL", "mL", {klotz_edv}, {}},
-           {"klotz_v0_mL", "mL", {klotz_v0}, {}},
-           {"klotz_v30_mL", "mL", {klotz_v30}, {}}});
+           {"klotz_edv_mL", "mL", {targets.klotz_edv}, {}},
+           {"klotz_v0_mL", "mL", {targets.klotz_v0}, {}},
+           {"klotz_v30_mL", "mL", {targets.klotz_v30}, {}}});
       results.write_table("calibration/fit", fit_columns);
 
       // Reference = unloaded: the unloaded mesh of the fitted values.
@@ -1084,30 +1099,32 @@ namespace systole
          {"calibration_seconds", "s", seconds}});
       if (unloaded)
         {
-          unloader->add_earlier_timings(statistics);
+          unloading.unloader->add_earlier_timings(statistics);
           statistics.insert(
             statistics.end(),
             {{"fixed_point_iterations",
               "-",
-              static_cast<double>(fixed_point_iterations)},
+              static_cast<double>(unloading.fixed_point_iterations)},
              {"unloading_inflations",
               "-",
-              static_cast<double>(unloading_total.forward_solves)},
+              static_cast<double>(unloading.total.forward_solves)},
              {"unloading_load_steps",
               "-",
-              static_cast<double>(unloading_total.totals.load_steps)},
+              static_cast<double>(unloading.total.totals.load_steps)},
              {"unloading_newton_iterations",
               "-",
-              static_cast<double>(unloading_total.totals.newton)},
-             {"reload_max_error_mm", "mm", unloading_total.last.reload_error},
+              static_cast<double>(unloading.total.totals.newton)},
+             {"reload_max_error_mm", "mm", unloading.total.last.reload_error},
              {"unloaded_volume_mL",
               "mL",
-              Units::mm3_to_mL(unloading_total.last.reference_volume)},
-             {"image_volume_mL", "mL", Units::mm3_to_mL(image_volume)}});
+              Units::mm3_to_mL(unloading.total.last.reference_volume)},
+             {"image_volume_mL",
+              "mL",
+              Units::mm3_to_mL(unloading.image_volume)}});
           if (cal.target == "synthetic")
             statistics.push_back({"reference_max_error_mm",
                                   "mm",
-                                  unloading_total.last.reference_error});
+                                  unloading.total.last.reference_error});
         }
       results.write_statistics(statistics, texts);
     }

@@ -225,13 +225,20 @@ namespace systole
     const Mechanics::Problem                                &problem;
 
     /// Output on the mechanics mesh (set up on first use).
-    unsigned int                                       output_degree;
-    std::unique_ptr<dealii::FiniteElement<3, 3>>       output_fe;
-    std::unique_ptr<dealii::DoFHandler<3>>             output_dofs;
-    std::unique_ptr<PointSet>                          at_nodes;
-    std::vector<dealii::types::global_dof_index>       node_dofs;
-    dealii::LinearAlgebra::distributed::Vector<double> out_potential, out_first,
-      out_latest;
+    struct MechanicsOutput
+    {
+      explicit MechanicsOutput(const unsigned int degree)
+        : degree(degree)
+      {}
+
+      unsigned int                                       degree;
+      std::unique_ptr<dealii::FiniteElement<3, 3>>       fe;
+      std::unique_ptr<dealii::DoFHandler<3>>             dofs;
+      std::unique_ptr<PointSet>                          at_nodes;
+      std::vector<dealii::types::global_dof_index>       node_dofs;
+      dealii::LinearAlgebra::distributed::Vector<double> potential, first,
+        latest;
+    } mech_output;
   };
 
 
@@ -279,7 +286,7 @@ namespace systole
     , tracker(0, params.activation_threshold_mV)
     , mech_tria(mech_tria)
     , problem(problem)
-    , output_degree(run.polynomial_degree)
+    , mech_output(run.polynomial_degree)
   {
     AssertThrow(!kind.simplex() ||
                   (run.checkpoint_interval == 0 && run.checkpoint_minutes == 0),
@@ -747,55 +754,66 @@ namespace systole
   ElectricalActivation::attach_output(dealii::DataOut<3, 3> &data_out)
   {
     Impl &m = *impl;
-    if (!m.output_dofs)
+    if (!m.mech_output.dofs)
       {
         // A scalar Q(degree) (P(degree) on tetrahedra) field on the
         // mechanics mesh: EP is read at the support points of the locally
         // owned nodes.
-        m.output_fe = Geometry::CellKind(m.mech_tria).lagrange(m.output_degree);
-        m.output_dofs = std::make_unique<dealii::DoFHandler<3>>(m.mech_tria);
-        m.output_dofs->distribute_dofs(*m.output_fe);
-        const auto       owned = m.output_dofs->locally_owned_dofs();
+        m.mech_output.fe =
+          Geometry::CellKind(m.mech_tria).lagrange(m.mech_output.degree);
+        m.mech_output.dofs =
+          std::make_unique<dealii::DoFHandler<3>>(m.mech_tria);
+        m.mech_output.dofs->distribute_dofs(*m.mech_output.fe);
+        const auto       owned = m.mech_output.dofs->locally_owned_dofs();
         dealii::IndexSet relevant;
-        dealii::DoFTools::extract_locally_relevant_dofs(*m.output_dofs,
+        dealii::DoFTools::extract_locally_relevant_dofs(*m.mech_output.dofs,
                                                         relevant);
-        for (auto *v : {&m.out_potential, &m.out_first, &m.out_latest})
+        for (auto *v : {&m.mech_output.potential,
+                        &m.mech_output.first,
+                        &m.mech_output.latest})
           v->reinit(owned, relevant, m.comm);
         std::map<dealii::types::global_dof_index, dealii::Point<3>> support;
         dealii::DoFTools::map_dofs_to_support_points(m.problem.mapping(),
-                                                     *m.output_dofs,
+                                                     *m.mech_output.dofs,
                                                      support);
         std::vector<dealii::Point<3>> points;
         for (const auto &[dof, point] : support)
           if (owned.is_element(dof))
             {
-              m.node_dofs.push_back(dof);
+              m.mech_output.node_dofs.push_back(dof);
               points.push_back(point);
             }
-        m.at_nodes = std::make_unique<PointSet>();
-        m.at_nodes->reinit(points, *m.mesh.tria, *m.mapping, m.kind.simplex());
-        require_all_found(*m.at_nodes, "output nodes", m.comm);
+        m.mech_output.at_nodes = std::make_unique<PointSet>();
+        m.mech_output.at_nodes->reinit(points,
+                                       *m.mesh.tria,
+                                       *m.mapping,
+                                       m.kind.simplex());
+        require_all_found(*m.mech_output.at_nodes, "output nodes", m.comm);
       }
-    const auto values = m.evaluate(*m.at_nodes);
-    for (unsigned int i = 0; i < m.node_dofs.size(); ++i)
+    const auto values = m.evaluate(*m.mech_output.at_nodes);
+    for (unsigned int i = 0; i < m.mech_output.node_dofs.size(); ++i)
       {
-        m.out_potential[m.node_dofs[i]] = values[i][0];
+        m.mech_output.potential[m.mech_output.node_dofs[i]] = values[i][0];
         // (A finite "not activated": NaN would spread through DataOut.)
-        m.out_first[m.node_dofs[i]]  = std::isnan(values[i][1])
-                                         ? Electrophysiology::not_activated_time
-                                         : values[i][1];
-        m.out_latest[m.node_dofs[i]] = std::isnan(values[i][2])
-                                         ? Electrophysiology::not_activated_time
-                                         : values[i][2];
+        m.mech_output.first[m.mech_output.node_dofs[i]] =
+          std::isnan(values[i][1]) ? Electrophysiology::not_activated_time
+                                   : values[i][1];
+        m.mech_output.latest[m.mech_output.node_dofs[i]] =
+          std::isnan(values[i][2]) ? Electrophysiology::not_activated_time
+                                   : values[i][2];
       }
-    for (auto *v : {&m.out_potential, &m.out_first, &m.out_latest})
+    for (auto *v : {&m.mech_output.potential,
+                    &m.mech_output.first,
+                    &m.mech_output.latest})
       v->update_ghost_values();
-    data_out.add_data_vector(*m.output_dofs,
-                             m.out_potential,
+    data_out.add_data_vector(*m.mech_output.dofs,
+                             m.mech_output.potential,
                              "transmembrane_potential");
-    data_out.add_data_vector(*m.output_dofs, m.out_first, "activation_time");
-    data_out.add_data_vector(*m.output_dofs,
-                             m.out_latest,
+    data_out.add_data_vector(*m.mech_output.dofs,
+                             m.mech_output.first,
+                             "activation_time");
+    data_out.add_data_vector(*m.mech_output.dofs,
+                             m.mech_output.latest,
                              "latest_activation_time");
   }
 

@@ -59,12 +59,12 @@ namespace systole
 
     /// The end of the next attempt: the step size (below the cap after a
     /// failure), clipped to the next breakpoint, beat end and known event
-    /// bracket. Sets t_new and h_try.
+    /// bracket. Sets attempt.t_new and attempt.h_try.
     void
     next_end_time();
 
-    /// One coupled solve to t_new from the last accepted state: false if
-    /// the mechanics or the 0D step failed (the ventricles are back at the
+    /// One coupled solve to attempt.t_new from the last accepted state: false
+    /// if the mechanics or the 0D step failed (the ventricles are back at the
     /// accepted state then).
     bool
     solve_coupled();
@@ -75,8 +75,8 @@ namespace systole
     cut_after_failure();
 
     /// Whether a valve indicator changed sign more than the event tolerance
-    /// before t_new: then the attempt is rejected and the next one aims just
-    /// after the crossing.
+    /// before attempt.t_new: then the attempt is rejected and the next one aims
+    /// just after the crossing.
     bool
     redo_for_valve_event();
 
@@ -141,25 +141,30 @@ namespace systole
     Statistics                      stats;
     unsigned int                    beat = 0, step_index = 0;
     double                          last_step = 0;
-    // Counters of the step being attempted.
-    unsigned int step_iterations = 0, step_solves = 0, step_rejected = 0;
-    unsigned int step_order = 1;
-    // The attempt: its end, size, the valve indicators and error ratio there,
-    // the next step size, the known bracket of a crossing, the cap after a
+    /// The step being attempted (not saved: checkpoints are written
+    /// between steps).
+    struct Attempt
+    {
+      // Its counters.
+      unsigned int step_iterations = 0, step_solves = 0, step_rejected = 0;
+      unsigned int step_order = 1;
+      // Its end, size, the next breakpoint, the error ratio and the valve
+      // indicators there.
+      double t_new = 0, h_try = 0, breakpoint = 0, ratio = 1;
+      Vector g;
+      /// The end of the last rejected attempt from the accepted state
+      /// (infinity after an accepted step): a redo ends before it.
+      double rejected_end = std::numeric_limits<double>::infinity();
+      /// The displacement predictor's error of the last converged solve
+      /// [mm] (set by every solve before the accept() that uses it).
+      double predictor_error = 0;
+    } attempt;
+    // The next step size, the known bracket of a crossing, the cap after a
     // failure, and the failures in a row.
-    double       t_new = 0, h_try = 0, breakpoint = 0, ratio = 1;
-    Vector       g;
     double       h     = 0;
     double       upper = std::numeric_limits<double>::infinity();
     double       cap   = std::numeric_limits<double>::infinity();
     unsigned int cuts  = 0;
-    /// The end of the last rejected attempt from the accepted state
-    /// (infinity after an accepted step; not saved: checkpoints are written
-    /// between steps): a redo ends before it.
-    double rejected_end = std::numeric_limits<double>::infinity();
-    /// The displacement predictor's error of the last converged solve [mm]
-    /// (set by every solve before the accept() that uses it: not saved).
-    double predictor_error = 0;
   };
 
 
@@ -170,41 +175,41 @@ namespace systole
     const double period   = settings.period;
     const double beat_end = (beat + 1) * period;
     // The next breakpoint after t (the steps end there).
-    breakpoint = beat_end;
+    attempt.breakpoint = beat_end;
     for (const double b : breakpoints)
       if (beat * period + b > t + settings.min_step)
-        breakpoint = std::min(breakpoint, beat * period + b);
-    t_new = std::min({t + std::min(h, cap), breakpoint, upper});
-    if (breakpoint - t_new < settings.min_step)
-      t_new = breakpoint; // no sliver before a breakpoint
+        attempt.breakpoint = std::min(attempt.breakpoint, beat * period + b);
+    attempt.t_new = std::min({t + std::min(h, cap), attempt.breakpoint, upper});
+    if (attempt.breakpoint - attempt.t_new < settings.min_step)
+      attempt.t_new = attempt.breakpoint; // no sliver before a breakpoint
     // A redo is shorter than the attempt it replaces. (The rule above, or
     // the minimum step, could otherwise give the rejected attempt again, and
     // the stepper would repeat it without end.)
-    if (t_new >= rejected_end)
-      t_new = t + 0.5 * (rejected_end - t);
-    h_try      = t_new - t;
-    step_order = bdf.order();
+    if (attempt.t_new >= attempt.rejected_end)
+      attempt.t_new = t + 0.5 * (attempt.rejected_end - t);
+    attempt.h_try      = attempt.t_new - t;
+    attempt.step_order = bdf.order();
   }
 
 
   bool
   HeartbeatStepper::Impl::solve_coupled()
   {
-    bdf.begin(t_new);
-    ventricles.set_time(t_new);
-    ventricles.predict(last_step > 0 ? h_try / last_step : 0);
+    bdf.begin(attempt.t_new);
+    ventricles.set_time(attempt.t_new);
+    ventricles.predict(last_step > 0 ? attempt.h_try / last_step : 0);
     Vector                   p = bdf.predicted_pressures();
     const CavityVolumeTarget target =
       [this](const Vector &p, Vector &W, dealii::FullMatrix<double> &dW_dp) {
         bdf.solve(p, W, dW_dp);
       };
-    ++step_solves;
+    ++attempt.step_solves;
     ++stats.n_solves;
     try
       {
-        const unsigned int its = ventricles.solve(target, p);
-        predictor_error        = ventricles.predictor_error();
-        step_iterations += its;
+        const unsigned int its  = ventricles.solve(target, p);
+        attempt.predictor_error = ventricles.predictor_error();
+        attempt.step_iterations += its;
         stats.n_newton_iterations += its;
         // The 0D state of the converged pressures (the last target
         // evaluation of the solve may have been at another iterate).
@@ -224,7 +229,10 @@ namespace systole
         last_failure = one_line_message(e);
         return false;
       }
-    model.valve_indicators(t_new, bdf.solution(), bdf.solution_pressures(), g);
+    model.valve_indicators(attempt.t_new,
+                           bdf.solution(),
+                           bdf.solution_pressures(),
+                           attempt.g);
     return true;
   }
 
@@ -233,9 +241,9 @@ namespace systole
   HeartbeatStepper::Impl::cut_after_failure()
   {
     ++stats.n_failures;
-    ++step_rejected;
+    ++attempt.step_rejected;
     ++cuts;
-    if (cuts > settings.max_step_cuts || h_try <= settings.min_step)
+    if (cuts > settings.max_step_cuts || attempt.h_try <= settings.min_step)
       {
         // Where it stopped: time, beat, each cavity's phase, and the last
         // failure (the mechanics' residuals per block).
@@ -246,31 +254,33 @@ namespace systole
           o << (c == 0 ? " " : ", ") << model.cavities()[c].name << " "
             << Circulation::name(phases->phase(c));
         o << ") failed " << cuts
-          << " times in a row, the last time with a step of " << h_try
+          << " times in a row, the last time with a step of " << attempt.h_try
           << " ms (the smallest is " << settings.min_step
           << " ms): " << last_failure
           << " See the Newton log (Output / Solver log = on).";
         throw ExcStepFailed(o.str(), step_index - 1);
       }
-    rejected_end = t_new;
-    h            = 0.5 * h_try;
-    cap          = 0.75 * h_try;
+    attempt.rejected_end = attempt.t_new;
+    h                    = 0.5 * attempt.h_try;
+    cap                  = 0.75 * attempt.h_try;
   }
 
 
   bool
   HeartbeatStepper::Impl::redo_for_valve_event()
   {
-    const double theta = crossing(g);
-    if (theta <= 1 && (1 - theta) * h_try > settings.event_time_tolerance)
+    const double theta = crossing(attempt.g);
+    if (theta <= 1 &&
+        (1 - theta) * attempt.h_try > settings.event_time_tolerance)
       {
         ventricles.reject();
         ++stats.n_event_rejections;
-        ++step_rejected;
-        upper        = t_new;
-        rejected_end = t_new;
-        h = std::max(theta * h_try + 0.5 * settings.event_time_tolerance,
-                     settings.min_step);
+        ++attempt.step_rejected;
+        upper                = attempt.t_new;
+        attempt.rejected_end = attempt.t_new;
+        h =
+          std::max(theta * attempt.h_try + 0.5 * settings.event_time_tolerance,
+                   settings.min_step);
         return true;
       }
     return false;
@@ -280,15 +290,15 @@ namespace systole
   bool
   HeartbeatStepper::Impl::redo_for_error()
   {
-    const auto e = bdf.error_norms();
-    ratio        = bdf.step_ratio();
-    if (std::max(e[0], e[1]) > 1 && h_try > settings.min_step)
+    const auto e  = bdf.error_norms();
+    attempt.ratio = bdf.step_ratio();
+    if (std::max(e[0], e[1]) > 1 && attempt.h_try > settings.min_step)
       {
         ventricles.reject();
         ++stats.n_error_rejections;
-        ++step_rejected;
-        rejected_end = t_new;
-        h            = std::max(ratio * h_try, settings.min_step);
+        ++attempt.step_rejected;
+        attempt.rejected_end = attempt.t_new;
+        h = std::max(attempt.ratio * attempt.h_try, settings.min_step);
         return true;
       }
     return false;
@@ -300,18 +310,18 @@ namespace systole
   {
     bdf.accept();
     ventricles.accept();
-    last_step    = h_try;
-    cuts         = 0;
-    rejected_end = std::numeric_limits<double>::infinity();
+    last_step            = attempt.h_try;
+    cuts                 = 0;
+    attempt.rejected_end = std::numeric_limits<double>::infinity();
     ++stats.n_steps;
     std::vector<unsigned int> switched;
-    for (unsigned int v = 0; v < g.size(); ++v)
-      if ((g[v] > 0) != open[v])
+    for (unsigned int v = 0; v < attempt.g.size(); ++v)
+      if ((attempt.g[v] > 0) != open[v])
         {
-          open[v] = g[v] > 0;
+          open[v] = attempt.g[v] > 0;
           switched.push_back(v);
         }
-    indicators = g;
+    indicators = attempt.g;
     if (!switched.empty())
       {
         phases->update(open);
@@ -320,16 +330,18 @@ namespace systole
         h     = settings.initial_step;
         upper = std::numeric_limits<double>::infinity();
       }
-    else if (t_new == breakpoint && t_new < (beat + 1) * settings.period)
+    else if (attempt.t_new == attempt.breakpoint &&
+             attempt.t_new < (beat + 1) * settings.period)
       h = settings.initial_step;
     else
-      h = std::clamp(std::min(ratio, displacement_ratio()) * h_try,
+      h = std::clamp(std::min(attempt.ratio, displacement_ratio()) *
+                       attempt.h_try,
                      settings.min_step,
                      settings.max_step);
-    if (upper <= t_new)
+    if (upper <= attempt.t_new)
       upper = std::numeric_limits<double>::infinity();
     cap *= 1.1;
-    stats.end_time = t_new;
+    stats.end_time = attempt.t_new;
     return switched;
   }
 
@@ -360,7 +372,7 @@ namespace systole
     // The secant predictor misses by O(h^2): the step whose miss is
     // expected at 0.9 of the tolerance, growing at most twofold.
     const double tolerance = settings.displacement_tolerance;
-    const double error     = predictor_error;
+    const double error     = attempt.predictor_error;
     if (!(tolerance > 0.0 && error > 0.0))
       return 2.0;
     return std::clamp(0.9 * std::sqrt(tolerance / error), 0.2, 2.0);
@@ -398,10 +410,10 @@ namespace systole
                     bdf.state(),
                     bdf.pressures(),
                     phase_list,
-                    step_iterations,
-                    step_solves,
-                    step_rejected,
-                    step_order};
+                    attempt.step_iterations,
+                    attempt.step_solves,
+                    attempt.step_rejected,
+                    attempt.step_order};
     Vector     outputs;
     model.evaluate_outputs(bdf.time(), bdf.state(), bdf.pressures(), outputs);
     recorder.add(bdf.time(), bdf.state(), bdf.pressures(), outputs);
@@ -416,7 +428,7 @@ namespace systole
         observer.on_event(v, open[v], step);
       }
     ++step_index;
-    step_iterations = step_solves = step_rejected = 0;
+    attempt.step_iterations = attempt.step_solves = attempt.step_rejected = 0;
   }
 
 
@@ -460,7 +472,7 @@ namespace systole
           continue;
         const auto switched = m.accept(); // valves, phases, next step size
         m.record(observer, switched);     // time series, events
-        if (m.t_new == (m.beat + 1) * s.period && m.end_beat(observer))
+        if (m.attempt.t_new == (m.beat + 1) * s.period && m.end_beat(observer))
           break;
         observer.on_step_complete(m.step_index - 1);
         if (observer.stop_requested())

@@ -58,10 +58,10 @@ namespace systole
   HeartbeatWriter::on_step(const HeartbeatStepper::Step &s)
   {
     const auto timed = timer_section(timer, "Heartbeat / output");
-    total_iterations += s.newton_iterations;
-    total_solves += s.mechanics_solves;
-    total_rejected += s.rejected;
-    ++steps_in_beat;
+    rows.total_iterations += s.newton_iterations;
+    rows.total_solves += s.mechanics_solves;
+    rows.total_rejected += s.rejected;
+    ++rows.steps_in_beat;
     std::vector<IO::Column> row = {{"step", "-", static_cast<double>(s.index)},
                                    {"time", "ms", s.time},
                                    {"beat", "-", static_cast<double>(s.beat)},
@@ -103,11 +103,11 @@ namespace systole
     // postprocessors).
     postprocess.step(s.time, s.beat, s.beat * period, volumes[0], row);
     results.append_timeseries(row);
-    last_time = s.time;
+    rows.last_time = s.time;
     if (run.field_output_interval > 0 &&
         s.index % run.field_output_interval == 0)
       write_fields(s.index);
-    last_step = s.index;
+    rows.last_step = s.index;
     progress.update(s.index, s.time, Circulation::name(s.phases[external[0]]));
   }
 
@@ -122,9 +122,9 @@ namespace systole
     // longest attempt, so rejected attempts count too).
     const unsigned long ep_steps = ep->statistics().steps;
     row.push_back(
-      {"ep_steps", "-", static_cast<double>(ep_steps - ep_steps_written)});
+      {"ep_steps", "-", static_cast<double>(ep_steps - rows.ep_steps_written)});
     row.push_back({"activated_fraction", "-", ep->activated_fraction()});
-    ep_steps_written = ep_steps;
+    rows.ep_steps_written = ep_steps;
     if (ep->has_ecg())
       append_ecg_columns(ep->ecg_leads(s.time), row);
   }
@@ -166,10 +166,12 @@ namespace systole
     for (const auto &c : summary)
       row.push_back({c.name, c.unit, c.value});
     row.push_back(
-      {"newton_iterations", "-", static_cast<double>(total_iterations)});
-    row.push_back({"mechanics_solves", "-", static_cast<double>(total_solves)});
-    row.push_back({"steps", "-", static_cast<double>(steps_in_beat)});
-    row.push_back({"rejected_steps", "-", static_cast<double>(total_rejected)});
+      {"newton_iterations", "-", static_cast<double>(rows.total_iterations)});
+    row.push_back(
+      {"mechanics_solves", "-", static_cast<double>(rows.total_solves)});
+    row.push_back({"steps", "-", static_cast<double>(rows.steps_in_beat)});
+    row.push_back(
+      {"rejected_steps", "-", static_cast<double>(rows.total_rejected)});
     // The cost of this beat (wall times on rank 0, the slowest rank's share
     // is similar): the mechanics solves, their assembly and linear solver
     // and cavity volume sections, the electrophysiology.
@@ -180,8 +182,8 @@ namespace systole
                                             "cavity_volume_seconds",
                                             "ep_seconds"};
     for (unsigned int i = 0; i < 5; ++i)
-      row.push_back({names[i], "s", seconds[i] - seconds_written[i]});
-    seconds_written              = seconds;
+      row.push_back({names[i], "s", seconds[i] - rows.seconds_written[i]});
+    rows.seconds_written         = seconds;
     const std::string activation = append_beat_ep_columns(summary, row);
     const auto        times_in_beat =
       ventricles.activation_in_beat(summary_value(summary, "start_time"));
@@ -190,11 +192,12 @@ namespace systole
     std::ostringstream o;
     // Two lines (or one per cavity and one more), so that the last screen
     // of a run fits 100 columns.
-    o << beat_log_line(model, beat, summary) << "\n  " << steps_in_beat
-      << " steps, " << total_solves << " mechanics solves, " << total_iterations
-      << " Newton iterations" << activation;
+    o << beat_log_line(model, beat, summary) << "\n  " << rows.steps_in_beat
+      << " steps, " << rows.total_solves << " mechanics solves, "
+      << rows.total_iterations << " Newton iterations" << activation;
     logger.line(o.str());
-    total_iterations = total_solves = total_rejected = steps_in_beat = 0;
+    rows.total_iterations = rows.total_solves = rows.total_rejected =
+      rows.steps_in_beat                      = 0;
   }
 
 
@@ -213,9 +216,10 @@ namespace systole
     row.push_back({"activation_time_90", "ms", a.fraction_time - start});
     row.push_back({"total_activation_time", "ms", a.total});
     const unsigned long ep_steps = ep->statistics().steps;
-    row.push_back(
-      {"ep_steps", "-", static_cast<double>(ep_steps - ep_steps_in_beats)});
-    ep_steps_in_beats = ep_steps;
+    row.push_back({"ep_steps",
+                   "-",
+                   static_cast<double>(ep_steps - rows.ep_steps_in_beats)});
+    rows.ep_steps_in_beats = ep_steps;
     activation << std::fixed << std::setprecision(1) << ", 90 % active after "
                << a.fraction_time - start << " ms";
     if (ep->has_ecg())
@@ -281,7 +285,7 @@ namespace systole
   {
     auto s = seconds();
     for (unsigned int i = 0; i < 5; ++i)
-      s[i] -= seconds_written[i];
+      s[i] -= rows.seconds_written[i];
     return s;
   }
 
@@ -289,17 +293,17 @@ namespace systole
   void
   HeartbeatWriter::set_beat_seconds(const std::array<double, 5> &so_far)
   {
-    seconds_written = seconds();
+    rows.seconds_written = seconds();
     for (unsigned int i = 0; i < 5; ++i)
-      seconds_written[i] -= so_far[i];
+      rows.seconds_written[i] -= so_far[i];
   }
 
 
   void
   HeartbeatWriter::finish()
   {
-    if (run.field_output_interval > 0 && last_step != last_field_step)
-      write_fields(last_step);
+    if (run.field_output_interval > 0 && rows.last_step != rows.last_field_step)
+      write_fields(rows.last_step);
   }
 
 
@@ -329,7 +333,7 @@ namespace systole
     postprocess.attach_output(data_out);
     data_out.build_patches(problem.mapping(),
                            problem.cell_kind().output_subdivisions(2));
-    results.write_fields(data_out, step, last_time);
-    last_field_step = step;
+    results.write_fields(data_out, step, rows.last_time);
+    rows.last_field_step = step;
   }
 } // namespace systole

@@ -89,9 +89,10 @@ namespace systole
     void
     serialize(Archive &archive)
     {
-      archive &total_iterations &total_solves  &total_rejected;
-      archive &steps_in_beat &ep_steps_written &ep_steps_in_beats;
-      archive &last_time &last_step            &last_field_step;
+      archive &rows.total_iterations &rows.total_solves &rows.total_rejected;
+      archive &rows.steps_in_beat &rows.ep_steps_written &rows
+        .ep_steps_in_beats;
+      archive &rows.last_time &rows.last_step &rows.last_field_step;
     }
 
     /// The wall times of the current beat so far [s] (they are columns of
@@ -138,17 +139,22 @@ namespace systole
     const double              period;
     MPI_Comm                  comm;
     std::vector<unsigned int> external;
-    unsigned int  total_iterations = 0, total_solves = 0, total_rejected = 0;
-    unsigned int  steps_in_beat    = 0;
-    unsigned long ep_steps_written = 0, ep_steps_in_beats = 0;
-    /// Totals at the last summary row: mechanics, assembly, linear solver,
-    /// cavity volume, electrophysiology [s].
-    std::array<double, 5> seconds_written = {{0, 0, 0, 0, 0}};
-    double                last_time       = 0;
-    unsigned int          last_step       = 0;
-    /// Step of the last field output (none: the largest value).
-    unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
-    bool         stop            = false;
+    /// The counters of the rows written (saved in checkpoints but
+    /// seconds_written).
+    struct RowCounters
+    {
+      unsigned int  total_iterations = 0, total_solves = 0, total_rejected = 0;
+      unsigned int  steps_in_beat    = 0;
+      unsigned long ep_steps_written = 0, ep_steps_in_beats = 0;
+      /// Totals at the last summary row: mechanics, assembly, linear
+      /// solver, cavity volume, electrophysiology [s].
+      std::array<double, 5> seconds_written = {{0, 0, 0, 0, 0}};
+      double                last_time       = 0;
+      unsigned int          last_step       = 0;
+      /// Step of the last field output (none: the largest value).
+      unsigned int last_field_step = std::numeric_limits<unsigned int>::max();
+    } rows;
+    bool                                  stop = false;
     std::chrono::steady_clock::time_point last_checkpoint =
       std::chrono::steady_clock::now();
   };
