@@ -42,6 +42,12 @@ namespace systole::Mechanics
     solve();
 
   private:
+    /// After the first factorization of a volume-constrained solve: if the
+    /// tangent at the (predicted) start is indefinite, restart from the last
+    /// accepted state (residual, tangent and factorization there).
+    void
+    restart_if_indefinite();
+
     /// Residual (with_matrix: and tangent and dV/du) at the current u, and
     /// for a bordered solve the volume errors against W(p); false if an
     /// element inverted or the residual is not finite (decided on all ranks
@@ -228,6 +234,10 @@ namespace systole::Mechanics
     double assembly_start, solver_start;
     /// Whether the tangent at the iterate is assembled.
     bool tangent_ready;
+    /// Whether no tangent was factorized yet in this solve (a predicted
+    /// start whose tangent is indefinite is left for the last accepted
+    /// state, see update()).
+    bool first_factorization = true;
     /// The iterate before the last update (the safeguarded update's start).
     LA::MPI::Vector        u_start;
     dealii::Vector<double> pressure_start;
