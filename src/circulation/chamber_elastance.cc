@@ -6,21 +6,11 @@
 #include "circulation/windkessel.h"
 
 #include <cmath>
-#include <sstream>
 
 namespace systole::Circulation
 {
   namespace
   {
-    std::string
-    str(const double x)
-    {
-      std::ostringstream s;
-      s.precision(10);
-      s << x;
-      return s.str();
-    }
-
     constexpr double per_mmHg_per_mL = elastance_from_mmHg_per_mL(1.0);
   } // namespace
 
@@ -53,14 +43,14 @@ namespace systole::Circulation
     const std::string source =
       " Default: reference/physiology.md (Regazzoni et al. 2022).";
     prm.declare_entry("Active elastance",
-                      str(d.active_elastance / per_mmHg_per_mL),
+                      format_value(d.active_elastance / per_mmHg_per_mL),
                       Double(0.0),
                       "E_A of the " + chamber +
                         ": E(t) = E_B + E_A e(t), p = E(t) (V - V_0). Units: "
                         "mmHg/mL (converted to kPa/mm^3)." +
                         source);
     prm.declare_entry("Passive elastance",
-                      str(d.passive_elastance / per_mmHg_per_mL),
+                      format_value(d.passive_elastance / per_mmHg_per_mL),
                       Double(0.0),
                       "E_B of the " + chamber +
                         ", the elastance at rest. Units: mmHg/mL. Must be "
@@ -68,7 +58,7 @@ namespace systole::Circulation
                         source);
     prm.declare_entry(
       "Contraction onset",
-      str(d.contraction_onset),
+      format_value(d.contraction_onset),
       Double(),
       "t_C: time within the beat at which the " + chamber +
         " starts to contract (taken modulo the period, so the activation may "
@@ -78,23 +68,23 @@ namespace systole::Circulation
         "periods." +
         source);
     prm.declare_entry("Contraction duration",
-                      str(d.contraction_duration),
+                      format_value(d.contraction_duration),
                       Double(0.0),
                       "T_C: from the onset to the peak elastance of the " +
                         chamber + " (raised cosine). Units: ms." + source);
     prm.declare_entry("Relaxation duration",
-                      str(d.relaxation_duration),
+                      format_value(d.relaxation_duration),
                       Double(0.0),
                       "T_R: from the peak back to E_B (raised cosine); T_C "
                       "+ T_R must not exceed the period. Units: ms." +
                         source);
     prm.declare_entry("Unloaded volume",
-                      str(Units::mm3_to_mL(d.unloaded_volume)),
+                      format_value(Units::mm3_to_mL(d.unloaded_volume)),
                       Double(0.0),
                       "V_0 of the " + chamber +
                         ", the volume at zero pressure. Units: mL." + source);
     prm.declare_entry("Initial volume",
-                      str(Units::mm3_to_mL(d.initial_volume)),
+                      format_value(Units::mm3_to_mL(d.initial_volume)),
                       Double(0.0),
                       "Volume of the " + chamber + " at time 0. Units: mL." +
                         source);
@@ -123,8 +113,8 @@ namespace systole::Circulation
                           const std::string &rule) {
       AssertThrow(false,
                   dealii::ExcMessage(where + " / " + entry + " = " +
-                                     str(value) + " " + unit + ": " + rule +
-                                     "."));
+                                     format_value(value) + " " + unit + ": " +
+                                     rule + "."));
     };
     if (!(active_elastance >= 0))
       fail("Active elastance",
@@ -151,8 +141,9 @@ namespace systole::Circulation
            relaxation_duration,
            "ms",
            "Contraction duration + Relaxation duration (" +
-             str(contraction_duration + relaxation_duration) +
-             " ms) must not exceed the period (" + str(period) + " ms)");
+             format_value(contraction_duration + relaxation_duration) +
+             " ms) must not exceed the period (" + format_value(period) +
+             " ms)");
     if (!std::isfinite(contraction_onset))
       fail("Contraction onset", contraction_onset, "ms", "must be finite");
     if (!(unloaded_volume >= 0))
@@ -174,7 +165,8 @@ namespace systole::Circulation
   {
     AssertThrow(period > 0,
                 dealii::ExcMessage("ChamberElastance: the period (" +
-                                   str(period) + " ms) must be positive."));
+                                   format_value(period) +
+                                   " ms) must be positive."));
     params.validate("ChamberElastance", period);
   }
 

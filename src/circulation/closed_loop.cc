@@ -4,22 +4,12 @@
 
 #include "base/units.h"
 
-#include <sstream>
 #include <utility>
 
 namespace systole::Circulation
 {
   namespace
   {
-    std::string
-    str(const double x)
-    {
-      std::ostringstream s;
-      s.precision(10);
-      s << x;
-      return s.str();
-    }
-
     const std::string closed_loop_path = "Circulation / Closed loop";
 
     constexpr double       mmHg_s_per_mL  = resistance_from_mmHg_s_per_mL(1.0);
@@ -46,7 +36,7 @@ namespace systole::Circulation
         " Default: reference/physiology.md (Regazzoni et al. 2022).";
       prm.enter_subsection(name);
       prm.declare_entry("Resistance",
-                        str(d.resistance / mmHg_s_per_mL),
+                        format_value(d.resistance / mmHg_s_per_mL),
                         Double(0.0),
                         "R of the " + name + ": L dQ/dt = -R Q - (p_" +
                           downstream +
@@ -54,26 +44,26 @@ namespace systole::Circulation
                           "ms/mm^3)." +
                           source);
       prm.declare_entry("Compliance",
-                        str(d.compliance / mL_per_mmHg),
+                        format_value(d.compliance / mL_per_mmHg),
                         Double(0.0),
                         "C of the " + name +
                           ": C dp/dt = inflow - Q. Units: mL/mmHg (converted "
                           "to mm^3/kPa)." +
                           source);
       prm.declare_entry("Inductance",
-                        str(d.inductance / mmHg_s2_per_mL),
+                        format_value(d.inductance / mmHg_s2_per_mL),
                         Double(0.0),
                         "L (inertance) of the " + name +
                           ". Units: mmHg s^2/mL (converted to kPa "
                           "ms^2/mm^3)." +
                           source);
       prm.declare_entry("Initial pressure",
-                        str(Units::kPa_to_mmHg(d.initial_pressure)),
+                        format_value(Units::kPa_to_mmHg(d.initial_pressure)),
                         Double(),
                         "p of the " + name + " at time 0. Units: mmHg." +
                           source);
       prm.declare_entry("Initial flow",
-                        str(flow_to_mL_per_s(d.initial_flow)),
+                        format_value(flow_to_mL_per_s(d.initial_flow)),
                         Double(),
                         "Q out of the " + name +
                           " at time 0. Units: mL/s (= mm^3/ms)." + source);
@@ -99,13 +89,14 @@ namespace systole::Circulation
     validate_compartment(const ClosedLoop::Compartment &c,
                          const std::string             &name)
     {
-      const auto require_positive =
-        [&](const double value, const char *entry, const std::string &unit) {
-          AssertThrow(value > 0,
-                      dealii::ExcMessage(closed_loop_path + " / " + name +
-                                         " / " + entry + " = " + str(value) +
-                                         " " + unit + ": must be positive."));
-        };
+      const auto require_positive = [&](const double       value,
+                                        const char        *entry,
+                                        const std::string &unit) {
+        AssertThrow(value > 0,
+                    dealii::ExcMessage(closed_loop_path + " / " + name + " / " +
+                                       entry + " = " + format_value(value) +
+                                       " " + unit + ": must be positive."));
+      };
       require_positive(c.resistance / mmHg_s_per_mL, "Resistance", "mmHg s/mL");
       require_positive(c.compliance / mL_per_mmHg, "Compliance", "mL/mmHg");
       require_positive(c.inductance / mmHg_s2_per_mL,
@@ -151,7 +142,7 @@ namespace systole::Circulation
     const Parameters d;
     prm.declare_entry(
       "Open valve resistance",
-      str(d.valve.open_resistance / mmHg_s_per_mL),
+      format_value(d.valve.open_resistance / mmHg_s_per_mL),
       Double(0.0),
       "R_min of the four valves (mitral, aortic, tricuspid, pulmonary), "
       "non-ideal diodes: Q = (p_upstream - p_downstream) / R with R = R_min "
@@ -159,7 +150,7 @@ namespace systole::Circulation
       "s/mL (converted to kPa ms/mm^3). Default: reference/physiology.md.");
     prm.declare_entry(
       "Closed valve resistance",
-      str(d.valve.closed_resistance / mmHg_s_per_mL),
+      format_value(d.valve.closed_resistance / mmHg_s_per_mL),
       Double(0.0),
       "R_max of the four valves (the leak of a closed valve); must exceed "
       "the open valve resistance. Units: mmHg s/mL. Default: "
@@ -218,8 +209,9 @@ namespace systole::Circulation
   ClosedLoop::Parameters::validate() const
   {
     AssertThrow(period > 0,
-                dealii::ExcMessage("Circulation / Period = " + str(period) +
-                                   " ms: must be positive."));
+                dealii::ExcMessage(
+                  "Circulation / Period = " + format_value(period) +
+                  " ms: must be positive."));
     left_atrium.validate(closed_loop_path + " / Left atrium", period);
     right_atrium.validate(closed_loop_path + " / Right atrium", period);
     left_ventricle.validate("Circulation / Left ventricle", period);
@@ -229,16 +221,16 @@ namespace systole::Circulation
     validate_compartment(pulmonary_arteries, compartment_names[2]);
     validate_compartment(pulmonary_veins, compartment_names[3]);
     AssertThrow(valve.open_resistance > 0,
-                dealii::ExcMessage(closed_loop_path +
-                                   " / Open valve resistance = " +
-                                   str(valve.open_resistance / mmHg_s_per_mL) +
-                                   " mmHg s/mL: must be positive."));
+                dealii::ExcMessage(
+                  closed_loop_path + " / Open valve resistance = " +
+                  format_value(valve.open_resistance / mmHg_s_per_mL) +
+                  " mmHg s/mL: must be positive."));
     AssertThrow(valve.closed_resistance > valve.open_resistance,
                 dealii::ExcMessage(
                   closed_loop_path + " / Closed valve resistance = " +
-                  str(valve.closed_resistance / mmHg_s_per_mL) +
+                  format_value(valve.closed_resistance / mmHg_s_per_mL) +
                   " mmHg s/mL: must exceed the open valve resistance (" +
-                  str(valve.open_resistance / mmHg_s_per_mL) + ")."));
+                  format_value(valve.open_resistance / mmHg_s_per_mL) + ")."));
   }
 
   namespace

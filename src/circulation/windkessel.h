@@ -2,6 +2,9 @@
 
 #include "base/units.h"
 
+#include <sstream>
+#include <string>
+
 /// @file
 /// Unit conversions of the 0D circulation (resistances, compliances,
 /// inductances, flows) and the Windkessel constants, internal units (kPa,
@@ -54,6 +57,17 @@ namespace systole::Circulation
   inductance_from_mmHg_s2_per_mL(const double l)
   {
     return l * Units::mmHg * Units::second * Units::second / Units::mL;
+  }
+
+  /// @p x with 10 significant digits: a default of a parameter entry, or a
+  /// value in an error message, in the units of the parameter file.
+  inline std::string
+  format_value(const double x)
+  {
+    std::ostringstream s;
+    s.precision(10);
+    s << x;
+    return s.str();
   }
 
   /// The constants of the Windkessel afterloads of the 0D models

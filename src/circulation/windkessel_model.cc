@@ -5,21 +5,11 @@
 #include "base/units.h"
 #include "circulation/parameters.h"
 
-#include <sstream>
 
 namespace systole::Circulation
 {
   namespace
   {
-    std::string
-    str(const double x)
-    {
-      std::ostringstream s;
-      s.precision(10);
-      s << x;
-      return s.str();
-    }
-
     constexpr double mmHg_s_per_mL  = resistance_from_mmHg_s_per_mL(1.0);
     constexpr double mmHg_s2_per_mL = inductance_from_mmHg_s2_per_mL(1.0);
 
@@ -45,7 +35,7 @@ namespace systole::Circulation
     const Parameters d;
     prm.declare_entry(
       "Closed valve resistance",
-      str(d.aortic_valve.closed_resistance / mmHg_s_per_mL),
+      format_value(d.aortic_valve.closed_resistance / mmHg_s_per_mL),
       Double(0.0),
       "R_max of the mitral and aortic valves of Model = 2-, 3- and 4-element "
       "Windkessel, non-ideal diodes: Q = (p_upstream - p_downstream) / R, "
@@ -56,7 +46,7 @@ namespace systole::Circulation
     prm.enter_subsection("4-element Windkessel");
     prm.declare_entry(
       "Inductance",
-      str(d.inductance / mmHg_s2_per_mL),
+      format_value(d.inductance / mmHg_s2_per_mL),
       Double(0.0),
       "L, the inertance of the blood in series with the characteristic "
       "impedance (Model = 4-element Windkessel; the law of "
@@ -64,7 +54,7 @@ namespace systole::Circulation
       "ms^2/mm^3). Default: the systemic arterial inertance of the closed "
       "loop.");
     prm.declare_entry("Initial flow",
-                      str(flow_to_mL_per_s(d.initial_arterial_flow)),
+                      format_value(flow_to_mL_per_s(d.initial_arterial_flow)),
                       Double(),
                       "Flow through the inductance at time 0. Units: mL/s "
                       "(= mm^3/ms).");
@@ -114,9 +104,10 @@ namespace systole::Circulation
                                       const std::string &entry,
                                       const std::string &unit) {
       AssertThrow(value > 0,
-                  dealii::ExcMessage(
-                    "Circulation / " + entry + " = " + str(value) + " " + unit +
-                    ": must be positive (Model = " + model + ")."));
+                  dealii::ExcMessage("Circulation / " + entry + " = " +
+                                     format_value(value) + " " + unit +
+                                     ": must be positive (Model = " + model +
+                                     ")."));
     };
     require_positive(peripheral_resistance / mmHg_s_per_mL,
                      "Peripheral resistance",
@@ -142,10 +133,10 @@ namespace systole::Circulation
       AssertThrow(v.closed_resistance > v.open_resistance,
                   dealii::ExcMessage(
                     "Circulation / Closed valve resistance = " +
-                    str(v.closed_resistance / mmHg_s_per_mL) +
+                    format_value(v.closed_resistance / mmHg_s_per_mL) +
                     " mmHg s/mL: must exceed the mitral and aortic valve "
                     "resistances (" +
-                    str(v.open_resistance / mmHg_s_per_mL) + ")."));
+                    format_value(v.open_resistance / mmHg_s_per_mL) + ")."));
     left_ventricle.validate("Circulation / Left ventricle", period);
   }
 

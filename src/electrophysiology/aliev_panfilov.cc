@@ -98,17 +98,6 @@ namespace systole::Electrophysiology
     return model_name;
   }
 
-  unsigned int
-  AlievPanfilov::n_states() const
-  {
-    return 1;
-  }
-
-  double
-  AlievPanfilov::resting_potential() const
-  {
-    return 0.0;
-  }
 
   void
   AlievPanfilov::resting_state(double *state) const
@@ -135,17 +124,5 @@ namespace systole::Electrophysiology
       params.epsilon_0 + params.mu_1 * w / (u + params.mu_2);
     rhs[0] =
       epsilon * (-w - params.k * u * (u - params.a - 1.0)) / params.time_unit;
-  }
-
-  double
-  AlievPanfilov::potential_scale_mV() const
-  {
-    return 100.0;
-  }
-
-  double
-  AlievPanfilov::potential_offset_mV() const
-  {
-    return -80.0;
   }
 } // namespace systole::Electrophysiology

@@ -2,7 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
-#include "electrophysiology/ionic_model.h"
+#include "electrophysiology/two_variable_model.h"
 
 namespace systole::Electrophysiology
 {
@@ -14,7 +14,7 @@ namespace systole::Electrophysiology
   ///                       \big(-w - k u (u - a - 1)\big). @f]
   /// So I_ion = (k u (u - a)(u - 1) + u w) / T [1/ms]. Rest: u = w = 0.
   /// One state variable (the recovery variable w).
-  class AlievPanfilov : public IonicModel
+  class AlievPanfilov : public TwoVariableModel
   {
   public:
     /// Subsection "Electrophysiology / Aliev-Panfilov". Defaults:
@@ -49,12 +49,6 @@ namespace systole::Electrophysiology
     std::string
     name() const override;
 
-    unsigned int
-    n_states() const override;
-
-    double
-    resting_potential() const override;
-
     void
     resting_state(double *state) const override;
 
@@ -63,14 +57,6 @@ namespace systole::Electrophysiology
 
     void
     state_rhs(const double u, const double *state, double *rhs) const override;
-
-    /// 100 mV per unit of u.
-    double
-    potential_scale_mV() const override;
-
-    /// -80 mV at u = 0.
-    double
-    potential_offset_mV() const override;
 
   private:
     const Parameters params;

@@ -92,17 +92,6 @@ namespace systole::Electrophysiology
     return model_name;
   }
 
-  unsigned int
-  MitchellSchaeffer::n_states() const
-  {
-    return 1;
-  }
-
-  double
-  MitchellSchaeffer::resting_potential() const
-  {
-    return 0.0;
-  }
 
   void
   MitchellSchaeffer::resting_state(double *state) const
@@ -124,17 +113,5 @@ namespace systole::Electrophysiology
     const double h = state[0];
     rhs[0] =
       v < params.v_gate ? (1.0 - h) / params.tau_open : -h / params.tau_close;
-  }
-
-  double
-  MitchellSchaeffer::potential_scale_mV() const
-  {
-    return 100.0;
-  }
-
-  double
-  MitchellSchaeffer::potential_offset_mV() const
-  {
-    return -80.0;
   }
 } // namespace systole::Electrophysiology

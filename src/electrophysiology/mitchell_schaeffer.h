@@ -2,7 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
-#include "electrophysiology/ionic_model.h"
+#include "electrophysiology/two_variable_model.h"
 
 namespace systole::Electrophysiology
 {
@@ -14,7 +14,7 @@ namespace systole::Electrophysiology
   /// So I_ion = v/τ_out − h v²(1 − v)/τ_in [1/ms]. Rest: v = 0, h = 1. One
   /// state variable (the gate h). Output in mV uses the same convention as
   /// Aliev-Panfilov, V = 100 v − 80 mV (the model itself is normalised).
-  class MitchellSchaeffer : public IonicModel
+  class MitchellSchaeffer : public TwoVariableModel
   {
   public:
     /// Subsection "Electrophysiology / Mitchell-Schaeffer". Defaults:
@@ -47,12 +47,6 @@ namespace systole::Electrophysiology
     std::string
     name() const override;
 
-    unsigned int
-    n_states() const override;
-
-    double
-    resting_potential() const override;
-
     void
     resting_state(double *state) const override;
 
@@ -61,14 +55,6 @@ namespace systole::Electrophysiology
 
     void
     state_rhs(const double v, const double *state, double *rhs) const override;
-
-    /// 100 mV per unit of v.
-    double
-    potential_scale_mV() const override;
-
-    /// -80 mV at v = 0.
-    double
-    potential_offset_mV() const override;
 
   private:
     const Parameters params;

@@ -6,6 +6,7 @@
 #include "fibres/frames.h"
 #include "fibres/laplace_fields.h"
 #include "geometry/mesh.h"
+#include "geometry/point_location.h"
 
 #include <algorithm>
 #include <chrono>
@@ -17,15 +18,6 @@ namespace systole::Fibres
 {
   namespace
   {
-    std::string
-    describe(const dealii::Point<3> &p)
-    {
-      std::ostringstream o;
-      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-        << ")";
-      return o.str();
-    }
-
     double
     dot(const Quaternion &a, const Quaternion &b)
     {
@@ -345,7 +337,8 @@ namespace systole::Fibres
       << fields->n_dofs()
       << " DOFs per solve; CG iterations (0: MUMPS) transmural " << it[epi]
       << ", LV " << it[lv] << ", RV " << it[rv] << ", apicobasal " << it[psi]
-      << "; " << seconds << " s; apex at " << describe(apex) << " mm";
+      << "; " << seconds << " s; apex at " << Geometry::format_point(apex)
+      << " mm";
     if (fields->n_tangled_cells() > 0)
       o << ". WARNING: " << fields->n_tangled_cells()
         << " cell(s) of the mesh have a non-positive Jacobian at a quadrature "
@@ -441,7 +434,8 @@ namespace systole::Fibres
                     dealii::ExcMessage(
                       "Biventricular fibres: the transmural gradient "
                       "vanishes at " +
-                      describe(points[i]) + " (is the wall connected?)."));
+                      Geometry::format_point(points[i]) +
+                      " (is the wall connected?)."));
         // The septal frames, both oriented from the LV into the RV (Bayer):
         // out of the LV cavity and into the RV cavity. Where phi_lv (phi_rv)
         // is flat (the other ventricle's free wall, where its weight is 0),
@@ -499,7 +493,9 @@ namespace systole::Fibres
             b.n = -b.n;
           }
         bases[i] = b;
-        validate(bases[i], describe(points[i]) + " (biventricular generator)");
+        validate(bases[i],
+                 Geometry::format_point(points[i]) +
+                   " (biventricular generator)");
       }
   }
 } // namespace systole::Fibres

@@ -23,6 +23,7 @@
 
 #include "base/linear_algebra.h"
 #include "geometry/cell_kind.h"
+#include "geometry/point_location.h"
 
 #include <array>
 #include <chrono>
@@ -33,25 +34,17 @@
 
 namespace systole::Fibres
 {
+  double
+  seconds_since(const std::chrono::steady_clock::time_point start)
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                         start)
+      .count();
+  }
+
+
   namespace
   {
-    double
-    seconds_since(const std::chrono::steady_clock::time_point start)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                           start)
-        .count();
-    }
-
-    std::string
-    describe(const dealii::Point<3> &p)
-    {
-      std::ostringstream o;
-      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-        << ")";
-      return o.str();
-    }
-
     /// The point of the reference cell @p reference nearest to @p p, for
     /// points a little outside it.
     dealii::Point<3>
@@ -274,7 +267,7 @@ namespace systole::Fibres
     AssertThrow(lattice_values->quadrature_point(best).distance(x) <
                   cell->diameter(),
                 dealii::ExcMessage("Rule-based fibres: the point " +
-                                   describe(x) +
+                                   Geometry::format_point(x) +
                                    " is not inside the cell it was given "
                                    "with."));
     return lattice_values->get_quadrature().point(best);
@@ -346,11 +339,12 @@ namespace systole::Fibres
                       found = 1;
                     }
             AssertThrow(dealii::Utilities::MPI::max(found, m.comm) == 1,
-                        dealii::ExcMessage(
-                          "Rule-based fibres: the " + problem.name +
-                          " problem has a value at " + describe(point) +
-                          ", which is no vertex of the "
-                          "mesh."));
+                        dealii::ExcMessage("Rule-based fibres: the " +
+                                           problem.name +
+                                           " problem has a value at " +
+                                           Geometry::format_point(point) +
+                                           ", which is no vertex of the "
+                                           "mesh."));
           }
         constraints.close();
         LA::MPI::Vector solution;

@@ -4,6 +4,7 @@
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -12,6 +13,11 @@
 
 namespace systole::Fibres
 {
+  /// Wall-clock seconds since @p start (the timings of the fibre generators'
+  /// reports).
+  double
+  seconds_since(const std::chrono::steady_clock::time_point start);
+
   /// One scalar problem -Laplace u = source on the mesh, with Dirichlet values
   /// on some boundary parts (and, optionally, at single mesh vertices) and
   /// zero flux on the others.

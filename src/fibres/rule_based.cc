@@ -6,6 +6,7 @@
 #include "fibres/frames.h"
 #include "fibres/laplace_fields.h"
 #include "geometry/mesh.h"
+#include "geometry/point_location.h"
 
 #include <array>
 #include <chrono>
@@ -15,26 +16,6 @@
 
 namespace systole::Fibres
 {
-  namespace
-  {
-    double
-    seconds_since(const std::chrono::steady_clock::time_point start)
-    {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                           start)
-        .count();
-    }
-
-    std::string
-    describe(const dealii::Point<3> &p)
-    {
-      std::ostringstream o;
-      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-        << ")";
-      return o.str();
-    }
-  } // namespace
-
   std::string
   WallCoordinatesReport::summary() const
   {
@@ -44,8 +25,8 @@ namespace systole::Fibres
                     : std::to_string(iterations) + " CG iterations";
     };
     o << std::fixed << std::setprecision(2) << "Rule-based fibres: " << element
-      << ", " << n_dofs << " DOFs per solve; apex at " << describe(apex)
-      << " mm\n  transmural "
+      << ", " << n_dofs << " DOFs per solve; apex at "
+      << Geometry::format_point(apex) << " mm\n  transmural "
       << solver(transmural_iterations, transmural_direct) << ", "
       << transmural_seconds << " s; apicobasal "
       << solver(apicobasal_iterations, apicobasal_direct) << ", "
@@ -68,9 +49,10 @@ namespace systole::Fibres
     w.apicobasal   = psi.value;
     const double g = phi.gradient.norm();
     AssertThrow(std::isfinite(g) && g > 0,
-                dealii::ExcMessage(
-                  what + ": the transmural gradient vanishes at " +
-                  describe(where) + " (is the wall connected?)."));
+                dealii::ExcMessage(what +
+                                   ": the transmural gradient vanishes at " +
+                                   Geometry::format_point(where) +
+                                   " (is the wall connected?)."));
     w.e_t = phi.gradient / g;
     // The wall-tangent part of grad psi. It vanishes only on the long axis
     // (the apex), where any tangent will do, as in the analytic rule.
@@ -276,7 +258,8 @@ namespace systole::Fibres
     for (unsigned int i = 0; i < points.size(); ++i)
       {
         bases[i] = basis(frames[i]);
-        validate(bases[i], describe(points[i]) + " (rule-based generator)");
+        validate(bases[i],
+                 Geometry::format_point(points[i]) + " (rule-based generator)");
       }
   }
 } // namespace systole::Fibres

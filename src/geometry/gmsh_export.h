@@ -1,14 +1,9 @@
 #pragma once
 
 #include "geometry/boundary_names.h"
+#include "geometry/triangulation_fwd.h"
 
 #include <string>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Geometry
 {

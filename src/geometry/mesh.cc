@@ -17,6 +17,9 @@ namespace systole::Geometry
 {
   namespace
   {
+    using dealii::Patterns::Double;
+    using dealii::Patterns::Integer;
+
     dealii::Point<3>
     parse_point(const std::string &text, const std::string &entry)
     {
@@ -33,8 +36,6 @@ namespace systole::Geometry
     void
     declare_ellipsoid(dealii::ParameterHandler &prm)
     {
-      using dealii::Patterns::Double;
-      using dealii::Patterns::Integer;
       prm.enter_subsection("Ellipsoid");
       {
         prm.declare_entry(
@@ -90,8 +91,6 @@ namespace systole::Geometry
     void
     declare_box(dealii::ParameterHandler &prm)
     {
-      using dealii::Patterns::Double;
-      using dealii::Patterns::Integer;
       prm.enter_subsection("Box");
       {
         prm.declare_entry("Lower corner",
@@ -119,8 +118,6 @@ namespace systole::Geometry
     void
     declare_gmsh(dealii::ParameterHandler &prm)
     {
-      using dealii::Patterns::Double;
-      using dealii::Patterns::Integer;
       prm.enter_subsection("Gmsh");
       {
         prm.declare_entry(
@@ -175,8 +172,6 @@ namespace systole::Geometry
   void
   Parameters::declare(dealii::ParameterHandler &prm)
   {
-    using dealii::Patterns::Double;
-    using dealii::Patterns::Integer;
     prm.enter_subsection("Geometry");
     {
       prm.declare_entry(

@@ -4,14 +4,9 @@
 
 #include "geometry/boundary_names.h"
 #include "geometry/mesh_data.h"
+#include "geometry/triangulation_fwd.h"
 
 #include <string>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Geometry
 {

@@ -9,6 +9,7 @@
 
 #include "geometry/mesh_checks.h"
 #include "geometry/mid_edge_nodes.h"
+#include "geometry/point_location.h"
 #include "geometry/vtk_messages.h"
 
 #include <gmsh.h>
@@ -45,15 +46,6 @@ namespace systole::Geometry
     fail(const std::string &message)
     {
       AssertThrow(false, dealii::ExcMessage(message));
-    }
-
-    std::string
-    format_point(const dealii::Point<3> &p)
-    {
-      std::ostringstream o;
-      o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-        << ")";
-      return o.str();
     }
 
     std::string

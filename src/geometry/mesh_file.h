@@ -6,17 +6,12 @@
 
 #include "geometry/boundary_names.h"
 #include "geometry/mesh_data.h"
+#include "geometry/triangulation_fwd.h"
 
 #include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Geometry
 {

@@ -5,16 +5,11 @@
 #include <deal.II/grid/manifold_lib.h>
 
 #include "geometry/point_less.h"
+#include "geometry/triangulation_fwd.h"
 
 #include <map>
 #include <memory>
 #include <utility>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Geometry
 {

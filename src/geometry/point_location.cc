@@ -9,11 +9,22 @@
 #include "geometry/cell_kind.h"
 
 #include <algorithm>
+#include <iomanip>
 #include <limits>
 #include <numeric>
+#include <sstream>
 
 namespace systole::Geometry
 {
+  std::string
+  format_point(const dealii::Point<3> &p)
+  {
+    std::ostringstream o;
+    o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
+      << ")";
+    return o.str();
+  }
+
   namespace
   {
     using CellIterator = dealii::Triangulation<3, 3>::active_cell_iterator;

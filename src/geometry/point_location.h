@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <map>
+#include <string>
 #include <vector>
 
 namespace dealii
@@ -16,6 +17,10 @@ namespace dealii
 
 namespace systole::Geometry
 {
+  /// "(x, y, z)" with 6 significant digits, for messages and logs.
+  std::string
+  format_point(const dealii::Point<3> &p);
+
   /// A point found in a locally owned cell.
   struct CellPoint
   {

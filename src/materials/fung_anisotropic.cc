@@ -10,19 +10,6 @@ namespace systole::Materials
 {
   namespace
   {
-    void
-    require(const bool        condition,
-            const char       *entry,
-            const double      value,
-            const std::string requirement)
-    {
-      AssertThrow(condition,
-                  dealii::ExcMessage(
-                    std::string("Material / Fung anisotropic / ") + entry +
-                    " = " + dealii::Patterns::Tools::to_string(value) +
-                    " must be " + requirement + "."));
-    }
-
     FungIsotropic::Parameters
     matrix_parameters(const FungAnisotropic::Parameters &p)
     {
@@ -35,10 +22,10 @@ namespace systole::Materials
 
 
   void
-  FungAnisotropic::Parameters::declare(dealii::ParameterHandler &prm)
+  FungAnisotropicParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const FungAnisotropicParameters defaults;
     prm.declare_entry(
       "mu",
       to_string(defaults.mu),
@@ -78,11 +65,11 @@ namespace systole::Materials
   }
 
 
-  FungAnisotropic::Parameters
-  FungAnisotropic::Parameters::parse(const dealii::ParameterHandler &prm)
+  FungAnisotropicParameters
+  FungAnisotropicParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    FungAnisotropicParameters      p;
     p.mu           = prm.get_double(path, "mu");
     p.gamma        = prm.get_double(path, "gamma");
     p.k1           = prm.get_double(path, "k1");
@@ -94,32 +81,28 @@ namespace systole::Materials
 
 
   void
-  FungAnisotropic::Parameters::validate() const
+  FungAnisotropicParameters::validate() const
   {
-    const auto positive = [](const double v) {
-      return std::isfinite(v) && v > 0.0;
-    };
-    const auto non_negative = [](const double v) {
-      return std::isfinite(v) && v >= 0.0;
-    };
-    require(positive(mu), "mu", mu, "> 0; set e.g. 10 kPa");
-    require(positive(gamma), "gamma", gamma, "> 0; set e.g. 1");
-    require(non_negative(k1),
-            "k1",
-            k1,
-            ">= 0; set e.g. 18.472 kPa, or 0 for Fung isotropic");
-    require(positive(k2), "k2", k2, "> 0; set e.g. 16.026");
-    require(non_negative(switch_width),
-            "Tension switch width",
-            switch_width,
-            ">= 0; set e.g. 0.01, or 0 for a hard switch");
+    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
+    require_in_range(Range::positive, law_name, "gamma", gamma, "set e.g. 1");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "k1",
+                     k1,
+                     "set e.g. 18.472 kPa, or 0 for Fung isotropic");
+    require_in_range(Range::positive, law_name, "k2", k2, "set e.g. 16.026");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "Tension switch width",
+                     switch_width,
+                     "set e.g. 0.01, or 0 for a hard switch");
   }
 
 
   FungAnisotropic::FungAnisotropic(const Parameters &parameters)
-    // Validated first, so that a bad mu or gamma is reported under this
-    // law's name rather than by the matrix's constructor.
-    : params((parameters.validate(), parameters))
+    // The base validates first, so that a bad mu or gamma is reported under
+    // this law's name rather than by the matrix's constructor.
+    : PassiveLawWithParameters(parameters)
     , matrix(matrix_parameters(parameters))
   {}
 
@@ -157,16 +140,4 @@ namespace systole::Materials
   }
 
 
-  std::string
-  FungAnisotropic::name() const
-  {
-    return law_name;
-  }
-
-
-  const FungAnisotropic::Parameters &
-  FungAnisotropic::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,16 +1,44 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
 #include "materials/fung_isotropic.h"
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Fung anisotropic".
+  struct FungAnisotropicParameters
+  {
+    static constexpr const char *law_name = "Fung anisotropic";
+
+    double mu    = 10.0;   ///< stress scale of the matrix @f$\mu@f$ [kPa], > 0
+    double gamma = 1.0;    ///< exponent of the matrix @f$\gamma@f$ [-], > 0
+    double k1    = 18.472; ///< fibre stiffness @f$k_1@f$ [kPa], >= 0
+    double k2    = 16.026; ///< fibre exponent @f$k_2@f$ [-], > 0
+    /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
+    double switch_width = 0.01;
+
+    /// Declares "mu", "gamma", "k1", "k2" and "Tension switch width" in the
+    /// current subsection (the factory enters "Material / Fung
+    /// anisotropic" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Fung anisotropic" with the path getters and
+    /// validates.
+    static FungAnisotropicParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Fung anisotropic / <entry>" and
+    /// the fix if a value is out of range.
+    void
+    validate() const;
+  };
+
   /// Transversely isotropic Fung-type law: the isochoric Fung isotropic
   /// matrix (FungIsotropic) plus the exponential fibre term of Holzapfel,
   /// Gasser and Ogden (2000, J. Elasticity 61:1, eq. 2.18, convex in
@@ -39,39 +67,10 @@ namespace systole::Materials
   /// @f$a_f = k_1@f$, @f$b_f = k_2@f$ and no sheet terms the law equals
   /// HolzapfelOgden (the unit tests check both). Requires det F > 0 (throws
   /// ExcNonPositiveVolumeRatio). Uses the fibre direction f0 of the basis.
-  class FungAnisotropic : public PassiveLaw
+  class FungAnisotropic
+    : public PassiveLawWithParameters<FungAnisotropicParameters>
   {
   public:
-    /// Parameters of subsection "Material / Fung anisotropic".
-    struct Parameters
-    {
-      double mu    = 10.0; ///< stress scale of the matrix @f$\mu@f$ [kPa], > 0
-      double gamma = 1.0;  ///< exponent of the matrix @f$\gamma@f$ [-], > 0
-      double k1    = 18.472; ///< fibre stiffness @f$k_1@f$ [kPa], >= 0
-      double k2    = 16.026; ///< fibre exponent @f$k_2@f$ [-], > 0
-      /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
-      double switch_width = 0.01;
-
-      /// Declares "mu", "gamma", "k1", "k2" and "Tension switch width" in the
-      /// current subsection (the factory enters "Material / Fung
-      /// anisotropic" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Fung anisotropic" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Fung anisotropic / <entry>" and
-      /// the fix if a value is out of range.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Fung anisotropic";
-
     /// @param[in] parameters validated on construction.
     explicit FungAnisotropic(const Parameters &parameters);
 
@@ -79,16 +78,7 @@ namespace systole::Materials
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
 
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
   private:
-    const Parameters    params;
     const FungIsotropic matrix; ///< the isotropic part (mu, gamma)
   };
 } // namespace systole::Materials

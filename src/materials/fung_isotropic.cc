@@ -7,10 +7,10 @@
 namespace systole::Materials
 {
   void
-  FungIsotropic::Parameters::declare(dealii::ParameterHandler &prm)
+  FungIsotropicParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const FungIsotropicParameters defaults;
     prm.declare_entry(
       "mu",
       to_string(defaults.mu),
@@ -31,11 +31,11 @@ namespace systole::Materials
   }
 
 
-  FungIsotropic::Parameters
-  FungIsotropic::Parameters::parse(const dealii::ParameterHandler &prm)
+  FungIsotropicParameters
+  FungIsotropicParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    FungIsotropicParameters        p;
     p.mu    = prm.get_double(path, "mu");
     p.gamma = prm.get_double(path, "gamma");
     p.validate();
@@ -44,25 +44,15 @@ namespace systole::Materials
 
 
   void
-  FungIsotropic::Parameters::validate() const
+  FungIsotropicParameters::validate() const
   {
-    using dealii::Patterns::Tools::to_string;
-    AssertThrow(std::isfinite(mu) && mu > 0.0,
-                dealii::ExcMessage(
-                  "Material / Fung isotropic / mu = " + to_string(mu) +
-                  " must be > 0; set e.g. 10 kPa."));
-    AssertThrow(std::isfinite(gamma) && gamma > 0.0,
-                dealii::ExcMessage(
-                  "Material / Fung isotropic / gamma = " + to_string(gamma) +
-                  " must be > 0; set e.g. 1 (for gamma = 0 use neo-Hookean "
-                  "with mu = the shear modulus)."));
-  }
-
-
-  FungIsotropic::FungIsotropic(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
+    require_in_range(
+      Range::positive,
+      law_name,
+      "gamma",
+      gamma,
+      "set e.g. 1 (for gamma = 0 use neo-Hookean with mu = the shear modulus)");
   }
 
 
@@ -87,16 +77,5 @@ namespace systole::Materials
                        W_1 * inv.d2I1_bar);
   }
 
-  std::string
-  FungIsotropic::name() const
-  {
-    return law_name;
-  }
 
-
-  const FungIsotropic::Parameters &
-  FungIsotropic::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,15 +1,38 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Fung isotropic".
+  struct FungIsotropicParameters
+  {
+    static constexpr const char *law_name = "Fung isotropic";
+
+    double mu    = 10.0; ///< stress scale @f$\mu@f$ [kPa], > 0
+    double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
+
+    /// Declares "mu" and "gamma" in the current subsection (the factory
+    /// enters "Material / Fung isotropic" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Fung isotropic" with the path getters and
+    /// validates.
+    static FungIsotropicParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Fung isotropic / <entry>" and
+    /// the fix unless mu > 0 and gamma > 0.
+    void
+    validate() const;
+  };
+
   /// Isotropic, isochoric Fung-type exponential law (Fung 1967, Am. J.
   /// Physiol. 213:1532; the isotropic exponential of Demiray 1972, J.
   /// Biomech. 5:309, in the decoupled form of Holzapfel 2000, Nonlinear Solid
@@ -38,52 +61,15 @@ namespace systole::Materials
   /// Zero energy and stress at F = I and under pure dilation; add a
   /// VolumetricLaw for the bulk response. Requires det F > 0 (throws
   /// ExcNonPositiveVolumeRatio). The fibre basis is not used.
-  class FungIsotropic : public PassiveLaw
+  class FungIsotropic : public PassiveLawWithParameters<FungIsotropicParameters>
   {
   public:
-    /// Parameters of subsection "Material / Fung isotropic".
-    struct Parameters
-    {
-      double mu    = 10.0; ///< stress scale @f$\mu@f$ [kPa], > 0
-      double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
-
-      /// Declares "mu" and "gamma" in the current subsection (the factory
-      /// enters "Material / Fung isotropic" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Fung isotropic" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Fung isotropic / <entry>" and
-      /// the fix unless mu > 0 and gamma > 0.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Fung isotropic";
-
-    /// @param[in] parameters validated on construction.
-    explicit FungIsotropic(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress
     /// @f$S = \mu\gamma\, e^{\gamma(\bar I_1 - 3)}\, J^{-2/3}
     /// (I - \frac{I_1}{3} C^{-1})@f$ [kPa] and dS/dE [kPa].
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials

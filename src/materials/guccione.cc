@@ -5,25 +5,11 @@
 
 namespace systole::Materials
 {
-  namespace
-  {
-    void
-    require_positive(const double value, const char *entry, const char *example)
-    {
-      AssertThrow(std::isfinite(value) && value > 0.0,
-                  dealii::ExcMessage(
-                    std::string("Material / Guccione / ") + entry + " = " +
-                    dealii::Patterns::Tools::to_string(value) +
-                    " must be > 0; set a positive value (" + example + ")."));
-    }
-  } // namespace
-
-
   void
-  Guccione::Parameters::declare(dealii::ParameterHandler &prm)
+  GuccioneParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const GuccioneParameters defaults;
     prm.declare_entry(
       "C",
       to_string(defaults.C),
@@ -54,11 +40,11 @@ namespace systole::Materials
   }
 
 
-  Guccione::Parameters
-  Guccione::Parameters::parse(const dealii::ParameterHandler &prm)
+  GuccioneParameters
+  GuccioneParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    GuccioneParameters             p;
     p.C    = prm.get_double(path, "C");
     p.b_f  = prm.get_double(path, "b_f");
     p.b_t  = prm.get_double(path, "b_t");
@@ -69,19 +55,28 @@ namespace systole::Materials
 
 
   void
-  Guccione::Parameters::validate() const
+  GuccioneParameters::validate() const
   {
-    require_positive(C, "C", "e.g. 2 kPa, Land et al. 2015");
-    require_positive(b_f, "b_f", "e.g. 8, Land et al. 2015");
-    require_positive(b_t, "b_t", "e.g. 2, Land et al. 2015");
-    require_positive(b_fs, "b_fs", "e.g. 4, Land et al. 2015");
-  }
-
-
-  Guccione::Guccione(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::positive,
+                     law_name,
+                     "C",
+                     C,
+                     "set e.g. 2 kPa, Land et al. 2015");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_f",
+                     b_f,
+                     "set e.g. 8, Land et al. 2015");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_t",
+                     b_t,
+                     "set e.g. 2, Land et al. 2015");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_fs",
+                     b_fs,
+                     "set e.g. 4, Land et al. 2015");
   }
 
 
@@ -126,16 +121,4 @@ namespace systole::Materials
   }
 
 
-  std::string
-  Guccione::name() const
-  {
-    return law_name;
-  }
-
-
-  const Guccione::Parameters &
-  Guccione::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

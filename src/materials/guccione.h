@@ -1,15 +1,41 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Guccione".
+  /// Defaults: Land et al. 2015, problems 1 and 3.
+  struct GuccioneParameters
+  {
+    static constexpr const char *law_name = "Guccione";
+
+    double C    = 2.0; ///< overall stiffness [kPa], > 0
+    double b_f  = 8.0; ///< fibre exponent weight [-], > 0
+    double b_t  = 2.0; ///< cross-fibre (transverse) weight [-], > 0
+    double b_fs = 4.0; ///< fibre-sheet/fibre-normal shear weight [-], > 0
+
+    /// Declares "C", "b_f", "b_t", "b_fs" in the current subsection (the
+    /// factory enters "Material / Guccione" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Guccione" with deal.II 9.4's path getters and
+    /// validates the values.
+    static GuccioneParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Guccione / <entry>" and the fix
+    /// if a value is out of range.
+    void
+    validate() const;
+  };
+
   /// Transversely isotropic Fung-type law of Guccione et al.
   /// (J. Biomech. Eng. 113:42, 1991; form of Land et al. 2015,
   /// Proc. R. Soc. A 471:20150641, eq. 2.1):
@@ -26,53 +52,13 @@ namespace systole::Materials
   /// above) it gives @f$S = C e^Q H@f$ and
   /// @f$\partial S/\partial E = C e^Q (2 H\otimes H + \partial H/\partial
   /// E)@f$.
-  class Guccione : public PassiveLaw
+  class Guccione : public PassiveLawWithParameters<GuccioneParameters>
   {
   public:
-    /// Parameters of subsection "Material / Guccione".
-    /// Defaults: Land et al. 2015, problems 1 and 3.
-    struct Parameters
-    {
-      double C    = 2.0; ///< overall stiffness [kPa], > 0
-      double b_f  = 8.0; ///< fibre exponent weight [-], > 0
-      double b_t  = 2.0; ///< cross-fibre (transverse) weight [-], > 0
-      double b_fs = 4.0; ///< fibre-sheet/fibre-normal shear weight [-], > 0
-
-      /// Declares "C", "b_f", "b_t", "b_fs" in the current subsection (the
-      /// factory enters "Material / Guccione" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Guccione" with deal.II 9.4's path getters and
-      /// validates the values.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Guccione / <entry>" and the fix
-      /// if a value is out of range.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Guccione";
-
-    /// @param[in] parameters validated on construction.
-    explicit Guccione(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials

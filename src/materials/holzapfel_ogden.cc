@@ -49,18 +49,6 @@ namespace systole::Materials
       return weighted_term(x, a, b, HolzapfelOgden::tension_switch(x, delta));
     }
 
-    void
-    require(const bool        condition,
-            const char       *entry,
-            const double      value,
-            const std::string requirement)
-    {
-      AssertThrow(condition,
-                  dealii::ExcMessage(
-                    std::string("Material / Holzapfel-Ogden / ") + entry +
-                    " = " + dealii::Patterns::Tools::to_string(value) +
-                    " must be " + requirement + "."));
-    }
   } // namespace
 
 
@@ -104,11 +92,11 @@ namespace systole::Materials
 
 
   void
-  HolzapfelOgden::Parameters::declare(dealii::ParameterHandler &prm)
+  HolzapfelOgdenParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
-    const auto       declare_stiffness =
+    const HolzapfelOgdenParameters defaults;
+    const auto                     declare_stiffness =
       [&](const char *entry, const double value, const char *meaning) {
         prm.declare_entry(entry,
                           to_string(value),
@@ -182,11 +170,11 @@ namespace systole::Materials
   }
 
 
-  HolzapfelOgden::Parameters
-  HolzapfelOgden::Parameters::parse(const dealii::ParameterHandler &prm)
+  HolzapfelOgdenParameters
+  HolzapfelOgdenParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    HolzapfelOgdenParameters       p;
     p.a                = prm.get_double(path, "a");
     p.b                = prm.get_double(path, "b");
     p.a_f              = prm.get_double(path, "a_f");
@@ -197,8 +185,8 @@ namespace systole::Materials
     p.b_fs             = prm.get_double(path, "b_fs");
     p.switch_width     = prm.get_double(path, "Tension switch width");
     p.switch_form      = prm.get(path, "Tension switch") == "logistic"
-                           ? Parameters::Switch::logistic
-                           : Parameters::Switch::smootherstep;
+                           ? Switch::logistic
+                           : Switch::smootherstep;
     p.switch_sharpness = prm.get_double(path, "Tension switch sharpness");
     p.validate();
     return p;
@@ -206,46 +194,58 @@ namespace systole::Materials
 
 
   void
-  HolzapfelOgden::Parameters::validate() const
+  HolzapfelOgdenParameters::validate() const
   {
-    const auto positive = [](const double v) {
-      return std::isfinite(v) && v > 0.0;
-    };
-    const auto non_negative = [](const double v) {
-      return std::isfinite(v) && v >= 0.0;
-    };
-    require(positive(a), "a", a, "> 0; set e.g. 0.059 kPa (HO 2009 Table 1)");
-    require(positive(b), "b", b, "> 0; set e.g. 8.023 (HO 2009 Table 1)");
-    require(non_negative(a_f),
-            "a_f",
-            a_f,
-            ">= 0; set e.g. 18.472 kPa (HO 2009 Table 1)");
-    require(positive(b_f), "b_f", b_f, "> 0; set e.g. 16.026 (HO 2009)");
-    require(non_negative(a_s),
-            "a_s",
-            a_s,
-            ">= 0; set e.g. 2.481 kPa, or 0 for transverse isotropy");
-    require(positive(b_s), "b_s", b_s, "> 0; set e.g. 11.120 (HO 2009)");
-    require(non_negative(a_fs),
-            "a_fs",
-            a_fs,
-            ">= 0; set e.g. 0.216 kPa, or 0 for transverse isotropy");
-    require(positive(b_fs), "b_fs", b_fs, "> 0; set e.g. 11.436 (HO 2009)");
-    require(non_negative(switch_width),
-            "Tension switch width",
-            switch_width,
-            ">= 0; set e.g. 0.01, or 0 for a hard switch");
-    require(positive(switch_sharpness),
-            "Tension switch sharpness",
-            switch_sharpness,
-            "> 0; set e.g. 100 (Arostica et al. 2025)");
-  }
-
-
-  HolzapfelOgden::HolzapfelOgden(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::positive,
+                     law_name,
+                     "a",
+                     a,
+                     "set e.g. 0.059 kPa (HO 2009 Table 1)");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b",
+                     b,
+                     "set e.g. 8.023 (HO 2009 Table 1)");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "a_f",
+                     a_f,
+                     "set e.g. 18.472 kPa (HO 2009 Table 1)");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_f",
+                     b_f,
+                     "set e.g. 16.026 (HO 2009)");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "a_s",
+                     a_s,
+                     "set e.g. 2.481 kPa, or 0 for transverse isotropy");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_s",
+                     b_s,
+                     "set e.g. 11.120 (HO 2009)");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "a_fs",
+                     a_fs,
+                     "set e.g. 0.216 kPa, or 0 for transverse isotropy");
+    require_in_range(Range::positive,
+                     law_name,
+                     "b_fs",
+                     b_fs,
+                     "set e.g. 11.436 (HO 2009)");
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "Tension switch width",
+                     switch_width,
+                     "set e.g. 0.01, or 0 for a hard switch");
+    require_in_range(Range::positive,
+                     law_name,
+                     "Tension switch sharpness",
+                     switch_sharpness,
+                     "set e.g. 100 (Arostica et al. 2025)");
   }
 
 
@@ -314,16 +314,4 @@ namespace systole::Materials
   }
 
 
-  std::string
-  HolzapfelOgden::name() const
-  {
-    return law_name;
-  }
-
-
-  const HolzapfelOgden::Parameters &
-  HolzapfelOgden::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,16 +1,58 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <array>
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Holzapfel-Ogden".
+  /// Defaults: Holzapfel and Ogden 2009, Table 1.
+  struct HolzapfelOgdenParameters
+  {
+    static constexpr const char *law_name = "Holzapfel-Ogden";
+
+    double a    = 0.059;  ///< isotropic stiffness [kPa], > 0
+    double b    = 8.023;  ///< isotropic exponent [-], > 0
+    double a_f  = 18.472; ///< fibre stiffness [kPa], >= 0
+    double b_f  = 16.026; ///< fibre exponent [-], > 0
+    double a_s  = 2.481;  ///< sheet stiffness [kPa], >= 0
+    double b_s  = 11.120; ///< sheet exponent [-], > 0
+    double a_fs = 0.216;  ///< fibre-sheet coupling stiffness [kPa], >= 0
+    double b_fs = 11.436; ///< fibre-sheet coupling exponent [-], > 0
+    /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
+    double switch_width = 0.01;
+    /// The form of the tension switch.
+    enum class Switch
+    {
+      smootherstep, ///< C^2 quintic of width switch_width (default)
+      logistic      ///< 1 / (1 + exp(-k (I4 - 1))), k = switch_sharpness
+    };
+    Switch switch_form = Switch::smootherstep;
+    /// sharpness k of the logistic switch [-], > 0
+    double switch_sharpness = 100.0;
+
+    /// Declares "a", "b", "a_f", "b_f", "a_s", "b_s", "a_fs", "b_fs" and
+    /// "Tension switch width" in the current subsection (the factory enters
+    /// "Material / Holzapfel-Ogden" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Holzapfel-Ogden" with the path getters and
+    /// validates.
+    static HolzapfelOgdenParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Holzapfel-Ogden / <entry>" and
+    /// the fix if a value is out of range.
+    void
+    validate() const;
+  };
+
   /// Orthotropic exponential law of Holzapfel and Ogden (Phil. Trans. R. Soc.
   /// A 367:3445, 2009, eq. 5.38), with a smooth tension-only switch:
   /// @f[
@@ -54,68 +96,16 @@ namespace systole::Materials
   /// Transversely isotropic reduction: a_s = a_fs = 0 leaves only the
   /// isotropic and fibre terms (the form "keep a, b, a_f, b_f only" of
   /// physiology.md); b_s and b_fs then have no effect but must stay > 0.
-  class HolzapfelOgden : public PassiveLaw
+  class HolzapfelOgden
+    : public PassiveLawWithParameters<HolzapfelOgdenParameters>
   {
   public:
-    /// Parameters of subsection "Material / Holzapfel-Ogden".
-    /// Defaults: Holzapfel and Ogden 2009, Table 1.
-    struct Parameters
-    {
-      double a    = 0.059;  ///< isotropic stiffness [kPa], > 0
-      double b    = 8.023;  ///< isotropic exponent [-], > 0
-      double a_f  = 18.472; ///< fibre stiffness [kPa], >= 0
-      double b_f  = 16.026; ///< fibre exponent [-], > 0
-      double a_s  = 2.481;  ///< sheet stiffness [kPa], >= 0
-      double b_s  = 11.120; ///< sheet exponent [-], > 0
-      double a_fs = 0.216;  ///< fibre-sheet coupling stiffness [kPa], >= 0
-      double b_fs = 11.436; ///< fibre-sheet coupling exponent [-], > 0
-      /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
-      double switch_width = 0.01;
-      /// The form of the tension switch.
-      enum class Switch
-      {
-        smootherstep, ///< C^2 quintic of width switch_width (default)
-        logistic      ///< 1 / (1 + exp(-k (I4 - 1))), k = switch_sharpness
-      };
-      Switch switch_form = Switch::smootherstep;
-      /// sharpness k of the logistic switch [-], > 0
-      double switch_sharpness = 100.0;
-
-      /// Declares "a", "b", "a_f", "b_f", "a_s", "b_s", "a_fs", "b_fs" and
-      /// "Tension switch width" in the current subsection (the factory enters
-      /// "Material / Holzapfel-Ogden" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Holzapfel-Ogden" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Holzapfel-Ogden / <entry>" and
-      /// the fix if a value is out of range.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Holzapfel-Ogden";
-
-    /// @param[in] parameters validated on construction.
-    explicit HolzapfelOgden(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
     /// Requires det F > 0 (throws ExcNonPositiveVolumeRatio).
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
 
     /// The tension switch @f$w(x)@f$ and its first two derivatives at
     /// @f$x = I_4 - 1@f$ [-] for width @p delta [-] (see the class
@@ -139,8 +129,5 @@ namespace systole::Materials
                          const double a,
                          const double b,
                          const double delta);
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials

@@ -7,10 +7,10 @@
 namespace systole::Materials
 {
   void
-  MooneyRivlin::Parameters::declare(dealii::ParameterHandler &prm)
+  MooneyRivlinParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const MooneyRivlinParameters defaults;
     prm.declare_entry(
       "c1",
       to_string(defaults.c1),
@@ -28,11 +28,11 @@ namespace systole::Materials
   }
 
 
-  MooneyRivlin::Parameters
-  MooneyRivlin::Parameters::parse(const dealii::ParameterHandler &prm)
+  MooneyRivlinParameters
+  MooneyRivlinParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    MooneyRivlinParameters         p;
     p.c1 = prm.get_double(path, "c1");
     p.c2 = prm.get_double(path, "c2");
     p.validate();
@@ -41,28 +41,14 @@ namespace systole::Materials
 
 
   void
-  MooneyRivlin::Parameters::validate() const
+  MooneyRivlinParameters::validate() const
   {
-    using dealii::Patterns::Tools::to_string;
-    AssertThrow(std::isfinite(c1) && c1 >= 0.0,
-                dealii::ExcMessage(
-                  "Material / Mooney-Rivlin / c1 = " + to_string(c1) +
-                  " must be >= 0; set e.g. 4 kPa."));
-    AssertThrow(std::isfinite(c2) && c2 >= 0.0,
-                dealii::ExcMessage(
-                  "Material / Mooney-Rivlin / c2 = " + to_string(c2) +
-                  " must be >= 0; set e.g. 1 kPa."));
+    require_in_range(Range::non_negative, law_name, "c1", c1, "set e.g. 4 kPa");
+    require_in_range(Range::non_negative, law_name, "c2", c2, "set e.g. 1 kPa");
     AssertThrow(c1 + c2 > 0.0,
                 dealii::ExcMessage(
                   "Material / Mooney-Rivlin / c1 and c2 are both zero, which "
                   "leaves no shear stiffness; set c1 > 0 (e.g. 4 kPa)."));
-  }
-
-
-  MooneyRivlin::MooneyRivlin(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
   }
 
 
@@ -80,16 +66,5 @@ namespace systole::Materials
     out.dS_dE = 4.0 * (params.c1 * inv.d2I1_bar + params.c2 * inv.d2I2_bar);
   }
 
-  std::string
-  MooneyRivlin::name() const
-  {
-    return law_name;
-  }
 
-
-  const MooneyRivlin::Parameters &
-  MooneyRivlin::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,15 +1,38 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Mooney-Rivlin".
+  struct MooneyRivlinParameters
+  {
+    static constexpr const char *law_name = "Mooney-Rivlin";
+
+    double c1 = 4.0; ///< weight of @f$\bar I_1 - 3@f$ [kPa], >= 0
+    double c2 = 1.0; ///< weight of @f$\bar I_2 - 3@f$ [kPa], >= 0
+
+    /// Declares "c1" and "c2" in the current subsection (the factory enters
+    /// "Material / Mooney-Rivlin" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Mooney-Rivlin" with the path getters and
+    /// validates.
+    static MooneyRivlinParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Mooney-Rivlin / <entry>" and the
+    /// fix unless c1 >= 0, c2 >= 0 and c1 + c2 > 0.
+    void
+    validate() const;
+  };
+
   /// Isotropic, isochoric Mooney-Rivlin law (Mooney 1940, J. Appl. Phys.
   /// 11:582; Rivlin 1948; decoupled form of Holzapfel 2000, Nonlinear Solid
   /// Mechanics, eq. 6.148):
@@ -23,50 +46,13 @@ namespace systole::Materials
   /// response. Requires det F > 0 (throws ExcNonPositiveVolumeRatio). The
   /// fibre basis is not used; c2 = 0 gives the neo-Hookean law with
   /// mu = 2 c1.
-  class MooneyRivlin : public PassiveLaw
+  class MooneyRivlin : public PassiveLawWithParameters<MooneyRivlinParameters>
   {
   public:
-    /// Parameters of subsection "Material / Mooney-Rivlin".
-    struct Parameters
-    {
-      double c1 = 4.0; ///< weight of @f$\bar I_1 - 3@f$ [kPa], >= 0
-      double c2 = 1.0; ///< weight of @f$\bar I_2 - 3@f$ [kPa], >= 0
-
-      /// Declares "c1" and "c2" in the current subsection (the factory enters
-      /// "Material / Mooney-Rivlin" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Mooney-Rivlin" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Mooney-Rivlin / <entry>" and the
-      /// fix unless c1 >= 0, c2 >= 0 and c1 + c2 > 0.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Mooney-Rivlin";
-
-    /// @param[in] parameters validated on construction.
-    explicit MooneyRivlin(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials

@@ -7,11 +7,11 @@
 namespace systole::Materials
 {
   void
-  NeoHookean::Parameters::declare(dealii::ParameterHandler &prm)
+  NeoHookeanParameters::declare(dealii::ParameterHandler &prm)
   {
     prm.declare_entry(
       "mu",
-      dealii::Patterns::Tools::to_string(Parameters().mu),
+      dealii::Patterns::Tools::to_string(NeoHookeanParameters().mu),
       dealii::Patterns::Double(0.0),
       "Shear modulus of the isochoric neo-Hookean energy mu/2 (J^{-2/3} I1 - "
       "3). Units: kPa. Range: illustrative default 10 kPa; passive "
@@ -19,10 +19,10 @@ namespace systole::Materials
   }
 
 
-  NeoHookean::Parameters
-  NeoHookean::Parameters::parse(const dealii::ParameterHandler &prm)
+  NeoHookeanParameters
+  NeoHookeanParameters::parse(const dealii::ParameterHandler &prm)
   {
-    Parameters p;
+    NeoHookeanParameters p;
     p.mu = prm.get_double({"Material", law_name}, "mu");
     p.validate();
     return p;
@@ -30,20 +30,13 @@ namespace systole::Materials
 
 
   void
-  NeoHookean::Parameters::validate() const
+  NeoHookeanParameters::validate() const
   {
-    AssertThrow(std::isfinite(mu) && mu > 0.0,
-                dealii::ExcMessage(
-                  "Material / neo-Hookean / mu = " +
-                  dealii::Patterns::Tools::to_string(mu) +
-                  " must be > 0; set a positive shear modulus (e.g. 10 kPa)."));
-  }
-
-
-  NeoHookean::NeoHookean(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::positive,
+                     law_name,
+                     "mu",
+                     mu,
+                     "set a positive shear modulus (e.g. 10 kPa)");
   }
 
 
@@ -61,16 +54,5 @@ namespace systole::Materials
     out.dS_dE = (2.0 * params.mu) * inv.d2I1_bar;
   }
 
-  std::string
-  NeoHookean::name() const
-  {
-    return law_name;
-  }
 
-
-  const NeoHookean::Parameters &
-  NeoHookean::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

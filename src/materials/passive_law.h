@@ -31,9 +31,11 @@ namespace systole::Materials
   /// are immutable after construction and evaluate() is thread safe.
   ///
   /// How to add one:
-  /// 1. write materials/<law>.{h,cc} deriving from this class, with a nested
-  /// Parameters struct
-  ///    (declare/parse, units in every help text, bounds checked in parse);
+  /// 1. write materials/<law>.{h,cc}: a struct <Law>Parameters (law_name,
+  ///    declare/parse/validate, units in every help text, bounds checked in
+  ///    validate) and the law deriving from
+  ///    PassiveLawWithParameters<<Law>Parameters>
+  ///    (materials/passive_law_with_parameters.h), which writes evaluate();
   /// 2. add one line to the table in materials/factory.cc;
   /// 3. add its test parameter sets to tests/support/law_parameters.cc and
   /// its closed-form stress (derived by hand from the formula) to

@@ -5,10 +5,10 @@
 namespace systole::Materials
 {
   void
-  StVenantKirchhoff::Parameters::declare(dealii::ParameterHandler &prm)
+  StVenantKirchhoffParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const StVenantKirchhoffParameters defaults;
     prm.declare_entry(
       "lambda",
       to_string(defaults.lambda),
@@ -25,11 +25,11 @@ namespace systole::Materials
   }
 
 
-  StVenantKirchhoff::Parameters
-  StVenantKirchhoff::Parameters::parse(const dealii::ParameterHandler &prm)
+  StVenantKirchhoffParameters
+  StVenantKirchhoffParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    StVenantKirchhoffParameters    p;
     p.lambda = prm.get_double(path, "lambda");
     p.mu     = prm.get_double(path, "mu");
     p.validate();
@@ -38,24 +38,14 @@ namespace systole::Materials
 
 
   void
-  StVenantKirchhoff::Parameters::validate() const
+  StVenantKirchhoffParameters::validate() const
   {
-    using dealii::Patterns::Tools::to_string;
-    AssertThrow(std::isfinite(lambda) && lambda >= 0.0,
-                dealii::ExcMessage(
-                  "Material / St Venant-Kirchhoff / lambda = " +
-                  to_string(lambda) + " must be >= 0; set e.g. 40 kPa."));
-    AssertThrow(std::isfinite(mu) && mu > 0.0,
-                dealii::ExcMessage(
-                  "Material / St Venant-Kirchhoff / mu = " + to_string(mu) +
-                  " must be > 0; set e.g. 10 kPa."));
-  }
-
-
-  StVenantKirchhoff::StVenantKirchhoff(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::non_negative,
+                     law_name,
+                     "lambda",
+                     lambda,
+                     "set e.g. 40 kPa");
+    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
   }
 
 
@@ -74,16 +64,4 @@ namespace systole::Materials
   }
 
 
-  std::string
-  StVenantKirchhoff::name() const
-  {
-    return law_name;
-  }
-
-
-  const StVenantKirchhoff::Parameters &
-  StVenantKirchhoff::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,15 +1,38 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / St Venant-Kirchhoff".
+  struct StVenantKirchhoffParameters
+  {
+    static constexpr const char *law_name = "St Venant-Kirchhoff";
+
+    double lambda = 40.0; ///< first Lame parameter @f$\lambda@f$ [kPa], >= 0
+    double mu     = 10.0; ///< shear modulus @f$\mu@f$ [kPa], > 0
+
+    /// Declares "lambda" and "mu" in the current subsection (the factory
+    /// enters "Material / St Venant-Kirchhoff" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / St Venant-Kirchhoff" with the path getters and
+    /// validates.
+    static StVenantKirchhoffParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / St Venant-Kirchhoff / <entry>"
+    /// and the fix unless lambda >= 0 and mu > 0.
+    void
+    validate() const;
+  };
+
   /// Isotropic St Venant-Kirchhoff law (Holzapfel 2000, Nonlinear Solid
   /// Mechanics, eq. 6.151):
   /// @f[
@@ -20,50 +43,14 @@ namespace systole::Materials
   /// E the full Green-Lagrange strain, W [kPa]. Compressible on its own (no
   /// VolumetricLaw needed); unstable in strong compression, so meant for
   /// verification and small strains only. The fibre basis is not used.
-  class StVenantKirchhoff : public PassiveLaw
+  class StVenantKirchhoff
+    : public PassiveLawWithParameters<StVenantKirchhoffParameters>
   {
   public:
-    /// Parameters of subsection "Material / St Venant-Kirchhoff".
-    struct Parameters
-    {
-      double lambda = 40.0; ///< first Lame parameter @f$\lambda@f$ [kPa], >= 0
-      double mu     = 10.0; ///< shear modulus @f$\mu@f$ [kPa], > 0
-
-      /// Declares "lambda" and "mu" in the current subsection (the factory
-      /// enters "Material / St Venant-Kirchhoff" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / St Venant-Kirchhoff" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / St Venant-Kirchhoff / <entry>"
-      /// and the fix unless lambda >= 0 and mu > 0.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "St Venant-Kirchhoff";
-
-    /// @param[in] parameters validated on construction.
-    explicit StVenantKirchhoff(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials

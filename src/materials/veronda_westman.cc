@@ -7,10 +7,10 @@
 namespace systole::Materials
 {
   void
-  VerondaWestman::Parameters::declare(dealii::ParameterHandler &prm)
+  VerondaWestmanParameters::declare(dealii::ParameterHandler &prm)
   {
     using dealii::Patterns::Tools::to_string;
-    const Parameters defaults;
+    const VerondaWestmanParameters defaults;
     prm.declare_entry(
       "c1",
       to_string(defaults.c1),
@@ -30,11 +30,11 @@ namespace systole::Materials
   }
 
 
-  VerondaWestman::Parameters
-  VerondaWestman::Parameters::parse(const dealii::ParameterHandler &prm)
+  VerondaWestmanParameters
+  VerondaWestmanParameters::parse(const dealii::ParameterHandler &prm)
   {
     const std::vector<std::string> path = {"Material", law_name};
-    Parameters                     p;
+    VerondaWestmanParameters       p;
     p.c1    = prm.get_double(path, "c1");
     p.gamma = prm.get_double(path, "gamma");
     p.validate();
@@ -43,24 +43,10 @@ namespace systole::Materials
 
 
   void
-  VerondaWestman::Parameters::validate() const
+  VerondaWestmanParameters::validate() const
   {
-    using dealii::Patterns::Tools::to_string;
-    AssertThrow(std::isfinite(c1) && c1 > 0.0,
-                dealii::ExcMessage(
-                  "Material / Veronda-Westman / c1 = " + to_string(c1) +
-                  " must be > 0; set e.g. 10 kPa."));
-    AssertThrow(std::isfinite(gamma) && gamma > 0.0,
-                dealii::ExcMessage(
-                  "Material / Veronda-Westman / gamma = " + to_string(gamma) +
-                  " must be > 0; set e.g. 1."));
-  }
-
-
-  VerondaWestman::VerondaWestman(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
+    require_in_range(Range::positive, law_name, "c1", c1, "set e.g. 10 kPa");
+    require_in_range(Range::positive, law_name, "gamma", gamma, "set e.g. 1");
   }
 
 
@@ -86,16 +72,5 @@ namespace systole::Materials
                        W_1 * inv.d2I1_bar + W_2 * inv.d2I2_bar);
   }
 
-  std::string
-  VerondaWestman::name() const
-  {
-    return law_name;
-  }
 
-
-  const VerondaWestman::Parameters &
-  VerondaWestman::parameters() const
-  {
-    return params;
-  }
 } // namespace systole::Materials

@@ -1,15 +1,38 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
-#include "materials/passive_law.h"
+#include "materials/passive_law_with_parameters.h"
 
 #include <string>
 
 namespace systole::Materials
 {
+  /// Parameters of subsection "Material / Veronda-Westman".
+  struct VerondaWestmanParameters
+  {
+    static constexpr const char *law_name = "Veronda-Westman";
+
+    double c1    = 10.0; ///< stress scale @f$c_1@f$ [kPa], > 0
+    double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
+
+    /// Declares "c1" and "gamma" in the current subsection (the factory
+    /// enters "Material / Veronda-Westman" first).
+    static void
+    declare(dealii::ParameterHandler &prm);
+
+    /// Reads "Material / Veronda-Westman" with the path getters and
+    /// validates.
+    static VerondaWestmanParameters
+    parse(const dealii::ParameterHandler &prm);
+
+    /// Throws ExcMessage naming "Material / Veronda-Westman / <entry>" and
+    /// the fix unless c1 > 0 and gamma > 0.
+    void
+    validate() const;
+  };
+
   /// Isotropic, isochoric Veronda-Westman law (Veronda and Westman 1970, J.
   /// Biomech. 3:111, for skin; the decoupled form of FEBio's
   /// "Veronda-Westman" material):
@@ -25,50 +48,14 @@ namespace systole::Materials
   /// at F = I). Zero energy and stress at F = I and under pure dilation; add
   /// a VolumetricLaw for the bulk response. Requires det F > 0 (throws
   /// ExcNonPositiveVolumeRatio). The fibre basis is not used.
-  class VerondaWestman : public PassiveLaw
+  class VerondaWestman
+    : public PassiveLawWithParameters<VerondaWestmanParameters>
   {
   public:
-    /// Parameters of subsection "Material / Veronda-Westman".
-    struct Parameters
-    {
-      double c1    = 10.0; ///< stress scale @f$c_1@f$ [kPa], > 0
-      double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
-
-      /// Declares "c1" and "gamma" in the current subsection (the factory
-      /// enters "Material / Veronda-Westman" first).
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads "Material / Veronda-Westman" with the path getters and
-      /// validates.
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming "Material / Veronda-Westman / <entry>" and
-      /// the fix unless c1 > 0 and gamma > 0.
-      void
-      validate() const;
-    };
-
-    /// Name in the parameter file ("Material / Passive law").
-    static constexpr const char *law_name = "Veronda-Westman";
-
-    /// @param[in] parameters validated on construction.
-    explicit VerondaWestman(const Parameters &parameters);
+    using PassiveLawWithParameters::PassiveLawWithParameters;
 
     /// Energy [kPa], 2nd Piola-Kirchhoff stress [kPa] and dS/dE [kPa].
     void
     evaluate(const PassiveInput &in, PassiveOutput &out) const override;
-
-    /// Returns law_name.
-    std::string
-    name() const override;
-
-    /// The parameters in use.
-    const Parameters &
-    parameters() const;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Materials
