@@ -1,8 +1,19 @@
 # ccache and a fast linker when present; neither is required.
+option(SYSTOLE_PRECOMPILED_HEADERS "Precompile the common deal.II headers" ON)
 find_program(SYSTOLE_CCACHE ccache)
 if(SYSTOLE_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
-  set(CMAKE_CXX_COMPILER_LAUNCHER ${SYSTOLE_CCACHE})
-  set(CMAKE_C_COMPILER_LAUNCHER ${SYSTOLE_CCACHE})
+  # With precompiled headers ccache must hash the .gch instead of the header's text
+  # (-fpch-preprocess) and ignore the macros and mtimes of a precompiled header built a moment
+  # earlier (ccache manual, "Precompiled headers").
+  set(_launcher ${SYSTOLE_CCACHE})
+  if(SYSTOLE_PRECOMPILED_HEADERS)
+    set(_launcher ${CMAKE_COMMAND} -E env
+      CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${SYSTOLE_CCACHE})
+    add_compile_options(-fpch-preprocess)
+  endif()
+  set(CMAKE_CXX_COMPILER_LAUNCHER ${_launcher})
+  set(CMAKE_C_COMPILER_LAUNCHER ${_launcher})
   message(STATUS "Using ccache: ${SYSTOLE_CCACHE}")
 endif()
 

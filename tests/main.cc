@@ -1,4 +1,4 @@
-// The only main() of the unit tests: deal.II objects need MPI initialised
+// The main() of the unit and MPI tests: deal.II objects need MPI initialised
 // (singleton run, 1 thread).
 #define CATCH_CONFIG_RUNNER
 #include <deal.II/base/mpi.h>
