@@ -161,3 +161,64 @@ TEST_CASE("A volume-driven solve recovers the pressure of a pressure-driven "
   problem.solve(p2, 0.0);
   CHECK(problem.cavity_volume() == Approx(V2).epsilon(1e-7));
 }
+
+namespace
+{
+  /// u = (0, 0, -a z): the ventricle (base at z = 0, apex below) shortened
+  /// along its axis by the fraction a, the base in place.
+  class AxialShortening : public dealii::Function<3>
+  {
+  public:
+    explicit AxialShortening(const double a)
+      : dealii::Function<3>(3)
+      , a(a)
+    {}
+
+    double
+    value(const dealii::Point<3> &p, const unsigned int c) const override
+    {
+      return c == 2 ? -a * p[2] : 0.0;
+    }
+
+  private:
+    const double a;
+  };
+} // namespace
+
+TEST_CASE("A volume-constrained solve that starts where the tangent is "
+          "indefinite restarts from the last accepted state",
+          "[mechanics][newton]")
+{
+  // Two accepted states (0.5 and 1 kPa), then a start far from equilibrium
+  // (the wall shortened along the axis by 30 %: compressed, its tangent has
+  // negative pivots) and a volume target near the last state. The solve
+  // must say that it restarts, and end at the equilibrium that the solve
+  // from the accepted state reaches.
+  const double a          = 0.3;
+  double       p_accepted = 1.0, p_restarted = 1.0;
+  double       V_target = 0;
+  std::string  log;
+  for (const bool from_bad_start : {false, true})
+    {
+      Setup      s;
+      const auto problem = s.problem();
+      problem->solve(0.5, 0.0);
+      problem->save();
+      problem->solve(1.0, 0.0);
+      problem->save();
+      V_target = 1.01 * problem->cavity_volume();
+      if (from_bad_start)
+        problem->set_displacement(AxialShortening(a));
+      double    &p      = from_bad_start ? p_restarted : p_accepted;
+      const auto report = problem->solve_volume(V_target, 0.0, p);
+      INFO((from_bad_start ? "from the shortened wall" : "from the accepted")
+           << ": " << report.iterations << " Newton iterations, p = " << p);
+      CHECK(problem->cavity_volume() == Approx(V_target).epsilon(1e-8));
+      if (from_bad_start)
+        log = s.sink.str();
+    }
+  INFO(log.substr(log.size() > 4000 ? log.size() - 4000 : 0));
+  CHECK(log.find("negative pivot(s): Newton from the last accepted state") !=
+        std::string::npos);
+  CHECK(p_restarted == Approx(p_accepted).epsilon(1e-8));
+}

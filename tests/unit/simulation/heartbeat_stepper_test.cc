@@ -183,6 +183,46 @@ namespace
     unsigned int                               max_order = 0, steps = 0;
   };
 
+  /// The closed loop with elastance chambers in place of the 3D ventricles:
+  /// the left ventricle coupled (with `both`, the right one too), started
+  /// from `start` (empty: the model's initial state), and the chambers'
+  /// pressures there.
+  struct CoupledLoop
+  {
+    explicit CoupledLoop(const bool both, const Vector &start = Vector())
+      : T(elastance.period)
+      , model(coupled(elastance, both))
+      , chambers{ChamberElastance(elastance.left_ventricle, T)}
+    {
+      if (both)
+        chambers.emplace_back(elastance.right_ventricle, T);
+      if (start.size() == 0)
+        model.initial_state(y0);
+      else
+        y0 = start;
+      const ChamberElastance right(elastance.right_ventricle, T);
+      p0.reinit(2);
+      for (unsigned int c = 0; c < 2; ++c)
+        p0[c] = (c == 0 ? chambers[0] : right)
+                  .pressure(0.0, y0[model.cavities()[c].volume_state]);
+    }
+
+    static ClosedLoop::Parameters
+    coupled(ClosedLoop::Parameters parameters, const bool both)
+    {
+      parameters.left_ventricle_kind = CavityKind::external;
+      if (both)
+        parameters.right_ventricle_kind = CavityKind::external;
+      return parameters;
+    }
+
+    const ClosedLoop::Parameters  elastance{};
+    const double                  T;
+    const ClosedLoop              model;
+    std::vector<ChamberElastance> chambers;
+    Vector                        y0, p0;
+  };
+
   /// The summary rows of the closed loop with elastance ventricles,
   /// integrated by ARKode (tight tolerances).
   std::vector<std::map<std::string, double>>
@@ -228,36 +268,16 @@ namespace
 
 TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
           "ventricles reproduces the 0D closed loop",
-          "[circulation][stepper]")
+          "[simulation][stepper]")
 {
-  const ClosedLoop::Parameters elastance;
-  const ClosedLoop             reference_model(elastance);
-  const double                 T = elastance.period;
   // Both ventricles coupled, or the left one only (the right one stays a 0D
   // elastance of the model, as with a 3D left ventricle).
-  const bool             both    = GENERATE(true, false);
-  ClosedLoop::Parameters coupled = elastance;
-  coupled.left_ventricle_kind    = CavityKind::external;
-  if (both)
-    coupled.right_ventricle_kind = CavityKind::external;
-  const ClosedLoop              model(coupled);
-  std::vector<ChamberElastance> chambers = {
-    ChamberElastance(elastance.left_ventricle, T)};
-  if (both)
-    chambers.emplace_back(elastance.right_ventricle, T);
-  ElastanceVentricles ventricles(chambers);
+  const bool          both = GENERATE(true, false);
+  const CoupledLoop   loop(both);
+  const double        T = loop.T;
+  ElastanceVentricles ventricles(loop.chambers);
   INFO((both ? "both ventricles coupled" : "the left ventricle coupled"));
 
-  Vector y0;
-  model.initial_state(y0);
-  Vector p0(2);
-  for (unsigned int c = 0; c < 2; ++c)
-    {
-      const ChamberElastance chamber(c == 0 ? elastance.left_ventricle
-                                            : elastance.right_ventricle,
-                                     T);
-      p0[c] = chamber.pressure(0.0, y0[model.cavities()[c].volume_state]);
-    }
   HeartbeatStepper::Settings settings;
   settings.period                      = T;
   settings.n_max_beats                 = 2;
@@ -266,7 +286,7 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
   settings.absolute_volume_tolerance   = 0.1;
   settings.absolute_pressure_tolerance = 1e-3;
   settings.event_time_tolerance        = 0.01;
-  HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
+  HeartbeatStepper stepper(loop.model, ventricles, settings, loop.y0, loop.p0);
   Summaries        summaries;
   const auto       stats = stepper.run(summaries);
   REQUIRE(stats.n_beats == 2);
@@ -280,7 +300,7 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
   CHECK(stats.n_events == 16);
   CHECK(stats.n_failures == 0);
 
-  const auto reference = reference_rows(reference_model, 2);
+  const auto reference = reference_rows(ClosedLoop(loop.elastance), 2);
   for (unsigned int beat = 0; beat < 2; ++beat)
     for (const std::string name : {"lv_EDV_mL",
                                    "lv_ESV_mL",
@@ -304,36 +324,24 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
 
 TEST_CASE("A step redone after a failure is shorter than the failed one, also "
           "where it would end within the minimum step of a breakpoint",
-          "[circulation][stepper]")
+          "[simulation][stepper]")
 {
   // Before the fix, the redo of a rejected step that ended at the beat's end
   // was stretched back to that end (no sliver before a breakpoint) and
   // rejected again, without end (this test did not return). Here the solves
   // fail for steps longer than 0.3 ms in the last 2 ms of the beat, with a
   // minimum step of 0.25 ms.
-  const ClosedLoop::Parameters elastance;
-  const double                 T       = elastance.period;
-  ClosedLoop::Parameters       coupled = elastance;
-  coupled.left_ventricle_kind          = CavityKind::external;
-  const ClosedLoop  model(coupled);
-  FailingVentricles ventricles({ChamberElastance(elastance.left_ventricle, T)},
-                               T - 2.0,
-                               0.3);
-  Vector            y0;
-  model.initial_state(y0);
-  Vector p0(2);
-  p0[0] = ChamberElastance(elastance.left_ventricle, T)
-            .pressure(0.0, y0[model.cavities()[0].volume_state]);
-  p0[1] = ChamberElastance(elastance.right_ventricle, T)
-            .pressure(0.0, y0[model.cavities()[1].volume_state]);
+  const CoupledLoop          loop(false);
+  const double               T = loop.T;
+  FailingVentricles          ventricles(loop.chambers, T - 2.0, 0.3);
   HeartbeatStepper::Settings settings;
   settings.period                = T;
   settings.n_max_beats           = 1;
   settings.periodicity_tolerance = 0;
   settings.min_step              = 0.25;
   settings.max_step_cuts         = 4;
-  HeartbeatStepper             stepper(model, ventricles, settings, y0, p0);
-  Summaries                    summaries;
+  HeartbeatStepper stepper(loop.model, ventricles, settings, loop.y0, loop.p0);
+  Summaries        summaries;
   HeartbeatStepper::Statistics stats;
   REQUIRE_NOTHROW(stats = stepper.run(summaries));
   INFO(stats.n_steps << " steps, " << stats.n_failures << " failed solves");
@@ -347,7 +355,7 @@ TEST_CASE("A step redone after a failure is shorter than the failed one, also "
 
 TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
           "waits for equal stroke volumes",
-          "[circulation][stepper]")
+          "[simulation][stepper]")
 {
   // The periodic state of the 0D closed loop (30 beats of ARKode) with 15 mL
   // moved from the pulmonary to the systemic veins: the EDVs change by
@@ -372,26 +380,17 @@ TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
     moved / elastance.systemic_veins.compliance;
 
   const auto run = [&](const bool both) {
-    ClosedLoop::Parameters coupled = elastance;
-    coupled.left_ventricle_kind    = CavityKind::external;
-    if (both)
-      coupled.right_ventricle_kind = CavityKind::external;
-    const ClosedLoop              model(coupled);
-    std::vector<ChamberElastance> chambers = {
-      ChamberElastance(elastance.left_ventricle, T)};
-    if (both)
-      chambers.emplace_back(elastance.right_ventricle, T);
-    ElastanceVentricles ventricles(chambers);
-    Vector              p0(2);
-    p0[0] = ChamberElastance(elastance.left_ventricle, T)
-              .pressure(0.0, y0[model.cavities()[0].volume_state]);
-    p0[1] = ChamberElastance(elastance.right_ventricle, T)
-              .pressure(0.0, y0[model.cavities()[1].volume_state]);
+    const CoupledLoop          loop(both, y0);
+    ElastanceVentricles        ventricles(loop.chambers);
     HeartbeatStepper::Settings settings;
     settings.period                = T;
     settings.n_max_beats           = 10;
     settings.periodicity_tolerance = tolerance;
-    HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
+    HeartbeatStepper stepper(loop.model,
+                             ventricles,
+                             settings,
+                             loop.y0,
+                             loop.p0);
     Summaries        summaries;
     const auto       stats = stepper.run(summaries);
     CHECK(stats.periodic);
@@ -436,26 +435,16 @@ TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
 
 TEST_CASE("The heartbeat stepper keeps the displacement predictor's error "
           "within its tolerance",
-          "[circulation][stepper]")
+          "[simulation][stepper]")
 {
   // A predictor error of c h^2 in diastasis (from 500 to 700 ms, where the
   // 0D errors alone let the steps grow to the largest step): with the
   // tolerance, every step after the first there is the one whose error is
   // 0.9^2 of it, h = 0.9 sqrt(tol / c) = 1.8 ms; without it, they grow to
   // Settings::max_step (20 ms).
-  const ClosedLoop::Parameters elastance;
-  const double                 T       = elastance.period;
-  ClosedLoop::Parameters       coupled = elastance;
-  coupled.left_ventricle_kind          = CavityKind::external;
-  const ClosedLoop model(coupled);
-  Vector           y0;
-  model.initial_state(y0);
-  Vector p0(2);
-  p0[0] = ChamberElastance(elastance.left_ventricle, T)
-            .pressure(0.0, y0[model.cavities()[0].volume_state]);
-  p0[1] = ChamberElastance(elastance.right_ventricle, T)
-            .pressure(0.0, y0[model.cavities()[1].volume_state]);
-  constexpr double c = 0.025, tolerance = 0.1; // mm/ms^2, mm
+  const CoupledLoop loop(false);
+  const double      T = loop.T;
+  constexpr double  c = 0.025, tolerance = 0.1; // mm/ms^2, mm
   for (const bool controlled : {false, true})
     {
       HeartbeatStepper::Settings settings;
@@ -464,14 +453,14 @@ TEST_CASE("The heartbeat stepper keeps the displacement predictor's error "
       settings.periodicity_tolerance  = 0;
       settings.max_step               = 20.0;
       settings.displacement_tolerance = controlled ? tolerance : 0.0;
-      AcceleratingVentricles ventricles(
-        {ChamberElastance(elastance.left_ventricle, T)},
-        c,
-        500.0,
-        700.0);
-      HeartbeatStepper stepper(model, ventricles, settings, y0, p0);
-      Summaries        summaries;
-      const auto       stats = stepper.run(summaries);
+      AcceleratingVentricles ventricles(loop.chambers, c, 500.0, 700.0);
+      HeartbeatStepper       stepper(loop.model,
+                               ventricles,
+                               settings,
+                               loop.y0,
+                               loop.p0);
+      Summaries              summaries;
+      const auto             stats = stepper.run(summaries);
       CHECK(stats.n_beats == 1);
       const auto &h = ventricles.steps_inside;
       REQUIRE(h.size() > 2);
