@@ -65,6 +65,12 @@ namespace systole::Mechanics
     bool
     bordered_chords();
 
+    /// Whether chord iterations converging at @p rate (|R_u| over the last
+    /// one's) should go on: a rate below 0.3 that reaches the tolerance in at
+    /// most three more.
+    bool
+    chords_worth_going_on(const double rate) const;
+
     /// Without volume constraints: one chord iteration on the last
     /// factorization (the Euler predictor of the new load); true if the
     /// iterate moved there (the residual is then assembled).
