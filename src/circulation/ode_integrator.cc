@@ -2,12 +2,12 @@
 
 #include <deal.II/lac/full_matrix.h>
 
+#include "base/format.h"
 #include "electrophysiology/arkode_adapter.h"
 
 #include <petscvec.h>
 
 #include <cmath>
-#include <sstream>
 
 // The model's ODE y' = f(t, y) as the implicit part of the project's ARKode
 // adapter (no explicit part: ARKode's default DIRK table of the order). The
@@ -20,15 +20,6 @@ namespace systole::Circulation
   namespace
   {
     using Vector = dealii::Vector<double>;
-
-    std::string
-    str(const double x)
-    {
-      std::ostringstream s;
-      s.precision(12);
-      s << x;
-      return s.str();
-    }
 
     /// to = from, entry by entry (both of the same size, one rank).
     void
@@ -244,9 +235,9 @@ namespace systole::Circulation
     AssertThrow(t_end > m.t,
                 dealii::ExcMessage("Circulation::Integrator::advance: the end "
                                    "time (" +
-                                   str(t_end) +
+                                   format_number(t_end, 12) +
                                    " ms) must lie after the current time (" +
-                                   str(m.t) + " ms)."));
+                                   format_number(m.t, 12) + " ms)."));
     m.events.clear();
     // ARKode's failures throw with its message and time (ImexIntegrator).
     m.integrator->evolve(m.state, t_end);

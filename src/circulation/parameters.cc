@@ -2,32 +2,30 @@
 
 #include <deal.II/base/parameter_handler.h>
 
-#include <sstream>
 
 namespace systole::Circulation
 {
   namespace
   {
-    std::string
-    str(const double x)
+    /// A value that must be positive: internal, in the parameter-file unit
+    /// (for the message), its entry and that unit.
+    struct Positive
     {
-      std::ostringstream s;
-      s << x;
-      return s.str();
-    }
+      double      value;
+      double      value_in_file;
+      const char *entry;
+      const char *unit;
+    };
 
-    /// Throws unless @p value > 0, naming "Circulation / <entry>" and the
-    /// value in the parameter-file unit (@p value_in_file).
+    /// Throws unless @p e.value > 0, naming "Circulation / <entry>" and the
+    /// value in the parameter-file unit.
     void
-    require_positive(const double       value,
-                     const double       value_in_file,
-                     const std::string &entry,
-                     const std::string &unit)
+    require_positive(const Positive &e)
     {
-      AssertThrow(value > 0,
-                  dealii::ExcMessage("Circulation / " + entry + " = " +
-                                     str(value_in_file) + " " + unit +
-                                     ": must be positive."));
+      AssertThrow(e.value > 0,
+                  dealii::ExcMessage(std::string("Circulation / ") + e.entry +
+                                     " = " + format_number(e.value_in_file) +
+                                     " " + e.unit + ": must be positive."));
     }
 
     /// The tolerances and steps of the time integration of subsection
@@ -227,72 +225,74 @@ namespace systole::Circulation
     // Messages give values in the units of the parameter file.
     const double r = resistance_from_mmHg_s_per_mL(1.0);
     const auto  &w = windkessel;
-    require_positive(w.peripheral_resistance,
-                     w.peripheral_resistance / r,
-                     "Peripheral resistance",
-                     "mmHg s/mL");
-    require_positive(w.compliance,
-                     w.compliance / compliance_from_mL_per_mmHg(1.0),
-                     "Compliance",
-                     "mL/mmHg");
-    require_positive(w.aortic_valve_resistance,
-                     w.aortic_valve_resistance / r,
-                     "Aortic valve resistance",
-                     "mmHg s/mL");
-    require_positive(mitral_valve_resistance,
-                     mitral_valve_resistance / r,
-                     "Mitral valve resistance",
-                     "mmHg s/mL");
-    require_positive(atrial_pressure,
-                     Units::kPa_to_mmHg(atrial_pressure),
-                     "Atrial pressure",
-                     "mmHg");
+    for (const Positive &e : {Positive{w.peripheral_resistance,
+                                       w.peripheral_resistance / r,
+                                       "Peripheral resistance",
+                                       "mmHg s/mL"},
+                              {w.compliance,
+                               w.compliance / compliance_from_mL_per_mmHg(1.0),
+                               "Compliance",
+                               "mL/mmHg"},
+                              {w.aortic_valve_resistance,
+                               w.aortic_valve_resistance / r,
+                               "Aortic valve resistance",
+                               "mmHg s/mL"},
+                              {mitral_valve_resistance,
+                               mitral_valve_resistance / r,
+                               "Mitral valve resistance",
+                               "mmHg s/mL"},
+                              {atrial_pressure,
+                               Units::kPa_to_mmHg(atrial_pressure),
+                               "Atrial pressure",
+                               "mmHg"}})
+      require_positive(e);
     AssertThrow(w.venous_pressure >= 0,
-                dealii::ExcMessage("Circulation / Venous pressure = " +
-                                   str(Units::kPa_to_mmHg(w.venous_pressure)) +
-                                   " mmHg: must not be negative."));
+                dealii::ExcMessage(
+                  "Circulation / Venous pressure = " +
+                  format_number(Units::kPa_to_mmHg(w.venous_pressure)) +
+                  " mmHg: must not be negative."));
     AssertThrow(initial_arterial_pressure >= 0,
                 dealii::ExcMessage(
                   "Circulation / Initial aortic pressure = " +
-                  str(Units::kPa_to_mmHg(initial_arterial_pressure)) +
+                  format_number(Units::kPa_to_mmHg(initial_arterial_pressure)) +
                   " mmHg: must not be negative."));
-    require_positive(period, period, "Period", "ms");
+    require_positive({period, period, "Period", "ms"});
     AssertThrow(n_max_beats >= 1,
                 dealii::ExcMessage(
                   "Circulation / Number of beats must be at least 1."));
     AssertThrow(periodicity_tolerance >= 0 && periodicity_tolerance < 1,
                 dealii::ExcMessage("Circulation / Periodicity tolerance = " +
-                                   str(periodicity_tolerance) +
+                                   format_number(periodicity_tolerance) +
                                    ": must be in [0, 1)."));
     AssertThrow(relative_tolerance > 0 && relative_tolerance < 1,
                 dealii::ExcMessage("Circulation / Relative tolerance = " +
-                                   str(relative_tolerance) +
+                                   format_number(relative_tolerance) +
                                    ": must be in (0, 1)."));
-    require_positive(absolute_volume_tolerance,
-                     Units::mm3_to_mL(absolute_volume_tolerance),
-                     "Absolute volume tolerance",
-                     "mL");
-    require_positive(absolute_pressure_tolerance,
-                     Units::kPa_to_mmHg(absolute_pressure_tolerance),
-                     "Absolute pressure tolerance",
-                     "mmHg");
-    require_positive(event_time_tolerance,
-                     event_time_tolerance,
-                     "Event time tolerance",
-                     "ms");
-    require_positive(max_time_step, max_time_step, "Maximum time step", "ms");
-    require_positive(initial_time_step,
-                     initial_time_step,
-                     "Initial time step",
-                     "ms");
+    for (const Positive &e :
+         {Positive{absolute_volume_tolerance,
+                   Units::mm3_to_mL(absolute_volume_tolerance),
+                   "Absolute volume tolerance",
+                   "mL"},
+          {absolute_pressure_tolerance,
+           Units::kPa_to_mmHg(absolute_pressure_tolerance),
+           "Absolute pressure tolerance",
+           "mmHg"},
+          {event_time_tolerance,
+           event_time_tolerance,
+           "Event time tolerance",
+           "ms"},
+          {max_time_step, max_time_step, "Maximum time step", "ms"},
+          {initial_time_step, initial_time_step, "Initial time step", "ms"}})
+      require_positive(e);
     AssertThrow(initial_time_step <= max_time_step,
                 dealii::ExcMessage("Circulation / Initial time step (" +
-                                   str(initial_time_step) +
+                                   format_number(initial_time_step) +
                                    " ms) must not exceed Maximum time step (" +
-                                   str(max_time_step) + " ms)."));
+                                   format_number(max_time_step) + " ms)."));
     AssertThrow(max_time_step <= period,
-                dealii::ExcMessage(
-                  "Circulation / Maximum time step (" + str(max_time_step) +
-                  " ms) must not exceed the Period (" + str(period) + " ms)."));
+                dealii::ExcMessage("Circulation / Maximum time step (" +
+                                   format_number(max_time_step) +
+                                   " ms) must not exceed the Period (" +
+                                   format_number(period) + " ms)."));
   }
 } // namespace systole::Circulation

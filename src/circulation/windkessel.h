@@ -1,8 +1,8 @@
 #pragma once
 
+#include "base/format.h"
 #include "base/units.h"
 
-#include <sstream>
 #include <string>
 
 /// @file
@@ -64,10 +64,7 @@ namespace systole::Circulation
   inline std::string
   format_value(const double x)
   {
-    std::ostringstream s;
-    s.precision(10);
-    s << x;
-    return s.str();
+    return format_number(x, 10);
   }
 
   /// The constants of the Windkessel afterloads of the 0D models

@@ -5,60 +5,56 @@
 
 namespace systole::Electrophysiology
 {
+  const std::vector<RealEntry<AlievPanfilov::Parameters>> &
+  AlievPanfilov::Parameters::entries()
+  {
+    using dealii::Patterns::Double;
+    static const std::vector<RealEntry<Parameters>> table = {
+      {"k",
+       &Parameters::k,
+       Double(0.0),
+       "Excitation rate k of the cubic -k u (u - a)(u - 1). Units: -. Source: "
+       "physiology.md (Aliev and Panfilov 1996), 8."},
+      {"a",
+       &Parameters::a,
+       Double(0.0, 0.5),
+       "Excitation threshold a of the dimensionless potential "
+       "u = (V + 80 mV)/100 mV. Units: -. Source: physiology.md, "
+       "0.15; must lie in (0, 0.5) for a travelling upstroke."},
+      {"epsilon_0",
+       &Parameters::epsilon_0,
+       Double(0.0),
+       "Recovery rate at rest. Units: -. Source: physiology.md, 0.002."},
+      {"mu_1",
+       &Parameters::mu_1,
+       Double(0.0),
+       "Recovery parameter mu_1 of eps(u, w) = eps_0 + mu_1 w / (u + mu_2). "
+       "Units: -. Source: physiology.md, 0.2."},
+      {"mu_2",
+       &Parameters::mu_2,
+       Double(0.0),
+       "Recovery parameter mu_2 (> 0). Units: -. Source: physiology.md, 0.3."},
+      {"Time unit",
+       &Parameters::time_unit,
+       Double(0.0),
+       "Time T that scales the dimensionless model to physical time "
+       "(T du/dt = ...). Units: ms. Source: physiology.md, 12.9 ms."}};
+    return table;
+  }
+
+
   void
   AlievPanfilov::Parameters::declare(dealii::ParameterHandler &prm)
   {
-    using dealii::Patterns::Double;
-    using dealii::Patterns::Tools::to_string;
-    const Parameters d;
-    prm.declare_entry("k",
-                      to_string(d.k),
-                      Double(0.0),
-                      "Excitation rate k of the cubic -k u (u - a)(u - 1). "
-                      "Units: -. Source: physiology.md (Aliev and Panfilov "
-                      "1996), 8.");
-    prm.declare_entry(
-      "a",
-      to_string(d.a),
-      Double(0.0, 0.5),
-      "Excitation threshold a of the dimensionless potential "
-      "u = (V + 80 mV)/100 mV. Units: -. Source: physiology.md, "
-      "0.15; must lie in (0, 0.5) for a travelling upstroke.");
-    prm.declare_entry("epsilon_0",
-                      to_string(d.epsilon_0),
-                      Double(0.0),
-                      "Recovery rate at rest. Units: -. Source: physiology.md, "
-                      "0.002.");
-    prm.declare_entry("mu_1",
-                      to_string(d.mu_1),
-                      Double(0.0),
-                      "Recovery parameter mu_1 of eps(u, w) = eps_0 + mu_1 w / "
-                      "(u + mu_2). Units: -. Source: physiology.md, 0.2.");
-    prm.declare_entry("mu_2",
-                      to_string(d.mu_2),
-                      Double(0.0),
-                      "Recovery parameter mu_2 (> 0). Units: -. Source: "
-                      "physiology.md, 0.3.");
-    prm.declare_entry("Time unit",
-                      to_string(d.time_unit),
-                      Double(0.0),
-                      "Time T that scales the dimensionless model to "
-                      "physical time (T du/dt = ...). Units: ms. Source: "
-                      "physiology.md, 12.9 ms.");
+    declare_entries(prm, entries());
   }
 
 
   AlievPanfilov::Parameters
   AlievPanfilov::Parameters::parse(const dealii::ParameterHandler &prm)
   {
-    const std::vector<std::string> path = {"Electrophysiology", model_name};
-    Parameters                     p;
-    p.k         = prm.get_double(path, "k");
-    p.a         = prm.get_double(path, "a");
-    p.epsilon_0 = prm.get_double(path, "epsilon_0");
-    p.mu_1      = prm.get_double(path, "mu_1");
-    p.mu_2      = prm.get_double(path, "mu_2");
-    p.time_unit = prm.get_double(path, "Time unit");
+    Parameters p;
+    parse_entries(prm, {"Electrophysiology", model_name}, entries(), p);
     p.validate();
     return p;
   }

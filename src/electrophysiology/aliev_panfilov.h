@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/parameter_table.h"
 #include "electrophysiology/two_variable_model.h"
 
 namespace systole::Electrophysiology
@@ -27,6 +28,11 @@ namespace systole::Electrophysiology
       double mu_1      = 0.2;   ///< recovery parameter [-]
       double mu_2      = 0.3;   ///< recovery parameter [-], > 0
       double time_unit = 12.9;  ///< T [ms]
+
+      /// The entries, their patterns and help: one table for declare() and
+      /// parse().
+      static const std::vector<RealEntry<Parameters>> &
+      entries();
 
       /// Declares the entries in the current subsection (the factory enters
       /// "Electrophysiology / Aliev-Panfilov" first).

@@ -5,51 +5,52 @@
 
 namespace systole::Electrophysiology
 {
+  const std::vector<RealEntry<MitchellSchaeffer::Parameters>> &
+  MitchellSchaeffer::Parameters::entries()
+  {
+    using dealii::Patterns::Double;
+    static const std::vector<RealEntry<Parameters>> table = {
+      {"tau_in",
+       &Parameters::tau_in,
+       Double(0.0),
+       "Time constant of the inward (depolarising) current. Units: ms. "
+       "Source: physiology.md, 0.3 ms."},
+      {"tau_out",
+       &Parameters::tau_out,
+       Double(0.0),
+       "Time constant of the outward (repolarising) current. Units: ms. "
+       "Source: physiology.md, 6 ms."},
+      {"tau_open",
+       &Parameters::tau_open,
+       Double(0.0),
+       "Time constant of the gate opening (v < v_gate). Units: ms. Source: "
+       "physiology.md, 120 ms."},
+      {"tau_close",
+       &Parameters::tau_close,
+       Double(0.0),
+       "Time constant of the gate closing (v >= v_gate); sets the action "
+       "potential duration. Units: ms. Source: physiology.md, 150 ms."},
+      {"v_gate",
+       &Parameters::v_gate,
+       Double(0.0, 1.0),
+       "Gate switching potential of the normalised v. Units: -. Source: "
+       "physiology.md, 0.13."}};
+    return table;
+  }
+
+
   void
   MitchellSchaeffer::Parameters::declare(dealii::ParameterHandler &prm)
   {
-    using dealii::Patterns::Double;
-    using dealii::Patterns::Tools::to_string;
-    const Parameters d;
-    prm.declare_entry("tau_in",
-                      to_string(d.tau_in),
-                      Double(0.0),
-                      "Time constant of the inward (depolarising) current. "
-                      "Units: ms. Source: physiology.md, 0.3 ms.");
-    prm.declare_entry("tau_out",
-                      to_string(d.tau_out),
-                      Double(0.0),
-                      "Time constant of the outward (repolarising) current. "
-                      "Units: ms. Source: physiology.md, 6 ms.");
-    prm.declare_entry("tau_open",
-                      to_string(d.tau_open),
-                      Double(0.0),
-                      "Time constant of the gate opening (v < v_gate). "
-                      "Units: ms. Source: physiology.md, 120 ms.");
-    prm.declare_entry("tau_close",
-                      to_string(d.tau_close),
-                      Double(0.0),
-                      "Time constant of the gate closing (v >= v_gate); sets "
-                      "the action potential duration. Units: ms. Source: "
-                      "physiology.md, 150 ms.");
-    prm.declare_entry("v_gate",
-                      to_string(d.v_gate),
-                      Double(0.0, 1.0),
-                      "Gate switching potential of the normalised v. Units: -. "
-                      "Source: physiology.md, 0.13.");
+    declare_entries(prm, entries());
   }
 
 
   MitchellSchaeffer::Parameters
   MitchellSchaeffer::Parameters::parse(const dealii::ParameterHandler &prm)
   {
-    const std::vector<std::string> path = {"Electrophysiology", model_name};
-    Parameters                     p;
-    p.tau_in    = prm.get_double(path, "tau_in");
-    p.tau_out   = prm.get_double(path, "tau_out");
-    p.tau_open  = prm.get_double(path, "tau_open");
-    p.tau_close = prm.get_double(path, "tau_close");
-    p.v_gate    = prm.get_double(path, "v_gate");
+    Parameters p;
+    parse_entries(prm, {"Electrophysiology", model_name}, entries(), p);
     p.validate();
     return p;
   }

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/parameter_table.h"
 #include "electrophysiology/two_variable_model.h"
 
 namespace systole::Electrophysiology
@@ -26,6 +27,11 @@ namespace systole::Electrophysiology
       double tau_open  = 120.0; ///< [ms]
       double tau_close = 150.0; ///< [ms]
       double v_gate    = 0.13;  ///< [-], in (0, 1)
+
+      /// The entries, their patterns and help: one table for declare() and
+      /// parse().
+      static const std::vector<RealEntry<Parameters>> &
+      entries();
 
       /// Declares the entries in the current subsection.
       static void

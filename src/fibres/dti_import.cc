@@ -7,7 +7,9 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/reference_cell.h>
 
+#include "base/format.h"
 #include "fibres/frames.h"
+#include "geometry/point_location.h"
 #include "geometry/vtk_messages.h"
 
 #include <Eigen/Dense>
@@ -25,10 +27,8 @@
 #include <cmath>
 #include <deque>
 #include <filesystem>
-#include <iomanip>
 #include <limits>
 #include <memory>
-#include <sstream>
 
 namespace systole::Fibres
 {
@@ -42,20 +42,8 @@ namespace systole::Fibres
       AssertThrow(false, dealii::ExcMessage(message));
     }
 
-    std::string
-    format_number(const double value, const int digits = 4)
-    {
-      std::ostringstream o;
-      o << std::setprecision(digits) << value;
-      return o.str();
-    }
-
-    std::string
-    format_point(const dealii::Point<3> &p)
-    {
-      return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " +
-             format_number(p[2]) + ")";
-    }
+    /// Significant digits of the numbers in messages.
+    constexpr int digits = 4;
 
     /// Symmetric 3 x 3 matrix from (xx, yy, zz, xy, yz, xz).
     Matrix3
@@ -183,7 +171,7 @@ namespace systole::Fibres
                 dealii::ExcMessage(
                   "Fibres / DTI / Image to mesh transform: its 3 x 3 part A "
                   "(numbers 1-3, 5-7, 9-11) is singular (det A = " +
-                  format_number(A.determinant()) +
+                  format_number(A.determinant(), digits) +
                   "); give an invertible map, e.g. 1, 0, 0, 0, 0, 1, 0, 0, 0, "
                   "0, 1, 0 for the identity."));
     p.minimum_fractional_anisotropy =
@@ -459,8 +447,9 @@ namespace systole::Fibres
           if (!(l[0] > 0.0))
             fail(where + ": the tensor at " + grid.voxel_name(v) + " of '" +
                  file + "' is not positive definite (eigenvalues " +
-                 format_number(l[0]) + ", " + format_number(l[1]) + ", " +
-                 format_number(l[2]) +
+                 format_number(l[0], digits) + ", " +
+                 format_number(l[1], digits) + ", " +
+                 format_number(l[2], digits) +
                  "). Set background voxels to zero and repair the others "
                  "(e.g. clamp the eigenvalues to a small positive value) "
                  "before import.");
@@ -540,7 +529,7 @@ namespace systole::Fibres
                 dealii::ExcMessage(
                   where + ": '" + params.file +
                   "' has no voxel with a tensor of fractional anisotropy >= " +
-                  format_number(params.minimum_fractional_anisotropy) +
+                  format_number(params.minimum_fractional_anisotropy, digits) +
                   " (Fibres / DTI / Minimum fractional anisotropy) and three "
                   "distinct eigenvalues."));
     nearest_valid = nearest_valid_voxels(tensors.valid, n);
@@ -671,9 +660,10 @@ namespace systole::Fibres
   {
     std::array<double, 6> L;
     AssertThrow(log_mean(X, L),
-                dealii::ExcMessage(
-                  "Fibres / DTI: the point " + format_point(X) +
-                  " is outside the data of '" + params.file + "'."));
+                dealii::ExcMessage("Fibres / DTI: the point " +
+                                   Geometry::format_point(X, digits) +
+                                   " is outside the data of '" + params.file +
+                                   "'."));
     Eigen::SelfAdjointEigenSolver<Matrix3> solver(to_matrix(L));
     const Eigen::Vector3d l = solver.eigenvalues().array().exp();
     const Matrix3         D = solver.eigenvectors() * l.asDiagonal() *
@@ -784,13 +774,14 @@ namespace systole::Fibres
              std::to_string(global.n_outside) + " outside the data of '" +
              params.file + "', " + std::to_string(global.n_low_anisotropy) +
              " with fractional anisotropy below " +
-             format_number(params.minimum_fractional_anisotropy) +
+             format_number(params.minimum_fractional_anisotropy, digits) +
              ") are rejected, more than Fibres / DTI / Maximum rejected "
              "fraction = " +
              percent(params.maximum_rejected_fraction) + ". The mesh spans " +
-             format_point(mesh_lower) + " to " + format_point(mesh_upper) +
-             " mm, the image " + format_point(box.first) + " to " +
-             format_point(box.second) +
+             Geometry::format_point(mesh_lower, digits) + " to " +
+             Geometry::format_point(mesh_upper, digits) + " mm, the image " +
+             Geometry::format_point(box.first, digits) + " to " +
+             Geometry::format_point(box.second, digits) +
              " mm in mesh coordinates: check Fibres / DTI / Image to mesh "
              "transform and the image extent (or lower Minimum fractional "
              "anisotropy).");
@@ -809,7 +800,9 @@ namespace systole::Fibres
             }
           catch (const std::exception &)
             {
-              validate(bases[i], format_point(points[i]) + " (dti generator)");
+              validate(bases[i],
+                       Geometry::format_point(points[i], digits) +
+                         " (dti generator)");
             }
         }
     };

@@ -7,15 +7,16 @@
 #include <deal.II/grid/cell_id.h>
 #include <deal.II/grid/tria.h>
 
+#include "base/format.h"
+#include "geometry/point_location.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <iomanip>
 #include <limits>
 #include <map>
 #include <numeric>
 #include <set>
-#include <sstream>
 #include <tuple>
 #include <unordered_map>
 
@@ -23,21 +24,6 @@ namespace systole::Geometry
 {
   namespace
   {
-    std::string
-    format_number(const double value)
-    {
-      std::ostringstream o;
-      o << std::setprecision(6) << value;
-      return o.str();
-    }
-
-    std::string
-    format_point(const dealii::Point<3> &p)
-    {
-      return "(" + format_number(p[0]) + ", " + format_number(p[1]) + ", " +
-             format_number(p[2]) + ")";
-    }
-
     std::string
     list_points(const MeshData &mesh, const std::vector<unsigned int> &cell)
     {

@@ -6,23 +6,21 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/numerics/rtree.h>
 
+#include "base/format.h"
 #include "geometry/cell_kind.h"
 
 #include <algorithm>
-#include <iomanip>
 #include <limits>
 #include <numeric>
-#include <sstream>
 
 namespace systole::Geometry
 {
   std::string
-  format_point(const dealii::Point<3> &p)
+  format_point(const dealii::Point<3> &p, const int significant_digits)
   {
-    std::ostringstream o;
-    o << std::setprecision(6) << "(" << p[0] << ", " << p[1] << ", " << p[2]
-      << ")";
-    return o.str();
+    return "(" + format_number(p[0], significant_digits) + ", " +
+           format_number(p[1], significant_digits) + ", " +
+           format_number(p[2], significant_digits) + ")";
   }
 
   namespace

@@ -17,9 +17,10 @@ namespace dealii
 
 namespace systole::Geometry
 {
-  /// "(x, y, z)" with 6 significant digits, for messages and logs.
+  /// "(x, y, z)" with @p significant_digits significant digits
+  /// (format_number()), for messages and logs.
   std::string
-  format_point(const dealii::Point<3> &p);
+  format_point(const dealii::Point<3> &p, const int significant_digits = 6);
 
   /// A point found in a locally owned cell.
   struct CellPoint

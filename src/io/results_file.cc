@@ -375,6 +375,14 @@ namespace systole::IO
 
   struct ResultsFile::Impl
   {
+    /// The file @p directory/results.h5, written on @p comm.
+    Impl(const std::string &directory, const MPI_Comm comm)
+      : comm(comm)
+      , root(dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      , directory(directory)
+      , file_path(directory + "/results.h5")
+    {}
+
     MPI_Comm               comm;
     bool                   root;
     std::string            directory;
@@ -399,6 +407,16 @@ namespace systole::IO
     flush()
     {
       check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush");
+    }
+
+    /// Appends @p row to @p table and flushes (guarded).
+    void
+    append(Table &table, const std::vector<Column> &row)
+    {
+      guarded([&]() {
+        table.append(file, row, root);
+        flush();
+      });
     }
 
     /// Run @p write (one public write operation, ending in a flush) and
@@ -528,13 +546,8 @@ namespace systole::IO
   ResultsFile::ResultsFile(const std::string &directory,
                            const std::string &parameter_text,
                            const MPI_Comm     comm)
-    : impl(std::make_unique<Impl>())
+    : impl(std::make_unique<Impl>(directory, comm))
   {
-    impl->comm      = comm;
-    impl->root      = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-    impl->directory = directory;
-    impl->file_path = directory + "/results.h5";
-
     // Create the folder on rank 0, then agree on success before anyone opens
     // the file.
     int         ok = 1;
@@ -698,12 +711,8 @@ namespace systole::IO
                            const Rows        &rows,
                            const unsigned int last_step,
                            const MPI_Comm     comm)
-    : impl(std::make_unique<Impl>())
+    : impl(std::make_unique<Impl>(directory, comm))
   {
-    impl->comm      = comm;
-    impl->root      = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-    impl->directory = directory;
-    impl->file_path = directory + "/results.h5";
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     const hid_t access =
       checked(H5Pcreate(H5P_FILE_ACCESS), "file access plist");
@@ -837,28 +846,19 @@ namespace systole::IO
   void
   ResultsFile::append_timeseries(const std::vector<Column> &row)
   {
-    impl->guarded([&]() {
-      impl->timeseries.append(impl->file, row, impl->root);
-      impl->flush();
-    });
+    impl->append(impl->timeseries, row);
   }
 
   void
   ResultsFile::append_event(const std::vector<Column> &row)
   {
-    impl->guarded([&]() {
-      impl->events.append(impl->file, row, impl->root);
-      impl->flush();
-    });
+    impl->append(impl->events, row);
   }
 
   void
   ResultsFile::append_summary(const std::vector<Column> &row)
   {
-    impl->guarded([&]() {
-      impl->summary.append(impl->file, row, impl->root);
-      impl->flush();
-    });
+    impl->append(impl->summary, row);
   }
 
   void

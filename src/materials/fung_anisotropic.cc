@@ -21,81 +21,48 @@ namespace systole::Materials
   } // namespace
 
 
-  void
-  FungAnisotropicParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<FungAnisotropicParameters>> &
+  FungAnisotropicParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const FungAnisotropicParameters defaults;
-    prm.declare_entry(
-      "mu",
-      to_string(defaults.mu),
-      dealii::Patterns::Double(0.0),
-      "Stress scale mu of the isotropic matrix term mu/2 (exp(gamma "
-      "(J^{-2/3} I1 - 3)) - 1), as in Fung isotropic; the small-strain shear "
-      "modulus across the fibres is mu gamma. Units: kPa. Range: illustrative "
-      "default 10 kPa; must be > 0.");
-    prm.declare_entry(
-      "gamma",
-      to_string(defaults.gamma),
-      dealii::Patterns::Double(0.0),
-      "Exponent gamma of the isotropic matrix term. Units: none. Range: "
-      "illustrative default 1; must be > 0.");
-    prm.declare_entry(
-      "k1",
-      to_string(defaults.k1),
-      dealii::Patterns::Double(0.0),
-      "Stiffness k1 of the fibre term k1/(2 k2) (exp(k2 (I4f - 1)^2) - 1) "
-      "(Holzapfel, Gasser and Ogden 2000), I4f = f0.C f0, active in tension "
-      "only. Units: kPa. Source: the fibre term a_f of Holzapfel and Ogden "
-      "2009, Table 1 (default); >= 0 (0 gives Fung isotropic).");
-    prm.declare_entry(
-      "k2",
-      to_string(defaults.k2),
-      dealii::Patterns::Double(0.0),
-      "Exponent k2 of the fibre term. Units: none. Source: b_f of Holzapfel "
-      "and Ogden 2009, Table 1 (default); must be > 0.");
-    prm.declare_entry(
-      "Tension switch width",
-      to_string(defaults.switch_width),
-      dealii::Patterns::Double(0.0),
-      "Width delta in I4f - 1 of the C^2 blend that switches the fibre term "
-      "on in tension (as in Holzapfel-Ogden): off for I4f <= 1, the full term "
-      "for I4f >= 1 + delta; 0 gives a hard switch (discontinuous tangent). "
-      "Units: none. Range: 0-0.05; default 0.01 (a stretch of 0.5 %).");
-  }
-
-
-  FungAnisotropicParameters
-  FungAnisotropicParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    FungAnisotropicParameters      p;
-    p.mu           = prm.get_double(path, "mu");
-    p.gamma        = prm.get_double(path, "gamma");
-    p.k1           = prm.get_double(path, "k1");
-    p.k2           = prm.get_double(path, "k2");
-    p.switch_width = prm.get_double(path, "Tension switch width");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  FungAnisotropicParameters::validate() const
-  {
-    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
-    require_in_range(Range::positive, law_name, "gamma", gamma, "set e.g. 1");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "k1",
-                     k1,
-                     "set e.g. 18.472 kPa, or 0 for Fung isotropic");
-    require_in_range(Range::positive, law_name, "k2", k2, "set e.g. 16.026");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "Tension switch width",
-                     switch_width,
-                     "set e.g. 0.01, or 0 for a hard switch");
+    using P                                     = FungAnisotropicParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"mu",
+       &P::mu,
+       Range::positive,
+       "Stress scale mu of the isotropic matrix term mu/2 (exp(gamma "
+       "(J^{-2/3} I1 - 3)) - 1), as in Fung isotropic; the small-strain shear "
+       "modulus across the fibres is mu gamma. Units: kPa. Range: illustrative "
+       "default 10 kPa; must be > 0.",
+       "set e.g. 10 kPa"},
+      {"gamma",
+       &P::gamma,
+       Range::positive,
+       "Exponent gamma of the isotropic matrix term. Units: none. Range: "
+       "illustrative default 1; must be > 0.",
+       "set e.g. 1"},
+      {"k1",
+       &P::k1,
+       Range::non_negative,
+       "Stiffness k1 of the fibre term k1/(2 k2) (exp(k2 (I4f - 1)^2) - 1) "
+       "(Holzapfel, Gasser and Ogden 2000), I4f = f0.C f0, active in tension "
+       "only. Units: kPa. Source: the fibre term a_f of Holzapfel and Ogden "
+       "2009, Table 1 (default); >= 0 (0 gives Fung isotropic).",
+       "set e.g. 18.472 kPa, or 0 for Fung isotropic"},
+      {"k2",
+       &P::k2,
+       Range::positive,
+       "Exponent k2 of the fibre term. Units: none. Source: b_f of Holzapfel "
+       "and Ogden 2009, Table 1 (default); must be > 0.",
+       "set e.g. 16.026"},
+      {"Tension switch width",
+       &P::switch_width,
+       Range::non_negative,
+       "Width delta in I4f - 1 of the C^2 blend that switches the fibre term "
+       "on in tension (as in Holzapfel-Ogden): off for I4f <= 1, the full term "
+       "for I4f >= 1 + delta; 0 gives a hard switch (discontinuous tangent). "
+       "Units: none. Range: 0-0.05; default 0.01 (a stretch of 0.5 %).",
+       "set e.g. 0.01, or 0 for a hard switch"}};
+    return table;
   }
 
 

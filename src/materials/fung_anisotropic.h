@@ -11,7 +11,7 @@
 namespace systole::Materials
 {
   /// Parameters of subsection "Material / Fung anisotropic".
-  struct FungAnisotropicParameters
+  struct FungAnisotropicParameters : LawParameters<FungAnisotropicParameters>
   {
     static constexpr const char *law_name = "Fung anisotropic";
 
@@ -22,21 +22,9 @@ namespace systole::Materials
     /// width @f$\delta@f$ of the tension switch in @f$I_4 - 1@f$ [-], >= 0
     double switch_width = 0.01;
 
-    /// Declares "mu", "gamma", "k1", "k2" and "Tension switch width" in the
-    /// current subsection (the factory enters "Material / Fung
-    /// anisotropic" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / Fung anisotropic" with the path getters and
-    /// validates.
-    static FungAnisotropicParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Fung anisotropic / <entry>" and
-    /// the fix if a value is out of range.
-    void
-    validate() const;
+    /// Entries "mu", "gamma", "k1", "k2" and "Tension switch width".
+    static const std::vector<LawEntry<FungAnisotropicParameters>> &
+    entries();
   };
 
   /// Transversely isotropic Fung-type law: the isochoric Fung isotropic

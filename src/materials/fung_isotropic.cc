@@ -6,53 +6,30 @@
 
 namespace systole::Materials
 {
-  void
-  FungIsotropicParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<FungIsotropicParameters>> &
+  FungIsotropicParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const FungIsotropicParameters defaults;
-    prm.declare_entry(
-      "mu",
-      to_string(defaults.mu),
-      dealii::Patterns::Double(0.0),
-      "Stress scale mu of the isochoric Fung energy mu/2 (exp(gamma "
-      "(J^{-2/3} I1 - 3)) - 1); the small-strain shear modulus is mu gamma. "
-      "Units: kPa. Range: illustrative default 10 kPa (with gamma = 1 a "
-      "shear modulus of 10 kPa, as the neo-Hookean default); must be > 0.");
-    prm.declare_entry(
-      "gamma",
-      to_string(defaults.gamma),
-      dealii::Patterns::Double(0.0),
-      "Exponent gamma of the isochoric Fung energy: how fast the law "
-      "stiffens with J^{-2/3} I1 - 3 (gamma -> 0 with mu gamma fixed gives "
-      "neo-Hookean; gamma = 1/2, mu = C is the small-strain match of the "
-      "isotropic Guccione law of Land problem 2). Units: none. Range: "
-      "illustrative default 1, of order 1-10 for soft tissue; must be > 0.");
-  }
-
-
-  FungIsotropicParameters
-  FungIsotropicParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    FungIsotropicParameters        p;
-    p.mu    = prm.get_double(path, "mu");
-    p.gamma = prm.get_double(path, "gamma");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  FungIsotropicParameters::validate() const
-  {
-    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
-    require_in_range(
-      Range::positive,
-      law_name,
-      "gamma",
-      gamma,
-      "set e.g. 1 (for gamma = 0 use neo-Hookean with mu = the shear modulus)");
+    using P                                     = FungIsotropicParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"mu",
+       &P::mu,
+       Range::positive,
+       "Stress scale mu of the isochoric Fung energy mu/2 (exp(gamma "
+       "(J^{-2/3} I1 - 3)) - 1); the small-strain shear modulus is mu gamma. "
+       "Units: kPa. Range: illustrative default 10 kPa (with gamma = 1 a "
+       "shear modulus of 10 kPa, as the neo-Hookean default); must be > 0.",
+       "set e.g. 10 kPa"},
+      {"gamma",
+       &P::gamma,
+       Range::positive,
+       "Exponent gamma of the isochoric Fung energy: how fast the law "
+       "stiffens with J^{-2/3} I1 - 3 (gamma -> 0 with mu gamma fixed gives "
+       "neo-Hookean; gamma = 1/2, mu = C is the small-strain match of the "
+       "isotropic Guccione law of Land problem 2). Units: none. Range: "
+       "illustrative default 1, of order 1-10 for soft tissue; must be > 0.",
+       "set e.g. 1 (for gamma = 0 use neo-Hookean with mu = the shear "
+       "modulus)"}};
+    return table;
   }
 
 

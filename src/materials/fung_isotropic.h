@@ -10,27 +10,16 @@
 namespace systole::Materials
 {
   /// Parameters of subsection "Material / Fung isotropic".
-  struct FungIsotropicParameters
+  struct FungIsotropicParameters : LawParameters<FungIsotropicParameters>
   {
     static constexpr const char *law_name = "Fung isotropic";
 
     double mu    = 10.0; ///< stress scale @f$\mu@f$ [kPa], > 0
     double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
 
-    /// Declares "mu" and "gamma" in the current subsection (the factory
-    /// enters "Material / Fung isotropic" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / Fung isotropic" with the path getters and
-    /// validates.
-    static FungIsotropicParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Fung isotropic / <entry>" and
-    /// the fix unless mu > 0 and gamma > 0.
-    void
-    validate() const;
+    /// Entries "mu" and "gamma" (both > 0).
+    static const std::vector<LawEntry<FungIsotropicParameters>> &
+    entries();
   };
 
   /// Isotropic, isochoric Fung-type exponential law (Fung 1967, Am. J.

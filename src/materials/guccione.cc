@@ -5,78 +5,39 @@
 
 namespace systole::Materials
 {
-  void
-  GuccioneParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<GuccioneParameters>> &
+  GuccioneParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const GuccioneParameters defaults;
-    prm.declare_entry(
-      "C",
-      to_string(defaults.C),
-      dealii::Patterns::Double(0.0),
-      "Overall stiffness multiplying exp(Q) - 1. Units: kPa. Source: Land et "
-      "al. 2015 problems 1 and 3 (2 kPa); canine fit about 0.88 kPa "
-      "(Guccione 1991); must be > 0.");
-    prm.declare_entry(
-      "b_f",
-      to_string(defaults.b_f),
-      dealii::Patterns::Double(0.0),
-      "Weight of the fibre strain E_ff^2 in Q. Units: none. Source: Land et "
-      "al. 2015 (8); canine fit about 18.5 (Guccione 1991); must be > 0.");
-    prm.declare_entry(
-      "b_t",
-      to_string(defaults.b_t),
-      dealii::Patterns::Double(0.0),
-      "Weight of the cross-fibre strains E_ss^2 + E_nn^2 + 2 E_sn^2 in Q. "
-      "Units: none. Source: Land et al. 2015 (2); canine fit about 3.6 "
-      "(Guccione 1991); must be > 0.");
-    prm.declare_entry(
-      "b_fs",
-      to_string(defaults.b_fs),
-      dealii::Patterns::Double(0.0),
-      "Weight of the fibre shears 2 (E_fs^2 + E_fn^2) in Q. Units: none. "
-      "Source: Land et al. 2015 (4); canine fit about 1.6 (Guccione 1991); "
-      "must be > 0.");
-  }
-
-
-  GuccioneParameters
-  GuccioneParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    GuccioneParameters             p;
-    p.C    = prm.get_double(path, "C");
-    p.b_f  = prm.get_double(path, "b_f");
-    p.b_t  = prm.get_double(path, "b_t");
-    p.b_fs = prm.get_double(path, "b_fs");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  GuccioneParameters::validate() const
-  {
-    require_in_range(Range::positive,
-                     law_name,
-                     "C",
-                     C,
-                     "set e.g. 2 kPa, Land et al. 2015");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_f",
-                     b_f,
-                     "set e.g. 8, Land et al. 2015");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_t",
-                     b_t,
-                     "set e.g. 2, Land et al. 2015");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_fs",
-                     b_fs,
-                     "set e.g. 4, Land et al. 2015");
+    using P                                     = GuccioneParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"C",
+       &P::C,
+       Range::positive,
+       "Overall stiffness multiplying exp(Q) - 1. Units: kPa. Source: Land et "
+       "al. 2015 problems 1 and 3 (2 kPa); canine fit about 0.88 kPa "
+       "(Guccione 1991); must be > 0.",
+       "set e.g. 2 kPa, Land et al. 2015"},
+      {"b_f",
+       &P::b_f,
+       Range::positive,
+       "Weight of the fibre strain E_ff^2 in Q. Units: none. Source: Land et "
+       "al. 2015 (8); canine fit about 18.5 (Guccione 1991); must be > 0.",
+       "set e.g. 8, Land et al. 2015"},
+      {"b_t",
+       &P::b_t,
+       Range::positive,
+       "Weight of the cross-fibre strains E_ss^2 + E_nn^2 + 2 E_sn^2 in Q. "
+       "Units: none. Source: Land et al. 2015 (2); canine fit about 3.6 "
+       "(Guccione 1991); must be > 0.",
+       "set e.g. 2, Land et al. 2015"},
+      {"b_fs",
+       &P::b_fs,
+       Range::positive,
+       "Weight of the fibre shears 2 (E_fs^2 + E_fn^2) in Q. Units: none. "
+       "Source: Land et al. 2015 (4); canine fit about 1.6 (Guccione 1991); "
+       "must be > 0.",
+       "set e.g. 4, Land et al. 2015"}};
+    return table;
   }
 
 

@@ -11,7 +11,7 @@ namespace systole::Materials
 {
   /// Parameters of subsection "Material / Guccione".
   /// Defaults: Land et al. 2015, problems 1 and 3.
-  struct GuccioneParameters
+  struct GuccioneParameters : LawParameters<GuccioneParameters>
   {
     static constexpr const char *law_name = "Guccione";
 
@@ -20,20 +20,9 @@ namespace systole::Materials
     double b_t  = 2.0; ///< cross-fibre (transverse) weight [-], > 0
     double b_fs = 4.0; ///< fibre-sheet/fibre-normal shear weight [-], > 0
 
-    /// Declares "C", "b_f", "b_t", "b_fs" in the current subsection (the
-    /// factory enters "Material / Guccione" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / Guccione" with deal.II 9.4's path getters and
-    /// validates the values.
-    static GuccioneParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Guccione / <entry>" and the fix
-    /// if a value is out of range.
-    void
-    validate() const;
+    /// Entries "C", "b_f", "b_t", "b_fs" (all > 0).
+    static const std::vector<LawEntry<GuccioneParameters>> &
+    entries();
   };
 
   /// Transversely isotropic Fung-type law of Guccione et al.

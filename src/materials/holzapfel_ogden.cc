@@ -91,66 +91,89 @@ namespace systole::Materials
   }
 
 
-  void
-  HolzapfelOgdenParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<HolzapfelOgdenParameters>> &
+  HolzapfelOgdenParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const HolzapfelOgdenParameters defaults;
-    const auto                     declare_stiffness =
-      [&](const char *entry, const double value, const char *meaning) {
-        prm.declare_entry(entry,
-                          to_string(value),
-                          dealii::Patterns::Double(0.0),
-                          std::string(meaning) +
-                            " Units: kPa. Source: Holzapfel and Ogden 2009, "
-                            "Table 1 (default).");
-      };
-    const auto declare_exponent =
-      [&](const char *entry, const double value, const char *meaning) {
-        prm.declare_entry(entry,
-                          to_string(value),
-                          dealii::Patterns::Double(0.0),
-                          std::string(meaning) +
-                            " Units: none. Source: Holzapfel and Ogden 2009, "
-                            "Table 1 (default); must be > 0.");
-      };
+    using P = HolzapfelOgdenParameters;
+    const std::string stiffness =
+      " Units: kPa. Source: Holzapfel and Ogden 2009, Table 1 (default).";
+    const std::string exponent = " Units: none. Source: Holzapfel and Ogden "
+                                 "2009, Table 1 (default); must be > 0.";
+    static const std::vector<LawEntry<P>> table = {
+      {"a",
+       &P::a,
+       Range::positive,
+       "Stiffness of the isotropic matrix term a/(2b) (exp(b (J^{-2/3} I1 - "
+       "3)) - 1); must be > 0." +
+         stiffness,
+       "set e.g. 0.059 kPa (HO 2009 Table 1)"},
+      {"b",
+       &P::b,
+       Range::positive,
+       "Exponent of the isotropic matrix term (beware the widespread typo "
+       "0.023)." +
+         exponent,
+       "set e.g. 8.023 (HO 2009 Table 1)"},
+      {"a_f",
+       &P::a_f,
+       Range::non_negative,
+       "Stiffness of the fibre term a_f/(2b_f) (exp(b_f (I4f - 1)^2) - 1), "
+       "active in tension only; >= 0." +
+         stiffness,
+       "set e.g. 18.472 kPa (HO 2009 Table 1)"},
+      {"b_f",
+       &P::b_f,
+       Range::positive,
+       "Exponent of the fibre term." + exponent,
+       "set e.g. 16.026 (HO 2009)"},
+      {"a_s",
+       &P::a_s,
+       Range::non_negative,
+       "Stiffness of the sheet term a_s/(2b_s) (exp(b_s (I4s - 1)^2) - 1), "
+       "active in tension only; >= 0 (0, with a_fs = 0, gives the "
+       "transversely isotropic law)." +
+         stiffness,
+       "set e.g. 2.481 kPa, or 0 for transverse isotropy"},
+      {"b_s",
+       &P::b_s,
+       Range::positive,
+       "Exponent of the sheet term." + exponent,
+       "set e.g. 11.120 (HO 2009)"},
+      {"a_fs",
+       &P::a_fs,
+       Range::non_negative,
+       "Stiffness of the fibre-sheet coupling term a_fs/(2b_fs) (exp(b_fs "
+       "I8fs^2) - 1); >= 0 (0, with a_s = 0, gives the transversely isotropic "
+       "law)." +
+         stiffness,
+       "set e.g. 0.216 kPa, or 0 for transverse isotropy"},
+      {"b_fs",
+       &P::b_fs,
+       Range::positive,
+       "Exponent of the fibre-sheet coupling term." + exponent,
+       "set e.g. 11.436 (HO 2009)"},
+      {"Tension switch width",
+       &P::switch_width,
+       Range::non_negative,
+       "Width delta in I4 - 1 of the C^2 blend that switches the fibre and "
+       "sheet terms on in tension: off for I4 <= 1, the full 2009 law for "
+       "I4 >= 1 + delta; 0 gives the hard switch of the paper (discontinuous "
+       "tangent). Units: none. Range: 0-0.05; default 0.01 (a stretch of "
+       "0.5 %). Only for Tension switch = smootherstep.",
+       "set e.g. 0.01, or 0 for a hard switch"},
+      {"Tension switch sharpness",
+       &P::switch_sharpness,
+       Range::positive,
+       "Sharpness k of the logistic tension switch; must be > 0. Units: none. "
+       "Source: Arostica et al. 2025 (k = 100, the default).",
+       "set e.g. 100 (Arostica et al. 2025)"}};
+    return table;
+  }
 
-    declare_stiffness("a",
-                      defaults.a,
-                      "Stiffness of the isotropic matrix term a/(2b) "
-                      "(exp(b (J^{-2/3} I1 - 3)) - 1); must be > 0.");
-    declare_exponent("b",
-                     defaults.b,
-                     "Exponent of the isotropic matrix term (beware the "
-                     "widespread typo 0.023).");
-    declare_stiffness("a_f",
-                      defaults.a_f,
-                      "Stiffness of the fibre term a_f/(2b_f) (exp(b_f "
-                      "(I4f - 1)^2) - 1), active in tension only; >= 0.");
-    declare_exponent("b_f", defaults.b_f, "Exponent of the fibre term.");
-    declare_stiffness("a_s",
-                      defaults.a_s,
-                      "Stiffness of the sheet term a_s/(2b_s) (exp(b_s "
-                      "(I4s - 1)^2) - 1), active in tension only; >= 0 (0, "
-                      "with a_fs = 0, gives the transversely isotropic law).");
-    declare_exponent("b_s", defaults.b_s, "Exponent of the sheet term.");
-    declare_stiffness("a_fs",
-                      defaults.a_fs,
-                      "Stiffness of the fibre-sheet coupling term a_fs/(2b_fs) "
-                      "(exp(b_fs I8fs^2) - 1); >= 0 (0, with a_s = 0, gives "
-                      "the transversely isotropic law).");
-    declare_exponent("b_fs",
-                     defaults.b_fs,
-                     "Exponent of the fibre-sheet coupling term.");
-    prm.declare_entry(
-      "Tension switch width",
-      to_string(defaults.switch_width),
-      dealii::Patterns::Double(0.0),
-      "Width delta in I4 - 1 of the C^2 blend that switches the fibre and "
-      "sheet terms on in tension: off for I4 <= 1, the full 2009 law for "
-      "I4 >= 1 + delta; 0 gives the hard switch of the paper (discontinuous "
-      "tangent). Units: none. Range: 0-0.05; default 0.01 (a stretch of "
-      "0.5 %). Only for Tension switch = smootherstep.");
+
+  void
+  HolzapfelOgdenParameters::declare_more(dealii::ParameterHandler &prm)
+  {
     prm.declare_entry(
       "Tension switch",
       "smootherstep",
@@ -161,91 +184,16 @@ namespace systole::Materials
       "1))) of the Arostica et al. 2025 benchmark, multiplying the term (1/2 "
       "at I4 = 1, never exactly 0), k = 'Tension switch sharpness'. Units: "
       "none.");
-    prm.declare_entry("Tension switch sharpness",
-                      to_string(defaults.switch_sharpness),
-                      dealii::Patterns::Double(0.0),
-                      "Sharpness k of the logistic tension switch; must be > "
-                      "0. Units: none. Source: Arostica et al. 2025 (k = "
-                      "100, the default).");
-  }
-
-
-  HolzapfelOgdenParameters
-  HolzapfelOgdenParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    HolzapfelOgdenParameters       p;
-    p.a                = prm.get_double(path, "a");
-    p.b                = prm.get_double(path, "b");
-    p.a_f              = prm.get_double(path, "a_f");
-    p.b_f              = prm.get_double(path, "b_f");
-    p.a_s              = prm.get_double(path, "a_s");
-    p.b_s              = prm.get_double(path, "b_s");
-    p.a_fs             = prm.get_double(path, "a_fs");
-    p.b_fs             = prm.get_double(path, "b_fs");
-    p.switch_width     = prm.get_double(path, "Tension switch width");
-    p.switch_form      = prm.get(path, "Tension switch") == "logistic"
-                           ? Switch::logistic
-                           : Switch::smootherstep;
-    p.switch_sharpness = prm.get_double(path, "Tension switch sharpness");
-    p.validate();
-    return p;
   }
 
 
   void
-  HolzapfelOgdenParameters::validate() const
+  HolzapfelOgdenParameters::parse_more(const dealii::ParameterHandler &prm,
+                                       const std::vector<std::string> &path)
   {
-    require_in_range(Range::positive,
-                     law_name,
-                     "a",
-                     a,
-                     "set e.g. 0.059 kPa (HO 2009 Table 1)");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b",
-                     b,
-                     "set e.g. 8.023 (HO 2009 Table 1)");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "a_f",
-                     a_f,
-                     "set e.g. 18.472 kPa (HO 2009 Table 1)");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_f",
-                     b_f,
-                     "set e.g. 16.026 (HO 2009)");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "a_s",
-                     a_s,
-                     "set e.g. 2.481 kPa, or 0 for transverse isotropy");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_s",
-                     b_s,
-                     "set e.g. 11.120 (HO 2009)");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "a_fs",
-                     a_fs,
-                     "set e.g. 0.216 kPa, or 0 for transverse isotropy");
-    require_in_range(Range::positive,
-                     law_name,
-                     "b_fs",
-                     b_fs,
-                     "set e.g. 11.436 (HO 2009)");
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "Tension switch width",
-                     switch_width,
-                     "set e.g. 0.01, or 0 for a hard switch");
-    require_in_range(Range::positive,
-                     law_name,
-                     "Tension switch sharpness",
-                     switch_sharpness,
-                     "set e.g. 100 (Arostica et al. 2025)");
+    switch_form = prm.get(path, "Tension switch") == "logistic"
+                    ? Switch::logistic
+                    : Switch::smootherstep;
   }
 
 

@@ -12,7 +12,7 @@ namespace systole::Materials
 {
   /// Parameters of subsection "Material / Holzapfel-Ogden".
   /// Defaults: Holzapfel and Ogden 2009, Table 1.
-  struct HolzapfelOgdenParameters
+  struct HolzapfelOgdenParameters : LawParameters<HolzapfelOgdenParameters>
   {
     static constexpr const char *law_name = "Holzapfel-Ogden";
 
@@ -36,21 +36,19 @@ namespace systole::Materials
     /// sharpness k of the logistic switch [-], > 0
     double switch_sharpness = 100.0;
 
-    /// Declares "a", "b", "a_f", "b_f", "a_s", "b_s", "a_fs", "b_fs" and
-    /// "Tension switch width" in the current subsection (the factory enters
-    /// "Material / Holzapfel-Ogden" first).
+    /// Entries "a", "b", "a_f", "b_f", "a_s", "b_s", "a_fs", "b_fs", "Tension
+    /// switch width" and "Tension switch sharpness".
+    static const std::vector<LawEntry<HolzapfelOgdenParameters>> &
+    entries();
+
+    /// Declares the selection "Tension switch" (switch_form).
     static void
-    declare(dealii::ParameterHandler &prm);
+    declare_more(dealii::ParameterHandler &prm);
 
-    /// Reads "Material / Holzapfel-Ogden" with the path getters and
-    /// validates.
-    static HolzapfelOgdenParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Holzapfel-Ogden / <entry>" and
-    /// the fix if a value is out of range.
+    /// Reads "Tension switch" from @p path into switch_form.
     void
-    validate() const;
+    parse_more(const dealii::ParameterHandler &prm,
+               const std::vector<std::string> &path);
   };
 
   /// Orthotropic exponential law of Holzapfel and Ogden (Phil. Trans. R. Soc.

@@ -6,45 +6,32 @@
 
 namespace systole::Materials
 {
-  void
-  MooneyRivlinParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<MooneyRivlinParameters>> &
+  MooneyRivlinParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const MooneyRivlinParameters defaults;
-    prm.declare_entry(
-      "c1",
-      to_string(defaults.c1),
-      dealii::Patterns::Double(0.0),
-      "Weight of the isochoric first invariant, c1 (J^{-2/3} I1 - 3). Units: "
-      "kPa. Range: illustrative default 4 kPa (small-strain shear modulus "
-      "2 (c1 + c2) = 10 kPa); >= 0, with c1 + c2 > 0.");
-    prm.declare_entry(
-      "c2",
-      to_string(defaults.c2),
-      dealii::Patterns::Double(0.0),
-      "Weight of the isochoric second invariant, c2 (J^{-4/3} I2 - 3). Units: "
-      "kPa. Range: illustrative default 1 kPa; >= 0 (0 gives neo-Hookean with "
-      "mu = 2 c1), with c1 + c2 > 0.");
-  }
-
-
-  MooneyRivlinParameters
-  MooneyRivlinParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    MooneyRivlinParameters         p;
-    p.c1 = prm.get_double(path, "c1");
-    p.c2 = prm.get_double(path, "c2");
-    p.validate();
-    return p;
+    using P                                     = MooneyRivlinParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"c1",
+       &P::c1,
+       Range::non_negative,
+       "Weight of the isochoric first invariant, c1 (J^{-2/3} I1 - 3). Units: "
+       "kPa. Range: illustrative default 4 kPa (small-strain shear modulus "
+       "2 (c1 + c2) = 10 kPa); >= 0, with c1 + c2 > 0.",
+       "set e.g. 4 kPa"},
+      {"c2",
+       &P::c2,
+       Range::non_negative,
+       "Weight of the isochoric second invariant, c2 (J^{-4/3} I2 - 3). Units: "
+       "kPa. Range: illustrative default 1 kPa; >= 0 (0 gives neo-Hookean with "
+       "mu = 2 c1), with c1 + c2 > 0.",
+       "set e.g. 1 kPa"}};
+    return table;
   }
 
 
   void
-  MooneyRivlinParameters::validate() const
+  MooneyRivlinParameters::validate_more() const
   {
-    require_in_range(Range::non_negative, law_name, "c1", c1, "set e.g. 4 kPa");
-    require_in_range(Range::non_negative, law_name, "c2", c2, "set e.g. 1 kPa");
     AssertThrow(c1 + c2 > 0.0,
                 dealii::ExcMessage(
                   "Material / Mooney-Rivlin / c1 and c2 are both zero, which "

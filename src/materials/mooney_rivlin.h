@@ -10,27 +10,20 @@
 namespace systole::Materials
 {
   /// Parameters of subsection "Material / Mooney-Rivlin".
-  struct MooneyRivlinParameters
+  struct MooneyRivlinParameters : LawParameters<MooneyRivlinParameters>
   {
     static constexpr const char *law_name = "Mooney-Rivlin";
 
     double c1 = 4.0; ///< weight of @f$\bar I_1 - 3@f$ [kPa], >= 0
     double c2 = 1.0; ///< weight of @f$\bar I_2 - 3@f$ [kPa], >= 0
 
-    /// Declares "c1" and "c2" in the current subsection (the factory enters
-    /// "Material / Mooney-Rivlin" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
+    /// Entries "c1" and "c2" (both >= 0; validate_more() asks c1 + c2 > 0).
+    static const std::vector<LawEntry<MooneyRivlinParameters>> &
+    entries();
 
-    /// Reads "Material / Mooney-Rivlin" with the path getters and
-    /// validates.
-    static MooneyRivlinParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Mooney-Rivlin / <entry>" and the
-    /// fix unless c1 >= 0, c2 >= 0 and c1 + c2 > 0.
+    /// Requires c1 + c2 > 0 (some shear stiffness).
     void
-    validate() const;
+    validate_more() const;
   };
 
   /// Isotropic, isochoric Mooney-Rivlin law (Mooney 1940, J. Appl. Phys.

@@ -6,37 +6,18 @@
 
 namespace systole::Materials
 {
-  void
-  NeoHookeanParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<NeoHookeanParameters>> &
+  NeoHookeanParameters::entries()
   {
-    prm.declare_entry(
-      "mu",
-      dealii::Patterns::Tools::to_string(NeoHookeanParameters().mu),
-      dealii::Patterns::Double(0.0),
-      "Shear modulus of the isochoric neo-Hookean energy mu/2 (J^{-2/3} I1 - "
-      "3). Units: kPa. Range: illustrative default 10 kPa; passive "
-      "myocardium is of order 1-10 kPa at small strain; must be > 0.");
-  }
-
-
-  NeoHookeanParameters
-  NeoHookeanParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    NeoHookeanParameters p;
-    p.mu = prm.get_double({"Material", law_name}, "mu");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  NeoHookeanParameters::validate() const
-  {
-    require_in_range(Range::positive,
-                     law_name,
-                     "mu",
-                     mu,
-                     "set a positive shear modulus (e.g. 10 kPa)");
+    static const std::vector<LawEntry<NeoHookeanParameters>> table = {
+      {"mu",
+       &NeoHookeanParameters::mu,
+       Range::positive,
+       "Shear modulus of the isochoric neo-Hookean energy mu/2 (J^{-2/3} I1 - "
+       "3). Units: kPa. Range: illustrative default 10 kPa; passive "
+       "myocardium is of order 1-10 kPa at small strain; must be > 0.",
+       "set a positive shear modulus (e.g. 10 kPa)"}};
+    return table;
   }
 
 

@@ -10,25 +10,15 @@
 namespace systole::Materials
 {
   /// Parameters of subsection "Material / neo-Hookean".
-  struct NeoHookeanParameters
+  struct NeoHookeanParameters : LawParameters<NeoHookeanParameters>
   {
     static constexpr const char *law_name = "neo-Hookean";
 
     double mu = 10.0; ///< shear modulus @f$\mu@f$ [kPa], > 0
 
-    /// Declares "mu" in the current subsection (the factory enters
-    /// "Material / neo-Hookean" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / neo-Hookean" with the path getters and validates.
-    static NeoHookeanParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / neo-Hookean / mu" and the fix
-    /// if mu is not > 0.
-    void
-    validate() const;
+    /// Entry "mu" (> 0).
+    static const std::vector<LawEntry<NeoHookeanParameters>> &
+    entries();
   };
 
   /// Isotropic, isochoric neo-Hookean law (Treloar 1943; decoupled form of

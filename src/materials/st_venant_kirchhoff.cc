@@ -4,48 +4,25 @@
 
 namespace systole::Materials
 {
-  void
-  StVenantKirchhoffParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<StVenantKirchhoffParameters>> &
+  StVenantKirchhoffParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const StVenantKirchhoffParameters defaults;
-    prm.declare_entry(
-      "lambda",
-      to_string(defaults.lambda),
-      dealii::Patterns::Double(0.0),
-      "First Lame parameter, weight of (tr E)^2 / 2. Units: kPa. Range: "
-      "illustrative default 40 kPa (Poisson ratio 0.4 with mu = 10 kPa); "
-      ">= 0.");
-    prm.declare_entry(
-      "mu",
-      to_string(defaults.mu),
-      dealii::Patterns::Double(0.0),
-      "Shear modulus, weight of E:E. Units: kPa. Range: illustrative default "
-      "10 kPa; must be > 0.");
-  }
-
-
-  StVenantKirchhoffParameters
-  StVenantKirchhoffParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    StVenantKirchhoffParameters    p;
-    p.lambda = prm.get_double(path, "lambda");
-    p.mu     = prm.get_double(path, "mu");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  StVenantKirchhoffParameters::validate() const
-  {
-    require_in_range(Range::non_negative,
-                     law_name,
-                     "lambda",
-                     lambda,
-                     "set e.g. 40 kPa");
-    require_in_range(Range::positive, law_name, "mu", mu, "set e.g. 10 kPa");
+    using P                                     = StVenantKirchhoffParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"lambda",
+       &P::lambda,
+       Range::non_negative,
+       "First Lame parameter, weight of (tr E)^2 / 2. Units: kPa. Range: "
+       "illustrative default 40 kPa (Poisson ratio 0.4 with mu = 10 kPa); "
+       ">= 0.",
+       "set e.g. 40 kPa"},
+      {"mu",
+       &P::mu,
+       Range::positive,
+       "Shear modulus, weight of E:E. Units: kPa. Range: illustrative default "
+       "10 kPa; must be > 0.",
+       "set e.g. 10 kPa"}};
+    return table;
   }
 
 

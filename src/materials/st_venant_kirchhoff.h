@@ -11,26 +11,16 @@ namespace systole::Materials
 {
   /// Parameters of subsection "Material / St Venant-Kirchhoff".
   struct StVenantKirchhoffParameters
+    : LawParameters<StVenantKirchhoffParameters>
   {
     static constexpr const char *law_name = "St Venant-Kirchhoff";
 
     double lambda = 40.0; ///< first Lame parameter @f$\lambda@f$ [kPa], >= 0
     double mu     = 10.0; ///< shear modulus @f$\mu@f$ [kPa], > 0
 
-    /// Declares "lambda" and "mu" in the current subsection (the factory
-    /// enters "Material / St Venant-Kirchhoff" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / St Venant-Kirchhoff" with the path getters and
-    /// validates.
-    static StVenantKirchhoffParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / St Venant-Kirchhoff / <entry>"
-    /// and the fix unless lambda >= 0 and mu > 0.
-    void
-    validate() const;
+    /// Entries "lambda" (>= 0) and "mu" (> 0).
+    static const std::vector<LawEntry<StVenantKirchhoffParameters>> &
+    entries();
   };
 
   /// Isotropic St Venant-Kirchhoff law (Holzapfel 2000, Nonlinear Solid

@@ -6,47 +6,28 @@
 
 namespace systole::Materials
 {
-  void
-  VerondaWestmanParameters::declare(dealii::ParameterHandler &prm)
+  const std::vector<LawEntry<VerondaWestmanParameters>> &
+  VerondaWestmanParameters::entries()
   {
-    using dealii::Patterns::Tools::to_string;
-    const VerondaWestmanParameters defaults;
-    prm.declare_entry(
-      "c1",
-      to_string(defaults.c1),
-      dealii::Patterns::Double(0.0),
-      "Stress scale c1 of the Veronda-Westman energy c1 (exp(gamma (J^{-2/3} "
-      "I1 - 3)) - 1) - c1 gamma/2 (J^{-4/3} I2 - 3); the small-strain shear "
-      "modulus is c1 gamma. Units: kPa. Range: illustrative default 10 kPa "
-      "(with gamma = 1 a shear modulus of 10 kPa, as the neo-Hookean "
-      "default); must be > 0.");
-    prm.declare_entry(
-      "gamma",
-      to_string(defaults.gamma),
-      dealii::Patterns::Double(0.0),
-      "Exponent gamma of the Veronda-Westman energy (it also sets the weight "
-      "-c1 gamma/2 of the second invariant). Units: none. Range: "
-      "illustrative default 1, of order 1-10 for soft tissue; must be > 0.");
-  }
-
-
-  VerondaWestmanParameters
-  VerondaWestmanParameters::parse(const dealii::ParameterHandler &prm)
-  {
-    const std::vector<std::string> path = {"Material", law_name};
-    VerondaWestmanParameters       p;
-    p.c1    = prm.get_double(path, "c1");
-    p.gamma = prm.get_double(path, "gamma");
-    p.validate();
-    return p;
-  }
-
-
-  void
-  VerondaWestmanParameters::validate() const
-  {
-    require_in_range(Range::positive, law_name, "c1", c1, "set e.g. 10 kPa");
-    require_in_range(Range::positive, law_name, "gamma", gamma, "set e.g. 1");
+    using P                                     = VerondaWestmanParameters;
+    static const std::vector<LawEntry<P>> table = {
+      {"c1",
+       &P::c1,
+       Range::positive,
+       "Stress scale c1 of the Veronda-Westman energy c1 (exp(gamma (J^{-2/3} "
+       "I1 - 3)) - 1) - c1 gamma/2 (J^{-4/3} I2 - 3); the small-strain shear "
+       "modulus is c1 gamma. Units: kPa. Range: illustrative default 10 kPa "
+       "(with gamma = 1 a shear modulus of 10 kPa, as the neo-Hookean "
+       "default); must be > 0.",
+       "set e.g. 10 kPa"},
+      {"gamma",
+       &P::gamma,
+       Range::positive,
+       "Exponent gamma of the Veronda-Westman energy (it also sets the weight "
+       "-c1 gamma/2 of the second invariant). Units: none. Range: "
+       "illustrative default 1, of order 1-10 for soft tissue; must be > 0.",
+       "set e.g. 1"}};
+    return table;
   }
 
 

@@ -10,27 +10,16 @@
 namespace systole::Materials
 {
   /// Parameters of subsection "Material / Veronda-Westman".
-  struct VerondaWestmanParameters
+  struct VerondaWestmanParameters : LawParameters<VerondaWestmanParameters>
   {
     static constexpr const char *law_name = "Veronda-Westman";
 
     double c1    = 10.0; ///< stress scale @f$c_1@f$ [kPa], > 0
     double gamma = 1.0;  ///< exponent @f$\gamma@f$ [-], > 0
 
-    /// Declares "c1" and "gamma" in the current subsection (the factory
-    /// enters "Material / Veronda-Westman" first).
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads "Material / Veronda-Westman" with the path getters and
-    /// validates.
-    static VerondaWestmanParameters
-    parse(const dealii::ParameterHandler &prm);
-
-    /// Throws ExcMessage naming "Material / Veronda-Westman / <entry>" and
-    /// the fix unless c1 > 0 and gamma > 0.
-    void
-    validate() const;
+    /// Entries "c1" and "gamma" (both > 0).
+    static const std::vector<LawEntry<VerondaWestmanParameters>> &
+    entries();
   };
 
   /// Isotropic, isochoric Veronda-Westman law (Veronda and Westman 1970, J.

@@ -354,11 +354,7 @@ namespace systole
     class CalibrationRun
     {
     public:
-      CalibrationRun(const dealii::ParameterHandler &prm,
-                     const RunParameters            &run,
-                     const std::string              &parameter_text,
-                     Logger                         &logger,
-                     const MPI_Comm                  comm);
+      explicit CalibrationRun(const RunInputs &in);
 
       /// Fit, report, write the tables, calibrated.prm and the statistics.
       void
@@ -496,26 +492,22 @@ namespace systole
     };
 
 
-    CalibrationRun::CalibrationRun(const dealii::ParameterHandler &prm,
-                                   const RunParameters            &run,
-                                   const std::string &parameter_text,
-                                   Logger            &logger,
-                                   const MPI_Comm     comm)
-      : run_params(run)
-      , logger(logger)
-      , comm(comm)
+    CalibrationRun::CalibrationRun(const RunInputs &in)
+      : run_params(in.run)
+      , logger(in.logger)
+      , comm(in.comm)
       , start(std::chrono::steady_clock::now())
-      , cal(CalibrationParameters::parse(prm))
+      , cal(CalibrationParameters::parse(in.prm))
       , n(cal.parameters.size())
       , unloaded(cal.reference == "unloaded")
-      , up(checked_unloading(prm))
-      , rebuilder(prm, cal.parameters, "Calibration / Parameters")
+      , up(checked_unloading(in.prm))
+      , rebuilder(in.prm, cal.parameters, "Calibration / Parameters")
       , initial(checked_initial_values())
-      , model(prm, run, logger, comm, "", make_law())
-      , results(run.output_directory, parameter_text, comm)
+      , model(in.prm, in.run, in.logger, in.comm, "", make_law())
+      , results(in.run.output_directory, in.parameter_text, in.comm)
     {
-      logger.line(model.banner(run));
-      set_up_unloading(prm);
+      in.logger.line(model.banner(in.run));
+      set_up_unloading(in.prm);
       targets.pressures_mmHg = cal.pressures_mmHg;
       if (cal.target == "pressure-volume pairs")
         {
@@ -1132,14 +1124,10 @@ namespace systole
 
 
   void
-  run_calibration_problem(const dealii::ParameterHandler &prm,
-                          const RunParameters            &run,
-                          const std::string              &parameter_text,
-                          Logger                         &logger,
-                          const MPI_Comm                  comm)
+  run_calibration_problem(const RunInputs &in)
   {
     // Hundreds of Newton solves: their histories only on request.
-    logger.set_details(run.solver_log == "on");
-    CalibrationRun(prm, run, parameter_text, logger, comm).run();
+    in.logger.set_details(in.run.solver_log == "on");
+    CalibrationRun(in).run();
   }
 } // namespace systole

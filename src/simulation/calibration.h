@@ -1,21 +1,13 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
+#include "simulation/problem_type.h"
 
 #include <string>
 #include <utility>
 #include <vector>
 
-namespace dealii
-{
-  class ParameterHandler;
-}
-
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Subsection Calibration: which passive parameters to fit, to what.
   struct CalibrationParameters
   {
@@ -60,9 +52,5 @@ namespace systole
   /// /calibration/parameters, /calibration/edpvr, /calibration/fit and
   /// /statistics.
   void
-  run_calibration_problem(const dealii::ParameterHandler &prm,
-                          const RunParameters            &run,
-                          const std::string              &parameter_text,
-                          Logger                         &logger,
-                          const MPI_Comm                  comm);
+  run_calibration_problem(const RunInputs &in);
 } // namespace systole

@@ -85,23 +85,19 @@ namespace systole
     class CellRun
     {
     public:
-      CellRun(const dealii::ParameterHandler &prm,
-              const RunParameters            &run,
-              const std::string              &parameter_text,
-              Logger                         &logger,
-              const MPI_Comm                  comm)
-        : run(run)
-        , logger(logger)
-        , comm(comm)
-        , ep(Parameters::parse(prm))
-        , pacing(SingleCell::Pacing::parse(prm))
+      explicit CellRun(const RunInputs &in)
+        : run(in.run)
+        , logger(in.logger)
+        , comm(in.comm)
+        , ep(Parameters::parse(in.prm))
+        , pacing(SingleCell::Pacing::parse(in.prm))
         , model(*ep.ionic_model)
-        , cell(model, settings(ep), pacing, run.start_time)
-        , tension(prm, model, pacing, run)
-        , results(run.output_directory, parameter_text, comm)
+        , cell(model, settings(ep), pacing, in.run.start_time)
+        , tension(in.prm, model, pacing, in.run)
+        , results(in.run.output_directory, in.parameter_text, in.comm)
         , period(pacing.period > 0 ? pacing.period
-                                   : std::max(run.end_time, 1.0))
-        , beat(beat_of(run.start_time))
+                                   : std::max(in.run.end_time, 1.0))
+        , beat(beat_of(in.run.start_time))
         , onset(beat * period + pacing.start)
       {}
 
@@ -282,12 +278,8 @@ namespace systole
   } // namespace
 
   void
-  run_cell_problem(const dealii::ParameterHandler &prm,
-                   const RunParameters            &run,
-                   const std::string              &parameter_text,
-                   Logger                         &logger,
-                   const MPI_Comm                  comm)
+  run_cell_problem(const RunInputs &in)
   {
-    CellRun(prm, run, parameter_text, logger, comm).run_loop();
+    CellRun(in).run_loop();
   }
 } // namespace systole

@@ -1,19 +1,9 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
-
-#include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "simulation/problem_type.h"
 
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Run the "cell" problem: one cell of Electrophysiology / Ionic model
   /// (its subsection), paced as subsection Cell says and integrated with the
   /// entries of subsection Electrophysiology (Time step, ARKode order, ...),
@@ -24,9 +14,5 @@ namespace systole
   /// APD90_ms, peak_calcium_uM, arkode_steps), measured on every ARKode step
   /// (Electrophysiology::ActionPotentialRecorder).
   void
-  run_cell_problem(const dealii::ParameterHandler &prm,
-                   const RunParameters            &run,
-                   const std::string              &parameter_text,
-                   Logger                         &logger,
-                   const MPI_Comm                  comm);
+  run_cell_problem(const RunInputs &in);
 } // namespace systole

@@ -280,16 +280,17 @@ namespace systole
   } // namespace
 
   void
-  run_circulation_problem(const dealii::ParameterHandler &prm,
-                          const RunParameters            &run,
-                          const std::string              &parameter_text,
-                          Logger                         &logger,
-                          const MPI_Comm                  comm)
+  run_circulation_problem(const RunInputs &in)
   {
-    const auto circulation = Circulation::Parameters::parse(prm);
-    const auto model       = create_model(prm);
-    log_banner(circulation, *model, run, logger);
-    CirculationRun r(circulation, *model, run, parameter_text, logger, comm);
+    const auto circulation = Circulation::Parameters::parse(in.prm);
+    const auto model       = create_model(in.prm);
+    log_banner(circulation, *model, in.run, in.logger);
+    CirculationRun r(circulation,
+                     *model,
+                     in.run,
+                     in.parameter_text,
+                     in.logger,
+                     in.comm);
     unsigned int   n_beats  = 0;
     bool           periodic = false;
     for (unsigned int beat = 0; beat < circulation.n_max_beats; ++beat)

@@ -1,19 +1,9 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
-
-#include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "simulation/problem_type.h"
 
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Run the "circulation" problem: the 0D model of "Circulation / Model"
   /// alone, with elastance ventricles (Circulation::Integrator: SUNDIALS
   /// ARKode, implicit, the tolerances and step limits of subsection
@@ -31,9 +21,5 @@ namespace systole
   ///   prefixed per ventricle, lv_EDV_mL, lv_EF, lv_peak_pressure_mmHg, rv_...,
   ///   and max/min/mean of every pressure).
   void
-  run_circulation_problem(const dealii::ParameterHandler &prm,
-                          const RunParameters            &run,
-                          const std::string              &parameter_text,
-                          Logger                         &logger,
-                          const MPI_Comm                  comm);
+  run_circulation_problem(const RunInputs &in);
 } // namespace systole

@@ -430,51 +430,47 @@ namespace systole
   } // namespace
 
   void
-  run_elastodynamics_problem(const dealii::ParameterHandler &prm,
-                             const RunParameters            &run,
-                             const std::string              &parameter_text,
-                             Logger                         &logger,
-                             const MPI_Comm                  comm)
+  run_elastodynamics_problem(const RunInputs &in)
   {
     // Checkpoints: the mesh with the mechanics' cell data (mechanics.mesh),
     // the small state (rows, step, time integration, curves, mechanics).
     std::ostringstream entries;
-    prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
+    in.prm.print_parameters(entries, dealii::ParameterHandler::ShortPRM);
     const std::string   all_entries = entries.str();
-    IO::CheckpointStore store(run.output_directory, comm);
+    IO::CheckpointStore store(in.run.output_directory, in.comm);
     const std::string   checkpoint =
-      resume_checkpoint(run, store, all_entries, logger, comm);
-    MechanicsModel model(prm,
-                         run,
-                         logger,
-                         comm,
+      resume_checkpoint(in.run, store, all_entries, in.logger, in.comm);
+    MechanicsModel model(in.prm,
+                         in.run,
+                         in.logger,
+                         in.comm,
                          checkpoint.empty() ? ""
                                             : checkpoint + "/mechanics.mesh");
-    check_elastodynamics_model(model, prm, run);
-    logger.line(model.banner(run));
-    const auto pressure_curve = LoadCurveParameters::create(prm, "Pressure");
+    check_elastodynamics_model(model, in.prm, in.run);
+    in.logger.line(model.banner(in.run));
+    const auto pressure_curve = LoadCurveParameters::create(in.prm, "Pressure");
     const auto tension_curve =
-      LoadCurveParameters::create(prm, "Active stress");
+      LoadCurveParameters::create(in.prm, "Active stress");
 
     std::unique_ptr<IO::StateReader> state_in;
     const auto                       results_file =
-      open_results(checkpoint, run, parameter_text, state_in, comm);
+      open_results(checkpoint, in.run, in.parameter_text, state_in, in.comm);
     IO::ResultsFile     &results = *results_file;
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
+    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
                                      *model.problem,
                                      model.names,
-                                     &logger);
-    Progress             progress(logger,
-                      Progress::parse_mode(run.progress),
-                      run.start_time,
-                      run.end_time);
-    TimeIntegration      integration(run,
+                                     &in.logger);
+    Progress             progress(in.logger,
+                      Progress::parse_mode(in.run.progress),
+                      in.run.start_time,
+                      in.run.end_time);
+    TimeIntegration      integration(in.run,
                                 model,
                                 *pressure_curve,
                                 *tension_curve,
                                 postprocess,
                                 results,
-                                logger);
+                                in.logger);
     if (state_in)
       integration.load(state_in->archive());
     else
@@ -485,12 +481,15 @@ namespace systole
                                  model.tria,
                                  "mechanics.mesh",
                                  all_entries,
-                                 run,
-                                 logger,
-                                 comm);
-    integration.after_step =
-      checkpoint_writer(checkpointer, integration, run, *model.problem, comm);
-    integration.run_to_end(progress, comm);
+                                 in.run,
+                                 in.logger,
+                                 in.comm);
+    integration.after_step = checkpoint_writer(checkpointer,
+                                               integration,
+                                               in.run,
+                                               *model.problem,
+                                               in.comm);
+    integration.run_to_end(progress, in.comm);
 
     const SolveCounts &counts = integration.counts();
     model.write_solve_summary("time_steps", counts, postprocess, results);
@@ -501,7 +500,7 @@ namespace systole
     if (checkpointer.count > 0)
       o << "; " << checkpointer.count << " checkpoint(s), the last in "
         << checkpointer.list().front();
-    logger.line(o.str());
-    logger.line("Wrote " + results.path());
+    in.logger.line(o.str());
+    in.logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -1,19 +1,9 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
-
-#include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "simulation/problem_type.h"
 
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Declares subsection Elastodynamics: the loads of Problem =
   /// elastodynamics as functions of time (LoadCurveParameters).
   void
@@ -37,9 +27,5 @@ namespace systole
   /// (their time integrals by the trapezoidal rule); fields every Output /
   /// Field output interval steps.
   void
-  run_elastodynamics_problem(const dealii::ParameterHandler &prm,
-                             const RunParameters            &run,
-                             const std::string              &parameter_text,
-                             Logger                         &logger,
-                             const MPI_Comm                  comm);
+  run_elastodynamics_problem(const RunInputs &in);
 } // namespace systole

@@ -390,14 +390,10 @@ namespace systole
 
 
   void
-  run_electrophysiology_problem(const dealii::ParameterHandler &prm,
-                                const RunParameters            &run,
-                                const std::string              &parameter_text,
-                                Logger                         &logger,
-                                const MPI_Comm                  comm)
+  run_electrophysiology_problem(const RunInputs &in)
   {
-    ElectrophysiologyRun ep_run(prm, run, logger, comm);
-    ep_run.open_results(parameter_text);
+    ElectrophysiologyRun ep_run(in.prm, in.run, in.logger, in.comm);
+    ep_run.open_results(in.parameter_text);
     ep_run.time_loop();
     ep_run.finish();
   }

@@ -1,19 +1,9 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
-
-#include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "simulation/problem_type.h"
 
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Run the "electrophysiology" problem: the monodomain model alone
   /// (subsection Electrophysiology) on the mesh of subsection Geometry with
   /// the fibres of subsection Fibres, from Time / Start time to End time.
@@ -25,9 +15,5 @@ namespace systole
   /// (first, last, total and 90 % activation times, the probes' activation
   /// times, cost counters) and a log line with the EP cost per step and DOF.
   void
-  run_electrophysiology_problem(const dealii::ParameterHandler &prm,
-                                const RunParameters            &run,
-                                const std::string              &parameter_text,
-                                Logger                         &logger,
-                                const MPI_Comm                  comm);
+  run_electrophysiology_problem(const RunInputs &in);
 } // namespace systole

@@ -555,11 +555,7 @@ namespace systole
   } // namespace
 
   void
-  run_heartbeat_problem(const dealii::ParameterHandler &prm,
-                        const RunParameters            &run,
-                        const std::string              &parameter_text,
-                        Logger                         &logger,
-                        const MPI_Comm                  comm)
+  run_heartbeat_problem(const RunInputs &in)
   {
     // The sections of the run (written to /statistics as "timer: Heartbeat:
     // ..."); the mechanics' own sections are inside "mechanics".
@@ -569,7 +565,7 @@ namespace systole
                               dealii::TimerOutput::never,
                               dealii::TimerOutput::wall_times);
     timer.enter_subsection("Heartbeat / set-up");
-    HeartbeatSetUp            set_up(prm, run, logger, comm);
+    HeartbeatSetUp            set_up(in.prm, in.run, in.logger, in.comm);
     const auto               &circulation      = set_up.circulation;
     const bool                inertia          = set_up.inertia;
     const std::string        &checkpoint       = set_up.checkpoint;
@@ -594,22 +590,22 @@ namespace systole
                                    ep,
                                    onset,
                                    inertia,
-                                   logger);
+                                   in.logger);
     // The small state of a checkpoint (IO::checkpoint_state_file): the rows
     // of the results file and the last step first, then the components in a
     // fixed order.
     std::unique_ptr<IO::StateReader> state_in;
     const auto                       results_file =
-      open_results(checkpoint, run, parameter_text, state_in, comm);
+      open_results(checkpoint, in.run, in.parameter_text, state_in, in.comm);
     IO::ResultsFile &results = *results_file;
     if (ep != nullptr && checkpoint.empty())
-      write_purkinje(results, ep->purkinje(), comm);
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
+      write_purkinje(results, ep->purkinje(), in.comm);
+    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
                                      problem,
                                      model.names,
-                                     &logger);
-    Progress             progress(logger,
-                      Progress::parse_mode(run.progress),
+                                     &in.logger);
+    Progress             progress(in.logger,
+                      Progress::parse_mode(in.run.progress),
                       0.0,
                       circulation.period * circulation.n_max_beats);
     HeartbeatWriter      writer(zero_d,
@@ -617,12 +613,12 @@ namespace systole
                            ventricles,
                            problem,
                            ep,
-                           run,
-                           logger,
+                           in.run,
+                           in.logger,
                            progress,
                            postprocess,
                            circulation.period,
-                           comm);
+                           in.comm);
     HeartbeatStepper     stepper(zero_d,
                              ventricles,
                              stepper_settings(circulation),
@@ -639,9 +635,9 @@ namespace systole
                                  model.tria,
                                  "mechanics.mesh",
                                  set_up.all_entries,
-                                 run,
-                                 logger,
-                                 comm);
+                                 in.run,
+                                 in.logger,
+                                 in.comm);
     writer.checkpoint = [&](const unsigned int step) {
       checkpointer.write(
         step,
@@ -663,6 +659,6 @@ namespace systole
                    model,
                    timer,
                    results,
-                   logger);
+                   in.logger);
   }
 } // namespace systole

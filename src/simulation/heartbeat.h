@@ -1,19 +1,9 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
-
-#include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "simulation/problem_type.h"
 
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Run the "heartbeat" problem: the left ventricle beats, coupled to a
   /// Windkessel afterload. The cavity volume V is a state of the circulation
   /// ODE (Circulation::CardiacCycle, SUNDIALS ARKode with root finding for
@@ -24,9 +14,5 @@ namespace systole
   /// accepted step, one /events row per valve event and one /summary row per
   /// beat.
   void
-  run_heartbeat_problem(const dealii::ParameterHandler &prm,
-                        const RunParameters            &run,
-                        const std::string              &parameter_text,
-                        Logger                         &logger,
-                        const MPI_Comm                  comm);
+  run_heartbeat_problem(const RunInputs &in);
 } // namespace systole

@@ -174,19 +174,15 @@ namespace systole
   } // namespace
 
   void
-  run_cavity_volume_problem(const dealii::ParameterHandler &prm,
-                            const RunParameters            &run,
-                            const std::string              &parameter_text,
-                            Logger                         &logger,
-                            const MPI_Comm                  comm)
+  run_cavity_volume_problem(const RunInputs &in)
   {
     const auto geometry =
-      Geometry::Parameters::parse(prm, run.parameter_directory);
-    const auto kinematics = KinematicsParameters::parse(prm);
+      Geometry::Parameters::parse(in.prm, in.run.parameter_directory);
+    const auto kinematics = KinematicsParameters::parse(in.prm);
 
     // Hexahedra on p4est, tetrahedra fully distributed.
     const Geometry::DistributedMesh mesh =
-      Geometry::create_distributed_mesh(geometry, comm);
+      Geometry::create_distributed_mesh(geometry, in.comm);
     const dealii::Triangulation<3> &tria  = *mesh.tria;
     const Geometry::BoundaryNames  &names = mesh.names;
     for (const auto &part : kinematics.cavities)
@@ -200,19 +196,19 @@ namespace systole
         : Geometry::cavity_lid(tria, names, kinematics.cavities.front());
 
     const Geometry::CellKind  kind(tria);
-    const dealii::FESystem<3> fe(*kind.lagrange(run.polynomial_degree), 3);
+    const dealii::FESystem<3> fe(*kind.lagrange(in.run.polynomial_degree), 3);
     dealii::DoFHandler<3>     dof_handler(tria);
     dof_handler.distribute_dofs(fe);
-    const auto mapping_pointer        = kind.mapping(tria, run.mapping_degree);
+    const auto mapping_pointer = kind.mapping(tria, in.run.mapping_degree);
     const dealii::Mapping<3> &mapping = *mapping_pointer;
     const unsigned int        n_q =
-      run.polynomial_degree + kind.mapping_degree(run.mapping_degree) + 1;
+      in.run.polynomial_degree + kind.mapping_degree(in.run.mapping_degree) + 1;
 
     const dealii::IndexSet owned = dof_handler.locally_owned_dofs();
     dealii::IndexSet       relevant;
     dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    LA::MPI::Vector u_owned(owned, comm);
-    LA::MPI::Vector u(owned, relevant, comm);
+    LA::MPI::Vector u_owned(owned, in.comm);
+    LA::MPI::Vector u(owned, relevant, in.comm);
 
     // Each cavity closed by its own lid in the common base plane: the field
     // of CavityVolume has no flux through that plane, so each lid adds 0.
@@ -228,27 +224,30 @@ namespace systole
     };
     const std::vector<double> volumes0 = volumes();
 
-    log_start(run,
+    log_start(in.run,
               tria,
               dof_handler,
               kinematics.cavities,
               volumes0,
-              logger,
-              comm);
+              in.logger,
+              in.comm);
 
-    IO::ResultsFile results(run.output_directory, parameter_text, comm);
-    Progress        progress(logger,
-                      Progress::parse_mode(run.progress),
-                      run.start_time,
-                      run.end_time);
+    IO::ResultsFile results(in.run.output_directory,
+                            in.parameter_text,
+                            in.comm);
+    Progress        progress(in.logger,
+                      Progress::parse_mode(in.run.progress),
+                      in.run.start_time,
+                      in.run.end_time);
 
-    const unsigned int n_steps = static_cast<unsigned int>(
-      std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9));
-    unsigned int step = 0;
+    const unsigned int n_steps = static_cast<unsigned int>(std::ceil(
+      (in.run.end_time - in.run.start_time) / in.run.time_step - 1e-9));
+    unsigned int       step    = 0;
     for (; step <= n_steps; ++step)
       {
         const double time =
-          std::min(run.start_time + step * run.time_step, run.end_time);
+          std::min(in.run.start_time + step * in.run.time_step,
+                   in.run.end_time);
         const double lambda = kinematics.stretch(time);
         progress.update(step, time, "cavity volume");
 
@@ -260,23 +259,23 @@ namespace systole
 
         results.append_timeseries(
           volume_row(time, step, lambda, kinematics.cavities, volumes()));
-        if (run.field_output_interval > 0 &&
-            (step % run.field_output_interval == 0 || step == n_steps))
+        if (in.run.field_output_interval > 0 &&
+            (step % in.run.field_output_interval == 0 || step == n_steps))
           write_displacement(dof_handler,
                              u,
                              mapping,
-                             kind.output_subdivisions(run.polynomial_degree),
+                             kind.output_subdivisions(in.run.polynomial_degree),
                              step,
                              time,
                              results);
 
-        if (interrupted(comm))
+        if (interrupted(in.comm))
           {
-            logger.line("Interrupted: " + results.path() + " holds steps 0.." +
-                        std::to_string(step) + ".");
+            in.logger.line("Interrupted: " + results.path() +
+                           " holds steps 0.." + std::to_string(step) + ".");
             break;
           }
       }
-    logger.line("Wrote " + results.path());
+    in.logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -1,20 +1,12 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
+#include "simulation/problem_type.h"
 
 #include <string>
 #include <vector>
 
-namespace dealii
-{
-  class ParameterHandler;
-}
-
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Prescribed motion of the "cavity volume" problem: a uniform stretch about
   /// the centre of the base, lambda(t) = 1 + A sin^2(pi t / T), so the exact
   /// cavity volume is lambda^3 V_0.
@@ -41,9 +33,5 @@ namespace systole
   /// <part>_volume_mL instead) and the displacement field to the results
   /// file.
   void
-  run_cavity_volume_problem(const dealii::ParameterHandler &prm,
-                            const RunParameters            &run,
-                            const std::string              &parameter_text,
-                            Logger                         &logger,
-                            const MPI_Comm                  comm);
+  run_cavity_volume_problem(const RunInputs &in);
 } // namespace systole

@@ -18,11 +18,7 @@ namespace systole
 {
   namespace
   {
-    using RunFunction   = void (*)(const dealii::ParameterHandler &,
-                                 const RunParameters &,
-                                 const std::string &,
-                                 Logger &,
-                                 const MPI_Comm);
+    using RunFunction   = void (*)(const RunInputs &);
     using ParseFunction = void (*)(const dealii::ParameterHandler &);
 
     /// A problem type made of a run function and the parse of its own
@@ -45,7 +41,7 @@ namespace systole
       void
       run(const RunInputs &in) const override
       {
-        run_function(in.prm, in.run, in.parameter_text, in.logger, in.comm);
+        run_function(in);
       }
 
     private:

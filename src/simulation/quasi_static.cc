@@ -55,23 +55,24 @@ namespace systole
   } // namespace
 
   void
-  run_quasi_static_problem(const dealii::ParameterHandler &prm,
-                           const RunParameters            &run,
-                           const std::string              &parameter_text,
-                           Logger                         &logger,
-                           const MPI_Comm                  comm)
+  run_quasi_static_problem(const RunInputs &in)
   {
-    MechanicsModel      model(prm, run, logger, comm);
+    MechanicsModel      model(in.prm, in.run, in.logger, in.comm);
     const auto         &params  = model.params;
     Mechanics::Problem &problem = *model.problem;
-    logger.line(model.banner(run));
+    in.logger.line(model.banner(in.run));
 
-    IO::ResultsFile      results(run.output_directory, parameter_text, comm);
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(prm),
+    IO::ResultsFile      results(in.run.output_directory,
+                            in.parameter_text,
+                            in.comm);
+    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
                                      problem,
                                      model.names,
-                                     &logger);
-    Progress progress(logger, Progress::parse_mode(run.progress), 0.0, 1.0);
+                                     &in.logger);
+    Progress             progress(in.logger,
+                      Progress::parse_mode(in.run.progress),
+                      0.0,
+                      1.0);
 
     unsigned int step      = 0;
     const auto   write_row = [&](const double                   fraction,
@@ -79,7 +80,7 @@ namespace systole
       std::vector<IO::Column> row =
         load_step_row(model, step, fraction, report);
       // The chosen postprocessors' columns; time is the load fraction.
-      model.write_step(run,
+      model.write_step(in.run,
                        step,
                        fraction,
                        fraction >= 1.0,
@@ -102,8 +103,8 @@ namespace systole
         increment           = std::min(increment, 1.0 - fraction);
         const double target = fraction + increment;
         progress.update(step, fraction, "mechanics");
-        logger.stream() << "  Load step " << step + 1 << ": load fraction "
-                        << target << std::endl;
+        in.logger.stream() << "  Load step " << step + 1 << ": load fraction "
+                           << target << std::endl;
         // Extrapolate, but never further than the last increment and only
         // where it lowers the residual: the exponential laws stiffen, and
         // the extrapolation overshoots.
@@ -148,7 +149,7 @@ namespace systole
                           "the mesh too coarse; the results file holds the " +
                           std::to_string(step) + " converged steps."));
             increment *= 0.5;
-            logger.stream()
+            in.logger.stream()
               << "  Newton failed (" << one_line_message(e)
               << "); cutting the load step to " << increment << std::endl;
           }
@@ -162,6 +163,6 @@ namespace systole
                              total_linear,
                              total_solves};
     model.write_solve_summary("load_steps", counts, postprocess, results);
-    logger.line("Wrote " + results.path());
+    in.logger.line("Wrote " + results.path());
   }
 } // namespace systole

@@ -239,20 +239,16 @@ namespace systole
   } // namespace
 
   void
-  run_unloading_problem(const dealii::ParameterHandler &prm,
-                        const RunParameters            &run,
-                        const std::string              &parameter_text,
-                        Logger                         &logger,
-                        const MPI_Comm                  comm)
+  run_unloading_problem(const RunInputs &in)
   {
-    const auto up = UnloadingParameters::parse(prm);
+    const auto up = UnloadingParameters::parse(in.prm);
     const auto fibre_params =
-      Fibres::Parameters::parse(prm, run.parameter_directory);
+      Fibres::Parameters::parse(in.prm, in.run.parameter_directory);
 
-    MechanicsModel    model(prm, run, logger, comm);
-    ReferenceUnloader unloader(model, run, fibre_params, logger, comm);
+    MechanicsModel    model(in.prm, in.run, in.logger, in.comm);
+    ReferenceUnloader unloader(model, in.run, fibre_params, in.logger, in.comm);
     auto             &tria = model.tria;
-    logger.line(model.banner(run));
+    in.logger.line(model.banner(in.run));
     {
       std::ostringstream o;
       o << "Unloading from " << Units::kPa_to_mmHg(up.image_pressure)
@@ -262,19 +258,21 @@ namespace systole
               : "plain fixed point")
         << ", tolerance " << up.tolerance << " mm)"
         << (up.synthetic_image ? ", synthetic image" : "");
-      logger.line(o.str());
+      in.logger.line(o.str());
     }
 
     const std::vector<dealii::Point<3>> given = unloader.vertices();
     std::vector<dealii::Point<3>>       image = given;
-    IO::ResultsFile results(run.output_directory, parameter_text, comm);
+    IO::ResultsFile                     results(in.run.output_directory,
+                            in.parameter_text,
+                            in.comm);
 
     ForwardReport total;
     unsigned int  forward_solves   = 0;
     double        synthetic_volume = 0;
     if (up.synthetic_image)
       {
-        logger.line("Synthetic image: inflating the given geometry");
+        in.logger.line("Synthetic image: inflating the given geometry");
         total += unloader.inflate(up.image_pressure);
         ++forward_solves;
         synthetic_volume = model.problem->cavity_volume();
@@ -287,7 +285,7 @@ namespace systole
       up.synthetic_image ? synthetic_volume : model.problem->cavity_volume();
 
     const auto on_iteration = [&](const UnloadingIteration &it) {
-      report_iteration(it, up, image_volume, logger, results);
+      report_iteration(it, up, image_volume, in.logger, results);
     };
     const auto unloaded =
       unloader.unload(image,
@@ -306,10 +304,10 @@ namespace systole
 
     // The unloaded reference: the mesh, the unloading displacement x_img - X
     // at its vertices (a linear field) beside the reload displacement.
-    const std::string mesh_path = run.output_directory + "/" + up.mesh_file;
+    const std::string mesh_path = in.run.output_directory + "/" + up.mesh_file;
     Geometry::write_gmsh(tria, model.names, mesh_path);
-    if (run.field_output_interval > 0)
-      write_unloading_fields(model, run, X, image, results);
+    if (in.run.field_output_interval > 0)
+      write_unloading_fields(model, in.run, X, image, results);
     results.append_summary(summary_row(up,
                                        unloaded,
                                        total,
@@ -326,8 +324,8 @@ namespace systole
        {"fixed_point_iterations", "-", static_cast<double>(k)},
        {"newton_iterations", "-", static_cast<double>(total.newton)}});
     results.write_statistics(statistics, texts);
-    logger.line("Unloaded in " + std::to_string(k) + " iterations (" +
-                std::to_string(forward_solves) + " forward solves); wrote " +
-                mesh_path + " and " + results.path());
+    in.logger.line("Unloaded in " + std::to_string(k) + " iterations (" +
+                   std::to_string(forward_solves) + " forward solves); wrote " +
+                   mesh_path + " and " + results.path());
   }
 } // namespace systole

@@ -1,19 +1,11 @@
 #pragma once
 
-#include <deal.II/base/mpi.h>
+#include "simulation/problem_type.h"
 
 #include <string>
 
-namespace dealii
-{
-  class ParameterHandler;
-}
-
 namespace systole
 {
-  class Logger;
-  struct RunParameters;
-
   /// Subsection "Unloading" of the parameter file (Problem = unloading).
   struct UnloadingParameters
   {
@@ -51,9 +43,5 @@ namespace systole
   /// unloaded mesh (gmsh), one time-series row per iteration, a /summary row
   /// and the unloading displacement x_img - X as a field.
   void
-  run_unloading_problem(const dealii::ParameterHandler &prm,
-                        const RunParameters            &run,
-                        const std::string              &parameter_text,
-                        Logger                         &logger,
-                        const MPI_Comm                  comm);
+  run_unloading_problem(const RunInputs &in);
 } // namespace systole

@@ -265,8 +265,8 @@ namespace
   {
     Row row;
     row.name = "PETSc sparse matrix";
-    const Materials::NeoHookean passive(
-      Materials::NeoHookean::Parameters{10.0});
+    const Materials::NeoHookean passive{
+      Materials::NeoHookean::Parameters()}; // mu = 10 kPa
     const Materials::VolumetricLaw volumetric(
       Materials::VolumetricLaw::Form::simo_taylor,
       500.0);

@@ -69,8 +69,9 @@ TEST_CASE("The matrix-free tangent equals the assembled sparse tangent of the "
   const test_support::BoxMechanics box(MPI_COMM_WORLD, 4);
   const auto                       u = box.interpolate(test_support::Bulge());
 
-  const Materials::NeoHookean passive(
-    Materials::NeoHookean::Parameters{law.mu});
+  Materials::NeoHookean::Parameters neo_hookean;
+  neo_hookean.mu = law.mu;
+  const Materials::NeoHookean    passive(neo_hookean);
   const Materials::VolumetricLaw volumetric(
     Materials::VolumetricLaw::Form::simo_taylor,
     law.bulk_modulus);
