@@ -232,7 +232,8 @@ namespace systole::Mechanics
     /// the solve starts with chord iterations on it (the bordered system of
     /// that tangent and its B, with W and W' of the current p; one back
     /// substitution each, residual without tangent); when they converge
-    /// slower than a factor 0.3 per iteration it continues with full Newton.
+    /// slower than a factor 0.3 per iteration, or would need more than three
+    /// more, it continues with full Newton.
     /// Consecutive solves of a time integration differ little, so most need
     /// no new factorization.
     NewtonReport
