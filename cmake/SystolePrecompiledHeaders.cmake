@@ -1,6 +1,6 @@
 # Precompiled headers: the deal.II headers most translation units include, parsed once per
 # target instead of once per file. The cold build's time and what this saves are measured in
-# docs/verification.md ("Build time"). Only the header set is shared: each target compiles its
+# docs/verification.md ("Build and test time"). Only the header set is shared: each target compiles its
 # own precompiled header with its own flags (the library is position-independent, the test
 # executables are not).
 set(SYSTOLE_PCH_HEADERS
