@@ -32,7 +32,7 @@ namespace systole::Postprocess
                                        "radial"};
 
     /// The numbers of state() before the points: has_reference, beat,
-    /// ed_volume, ed_time, falling, the ED shape (9), the peaks, the segment
+    /// ed_volume, ed_time, ed_fixed, the ED shape (9), the peaks, the segment
     /// peaks; then the number of points.
     constexpr unsigned int n_scalars = 5 + 9 + 11 + 17 * 3;
 
@@ -144,14 +144,21 @@ namespace systole::Postprocess
       }
     if (new_beat)
       {
-        beat    = data.beat;
-        falling = false;
+        beat     = data.beat;
+        ed_fixed = false;
       }
     const double volume = data.cavity_volume;
-    if (!new_reference && std::isfinite(volume))
+    if (data.filling.has_value())
       {
-        falling       = falling || volume < (1 - fall_tolerance) * ed_volume;
-        new_reference = !falling && volume > (1 + rise_tolerance) * ed_volume;
+        // Every filling step, and the step that closes the mitral valve (the
+        // heartbeat ends that step at the closure).
+        new_reference = new_reference || !ed_fixed;
+        ed_fixed      = ed_fixed || !*data.filling;
+      }
+    else if (!new_reference && std::isfinite(volume))
+      {
+        ed_fixed      = ed_fixed || volume < (1 - fall_tolerance) * ed_volume;
+        new_reference = !ed_fixed && volume > (1 + rise_tolerance) * ed_volume;
       }
     if (new_reference)
       take_reference(data, shape);
@@ -247,7 +254,7 @@ namespace systole::Postprocess
                                   static_cast<double>(beat),
                                   ed_volume,
                                   ed_time,
-                                  falling ? 1.0 : 0.0};
+                                  ed_fixed ? 1.0 : 0.0};
     for (unsigned int d = 0; d < 3; ++d)
       values.push_back(ed_shape.apex[d]);
     for (unsigned int d = 0; d < 3; ++d)
@@ -296,7 +303,7 @@ namespace systole::Postprocess
     beat          = static_cast<unsigned int>(*v++);
     ed_volume     = *v++;
     ed_time       = *v++;
-    falling       = *v++ != 0.0;
+    ed_fixed      = *v++ != 0.0;
     for (unsigned int d = 0; d < 3; ++d)
       ed_shape.apex[d] = *v++;
     for (unsigned int d = 0; d < 3; ++d)

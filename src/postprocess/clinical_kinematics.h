@@ -52,12 +52,16 @@ namespace systole::Postprocess
   /// aha_NN_peak_ed_strain_{circumferential,longitudinal,radial}: the peak
   /// of the segment's mean strain referred to ED (NN = 01 ... 17).
   ///
-  /// End-diastole: the first step of each beat, then at every step whose
-  /// cavity volume exceeds the ED volume by more than rise_tolerance of it,
-  /// until the volume has once fallen below the ED volume by more than
-  /// fall_tolerance of it (then it stays until the next beat); each new ED
-  /// restarts the peaks. Without a cavity (NaN volume) ED is the first step
-  /// of each beat.
+  /// End-diastole: the closure of the mitral valve. Where the circulation
+  /// says whether the ventricle fills (StepData::filling, the heartbeat):
+  /// the first step of each beat, every filling step after it, and the step
+  /// that ends the filling; then it stays until the next beat. (The volume
+  /// creeps on in the isovolumic phases with the leaks of the closed
+  /// valves.) Without that: the first step of each beat, then every step
+  /// whose cavity volume exceeds the ED volume by more than rise_tolerance
+  /// of it, until the volume has once fallen below the ED volume by more
+  /// than fall_tolerance of it. Without a cavity (NaN volume): the first
+  /// step of each beat. Each new ED restarts the peaks.
   class ClinicalKinematics : public Postprocessor
   {
   public:
@@ -114,7 +118,7 @@ namespace systole::Postprocess
     unsigned int   beat          = 0;
     double         ed_volume     = 0;
     double         ed_time       = 0; ///< [ms in the beat]
-    bool           falling       = false;
+    bool           ed_fixed      = false;
     VentricleShape ed_shape;
     /// Per point [cell][q]: F_ED^-1 e_k for the ED frame e_c, e_l, e_r, so
     /// that the stretch along e_k is |F F_ED^-1 e_k|.

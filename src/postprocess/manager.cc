@@ -371,16 +371,18 @@ namespace systole::Postprocess
   }
 
   void
-  Manager::step(const double             time,
-                const unsigned int       beat,
-                const double             beat_start,
-                const double             cavity_volume,
-                std::vector<IO::Column> &row)
+  Manager::step(const double               time,
+                const unsigned int         beat,
+                const double               beat_start,
+                const double               cavity_volume,
+                const std::optional<bool> &filling,
+                std::vector<IO::Column>   &row)
   {
     if (empty())
       return;
     impl->evaluate(time, beat, beat_start, cavity_volume);
-    impl->evaluated = true;
+    impl->data.filling = filling;
+    impl->evaluated    = true;
     for (const auto &p : impl->postprocessors)
       p->step(impl->data, row);
   }

@@ -69,14 +69,16 @@ namespace systole::Postprocess
 
     /// An accepted step at @p time [ms] of beat @p beat (starting at
     /// @p beat_start [ms]) with cavity volume @p cavity_volume [mm^3] (NaN:
-    /// none): appends the /timeseries columns to @p row. The first call
-    /// fixes the reference state.
+    /// none), in which the ventricle fills or not (@p filling, where a
+    /// circulation says so: StepData::filling): appends the /timeseries
+    /// columns to @p row. The first call fixes the reference state.
     void
-    step(const double             time,
-         const unsigned int       beat,
-         const double             beat_start,
-         const double             cavity_volume,
-         std::vector<IO::Column> &row);
+    step(const double               time,
+         const unsigned int         beat,
+         const double               beat_start,
+         const double               cavity_volume,
+         const std::optional<bool> &filling,
+         std::vector<IO::Column>   &row);
 
     /// The end of a beat (or of a run), after its last step(): appends the
     /// /summary columns. @p activation_times: per point (the layout of

@@ -8,6 +8,7 @@
 #include "postprocess/aha_segments.h"
 #include "postprocess/point_quantities.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,7 +34,10 @@ namespace systole::Postprocess
     unsigned int beat = 0; ///< 0, 1, ... (0 without beats)
     double       beat_start = 0; ///< [ms]
     /// The cavity volume [mm^3]: NaN without a cavity.
-    double                                                 cavity_volume = 0;
+    double cavity_volume = 0;
+    /// Whether the (left) ventricle fills at this step, its mitral valve
+    /// open, where a circulation says so (the heartbeat); unset otherwise.
+    std::optional<bool>                                    filling;
     const std::vector<std::vector<Mechanics::PointState>> *points     = nullptr;
     const std::vector<std::vector<PointQuantities>>       *quantities = nullptr;
     /// The reference cardiac frame of every point (Needs::cardiac_frame).

@@ -101,7 +101,12 @@ namespace systole
     append_ep_columns(s, row);
     // The chosen postprocessors' columns (Postprocess / List of
     // postprocessors).
-    postprocess.step(s.time, s.beat, s.beat * period, volumes[0], row);
+    postprocess.step(s.time,
+                     s.beat,
+                     s.beat * period,
+                     volumes[0],
+                     s.phases[external[0]] == Circulation::Phase::filling,
+                     row);
     results.append_timeseries(row);
     rows.last_time = s.time;
     if (run.field_output_interval > 0 &&

@@ -180,6 +180,7 @@ namespace systole
                      problem->n_cavities() == 1
                        ? problem->cavity_volume()
                        : std::numeric_limits<double>::quiet_NaN(),
+                     std::nullopt,
                      row);
     results.append_timeseries(row);
     if (run.field_output_interval > 0 &&

@@ -88,7 +88,7 @@ namespace test_support
   {
     problem->set_displacement(Displacement(u));
     std::vector<systole::IO::Column> row;
-    manager->step(time, beat, 0.0, volume, row);
+    manager->step(time, beat, 0.0, volume, std::nullopt, row);
     return row;
   }
 

@@ -409,6 +409,39 @@ TEST_CASE("Clinical kinematics: end-diastole is the largest volume before "
   k.end_beat(s.step, nullptr, summary);
   CHECK(column_value(summary, "end_diastolic_time") == 5);
 
+  SECTION("with the circulation's phases: the closure of the mitral valve, "
+          "not a later creep of the volume")
+  {
+    // The volume still rises in isovolumetric contraction (the closed
+    // valves leak), by more than the 1e-6 of the volume rule.
+    struct Phased
+    {
+      double time, volume, stretch;
+      bool   filling;
+    };
+    const std::vector<Phased> phased = {
+      {0, 100, 1.00, true},                // the first step: ED
+      {10, 99.5, 0.99, true},              // filling, smaller: still ED
+      {20, 110, 1.02, false},              // closes the mitral valve: ED
+      {30, 110 * (1 + 1e-5), 1.03, false}, // the leak's creep: not ED
+      {40, 90, 0.95, false},               // ejection
+      {50, 120, 1.04, true}};              // filling again: the same ED
+    const std::vector<double> ed_phased = {1.00, 0.99, 1.02, 1.02, 1.02, 1.02};
+    ClinicalKinematics        phases;
+    for (unsigned int i = 0; i < phased.size(); ++i)
+      {
+        s.data(phased[i].stretch * identity, phased[i].volume, phased[i].time);
+        s.step.filling = phased[i].filling;
+        row            = run(phases, s.step);
+        INFO("step " << i);
+        CHECK(std::abs(column_value(row, "global_longitudinal_strain") -
+                       (phased[i].stretch / ed_phased[i] - 1)) < 1e-14);
+      }
+    summary.clear();
+    phases.end_beat(s.step, nullptr, summary);
+    CHECK(column_value(summary, "end_diastolic_time") == 20);
+  }
+
   SECTION("without a cavity, the first step of each beat")
   {
     ClinicalKinematics other;
