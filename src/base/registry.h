@@ -1,14 +1,11 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include <functional>
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// The one table machinery of every extension point (passive and volumetric

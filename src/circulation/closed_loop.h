@@ -1,16 +1,13 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "circulation/chamber_elastance.h"
 #include "circulation/model.h"
 #include "circulation/valve.h"
 #include "circulation/windkessel.h"
 
 #include <array>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Circulation
 {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "base/registry.h"
 #include "circulation/chamber_elastance.h"
 #include "circulation/model.h"
@@ -7,11 +9,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// The one place that knows every 0D circulation model (an explicit table

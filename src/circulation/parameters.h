@@ -1,11 +1,8 @@
 #pragma once
 
-#include "circulation/windkessel.h"
+#include <deal.II/base/parameter_handler.h>
 
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include "circulation/windkessel.h"
 
 namespace systole::Circulation
 {

@@ -1,14 +1,11 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "circulation/chamber_elastance.h"
 #include "circulation/model.h"
 #include "circulation/valve.h"
 #include "circulation/windkessel.h"
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Circulation
 {

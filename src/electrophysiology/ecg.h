@@ -2,22 +2,17 @@
 
 #include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
 
 #include "fibres/fibre_field.h"
 
 #include <array>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 /// @file
 /// The pseudo-ECG of the monodomain model: electrode potentials in an

@@ -4,8 +4,11 @@
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/distributed/tria_base.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/numerics/data_out.h>
 
+#include "base/archive_fwd.h"
 #include "electrophysiology/activation.h"
 #include "electrophysiology/parameters.h"
 #include "fibres/fibre_field.h"
@@ -15,20 +18,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DataOut;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
-
-namespace boost::archive
-{
-  class text_oarchive;
-  class text_iarchive;
-} // namespace boost::archive
 
 namespace systole
 {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 
 #include "electrophysiology/ecg.h"
@@ -10,11 +11,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Electrophysiology
 {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/tria.h>
@@ -13,11 +14,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// A Purkinje network: a fractal tree grown on the endocardial surface

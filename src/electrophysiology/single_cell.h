@@ -1,16 +1,13 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "electrophysiology/ionic_model.h"
 #include "electrophysiology/stimulus.h"
 
 #include <functional>
 #include <memory>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Electrophysiology
 {

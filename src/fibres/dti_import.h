@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
@@ -13,11 +14,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// The `dti` fibre generator: fibres from a diffusion-tensor image.

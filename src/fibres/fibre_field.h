@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria.h>
 
@@ -13,11 +14,6 @@
 
 #include <functional>
 #include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole
 {

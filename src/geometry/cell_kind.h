@@ -2,19 +2,12 @@
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/quadrature.h>
+#include <deal.II/fe/fe.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/grid/tria.h>
 
 #include <memory>
 #include <string>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-  template <int dim, int spacedim>
-  class FiniteElement;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 namespace systole::Geometry
 {

@@ -3,17 +3,12 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/manifold.h>
 #include <deal.II/grid/manifold_lib.h>
+#include <deal.II/grid/tria.h>
 
 #include "geometry/boundary_names.h"
 
 #include <limits>
 #include <memory>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Triangulation;
-}
 
 namespace systole::Geometry
 {

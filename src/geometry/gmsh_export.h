@@ -1,7 +1,8 @@
 #pragma once
 
+#include <deal.II/grid/tria.h>
+
 #include "geometry/boundary_names.h"
-#include "geometry/triangulation_fwd.h"
 
 #include <string>
 

@@ -20,6 +20,20 @@ namespace systole::Geometry
     using dealii::Patterns::Double;
     using dealii::Patterns::Integer;
 
+    /// Sums @p values over the ranks of @p comm, in place (deal.II 9.4's
+    /// library has no Utilities::MPI::sum of a std::array).
+    template <std::size_t n>
+    void
+    sum_in_place(std::array<double, n> &values, const MPI_Comm comm)
+    {
+      MPI_Allreduce(MPI_IN_PLACE,
+                    values.data(),
+                    values.size(),
+                    MPI_DOUBLE,
+                    MPI_SUM,
+                    comm);
+    }
+
     dealii::Point<3>
     parse_point(const std::string &text, const std::string &entry)
     {
@@ -487,12 +501,7 @@ namespace systole::Geometry
         sums[8] += x[0] * x[2];
         sums[9] += x[1] * x[2];
       }
-    MPI_Allreduce(MPI_IN_PLACE,
-                  sums.data(),
-                  sums.size(),
-                  MPI_DOUBLE,
-                  MPI_SUM,
-                  comm);
+    sum_in_place(sums, comm);
     AssertThrow(sums[0] >= 3,
                 dealii::ExcMessage(
                   "Boundary part '" + base + "' is not planar (a vertex is " +
@@ -584,12 +593,7 @@ namespace systole::Geometry
                 for (const unsigned int v : face->vertex_indices())
                   points.push_back(face->vertex(v));
               }
-      MPI_Allreduce(MPI_IN_PLACE,
-                    sums.data(),
-                    sums.size(),
-                    MPI_DOUBLE,
-                    MPI_SUM,
-                    comm);
+      sum_in_place(sums, comm);
       AssertThrow(sums[7] > 0,
                   dealii::ExcMessage(
                     "The mesh has no faces on boundary part '" + name +

@@ -1,7 +1,9 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/grid/tria.h>
 
 #include "geometry/boundary_names.h"
 #include "geometry/ellipsoid.h"
@@ -9,13 +11,6 @@
 #include <array>
 #include <optional>
 #include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Geometry
 {

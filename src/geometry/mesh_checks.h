@@ -1,10 +1,10 @@
 #pragma once
 
 #include <deal.II/base/types.h>
+#include <deal.II/grid/tria.h>
 
 #include "geometry/boundary_names.h"
 #include "geometry/mesh_data.h"
-#include "geometry/triangulation_fwd.h"
 
 #include <string>
 

@@ -3,10 +3,10 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/grid/reference_cell.h>
+#include <deal.II/grid/tria.h>
 
 #include "geometry/boundary_names.h"
 #include "geometry/mesh_data.h"
-#include "geometry/triangulation_fwd.h"
 
 #include <cstddef>
 #include <map>

@@ -3,9 +3,9 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/types.h>
 #include <deal.II/grid/manifold_lib.h>
+#include <deal.II/grid/tria.h>
 
 #include "geometry/point_less.h"
-#include "geometry/triangulation_fwd.h"
 
 #include <map>
 #include <memory>

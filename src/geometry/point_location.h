@@ -2,18 +2,13 @@
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/grid/tria.h>
 
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 namespace systole::Geometry
 {

@@ -1,15 +1,12 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "materials/passive_law.h"
 
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Inverse
 {

@@ -2,16 +2,12 @@
 
 #include <deal.II/base/mpi.h>
 
+#include "base/archive_fwd.h"
+
 #include <locale>
 #include <memory>
 #include <sstream>
 #include <string>
-
-namespace boost::archive
-{
-  class text_oarchive;
-  class text_iarchive;
-} // namespace boost::archive
 
 namespace systole::IO
 {

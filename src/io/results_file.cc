@@ -50,6 +50,25 @@ namespace systole::IO
       return id;
     }
 
+    /// Creates the group @p name in @p parent with its links' creation order
+    /// tracked, so readers list the columns in the order written.
+    hid_t
+    create_ordered_group(const hid_t        parent,
+                         const std::string &name,
+                         const std::string &what)
+    {
+      const hid_t plist = checked(H5Pcreate(H5P_GROUP_CREATE), "group plist");
+      check(H5Pset_link_creation_order(plist,
+                                       H5P_CRT_ORDER_TRACKED |
+                                         H5P_CRT_ORDER_INDEXED),
+            "creation order");
+      const hid_t group = checked(
+        H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, plist, H5P_DEFAULT),
+        what);
+      H5Pclose(plist);
+      return group;
+    }
+
     void
     write_string_attribute(const hid_t        object,
                            const char        *name,
@@ -100,21 +119,8 @@ namespace systole::IO
       {
         if (group < 0)
           {
-            // Track creation order, so readers list the columns in the order
-            // written.
-            const hid_t group_plist =
-              checked(H5Pcreate(H5P_GROUP_CREATE), "group plist");
-            check(H5Pset_link_creation_order(group_plist,
-                                             H5P_CRT_ORDER_TRACKED |
-                                               H5P_CRT_ORDER_INDEXED),
-                  "creation order");
-            group = checked(H5Gcreate2(file,
-                                       group_name.c_str(),
-                                       H5P_DEFAULT,
-                                       group_plist,
-                                       H5P_DEFAULT),
-                            "group " + group_name);
-            H5Pclose(group_plist);
+            group =
+              create_ordered_group(file, group_name, "group " + group_name);
             for (const auto &column : row)
               {
                 const hsize_t initial = 0, maximum = H5S_UNLIMITED, chunk = 256;
@@ -898,18 +904,8 @@ namespace systole::IO
           groups.push_back(checked(H5Gopen2(parent, part.c_str(), H5P_DEFAULT),
                                    "group " + so_far));
         else
-          {
-            const hid_t plist =
-              checked(H5Pcreate(H5P_GROUP_CREATE), "group plist");
-            check(H5Pset_link_creation_order(plist,
-                                             H5P_CRT_ORDER_TRACKED |
-                                               H5P_CRT_ORDER_INDEXED),
-                  "creation order");
-            groups.push_back(checked(
-              H5Gcreate2(parent, part.c_str(), H5P_DEFAULT, plist, H5P_DEFAULT),
-              "group " + so_far));
-            H5Pclose(plist);
-          }
+          groups.push_back(
+            create_ordered_group(parent, part, "group " + so_far));
       }
     const hid_t group = groups.back();
     for (const auto &column : columns)

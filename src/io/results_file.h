@@ -1,17 +1,12 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/numerics/data_out.h>
 
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DataOut;
-}
 
 namespace systole::IO
 {

@@ -1,12 +1,9 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Materials
 {

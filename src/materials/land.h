@@ -1,13 +1,10 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "materials/tension_model.h"
 
 #include <array>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Materials
 {

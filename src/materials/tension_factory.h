@@ -1,16 +1,13 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include "base/registry.h"
 #include "materials/tension_model.h"
 
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// The one place that knows every active-tension model (an explicit table in

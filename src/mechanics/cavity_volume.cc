@@ -306,6 +306,25 @@ namespace systole::Mechanics
         .face_reference_cell(0)
         .get_gauss_type_quadrature<2>(n_points);
     }
+
+    /// Calls @p f(cell) on every face of the locally owned cells in the
+    /// boundary part @p part, with @p fe_face reinitialized on it.
+    template <typename Function>
+    void
+    for_each_owned_face(const dealii::DoFHandler<3, 3>  &dof_handler,
+                        const dealii::types::boundary_id part,
+                        dealii::FEFaceValues<3>         &fe_face,
+                        const Function                  &f)
+    {
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->at_boundary())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == part)
+              {
+                fe_face.reinit(cell, face);
+                f(cell);
+              }
+    }
   } // namespace
 
 
@@ -334,32 +353,26 @@ namespace systole::Mechanics
       fan ? rim_center(dof_handler, u) : dealii::Point<3>();
     const dealii::Tensor<1, 3> &e            = lid.normal;
     double                      local_volume = 0.0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->at_boundary())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary() && face->boundary_id() == endocardium)
-            {
-              fe_face.reinit(cell, face);
-              fe_face[displacement].get_function_values(u, u_values);
-              fe_face[displacement].get_function_gradients(u, u_gradients);
-              for (unsigned int q = 0; q < quadrature.size(); ++q)
-                {
-                  const dealii::Tensor<2, 3> F =
-                    dealii::unit_symmetric_tensor<3>() + u_gradients[q];
-                  // cof(F) N dA = J F^{-T} N dA: the deformed vector area
-                  // element.
-                  const dealii::Tensor<1, 3> deformed_area =
-                    dealii::cofactor(F) * fe_face.normal_vector(q);
-                  const dealii::Tensor<1, 3> x =
-                    fe_face.quadrature_point(q) + u_values[q];
-                  if (fan)
-                    local_volume -=
-                      ((x - c) * deformed_area) * fe_face.JxW(q) / 3.0;
-                  else
-                    local_volume -= ((x - lid.point) * e) *
-                                    (e * deformed_area) * fe_face.JxW(q);
-                }
-            }
+    for_each_owned_face(dof_handler, endocardium, fe_face, [&](const auto &) {
+      fe_face[displacement].get_function_values(u, u_values);
+      fe_face[displacement].get_function_gradients(u, u_gradients);
+      for (unsigned int q = 0; q < quadrature.size(); ++q)
+        {
+          const dealii::Tensor<2, 3> F =
+            dealii::unit_symmetric_tensor<3>() + u_gradients[q];
+          // cof(F) N dA = J F^{-T} N dA: the deformed vector area
+          // element.
+          const dealii::Tensor<1, 3> deformed_area =
+            dealii::cofactor(F) * fe_face.normal_vector(q);
+          const dealii::Tensor<1, 3> x =
+            fe_face.quadrature_point(q) + u_values[q];
+          if (fan)
+            local_volume -= ((x - c) * deformed_area) * fe_face.JxW(q) / 3.0;
+          else
+            local_volume -=
+              ((x - lid.point) * e) * (e * deformed_area) * fe_face.JxW(q);
+        }
+    });
     return dealii::Utilities::MPI::sum(local_volume,
                                        dof_handler.get_communicator());
   }
@@ -396,32 +409,31 @@ namespace systole::Mechanics
     dealii::Tensor<1, 3> wall_area;
 
     dV_du = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->at_boundary())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary() && face->boundary_id() == endocardium)
-            {
-              fe_face.reinit(cell, face);
-              fe_face[displacement].get_function_gradients(u, u_gradients);
-              local = 0;
-              if (!fan)
-                add_volume_flux(fe_face, u_gradients, -1.0, local, nullptr);
-              else
-                {
-                  fe_face[displacement].get_function_values(u, u_values);
-                  add_fan_face(fe_face,
-                               u_values,
-                               u_gradients,
-                               c,
-                               1.0,
-                               local,
-                               nullptr,
-                               wall_area);
-                }
-              cell->get_dof_indices(dofs);
-              for (unsigned int i = 0; i < n; ++i)
-                dV_du(dofs[i]) += local(i);
-            }
+    for_each_owned_face(
+      dof_handler,
+      endocardium,
+      fe_face,
+      [&](const auto &cell) {
+        fe_face[displacement].get_function_gradients(u, u_gradients);
+        local = 0;
+        if (!fan)
+          add_volume_flux(fe_face, u_gradients, -1.0, local, nullptr);
+        else
+          {
+            fe_face[displacement].get_function_values(u, u_values);
+            add_fan_face(fe_face,
+                         u_values,
+                         u_gradients,
+                         c,
+                         1.0,
+                         local,
+                         nullptr,
+                         wall_area);
+          }
+        cell->get_dof_indices(dofs);
+        for (unsigned int i = 0; i < n; ++i)
+          dV_du(dofs[i]) += local(i);
+      });
     if (fan)
       {
         // The apex moves with the mean of the rim vertices: dV/dc = (1/3)

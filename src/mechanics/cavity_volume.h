@@ -1,27 +1,18 @@
 #pragma once
 
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+
 #include "base/linear_algebra.h"
 #include "geometry/mesh.h"
 
 #include <array>
 #include <functional>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  template <int dim, int spacedim>
-  class FEFaceValues;
-  template <typename number>
-  class FullMatrix;
-  template <typename number>
-  class Vector;
-  template <int dim, int spacedim>
-  class Mapping;
-  template <int dim, int spacedim>
-  class Triangulation;
-} // namespace dealii
 
 namespace systole::Mechanics
 {

@@ -52,29 +52,10 @@ namespace systole::Mechanics
 
   namespace
   {
-    /// Integrates @p f(cell, fe_values) over the locally owned cells with the
-    /// full Gauss rule of the problem, values and weights updated.
-    template <typename Function>
-    void
-    for_each_cell(const dealii::Mapping<3>       &mapping,
-                  const dealii::FiniteElement<3> &fe,
-                  const dealii::DoFHandler<3>    &dof_handler,
-                  const dealii::Quadrature<3>    &quadrature,
-                  const Function                 &f)
-    {
-      dealii::FEValues<3> fe_values(mapping,
-                                    fe,
-                                    quadrature,
-                                    dealii::update_values |
-                                      dealii::update_gradients |
-                                      dealii::update_JxW_values);
-      for (const auto &cell : dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            fe_values.reinit(cell);
-            f(cell, fe_values);
-          }
-    }
+    /// What the integrals over the cells below need.
+    const dealii::UpdateFlags cell_flags = dealii::update_values |
+                                           dealii::update_gradients |
+                                           dealii::update_JxW_values;
   } // namespace
 
   void
@@ -119,11 +100,9 @@ namespace systole::Mechanics
         dealii::FullMatrix<double> cell_mass(n, n);
         std::vector<dealii::types::global_dof_index> dofs(n);
         const double                                 density = m.params.density;
-        for_each_cell(
-          m.discretization.mapping,
-          *m.discretization.fe,
-          m.discretization.dof_handler,
-          m.discretization.cell_quadrature(m.discretization.n_q_1d),
+        m.discretization.for_each_owned_cell(
+          m.discretization.n_q_1d,
+          cell_flags,
           [&](const auto &cell, const auto &fe_values) {
             cell_mass = 0;
             for (const unsigned int q : fe_values.quadrature_point_indices())
@@ -299,66 +278,51 @@ namespace systole::Mechanics
                       m.discretization.relevant,
                       m.comm);
     v = m.dynamics.v_n;
-    std::vector<dealii::Tensor<1, 3>> values(
-      m.discretization.cell_quadrature(m.discretization.n_q_1d).size());
-    double energy = 0.0;
-    for_each_cell(m.discretization.mapping,
-                  *m.discretization.fe,
-                  m.discretization.dof_handler,
-                  m.discretization.cell_quadrature(m.discretization.n_q_1d),
-                  [&](const auto &, const auto &fe_values) {
-                    values.resize(fe_values.n_quadrature_points);
-                    fe_values[m.discretization.layout.displacement]
-                      .get_function_values(v, values);
-                    for (const unsigned int q :
-                         fe_values.quadrature_point_indices())
-                      energy += 0.5 * m.params.density *
-                                values[q].norm_square() * fe_values.JxW(q);
-                  });
+    std::vector<dealii::Tensor<1, 3>> values;
+    double                            energy = 0.0;
+    m.discretization.for_each_owned_cell(
+      m.discretization.n_q_1d,
+      cell_flags,
+      [&](const auto &, const auto &fe_values) {
+        values.resize(fe_values.n_quadrature_points);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_values(v, values);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          energy +=
+            0.5 * m.params.density * values[q].norm_square() * fe_values.JxW(q);
+      });
     return dealii::Utilities::MPI::sum(energy, m.comm);
   }
 
   double
   Problem::support_energy() const
   {
-    const Impl                 &m = *impl;
-    const dealii::Quadrature<2> face_quadrature =
-      m.discretization.face_quadrature(m.discretization.n_q_face_1d);
-    dealii::FEFaceValues<3>           fe_face(m.discretization.mapping,
-                                    *m.discretization.fe,
-                                    face_quadrature,
-                                    dealii::update_values |
-                                      dealii::update_quadrature_points |
-                                      dealii::update_normal_vectors |
-                                      dealii::update_JxW_values);
-    std::vector<dealii::Tensor<1, 3>> u_at(face_quadrature.size());
-    double                            energy = 0.0;
-    for (const auto &cell :
-         m.discretization.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned() && cell->at_boundary())
-        for (const auto &face : cell->face_iterators())
+    const Impl                       &m = *impl;
+    std::vector<dealii::Tensor<1, 3>> u_at;
+    double                            energy   = 0.0;
+    const auto                       &supports = m.boundaries.robin_supports;
+    m.discretization.for_each_owned_boundary_face(
+      dealii::update_values | dealii::update_quadrature_points |
+        dealii::update_normal_vectors | dealii::update_JxW_values,
+      [&](const dealii::types::boundary_id id) {
+        const auto support = supports.find(id);
+        return support != supports.end() && support->second.stiffness != 0.0;
+      },
+      [&](const auto &face, const auto &fe_face) {
+        const auto &support = supports.at(face->boundary_id());
+        u_at.resize(fe_face.n_quadrature_points);
+        fe_face[m.discretization.layout.displacement].get_function_values(m.u,
+                                                                          u_at);
+        for (const unsigned int q : fe_face.quadrature_point_indices())
           {
-            if (!face->at_boundary())
-              continue;
-            const auto support =
-              m.boundaries.robin_supports.find(face->boundary_id());
-            if (support == m.boundaries.robin_supports.end() ||
-                support->second.stiffness == 0.0)
-              continue;
-            fe_face.reinit(cell, face);
-            fe_face[m.discretization.layout.displacement]
-              .get_function_values(m.u, u_at);
-            for (const unsigned int q : fe_face.quadrature_point_indices())
-              {
-                const double u2 =
-                  u_at[q] *
-                  (support->second.projection(fe_face.normal_vector(q)) *
-                   u_at[q]);
-                energy += 0.5 * support->second.stiffness * u2 *
-                          support->second.scale(fe_face.quadrature_point(q)) *
-                          fe_face.JxW(q);
-              }
+            const double u2 =
+              u_at[q] *
+              (support.projection(fe_face.normal_vector(q)) * u_at[q]);
+            energy += 0.5 * support.stiffness * u2 *
+                      support.scale(fe_face.quadrature_point(q)) *
+                      fe_face.JxW(q);
           }
+      });
     return dealii::Utilities::MPI::sum(energy, m.comm);
   }
 
@@ -523,40 +487,35 @@ namespace systole::Mechanics
   Problem::strain_energy() const
   {
     const Impl                       &m = *impl;
-    std::vector<dealii::Tensor<2, 3>> grad_u(
-      m.discretization.cell_quadrature(m.discretization.n_q_1d).size());
-    double energy = 0.0;
-    for_each_cell(m.discretization.mapping,
-                  *m.discretization.fe,
-                  m.discretization.dof_handler,
-                  m.discretization.cell_quadrature(m.discretization.n_q_1d),
-                  [&](const auto &cell, const auto &fe_values) {
-                    grad_u.resize(fe_values.n_quadrature_points);
-                    fe_values[m.discretization.layout.displacement]
-                      .get_function_gradients(m.u, grad_u);
-                    const auto data = m.points.point_data.get_data(cell);
-                    for (const unsigned int q :
-                         fe_values.quadrature_point_indices())
-                      {
-                        Materials::PassiveInput in;
-                        in.F = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-                        in.basis        = data[q]->basis;
-                        in.with_tangent = false;
-                        Materials::PassiveOutput out;
-                        m.material.passive_law.evaluate(in, out);
-                        const double U = m.discretization.reduced_volumetric
-                                           ? 0.0
-                                           : m.material.volumetric_law.energy(
-                                               dealii::determinant(in.F));
-                        energy += (out.psi + U) * fe_values.JxW(q);
-                      }
-                  });
+    std::vector<dealii::Tensor<2, 3>> grad_u;
+    double                            energy = 0.0;
+    m.discretization.for_each_owned_cell(
+      m.discretization.n_q_1d,
+      cell_flags,
+      [&](const auto &cell, const auto &fe_values) {
+        grad_u.resize(fe_values.n_quadrature_points);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_gradients(m.u, grad_u);
+        const auto data = m.points.point_data.get_data(cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            Materials::PassiveInput in;
+            in.F            = dealii::unit_symmetric_tensor<3>() + grad_u[q];
+            in.basis        = data[q]->basis;
+            in.with_tangent = false;
+            Materials::PassiveOutput out;
+            m.material.passive_law.evaluate(in, out);
+            const double U =
+              m.discretization.reduced_volumetric
+                ? 0.0
+                : m.material.volumetric_law.energy(dealii::determinant(in.F));
+            energy += (out.psi + U) * fe_values.JxW(q);
+          }
+      });
     if (m.discretization.reduced_volumetric)
-      for_each_cell(
-        m.discretization.mapping,
-        *m.discretization.fe,
-        m.discretization.dof_handler,
-        m.discretization.cell_quadrature(m.discretization.n_q_1d - 1),
+      m.discretization.for_each_owned_cell(
+        m.discretization.n_q_1d - 1,
+        cell_flags,
         [&](const auto &, const auto &fe_values) {
           grad_u.resize(fe_values.n_quadrature_points);
           fe_values[m.discretization.layout.displacement]

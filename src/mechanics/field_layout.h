@@ -1,6 +1,8 @@
 #pragma once
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_values_extractors.h>
 
 #include "geometry/cell_kind.h"
@@ -8,14 +10,6 @@
 
 #include <memory>
 #include <string>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  template <int dim, int spacedim>
-  class FiniteElement;
-} // namespace dealii
 
 namespace systole::Mechanics
 {

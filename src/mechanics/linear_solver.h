@@ -1,6 +1,8 @@
 #pragma once
 
 #include <deal.II/base/index_set.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 
@@ -14,14 +16,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 namespace systole::Mechanics
 {

@@ -740,11 +740,7 @@ namespace systole::Mechanics
       }
     catch (const dealii::ExceptionBase &e)
       {
-        AssertThrow(false,
-                    ExcNewtonDidNotConverge(std::string("linear solver: ") +
-                                              one_line_message(e),
-                                            it,
-                                            relative));
+        throw_linear_solver_failure(e, it, relative);
       }
     report.linear_iterations +=
       m.linear_solve(du, m.system.residual, it, relative);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
 
@@ -8,11 +9,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole::Mechanics
 {

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
 
 #include "base/linear_algebra.h"
 
@@ -12,14 +14,6 @@
 /// @file
 /// PETSc helpers of the mechanics' linear solvers (linear_solver.cc) and
 /// preconditioners (p_multigrid.cc).
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class DoFHandler;
-  template <int dim, int spacedim>
-  class Mapping;
-} // namespace dealii
 
 namespace systole::Mechanics
 {

@@ -606,13 +606,21 @@ namespace systole::Mechanics
       }
     catch (const dealii::ExceptionBase &e)
       {
-        AssertThrow(false,
-                    ExcNewtonDidNotConverge(std::string("linear solver: ") +
-                                              one_line_message(e),
-                                            iteration,
-                                            relative));
+        throw_linear_solver_failure(e, iteration, relative);
       }
     return 0;
+  }
+
+  void
+  throw_linear_solver_failure(const dealii::ExceptionBase &e,
+                              const unsigned int           iteration,
+                              const double                 relative)
+  {
+    AssertThrow(false,
+                ExcNewtonDidNotConverge(std::string("linear solver: ") +
+                                          one_line_message(e),
+                                        iteration,
+                                        relative));
   }
 
   dealii::Vector<double>

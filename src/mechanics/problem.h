@@ -5,8 +5,14 @@
 #include <deal.II/base/point.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/distributed/tria.h>
 #include <deal.II/distributed/tria_base.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
 
+#include "base/archive_fwd.h"
 #include "fibres/fibre_field.h"
 #include "geometry/boundary_names.h"
 #include "geometry/cell_kind.h"
@@ -18,30 +24,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  template <typename number>
-  class FullMatrix;
-  template <typename Number>
-  class Vector;
-  template <int dim, int spacedim>
-  class DataOut;
-  template <int dim, int spacedim>
-  class Mapping;
-
-  namespace parallel::distributed
-  {
-    template <int dim, int spacedim>
-    class Triangulation;
-  }
-} // namespace dealii
-
-namespace boost::archive
-{
-  class text_oarchive;
-  class text_iarchive;
-} // namespace boost::archive
 
 namespace systole
 {

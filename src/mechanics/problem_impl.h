@@ -10,6 +10,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
@@ -118,6 +119,14 @@ namespace systole::Mechanics
                      double                        &dT_dstretch,
                      double                        &stretch);
 
+  /// A linear solve or factorization that threw @p e at Newton iteration
+  /// @p iteration (relative residual @p relative): throws
+  /// ExcNewtonDidNotConverge with the solver's message in one line.
+  void
+  throw_linear_solver_failure(const dealii::ExceptionBase &e,
+                              const unsigned int           iteration,
+                              const double                 relative);
+
   /// Euclidean norms of the two blocks (u, p) of a vector in the layout of
   /// @p layout (collective).
   std::array<double, 2>
@@ -191,6 +200,50 @@ namespace systole::Mechanics
     face_quadrature(const unsigned int n_points_1d) const
     {
       return layout.cell_kind().face_quadrature(n_points_1d);
+    }
+
+    /// Calls @p f(cell, fe_values) on every locally owned cell, fe_values
+    /// (the cell rule of @p n_points_1d points per direction, @p flags)
+    /// reinitialized on it.
+    template <typename Function>
+    void
+    for_each_owned_cell(const unsigned int        n_points_1d,
+                        const dealii::UpdateFlags flags,
+                        const Function           &f) const
+    {
+      dealii::FEValues<3> fe_values(mapping,
+                                    *fe,
+                                    cell_quadrature(n_points_1d),
+                                    flags);
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_values.reinit(cell);
+            f(cell, fe_values);
+          }
+    }
+
+    /// Calls @p f(face, fe_face) on every boundary face of the locally owned
+    /// cells whose boundary id @p on_part(id) accepts, fe_face (the face rule
+    /// of n_q_face_1d points per direction, @p flags) reinitialized on it.
+    template <typename Predicate, typename Function>
+    void
+    for_each_owned_boundary_face(const dealii::UpdateFlags flags,
+                                 const Predicate          &on_part,
+                                 const Function           &f) const
+    {
+      dealii::FEFaceValues<3> fe_face(mapping,
+                                      *fe,
+                                      face_quadrature(n_q_face_1d),
+                                      flags);
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned() && cell->at_boundary())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && on_part(face->boundary_id()))
+              {
+                fe_face.reinit(cell, face);
+                f(face, fe_face);
+              }
     }
 
     dealii::IndexSet                  owned, relevant;

@@ -1,16 +1,11 @@
 #pragma once
 
 #include <deal.II/base/tensor.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
 #include <vector>
-
-namespace dealii
-{
-  template <int dim, int spacedim>
-  class FEFaceValues;
-}
 
 namespace systole::Mechanics
 {

@@ -107,31 +107,46 @@ namespace systole::Mechanics
                              PointData &,
                              const dealii::Tensor<2, 3> &)> &f)
   {
-    Impl &m = *this;
-    {
-      const dealii::Quadrature<3> quadrature =
-        m.discretization.cell_quadrature(m.discretization.n_q_1d);
-      dealii::FEValues<3>               fe_values(m.discretization.mapping,
-                                    *m.discretization.fe,
-                                    quadrature,
-                                    dealii::update_gradients);
-      std::vector<dealii::Tensor<2, 3>> grad_u(quadrature.size());
-      for (const auto &cell :
-           m.discretization.dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            fe_values.reinit(cell);
-            fe_values[m.discretization.layout.displacement]
-              .get_function_gradients(m.u, grad_u);
-            const auto data = m.points.point_data.get_data(cell);
-            for (unsigned int q = 0; q < quadrature.size(); ++q)
-              f(cell->active_cell_index(),
-                q,
-                *data[q],
-                dealii::unit_symmetric_tensor<3>() + grad_u[q]);
-          }
-    }
+    Impl                             &m = *this;
+    std::vector<dealii::Tensor<2, 3>> grad_u;
+    m.discretization.for_each_owned_cell(
+      m.discretization.n_q_1d,
+      dealii::update_gradients,
+      [&](const auto &cell, const auto &fe_values) {
+        grad_u.resize(fe_values.n_quadrature_points);
+        fe_values[m.discretization.layout.displacement]
+          .get_function_gradients(m.u, grad_u);
+        const auto data = m.points.point_data.get_data(cell);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          f(cell->active_cell_index(),
+            q,
+            *data[q],
+            dealii::unit_symmetric_tensor<3>() + grad_u[q]);
+      });
   }
+
+  namespace
+  {
+    /// The tension model's step at @p data (with deformation gradient @p F)
+    /// over the step set by set_tension_step(); sets @p stretch.
+    double
+    step_at_point(const QuadraturePoints     &points,
+                  const PointData            &data,
+                  const dealii::Tensor<2, 3> &F,
+                  std::vector<double>        &trial,
+                  double                     &stretch)
+    {
+      double dT_dstretch;
+      return step_tension_model(*points.tension_model,
+                                data,
+                                F,
+                                points.tension_time,
+                                points.tension_time_step,
+                                trial.data(),
+                                dT_dstretch,
+                                stretch);
+    }
+  } // namespace
 
   void
   Problem::accept_tension_step()
@@ -147,15 +162,8 @@ namespace systole::Mechanics
                          const unsigned int,
                          PointData                  &data,
                          const dealii::Tensor<2, 3> &F) {
-      double dT, stretch;
-      data.model_tension = step_tension_model(*m.points.tension_model,
-                                              data,
-                                              F,
-                                              m.points.tension_time,
-                                              m.points.tension_time_step,
-                                              trial.data(),
-                                              dT,
-                                              stretch);
+      double stretch;
+      data.model_tension = step_at_point(m.points, data, F, trial, stretch);
       data.tension_state = trial;
       data.stretch_n     = stretch;
     });
@@ -173,16 +181,9 @@ namespace systole::Mechanics
                          const unsigned int          q,
                          PointData                  &data,
                          const dealii::Tensor<2, 3> &F) {
-      double dT, stretch;
+      double stretch;
       tensions[c].resize(q + 1);
-      tensions[c][q] = step_tension_model(*m.points.tension_model,
-                                          data,
-                                          F,
-                                          m.points.tension_time,
-                                          m.points.tension_time_step,
-                                          trial.data(),
-                                          dT,
-                                          stretch);
+      tensions[c][q] = step_at_point(m.points, data, F, trial, stretch);
     });
     return tensions;
   }

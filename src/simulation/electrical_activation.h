@@ -1,8 +1,11 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria_base.h>
+#include <deal.II/numerics/data_out.h>
 
+#include "base/archive_fwd.h"
 #include "electrophysiology/activation.h"
 #include "electrophysiology/monodomain.h"
 #include "io/results_file.h"
@@ -11,19 +14,6 @@
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-  template <int dim, int spacedim>
-  class DataOut;
-} // namespace dealii
-
-namespace boost::archive
-{
-  class text_oarchive;
-  class text_iarchive;
-} // namespace boost::archive
 
 namespace systole
 {

@@ -3,6 +3,7 @@
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include "base/archive_fwd.h"
 #include "circulation/model.h"
 #include "circulation/model_summary.h"
 #include "circulation/phase.h"
@@ -11,12 +12,6 @@
 #include <memory>
 #include <stdexcept>
 #include <vector>
-
-namespace boost::archive
-{
-  class text_oarchive;
-  class text_iarchive;
-} // namespace boost::archive
 
 namespace systole
 {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
 
 #include "simulation/heartbeat_stepper.h"
 
@@ -9,11 +10,6 @@
 #include <functional>
 #include <limits>
 #include <vector>
-
-namespace dealii
-{
-  class TimerOutput;
-}
 
 namespace systole
 {

@@ -1,13 +1,10 @@
 #pragma once
 
+#include <deal.II/base/parameter_handler.h>
+
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole
 {

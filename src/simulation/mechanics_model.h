@@ -1,6 +1,7 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria_base.h>
 
 #include "geometry/boundary_names.h"
@@ -14,11 +15,6 @@
 
 #include <memory>
 #include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole
 {

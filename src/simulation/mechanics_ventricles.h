@@ -1,16 +1,12 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/vector.h>
 
 #include "simulation/heartbeat_stepper.h"
 
 #include <vector>
-
-namespace dealii
-{
-  class TimerOutput;
-}
 
 namespace systole
 {

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/parameter_table.h"
 #include "circulation/model_factory.h"
 #include "circulation/parameters.h"
 #include "electrophysiology/parameters.h"
@@ -148,50 +149,47 @@ namespace systole
 
 
     /// The test-only entries of subsection Output (the checkpoint,
-    /// write-failure and rank tests).
-    void
-    declare_test_hooks(dealii::ParameterHandler &prm)
+    /// write-failure and rank tests); -1: never.
+    const std::vector<IntegerEntry<RunParameters>> &
+    test_hooks()
     {
-      using namespace dealii::Patterns;
-      prm.declare_entry(
-        "Test kill after step",
-        "-1",
-        Integer(-1),
-        "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
-        "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
-        "as a crash would; -1: never. Units: steps.");
-      prm.declare_entry(
-        "Test kill in checkpoint",
-        "-1",
-        Integer(-1),
-        "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
-        "SIGKILL halfway through writing the checkpoint of this step; -1: "
-        "never. Units: steps.");
-      prm.declare_entry(
-        "Test file size limit in checkpoint",
-        "-1",
-        Integer(-1),
-        "Test-only (write-failure tests): Problem = heartbeat limits the size "
-        "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
-        "writing the checkpoint of this step, so that its writes fail as on a "
-        "full disk; -1: never. Units: steps.");
-      prm.declare_entry(
-        "Test file size limit after step",
-        "-1",
-        Integer(-1),
-        "Test-only (write-failure tests): Problem = heartbeat limits the size "
-        "of the files it writes to the present size of its results file "
-        "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
-        "next write that grows the results file fails as on a full disk; -1: "
-        "never. Units: steps.");
-      prm.declare_entry(
-        "Test stop after step",
-        "-1",
-        Integer(-1),
-        "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
-        "after this accepted step, its fields and rows written, as an "
-        "interrupted run ends but without a checkpoint; -1: never. Units: "
-        "steps.");
+      using dealii::Patterns::Integer;
+      static const std::vector<IntegerEntry<RunParameters>> table = {
+        {"Test kill after step",
+         &RunParameters::test_kill_after_step,
+         Integer(-1),
+         "Test-only (checkpoint tests): Problem = heartbeat (electrophysiology) "
+         "kills itself with SIGKILL after this accepted step (and its checkpoint, if one is due), "
+         "as a crash would; -1: never. Units: steps."},
+        {"Test kill in checkpoint",
+         &RunParameters::test_kill_in_checkpoint,
+         Integer(-1),
+         "Test-only (checkpoint tests): Problem = heartbeat kills itself with "
+         "SIGKILL halfway through writing the checkpoint of this step; -1: "
+         "never. Units: steps."},
+        {"Test file size limit in checkpoint",
+         &RunParameters::test_file_size_limit_in_checkpoint,
+         Integer(-1),
+         "Test-only (write-failure tests): Problem = heartbeat limits the size "
+         "of the files it writes to 1 kB (RLIMIT_FSIZE, SIGXFSZ ignored) before "
+         "writing the checkpoint of this step, so that its writes fail as on a "
+         "full disk; -1: never. Units: steps."},
+        {"Test file size limit after step",
+         &RunParameters::test_file_size_limit_after_step,
+         Integer(-1),
+         "Test-only (write-failure tests): Problem = heartbeat limits the size "
+         "of the files it writes to the present size of its results file "
+         "(RLIMIT_FSIZE, SIGXFSZ ignored) after this accepted step, so that the "
+         "next write that grows the results file fails as on a full disk; -1: "
+         "never. Units: steps."},
+        {"Test stop after step",
+         &RunParameters::test_stop_after_step,
+         Integer(-1),
+         "Test-only (the short runs of the rank tests): Problem = heartbeat ends "
+         "after this accepted step, its fields and rows written, as an "
+         "interrupted run ends but without a checkpoint; -1: never. Units: "
+         "steps."}};
+      return table;
     }
 
 
@@ -262,7 +260,7 @@ namespace systole
         Selection("auto|on|off"),
         "Progress line on the console (step, time, activity, elapsed, ETA). "
         "auto: on when the output is a terminal and the CI variable is unset.");
-      declare_test_hooks(prm);
+      declare_entries(prm, test_hooks());
       prm.leave_subsection();
     }
 
@@ -407,16 +405,7 @@ namespace systole
     p.parameter_file = std::filesystem::absolute(prm_file).string();
     p.progress       = prm.get({"Output"}, "Progress");
     p.solver_log     = prm.get({"Output"}, "Solver log");
-    p.test_kill_after_step =
-      prm.get_integer({"Output"}, "Test kill after step");
-    p.test_kill_in_checkpoint =
-      prm.get_integer({"Output"}, "Test kill in checkpoint");
-    p.test_file_size_limit_in_checkpoint =
-      prm.get_integer({"Output"}, "Test file size limit in checkpoint");
-    p.test_file_size_limit_after_step =
-      prm.get_integer({"Output"}, "Test file size limit after step");
-    p.test_stop_after_step =
-      prm.get_integer({"Output"}, "Test stop after step");
+    parse_entries(prm, {"Output"}, test_hooks(), p);
 
     p.polynomial_degree =
       prm.get_integer({"Discretization"}, "Polynomial degree");

@@ -1,11 +1,8 @@
 #pragma once
 
-#include <string>
+#include <deal.II/base/parameter_handler.h>
 
-namespace dealii
-{
-  class ParameterHandler;
-}
+#include <string>
 
 namespace systole
 {

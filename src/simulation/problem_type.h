@@ -1,16 +1,12 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 
 #include "base/registry.h"
 
 #include <memory>
 #include <string>
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 /// @file
 /// The run-type extension point: what `Problem = <name>` runs. Each problem

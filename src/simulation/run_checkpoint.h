@@ -1,27 +1,16 @@
 #pragma once
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria_base.h>
+
+#include "base/archive_fwd.h"
 
 #include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
-
-namespace boost::archive
-{
-  class text_oarchive;
-}
-namespace dealii::parallel
-{
-  template <int dim, int spacedim>
-  class DistributedTriangulationBase;
-}
-
-namespace dealii
-{
-  class ParameterHandler;
-}
 
 namespace systole
 {
