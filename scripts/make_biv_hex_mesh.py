@@ -53,8 +53,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from make_biv_mesh import BASE_Z, LV_ENDO, LV_WALL, RV_ENDO, RV_WALL, grown  # noqa: E402
+from systole_post.biv_geometry import BASE_Z, LV_ENDO, LV_WALL, RV_ENDO, RV_WALL, grown
 
 RV_EPI = grown(RV_ENDO, RV_WALL)
 LV_EPI = grown(LV_ENDO, LV_WALL)
@@ -543,7 +542,6 @@ def main():
         nodes = improve(nodes, cells, fixed)
     parts = boundary_faces(nodes, cells, cavity)
     write_msh(args.output, nodes, cells, parts)
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
     from systole_post.gmsh_mesh import read_msh, scaled_jacobians
 
     sj = scaled_jacobians(read_msh(args.output))

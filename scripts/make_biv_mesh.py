@@ -22,7 +22,7 @@ The tetrahedral mesh is turned into an all-hexahedral one by gmsh's subdivision
 (Mesh.SubdivisionAlgorithm = 2: each tetrahedron split into four hexahedra), written as
 ASCII msh 2.2; with --tetrahedra the linear tetrahedra themselves are written (ASCII msh 4.1,
 one meshing thread and gmsh's default seed, so the same command writes the same mesh). Needs the gmsh Python module (Debian python3-gmsh or the PyPI wheel);
-scripts/systole_post/biv_shape.py imports the shape constants from here.
+the shape constants are those of scripts/systole_post/biv_geometry.py.
 
   python3 scripts/make_biv_mesh.py --size 4.5 -o meshes/biv_coarse.msh
   python3 scripts/make_biv_mesh.py --size 5 --tetrahedra -o meshes/biv_tet_coarse.msh
@@ -31,16 +31,7 @@ scripts/systole_post/biv_shape.py imports the shape constants from here.
 import argparse
 import sys
 
-LV_ENDO = ((0.0, 0.0, 0.0), (20.0, 18.0, 32.5))
-LV_WALL = 5.0
-RV_ENDO = ((25.0, 0.0, 0.0), (19.0, 25.0, 30.0))
-RV_WALL = 4.0
-BASE_Z = 25.0
-
-
-def grown(ellipsoid, thickness):
-    centre, radii = ellipsoid
-    return centre, tuple(r + thickness for r in radii)
+from systole_post.biv_geometry import BASE_Z, LV_ENDO, LV_WALL, RV_ENDO, RV_WALL, grown
 
 
 def level(ellipsoid, x):

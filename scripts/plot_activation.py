@@ -12,10 +12,8 @@ import argparse
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from systole_post.activation import plot_activation  # noqa: E402
-from systole_post.results import ResultsError  # noqa: E402
+from systole_post.activation import plot_activation
+from systole_post.results import ResultsError
 
 
 def parse_slice(text: str) -> tuple[str, float | None]:

@@ -10,10 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from systole_post.fibres import plot_helix_profile  # noqa: E402
-from systole_post.results import ResultsError  # noqa: E402
+from systole_post.fibres import plot_helix_profile
+from systole_post.results import ResultsError
 
 
 def main(argv=None) -> int:

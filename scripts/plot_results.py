@@ -10,10 +10,8 @@ import argparse
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from systole_post.plot import plot_timeseries  # noqa: E402
-from systole_post.results import ResultsError  # noqa: E402
+from systole_post.plot import plot_timeseries
+from systole_post.results import ResultsError
 
 
 def main(argv=None) -> int:

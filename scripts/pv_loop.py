@@ -33,11 +33,9 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from systole_post.cavities import (PRESSURE_STATISTICS, Cavity, find_cavities,  # noqa: E402
+from systole_post.cavities import (PRESSURE_STATISTICS, Cavity, find_cavities,
                                    flow_traces, pressure_traces, summary_groups)
-from systole_post.results import Results, ResultsError, read_results  # noqa: E402
+from systole_post.results import Results, ResultsError, read_results
 
 #: Phase codes of the phase columns (src/circulation/phase.h).
 PHASES = {

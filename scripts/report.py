@@ -25,12 +25,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from pv_loop import (blood_volume_note, format_summary, make_loop_figure,  # noqa: E402
+from pv_loop import (blood_volume_note, format_summary, make_loop_figure,
                      make_traces_figure)
-from systole_post.bullseye import has_aha, make_bullseye_figure  # noqa: E402
-from systole_post.results import Results, read_results  # noqa: E402
+from systole_post.bullseye import has_aha, make_bullseye_figure
+from systole_post.results import Results, read_results
 
 INDICES = [("long_axis_shortening", "long-axis shortening [-]"),
            ("wall_thickening", "wall thickening [-]"),

@@ -48,17 +48,24 @@ systole_install_packages() {
   apt-get install -y -q --no-install-recommends "${missing[@]}"
 }
 
+# The venv: the pinned packages of scripts/requirements.txt, then scripts/' own packages
+# (systole_post, systole_bench; scripts/pyproject.toml) installed editable, so that any script,
+# check or test imports them without touching sys.path. The editable install builds offline
+# (no build isolation: the venv's setuptools and the pinned wheel). The stamp covers both files.
 systole_install_venv() {
   local req=$SYSTOLE_ROOT/scripts/requirements.txt
+  local project=$SYSTOLE_ROOT/scripts/pyproject.toml
   local stamp=$SYSTOLE_VENV/.requirements.sha256
   local want
-  want=$(sha256sum "$req" | cut -d' ' -f1)
+  want=$(cat "$req" "$project" | sha256sum | cut -d' ' -f1)
   if [ -x "$SYSTOLE_VENV/bin/python" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ]; then
     return 0
   fi
-  say "creating the Python venv $SYSTOLE_VENV from scripts/requirements.txt"
+  say "creating the Python venv $SYSTOLE_VENV from scripts/requirements.txt and scripts/pyproject.toml"
   python3 -m venv "$SYSTOLE_VENV"
   "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check -r "$req"
+  "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check --no-build-isolation --no-deps \
+    -e "$SYSTOLE_ROOT/scripts"
   echo "$want" > "$stamp"
 }
 

@@ -1,4 +1,4 @@
-"""The exact cavity volumes of the idealized biventricular shape of scripts/make_biv_mesh.py.
+"""The exact cavity volumes of the idealized biventricular shape (systole_post.biv_geometry).
 
 LV: the truncated ellipsoid, in closed form. RV: the RV cavity ellipsoid minus the LV wall
 ellipsoid, below the base plane, by nested adaptive quadrature (scipy) of the closed-form
@@ -6,20 +6,18 @@ length of the cavity along x at each (y, z).
 """
 
 import math
-import sys
-from pathlib import Path
 
 import numpy as np
 import warnings
 
 from scipy import integrate
 
+from systole_post.biv_geometry import BASE_Z, LV_ENDO, LV_WALL, RV_ENDO, grown
+
 # The kinks of the integrand where the chords meet: quad warns, the value holds (a 0.2 mm
 # voxel count agrees to 3e-5).
 warnings.filterwarnings("ignore", category=integrate.IntegrationWarning)
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from make_biv_mesh import BASE_Z, LV_ENDO, LV_WALL, RV_ENDO, grown  # noqa: E402
 
 
 def lv_cavity_volume() -> float:

@@ -1,6 +1,5 @@
-"""Shared pytest setup: put scripts/ on sys.path and build tiny results files."""
+"""Shared pytest setup: tiny results files (scripts/ is on sys.path through pytest.ini)."""
 
-import sys
 from pathlib import Path
 
 import h5py
@@ -8,7 +7,6 @@ import numpy as np
 import pytest
 
 SCRIPTS_DIR = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(SCRIPTS_DIR))
 
 #: Units of the columns the helper knows; other columns get the unit of their suffix
 #: (SUFFIX_UNITS) or "-".

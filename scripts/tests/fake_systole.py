@@ -12,12 +12,9 @@ import sys
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))  # conftest (the results writer)
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # systole_post
+from conftest import write_results_file
 
-from conftest import write_results_file  # noqa: E402
-
-from systole_post.study import _SET, _SUBSECTION, _END  # noqa: E402
+from systole_post.study import _SET, _SUBSECTION, _END
 
 
 def read_prm(path):

@@ -1,9 +1,9 @@
-"""The Aróstica step-1 section of scripts/bench.py: the distance of two runs' tracked-point
-curves is taken over the times both have, and the notes compare the right runs."""
+"""The Aróstica step-1 section of scripts/systole_bench/arostica.py: the distance of two runs'
+tracked-point curves is taken over the times both have, and the notes compare the right runs."""
 
 import numpy as np
 
-import bench
+from systole_bench import arostica
 
 
 def fake_row(level: int, dt: float, amplitude: float) -> dict:
@@ -25,18 +25,18 @@ def fake_row(level: int, dt: float, amplitude: float) -> dict:
 def test_the_curve_distance_uses_the_common_times():
     a, b = fake_row(0, 2.0, 10.0), fake_row(0, 1.0, 10.5)
     # At the common times (every 2 ms) the curves differ by 0.5 sin(pi t / T): at most 0.5.
-    assert abs(bench.curve_distance(a, b, "p0") - 0.5) < 1e-12
-    assert abs(bench.curve_distance(a, b, "p1") - 0.25) < 1e-12
+    assert abs(arostica.curve_distance(a, b, "p0") - 0.5) < 1e-12
+    assert abs(arostica.curve_distance(a, b, "p1") - 0.25) < 1e-12
 
 
 def test_the_section_compares_time_steps_and_levels(monkeypatch):
     amplitudes = {(0, 2.0): 10.0, (0, 1.0): 10.1, (0, 0.5): 10.12, (1, 2.0): 11.0,
                   (1, 1.0): 11.2}
-    monkeypatch.setattr(bench, "run_arostica",
+    monkeypatch.setattr(arostica, "run_arostica",
                         lambda level, dt, build, workdir: fake_row(level, dt,
                                                                    amplitudes[(level, dt)]))
-    text = bench.arostica_section(None, None, quick=True)
-    assert text.startswith(f"## {bench.AROSTICA_TITLE}\n")
+    text = arostica.arostica_section(None, None, quick=True)
+    assert text.startswith(f"## {arostica.AROSTICA_TITLE}\n")
     assert text.count("\n| 0 | ") == 3 and text.count("\n| 1 | ") == 2
     assert "level 0, dt 2 -> 1 ms: p0 and p1 curves differ by at most 0.1000 and 0.0500 mm" \
         in text

@@ -1,7 +1,7 @@
-"""The heartbeat table of scripts/bench.py on the summary of the new heartbeat (columns of
-the first ventricle, lv_EDV_mL, ...) and of an old-style one (EDV_mL, ...)."""
+"""The heartbeat table of scripts/systole_bench/heartbeat.py on the summary of the new heartbeat
+(columns of the first ventricle, lv_EDV_mL, ...) and of an old-style one (EDV_mL, ...)."""
 
-from bench import heartbeat_column, heartbeat_section
+from systole_bench.heartbeat import heartbeat_column, heartbeat_section
 from circulation_files import closed_loop_summary, windkessel_summary
 
 OLD_STYLE = {"beat": [0.0], "EDV_mL": [130.0], "EF": [50.0], "aortic_diastolic_mmHg": [75.0],

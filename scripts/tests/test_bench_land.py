@@ -1,6 +1,6 @@
-"""The land group of scripts/bench.py: its cases (the afterload x1 run is the preload run at
-10 mmHg), the numbers it reads from a run (the filling state when the reported beat starts),
-and the Frank-Starling and ESPVR verdicts of its section."""
+"""The land group (scripts/systole_bench/land.py): its cases (the afterload x1 run is the preload
+run at 10 mmHg), the numbers it reads from a run (the filling state when the reported beat
+starts), and the Frank-Starling and ESPVR verdicts of its section."""
 
 import subprocess
 
@@ -8,13 +8,13 @@ import h5py
 import numpy as np
 import pytest
 
-import bench
+from systole_bench import land
 from conftest import write_results_file
 
 
 def test_the_cases_of_both_ventricles():
     for full in (False, True):
-        cases = bench.land_cases(full)
+        cases = land.land_cases(full)
         assert sorted(cases) == sorted(
             [f"land_preload_{label}_{edp}" for label in ("with", "without")
              for edp in (6, 10, 14)] + ["land_afterload_0.7", "land_afterload_1.4"])
@@ -23,8 +23,8 @@ def test_the_cases_of_both_ventricles():
             # The coarse ventricle is run with the full one's tension and mitral valve.
             assert ("Circulation/Mitral valve resistance" in changes) == (not full)
         assert cases["land_afterload_1.4"]["Circulation/Atrial pressure"] == "10"
-    assert bench.land_afterload_name(1.0) == "land_preload_with_10"
-    assert bench.land_afterload_name(0.7) == "land_afterload_0.7"
+    assert land.land_afterload_name(1.0) == "land_preload_with_10"
+    assert land.land_afterload_name(0.7) == "land_afterload_0.7"
 
 
 def test_a_run_gives_the_filling_state_when_its_last_beat_starts(tmp_path):
@@ -51,13 +51,13 @@ def test_a_run_gives_the_filling_state_when_its_last_beat_starts(tmp_path):
                            ("newton_iterations", 40), ("steps", 10), ("ep_nodes", 1685)):
             stats.create_dataset(key, data=value)
     ok = subprocess.CompletedProcess([], 0, "", "")
-    row = bench.land_row("run", tmp_path, ok, False, 2)
+    row = land.land_row("run", tmp_path, ok, False, 2)
     assert row["summary"]["lv_SV_mL"] == 50.0
     assert row["start_pressure"] == pytest.approx(6.0)
     assert row["start_tension"] == pytest.approx(0.5)
     assert (row["opening_pressure"], row["esp"]) == (70.0, 95.0)
     # The first beat: it starts at 0 ms.
-    first = bench.land_row("run", tmp_path, ok, False, 2, beat=0)
+    first = land.land_row("run", tmp_path, ok, False, 2, beat=0)
     assert first["summary"]["lv_SV_mL"] == 40.0
     assert first["start_pressure"] == 0.0 and first["esp"] != first["esp"]  # no closure: NaN
 
@@ -84,10 +84,10 @@ def rows(with_sv, without_sv) -> dict:
 
 
 def test_the_section_says_whether_the_length_dependence_adds_stroke_volume():
-    text = bench.land_text(rows((50.0, 55.0, 60.0), (50.0, 53.0, 56.0)), full=False)
+    text = land.land_text(rows((50.0, 55.0, 60.0), (50.0, 53.0, 56.0)), full=False)
     assert "+10.00 mL with the length dependence (monotonic), +6.00 mL without it (more " \
            "with it)" in text
     assert "P_es = 4.000 (V_es - 40.0 mL) mmHg" in text and "R^2 = 1.0000" in text
-    text = bench.land_text(rows((50.0, 49.0, 55.0), (50.0, 55.0, 60.0)), full=False)
+    text = land.land_text(rows((50.0, 49.0, 55.0), (50.0, 55.0, 60.0)), full=False)
     assert "+5.00 mL with the length dependence (NOT monotonic), +10.00 mL without it (NOT " \
            "more with it)" in text

@@ -1,7 +1,7 @@
-"""The section of the "large" group of scripts/bench.py: the beam's band verdict and the
-table rows of both problems."""
+"""The section of the "large" group (scripts/systole_bench/large.py): the beam's band verdict and
+the table rows of both problems."""
 
-from bench import LARGE_TITLE, large_text
+from systole_bench.large import LARGE_TITLE, large_text
 
 
 def finished(values: dict, dofs: int) -> dict:

@@ -1,8 +1,9 @@
-"""The Niederer table of scripts/bench.py: rows of both mass matrices side by side, the
-difference from fenicsx-beat's values of the same (h, dt), and the cell-model cost from the
+"""The Niederer table (scripts/systole_bench/niederer.py): rows of both mass matrices side by side,
+the difference from fenicsx-beat's values of the same (h, dt), and the cell-model cost from the
 lumped-mass row (the one comparable with Mitchell-Schaeffer's)."""
 
-from bench import NIEDERER_FENICSX_BEAT, NIEDERER_POINTS, niederer_levels, niederer_text
+from systole_bench.niederer import (NIEDERER_FENICSX_BEAT, NIEDERER_POINTS, niederer_levels,
+                                    niederer_text)
 
 
 def row(h: float, dt: float, mass: str, times: list[float], us: float) -> dict:

@@ -1,7 +1,8 @@
-"""The note of the apex-refined Land problem 3 table of scripts/bench.py: it compares levels
-of the cells on the axis (global + apex refinements), not the two largest meshes."""
+"""The note of the apex-refined Land problem 3 table (scripts/systole_bench/p3.py): it compares
+levels of the cells on the axis (global + apex refinements), not the two largest meshes."""
 
-from bench import Case, p3_axis_note, p3_point_note
+from systole_bench.core import Case
+from systole_bench.p3 import p3_axis_note, p3_point_note
 
 
 def row(global_refinements: int, local_refinements: int, dofs: int, endo: float, epi: float):

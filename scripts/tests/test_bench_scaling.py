@@ -1,7 +1,7 @@
-"""The Krylov growth lines of the scaling group of scripts/bench.py: over all levels of a
-formulation and within each coarse mesh's family of refinements, ordered by DOFs."""
+"""The Krylov growth lines of the scaling group (scripts/systole_bench/scaling.py): over all levels
+of a formulation and within each coarse mesh's family of refinements, ordered by DOFs."""
 
-from bench import scaling_growth
+from systole_bench.scaling import scaling_growth
 
 
 def row(level: str, formulation: str, dofs: int, per_solve: float, ok: bool = True):
@@ -38,13 +38,13 @@ def test_one_family_and_failed_runs():
 
 
 def p2_row(dofs: int, endo: float, epi: float, ok: bool = True):
-    from bench import Case
+    from systole_bench.core import Case
     return {"case": Case("p2-mixed", "land_problem2.prm", f"{dofs} DOFs mesh", {}), "ok": ok,
             "dofs": dofs, "values": {"endo_apex_z": endo, "epi_apex_z": epi}}
 
 
 def test_p2_band_note_names_the_levels_outside_and_compares_the_two_largest():
-    from bench import p2_band_note
+    from systole_bench.core import p2_band_note
     rows = [p2_row(17903, -26.63, -28.31), p2_row(2713, -26.607, -28.640),
             p2_row(511387, -26.62, -28.29), p2_row(9, 0.0, 0.0, ok=False)]
     note = p2_band_note(rows)
@@ -53,13 +53,13 @@ def test_p2_band_note_names_the_levels_outside_and_compares_the_two_largest():
 
 
 def test_p2_band_note_inside():
-    from bench import p2_band_note
+    from systole_bench.core import p2_band_note
     assert p2_band_note([p2_row(17903, -26.63, -28.31)]) == \
         " Every level lies inside the band."
 
 
 def test_p2_band_note_per_element():
-    from bench import Case, p2_band_note
+    from systole_bench.core import Case, p2_band_note
 
     def labelled(label: str, dofs: int, endo: float, epi: float):
         return {"case": Case("p2-mixed", "land_problem2.prm", label, {}), "ok": True,
@@ -77,7 +77,7 @@ def test_p2_band_note_per_element():
 
 
 def test_taylor_hood_section_reads_its_own_formulations():
-    from bench import SCALING_TH_TITLE, scaling_text
+    from systole_bench.scaling import SCALING_TH_TITLE, scaling_text
 
     def full(level: str, formulation: str, dofs: int, per_solve: float):
         r = row(level, formulation, dofs, per_solve)

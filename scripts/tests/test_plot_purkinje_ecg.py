@@ -62,7 +62,6 @@ def test_missing_parts_are_named(tmp_path):
 
 
 def test_electrodes_default_and_rotation():
-    sys.path.insert(0, str(SCRIPTS_DIR))
     import ecg_electrodes
 
     # The defaults reproduce Electrophysiology / ECG electrodes' default (rounded to mm).

@@ -21,13 +21,11 @@
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 
 def main(argv) -> int:

@@ -22,8 +22,7 @@ import h5py
 import numpy as np
 
 SCRIPTS = Path(__file__).resolve().parents[3] / "scripts"
-sys.path.insert(0, str(SCRIPTS))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 
 def main(argv) -> int:

@@ -22,14 +22,12 @@ independent computation from the .msh file, and V(t) = stretch(t)^3 V(0).
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.biv_shape import lv_cavity_volume, rv_cavity_volume  # noqa: E402
-from systole_post.gmsh_mesh import cavity_volume, read_msh  # noqa: E402
-from systole_post.results import read_results  # noqa: E402
+from systole_post.biv_shape import lv_cavity_volume, rv_cavity_volume
+from systole_post.gmsh_mesh import cavity_volume, read_msh
+from systole_post.results import read_results
 
 BASE_Z = 25.0
 

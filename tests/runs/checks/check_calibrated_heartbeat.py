@@ -17,11 +17,9 @@ from pathlib import Path
 
 import h5py
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from check_heartbeat import main as check_heartbeat  # noqa: E402
-from systole_post.gmsh_mesh import cavity_volume, read_msh  # noqa: E402
-from systole_post.results import read_results  # noqa: E402
+from check_heartbeat import main as check_heartbeat
+from systole_post.gmsh_mesh import cavity_volume, read_msh
+from systole_post.results import read_results
 
 
 def used_entries(text: str) -> dict:

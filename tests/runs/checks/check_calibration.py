@@ -25,13 +25,11 @@ of the true one (a synthetic round trip).
 
 import sys
 
-from pathlib import Path
 
 import h5py
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.gmsh_mesh import cavity_volume, read_msh, triangle_cavity_volume  # noqa: E402
+from systole_post.gmsh_mesh import cavity_volume, read_msh, triangle_cavity_volume
 
 
 def main(argv) -> int:

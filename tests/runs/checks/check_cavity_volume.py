@@ -8,12 +8,10 @@ With SERIAL_RESULTS, every time-series column must also equal the serial run's t
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 
 def main(argv) -> int:

@@ -10,13 +10,11 @@ with systole_post.ten_tusscher_reference (SciPy on the Python gotranx generated 
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
-from systole_post.ten_tusscher_reference import reference_beats  # noqa: E402
+from systole_post.results import read_results
+from systole_post.ten_tusscher_reference import reference_beats
 
 MEASURES = ("resting_potential_mV", "peak_potential_mV", "APD90_ms", "peak_calcium_uM")
 

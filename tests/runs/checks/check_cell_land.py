@@ -11,13 +11,11 @@ run's own calcium trace, at fixed stretch 1) to TOLERANCE relative to the peak t
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.land_reference import isometric_twitch  # noqa: E402
-from systole_post.results import read_results  # noqa: E402
+from systole_post.land_reference import isometric_twitch
+from systole_post.results import read_results
 
 RANGES = {
     "resting_potential_mV": (-90.0, -80.0),

@@ -17,13 +17,11 @@ dashpots dissipate.
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 A_MAX, A_MIN, T_DIAS, GAMMA = 5.0, -30.0, 0.484, 0.005  # 1/s, 1/s, s, s
 ALPHA_PRE, ALPHA_MID = 5.0, 1.0  # 1/s

@@ -29,8 +29,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 #: Endocardial and epicardial (short, long) radii of the Land ventricle [mm].
 LAND_SURFACES = {"endo": (7.0, 17.0), "epi": (10.0, 20.0)}

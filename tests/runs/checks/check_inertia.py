@@ -27,7 +27,6 @@ Prints one line per quantity (the measured differences go to docs/verification.m
 """
 
 import sys
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -124,7 +123,6 @@ def main(argv) -> int:
             failures.append("the lighter run is not closer to the quasi-static beat")
 
     # Conservation and phases as for every heartbeat (the blood volume of a closed loop).
-    sys.path.insert(0, str(Path(__file__).parent))
     import check_heartbeat
 
     # The one accepted exception: the chatter of the mitral valve after its first closure

@@ -9,10 +9,8 @@ volume of the synthetic image: the true reference inflated) within REL_TOL.
 """
 
 import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 
 def main(argv) -> int:

@@ -18,9 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.msh41 import Mesh  # noqa: E402
-from systole_post.results import read_results  # noqa: E402
+from systole_post.msh41 import Mesh
+from systole_post.results import read_results
 
 NOT_COMPARED = ("residual", "linear_iterations", "newton_iterations", "chord_iterations")
 

@@ -27,10 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.gmsh_mesh import read_msh  # noqa: E402
-from systole_post.msh41 import Mesh as Msh41  # noqa: E402
-from systole_post.results import read_results  # noqa: E402
+from systole_post.gmsh_mesh import read_msh
+from systole_post.msh41 import Mesh as Msh41
+from systole_post.results import read_results
 
 
 def ellipsoid_distance(p, rs, rl):

@@ -13,12 +13,10 @@ row by row, except the round-off columns in NOT_COMPARED.
 """
 
 import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "scripts"))
-from systole_post.results import read_results  # noqa: E402
+from systole_post.results import read_results
 
 
 #: Columns that legitimately differ between partitions: the converged residual is at

@@ -16,8 +16,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import compare_ranks  # noqa: E402
+import compare_ranks
 
 
 def appended(entry: str) -> str:
