@@ -5,8 +5,8 @@ progress and its sections. A full run walks the table in this order, which is th
 the sections a new docs/verification.md gets."""
 
 from . import (arostica, badinput, biv, cell, checkpoint, circulation, ep, ep_lv, fibres,
-               heartbeat, inverse, land, large, laws, mixed, niederer, p1, p2, p2_mixed, p3,
-               postprocess, scaling, tet)
+               heartbeat, heavy, inverse, land, large, laws, mixed, niederer, p1, p2, p2_mixed,
+               p3, postprocess, scaling, tet)
 
 GROUPS = {
     "p1": p1.sections,
@@ -33,4 +33,5 @@ GROUPS = {
     "circulation": circulation.sections,
     "cell": cell.sections,
     "postprocess": postprocess.sections,
+    "heavy": heavy.sections,
 }
