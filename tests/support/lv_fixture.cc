@@ -11,12 +11,23 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include "base/linear_algebra.h"
+#include "geometry/ellipsoid.h"
 #include "mechanics/cavity_volume.h"
 
 #include <cmath>
 
 namespace test_support
 {
+  systole::Geometry::Parameters
+  arostica_geometry(const unsigned int refinements)
+  {
+    systole::Geometry::Parameters p;
+    p.type               = systole::Geometry::Parameters::Type::arostica;
+    p.lv_shape           = systole::Geometry::LVShape::arostica();
+    p.global_refinements = refinements;
+    return p;
+  }
+
   double
   land_cavity_volume()
   {

@@ -6,10 +6,15 @@
 
 /// @file
 /// Small LV meshes for tests: the Land et al. 2015 ventricle, built as the app
-/// builds it.
+/// builds it, and the parameters of the Arostica et al. 2025 ventricle.
 
 namespace test_support
 {
+  /// Geometry / Type = arostica (LVShape::arostica()), refined
+  /// @p refinements times.
+  systole::Geometry::Parameters
+  arostica_geometry(const unsigned int refinements);
+
   /// Exact volume of the cavity of the default (Land 2015) ventricle: the
   /// endocardial spheroid r_s = 7, r_l = 17 mm below the base plane z = 5 mm,
   /// in mm^3. V = pi r_s^2 / r_l^2 [r_l^2 z - z^3/3] from z = -r_l to z = 5.

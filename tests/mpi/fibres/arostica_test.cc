@@ -3,6 +3,7 @@
 
 #include "fibres/arostica.h"
 #include "geometry/mesh.h"
+#include "support/lv_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -19,10 +20,7 @@ namespace
   std::map<std::array<long long, 3>, dealii::Tensor<1, 3>>
   centre_fibres(const MPI_Comm comm)
   {
-    Geometry::Parameters geometry;
-    geometry.type               = Geometry::Parameters::Type::arostica;
-    geometry.lv_shape           = Geometry::LVShape::arostica();
-    geometry.global_refinements = 1;
+    const Geometry::Parameters geometry = test_support::arostica_geometry(1);
     dealii::parallel::distributed::Triangulation<3> tria(comm);
     const auto             names = Geometry::create_mesh(geometry, tria);
     const Fibres::Arostica rule(Fibres::Arostica::Parameters(),

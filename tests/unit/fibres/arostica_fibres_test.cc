@@ -8,6 +8,7 @@
 #include "fibres/fibre_field.h"
 #include "geometry/ellipsoid.h"
 #include "geometry/mesh.h"
+#include "support/lv_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -19,16 +20,6 @@ using namespace systole;
 namespace
 {
   constexpr double deg = M_PI / 180;
-
-  Geometry::Parameters
-  arostica_geometry(const unsigned int refinements)
-  {
-    Geometry::Parameters p;
-    p.type               = Geometry::Parameters::Type::arostica;
-    p.lv_shape           = Geometry::LVShape::arostica();
-    p.global_refinements = refinements;
-    return p;
-  }
 
   /// The unit tangents of the wall at a vertex, by central differences of the
   /// mesh's own manifold (independent of the generator's formulas):
@@ -65,7 +56,8 @@ TEST_CASE("Arostica fibres: orthonormal frames with the helix angle of the "
 {
   const Geometry::LVShape shape = Geometry::LVShape::arostica();
   dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-  const auto names = Geometry::create_mesh(arostica_geometry(1), tria);
+  const auto                                      names =
+    Geometry::create_mesh(test_support::arostica_geometry(1), tria);
   const Fibres::Arostica                  rule(Fibres::Arostica::Parameters(),
                               shape,
                               tria,
@@ -158,7 +150,8 @@ TEST_CASE("Arostica fibres: the pointwise rule at the benchmark's formulas",
   // (inward), s = f x n_b = +x, n = -n_b = -y.
   const Geometry::LVShape shape = Geometry::LVShape::arostica();
   dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-  const auto names = Geometry::create_mesh(arostica_geometry(0), tria);
+  const auto                                      names =
+    Geometry::create_mesh(test_support::arostica_geometry(0), tria);
   const Fibres::Arostica rule(Fibres::Arostica::Parameters(),
                               shape,
                               tria,

@@ -12,6 +12,7 @@
 #include "geometry/ellipsoid.h"
 #include "geometry/mesh.h"
 #include "mechanics/cavity_volume.h"
+#include "support/lv_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -48,16 +49,6 @@ namespace
            (primitive(x_endo) - primitive(-rl_endo));
   }
 
-  Geometry::Parameters
-  arostica_geometry(const unsigned int refinements)
-  {
-    Geometry::Parameters p;
-    p.type               = Geometry::Parameters::Type::arostica;
-    p.lv_shape           = Geometry::LVShape::arostica();
-    p.global_refinements = refinements;
-    return p;
-  }
-
   /// The undeformed cavity volume by the mechanics' path (CavityVolume,
   /// closed by Geometry::cavity_lid), Q1 and MappingQ2.
   double
@@ -65,7 +56,7 @@ namespace
   {
     dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
     const auto                                      names =
-      Geometry::create_mesh(arostica_geometry(refinements), tria);
+      Geometry::create_mesh(test_support::arostica_geometry(refinements), tria);
     const auto lid = Geometry::cavity_lid(tria, names, "endocardium");
     // The lid is the endocardial cut plane x = x_endo.
     CHECK(std::abs(std::abs(lid.normal[0]) - 1.0) < 1e-12);
@@ -100,7 +91,8 @@ TEST_CASE("The Arostica ventricle lies on its surfaces in the benchmark's "
           "[geometry]")
 {
   dealii::Triangulation<3> tria;
-  const auto   names = Geometry::create_mesh(arostica_geometry(2), tria);
+  const auto               names =
+    Geometry::create_mesh(test_support::arostica_geometry(2), tria);
   const double rho_endo =
     rs_endo * std::sqrt(1.0 - std::pow(x_endo / rl_endo, 2));
   const double rho_epi = rs_epi * std::sqrt(1.0 - std::pow(x_epi / rl_epi, 2));
