@@ -354,7 +354,8 @@ namespace systole::Mechanics
     /// Spring-dashpot (Robin) support on one face: R_a += phi_a s (P (alpha
     /// u + beta v))_c with P the support's projection (I, N x N or I - N x
     /// N) and s its taper, and the tangent (alpha + beta dv/du) s phi_a
-    /// phi_b P_cd;
+    /// phi_b P_cd; @p face_u is u less the support's reference
+    /// (BoundaryConditions::support_stretch());
     /// @p face_v (the velocity) is read only when @p with_rates.
     void
     add_robin_face(const dealii::FEFaceValues<3>   &fe_face,
@@ -905,16 +906,15 @@ namespace systole::Mechanics
     /// The boundary terms of one cell: pressure loads (and cavity fluxes)
     /// and the spring-dashpot supports.
     void
-    add_boundary_cell(
-      const dealii::DoFHandler<3>::active_cell_iterator        &cell,
-      const AssemblyOptions                                    &options,
-      const dealii::FEValuesExtractors::Vector                 &displacement,
-      const LA::MPI::Vector                                    &u,
-      const LA::MPI::Vector                                    &velocity,
-      const dealii::AffineConstraints<double>                  &constraints,
-      const std::map<dealii::types::boundary_id, RobinSupport> &robin_supports,
-      PressureLoads                                            &loads,
-      CellScratch                                              &w)
+    add_boundary_cell(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                      const AssemblyOptions                    &options,
+                      const dealii::FEValuesExtractors::Vector &displacement,
+                      const LA::MPI::Vector                    &u,
+                      const LA::MPI::Vector                    &velocity,
+                      const dealii::AffineConstraints<double>  &constraints,
+                      const BoundaryConditions                 &boundaries,
+                      PressureLoads                            &loads,
+                      CellScratch                              &w)
     {
       CellSystem &cell_system = w.cell_system;
       for (unsigned int i = 0; i < cell_system.on_cavity.size(); ++i)
@@ -949,11 +949,16 @@ namespace systole::Mechanics
                                 loads,
                                 w);
             }
-          const auto support = robin_supports.find(id);
-          if (support == robin_supports.end())
+          const auto support = boundaries.robin_supports.find(id);
+          if (support == boundaries.robin_supports.end())
             continue;
           w.fe_face.reinit(cell, face);
-          w.fe_face[displacement].get_function_values(u, w.face_u);
+          boundaries.support_stretch(w.fe_face,
+                                     displacement,
+                                     u,
+                                     support->second,
+                                     w.face_u,
+                                     w.face_v);
           if (options.with_rates && support->second.damping != 0.0)
             w.fe_face[displacement].get_function_values(velocity, w.face_v);
           add_robin_face(w.fe_face,
@@ -1189,15 +1194,15 @@ namespace systole::Mechanics
     /// material, the fields and the boundary conditions.
     struct CellTerms
     {
-      const AssemblyOptions                                    &options;
-      const BulkMaterial                                        material;
-      const FieldLayout                                        &layout;
-      const dealii::FiniteElement<3>                           &fe;
-      const LA::MPI::Vector                                    &u;
-      const Dynamics                                           &dynamics;
-      const dealii::AffineConstraints<double>                  &constraints;
-      const std::map<dealii::types::boundary_id, RobinSupport> &robin_supports;
-      const double                                              density;
+      const AssemblyOptions                   &options;
+      const BulkMaterial                       material;
+      const FieldLayout                       &layout;
+      const dealii::FiniteElement<3>          &fe;
+      const LA::MPI::Vector                   &u;
+      const Dynamics                          &dynamics;
+      const dealii::AffineConstraints<double> &constraints;
+      const BoundaryConditions                &boundaries;
+      const double                             density;
     };
 
     /// Every term of the locally owned @p cell (point data @p data) into
@@ -1242,7 +1247,7 @@ namespace systole::Mechanics
                         terms.u,
                         terms.dynamics.velocity,
                         terms.constraints,
-                        terms.robin_supports,
+                        terms.boundaries,
                         loads,
                         w);
       if (options.dynamic)
@@ -1350,7 +1355,7 @@ namespace systole::Mechanics
                           u,
                           dynamics,
                           discretization.constraints,
-                          boundaries.robin_supports,
+                          boundaries,
                           params.density};
     unsigned int    inverted = 0;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())

@@ -142,6 +142,8 @@ namespace systole::Mechanics
                       &d.factorized_u_n,
                       &d.factorized_v_n,
                       &d.factorized_a_n});
+    if (m.boundaries.any_from_end_diastole())
+      sources.push_back(&m.boundaries.support_reference);
     m.pending_checkpoint.vectors.resize(sources.size());
     std::vector<const LA::MPI::Vector *> in;
     for (unsigned int i = 0; i < sources.size(); ++i)
@@ -378,7 +380,8 @@ namespace systole::Mechanics
     if (dynamic)
       m.setup_dynamics();
 
-    std::vector<LA::MPI::Vector>   out(dynamic ? 10 : 3);
+    const bool referred = m.boundaries.any_from_end_diastole();
+    std::vector<LA::MPI::Vector>   out((dynamic ? 10 : 3) + (referred ? 1 : 0));
     std::vector<LA::MPI::Vector *> pointers;
     for (auto &v : out)
       {
@@ -403,6 +406,8 @@ namespace systole::Mechanics
         d.factorized_v_n       = out[8];
         d.factorized_a_n       = out[9];
       }
+    if (referred)
+      m.boundaries.support_reference = out.back();
     unpack_cell_data(m.tria, m.points, m.factorized);
     if (m.factorized.held)
       m.rebuild_factorization(bordered);

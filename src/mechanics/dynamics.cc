@@ -298,7 +298,7 @@ namespace systole::Mechanics
   Problem::support_energy() const
   {
     const Impl                       &m = *impl;
-    std::vector<dealii::Tensor<1, 3>> u_at;
+    std::vector<dealii::Tensor<1, 3>> u_at, reference_at;
     double                            energy   = 0.0;
     const auto                       &supports = m.boundaries.robin_supports;
     m.discretization.for_each_owned_boundary_face(
@@ -310,9 +310,12 @@ namespace systole::Mechanics
       },
       [&](const auto &face, const auto &fe_face) {
         const auto &support = supports.at(face->boundary_id());
-        u_at.resize(fe_face.n_quadrature_points);
-        fe_face[m.discretization.layout.displacement].get_function_values(m.u,
-                                                                          u_at);
+        m.boundaries.support_stretch(fe_face,
+                                     m.discretization.layout.displacement,
+                                     m.u,
+                                     support,
+                                     u_at,
+                                     reference_at);
         for (const unsigned int q : fe_face.quadrature_point_indices())
           {
             const double u2 =
@@ -324,6 +327,14 @@ namespace systole::Mechanics
           }
       });
     return dealii::Utilities::MPI::sum(energy, m.comm);
+  }
+
+  void
+  Problem::refer_supports_to_end_diastole()
+  {
+    Impl &m = *impl;
+    if (m.boundaries.any_from_end_diastole())
+      m.boundaries.support_reference = m.u_owned;
   }
 
   namespace

@@ -42,78 +42,98 @@ namespace systole::Mechanics
       return points;
     }
 
+    /// The options after 'type, alpha, beta' of a support: 'taper h0 s_base'
+    /// and 'end-diastole', each at most once; false if one is not valid.
+    bool
+    parse_support_options(const std::vector<std::string> &options,
+                          RobinSupport                   &s)
+    {
+      bool tapered = false;
+      for (const auto &option : options)
+        {
+          const auto words =
+            dealii::Utilities::break_text_into_lines(option, 1);
+          if (words.size() == 1 && words[0] == "end-diastole" &&
+              !s.from_end_diastole)
+            s.from_end_diastole = true;
+          else if (words.size() == 3 && words[0] == "taper" && !tapered)
+            {
+              tapered       = true;
+              s.taper_start = dealii::Utilities::string_to_double(words[1]);
+              s.base_scale  = dealii::Utilities::string_to_double(words[2]);
+              if (!(s.taper_start >= 0 && s.taper_start < 1 &&
+                    s.base_scale >= 0 && s.base_scale <= 1))
+                return false;
+            }
+          else
+            return false;
+        }
+      return true;
+    }
+
+    /// One item 'part: type, alpha, beta[, options]' of Robin supports.
+    RobinSupport
+    parse_support(const std::string &item, const std::string &form)
+    {
+      const auto message = [&item, &form]() {
+        return dealii::ExcMessage("Mechanics / Robin supports: '" + item +
+                                  form);
+      };
+      const auto colon = item.find(':');
+      AssertThrow(colon != std::string::npos, message());
+      RobinSupport s;
+      s.boundary = dealii::Utilities::trim(item.substr(0, colon));
+      const auto values =
+        dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
+      const auto type =
+        values.empty() ? std::vector<std::string>()
+                       : dealii::Utilities::break_text_into_lines(values[0], 1);
+      AssertThrow(!s.boundary.empty() && values.size() >= 3 &&
+                    values.size() <= 5 &&
+                    ((type.size() == 1 &&
+                      (type[0] == "normal" || type[0] == "tangential")) ||
+                     ((type.size() == 1 || type.size() == 2) &&
+                      type[0] == "full")),
+                  message());
+      s.normal_only     = type[0] == "normal";
+      s.tangential_only = type[0] == "tangential";
+      bool valid        = true;
+      try
+        {
+          if (type.size() == 2)
+            {
+              s.normal_fraction = dealii::Utilities::string_to_double(type[1]);
+              valid             = s.normal_fraction >= 0;
+            }
+          s.stiffness = dealii::Utilities::string_to_double(values[1]);
+          s.damping   = dealii::Utilities::string_to_double(values[2]);
+          valid       = valid &&
+                  parse_support_options({values.begin() + 3, values.end()}, s);
+        }
+      catch (...)
+        {
+          valid = false;
+        }
+      AssertThrow(valid, message());
+      AssertThrow(
+        s.stiffness >= 0 && s.damping >= 0 && s.stiffness + s.damping > 0,
+        dealii::ExcMessage("Mechanics / Robin supports: '" + item +
+                           "': the stiffness and the damping must not be "
+                           "negative, and not both zero."));
+      return s;
+    }
+
     std::vector<RobinSupport>
     parse_supports(const std::string &text)
     {
       const std::string form =
         "' is not of the form 'part: normal|tangential|full [r], stiffness "
-        "[kPa/mm], damping [kPa ms/mm]' or 'part: normal|tangential|full [r], "
-        "stiffness, damping, taper h0 s_base' (r >= 0, 0 <= h0 < 1, 0 <= "
-        "s_base <= 1).";
+        "[kPa/mm], damping [kPa ms/mm]' followed by the options ', taper h0 "
+        "s_base' and ', end-diastole' (r >= 0, 0 <= h0 < 1, 0 <= s_base <= "
+        "1).";
       std::vector<RobinSupport> supports;
       for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
-        {
-          const auto colon = item.find(':');
-          AssertThrow(colon != std::string::npos,
-                      dealii::ExcMessage("Mechanics / Robin supports: '" +
-                                         item + form));
-          RobinSupport s;
-          s.boundary = dealii::Utilities::trim(item.substr(0, colon));
-          const auto values =
-            dealii::Utilities::split_string_list(item.substr(colon + 1), ',');
-          const auto type =
-            values.empty()
-              ? std::vector<std::string>()
-              : dealii::Utilities::break_text_into_lines(values[0], 1);
-          AssertThrow(
-            !s.boundary.empty() && (values.size() == 3 || values.size() == 4) &&
-              ((type.size() == 1 &&
-                (type[0] == "normal" || type[0] == "tangential")) ||
-               ((type.size() == 1 || type.size() == 2) && type[0] == "full")),
-            dealii::ExcMessage("Mechanics / Robin supports: '" + item + form));
-          s.normal_only     = type[0] == "normal";
-          s.tangential_only = type[0] == "tangential";
-          bool valid        = true;
-          try
-            {
-              if (type.size() == 2)
-                {
-                  s.normal_fraction =
-                    dealii::Utilities::string_to_double(type[1]);
-                  valid = s.normal_fraction >= 0;
-                }
-              s.stiffness = dealii::Utilities::string_to_double(values[1]);
-              s.damping   = dealii::Utilities::string_to_double(values[2]);
-              if (values.size() == 4)
-                {
-                  const auto taper =
-                    dealii::Utilities::break_text_into_lines(values[3], 1);
-                  valid = valid && taper.size() == 3 && taper[0] == "taper";
-                  if (valid)
-                    {
-                      s.taper_start =
-                        dealii::Utilities::string_to_double(taper[1]);
-                      s.base_scale =
-                        dealii::Utilities::string_to_double(taper[2]);
-                      valid = s.taper_start >= 0 && s.taper_start < 1 &&
-                              s.base_scale >= 0 && s.base_scale <= 1;
-                    }
-                }
-            }
-          catch (...)
-            {
-              valid = false;
-            }
-          AssertThrow(valid,
-                      dealii::ExcMessage("Mechanics / Robin supports: '" +
-                                         item + form));
-          AssertThrow(
-            s.stiffness >= 0 && s.damping >= 0 && s.stiffness + s.damping > 0,
-            dealii::ExcMessage("Mechanics / Robin supports: '" + item +
-                               "': the stiffness and the damping must not be "
-                               "negative, and not both zero."));
-          supports.push_back(s);
-        }
+        supports.push_back(parse_support(item, form));
       return supports;
     }
 
@@ -198,8 +218,12 @@ namespace systole::Mechanics
         "the apex, then linearly down to s_base at the base plane (h = 1; h "
         "is the distance from the apex, the part's point farthest from the "
         "base's best-fit plane, over the apex's distance; needs a part "
-        "'base'). A part may not be in Robin boundaries as well. Units: "
-        "kPa/mm, kPa ms/mm.");
+        "'base'). The option 'end-diastole' refers the springs to the "
+        "displacement at the last end-diastole instead of the unloaded state "
+        "(a heartbeat; from the first ventricle's inlet valve closure on, the "
+        "unloaded state before it): they hold the base where the filled "
+        "ventricle put it and do not oppose its filling. A part may not be "
+        "in Robin boundaries as well. Units: kPa/mm, kPa ms/mm.");
     }
 
     /// The active stress and how the loads act (lid pressure, volumetric rule).

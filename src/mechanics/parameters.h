@@ -47,6 +47,9 @@ namespace systole::Mechanics
     /// the apex as a fraction of the apex's distance from the base plane.
     double taper_start = 1.0;
     double base_scale  = 1.0; ///< s at the base (1: no taper)
+    /// The springs pull toward the displacement at the last end-diastole
+    /// (Problem::refer_supports_to_end_diastole()), not the unloaded state.
+    bool from_end_diastole = false;
     bool
     tapered() const
     {

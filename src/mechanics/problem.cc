@@ -308,6 +308,35 @@ namespace systole::Mechanics
       }
   }
 
+  bool
+  BoundaryConditions::any_from_end_diastole() const
+  {
+    return std::any_of(robin_supports.begin(),
+                       robin_supports.end(),
+                       [](const auto &s) {
+                         return s.second.from_end_diastole;
+                       });
+  }
+
+  void
+  BoundaryConditions::support_stretch(
+    const dealii::FEFaceValues<3>            &fe_face,
+    const dealii::FEValuesExtractors::Vector &displacement,
+    const LA::MPI::Vector                    &u,
+    const RobinSupport                       &support,
+    std::vector<dealii::Tensor<1, 3>>        &values,
+    std::vector<dealii::Tensor<1, 3>>        &scratch) const
+  {
+    values.resize(fe_face.n_quadrature_points);
+    fe_face[displacement].get_function_values(u, values);
+    if (!support.from_end_diastole)
+      return;
+    scratch.resize(fe_face.n_quadrature_points);
+    fe_face[displacement].get_function_values(support_reference, scratch);
+    for (unsigned int q = 0; q < values.size(); ++q)
+      values[q] -= scratch[q];
+  }
+
   CavityLoads::CavityLoads(const Parameters                  &params,
                            const dealii::Triangulation<3, 3> &tria,
                            const BoundaryConditions          &boundaries,
@@ -484,6 +513,8 @@ namespace systole::Mechanics
     history.u_previous.reinit(d.owned, comm);
     factorized.u.reinit(d.owned, comm);
     u.reinit(d.owned, d.relevant, comm);
+    if (boundaries.any_from_end_diastole())
+      boundaries.support_reference.reinit(d.owned, d.relevant, comm);
   }
 
   Problem::Problem(const Parameters                                     &params,

@@ -298,9 +298,18 @@ namespace systole::Mechanics
     kinetic_energy() const;
 
     /// Energy stored in the springs of the Robin supports, (1/2) alpha int
-    /// |u|^2 dA (or (u.N)^2) at the current displacement [µJ] (collective).
+    /// |u|^2 dA (or (u.N)^2; u less its end-diastolic reference where the
+    /// support is referred to it) at the current displacement [µJ]
+    /// (collective).
     double
     support_energy() const;
+
+    /// The supports referred to end-diastole (Robin supports, option
+    /// end-diastole) take the current displacement as their rest position:
+    /// the heartbeat calls it at every end-diastole, after the step is
+    /// accepted. Nothing without such a support. Collective.
+    void
+    refer_supports_to_end_diastole();
 
     /// The powers of the accepted state (u_n, v_n) of the time integration
     /// under @p pressures [kPa] (one per pressure part) and the uniform

@@ -265,6 +265,26 @@ namespace systole::Mechanics
     /// The spring-dashpot supports by boundary id (Parameters::
     /// all_robin_supports()).
     std::map<dealii::types::boundary_id, RobinSupport> robin_supports;
+    /// Ghosted: the displacement the supports referred to end-diastole
+    /// (RobinSupport::from_end_diastole) pull toward, zero until the first
+    /// Problem::refer_supports_to_end_diastole(); empty without such a
+    /// support.
+    LA::MPI::Vector support_reference;
+
+    /// Whether a support is referred to end-diastole.
+    bool
+    any_from_end_diastole() const;
+
+    /// The displacement the springs of @p support stretch at the quadrature
+    /// points of @p fe_face into @p values: @p u, less support_reference for
+    /// a support referred to end-diastole (@p scratch holds it).
+    void
+    support_stretch(const dealii::FEFaceValues<3>            &fe_face,
+                    const dealii::FEValuesExtractors::Vector &displacement,
+                    const LA::MPI::Vector                    &u,
+                    const RobinSupport                       &support,
+                    std::vector<dealii::Tensor<1, 3>>        &values,
+                    std::vector<dealii::Tensor<1, 3>>        &scratch) const;
   };
 
   /// The pressure loads and the cavities they fill: the parts, the cavity

@@ -324,7 +324,11 @@ namespace systole
     indicators = attempt.g;
     if (!switched.empty())
       {
+        const unsigned int first = bdf.external_cavities()[0];
+        const bool filled = phases->phase(first) == Circulation::Phase::filling;
         phases->update(open);
+        if (filled && phases->phase(first) != Circulation::Phase::filling)
+          ventricles.end_diastole();
         bdf.restart();
         stats.n_events += switched.size();
         h     = settings.initial_step;

@@ -82,6 +82,12 @@ namespace systole
     virtual void
     reject() = 0;
 
+    /// End-diastole: the accepted step ended the filling of the first
+    /// external cavity (its inlet valve closed). Called after accept().
+    virtual void
+    end_diastole()
+    {}
+
     /// Times within a beat [ms from its start] where the loads change
     /// abruptly (the onset of the active tension): steps end there and
     /// continue with Settings::initial_step, as after a valve event.

@@ -190,6 +190,14 @@ namespace systole
   }
 
 
+  void
+  MechanicsVentricles::end_diastole()
+  {
+    const auto timed = timer_section(timer, "Heartbeat / accept");
+    problem.refer_supports_to_end_diastole();
+  }
+
+
   double
   MechanicsVentricles::mean_tension(const MPI_Comm comm) const
   {

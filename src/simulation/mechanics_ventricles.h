@@ -67,6 +67,11 @@ namespace systole
     void
     reject() override;
 
+    /// The supports referred to end-diastole take the accepted displacement
+    /// (Mechanics::Problem::refer_supports_to_end_diastole()).
+    void
+    end_diastole() override;
+
     /// The accepted time (checkpoints).
     template <class Archive>
     void

@@ -44,6 +44,48 @@ namespace test_support
     return g;
   }
 
+  GuccioneBox::GuccioneBox(const dealii::Point<3>               &upper,
+                           const std::array<unsigned int, 3>    &cells,
+                           const systole::Mechanics::Parameters &params,
+                           const double                          kappa)
+    : logger(MPI_COMM_WORLD, sink)
+    , law([] {
+      systole::Materials::Guccione::Parameters p;
+      p.C    = 2.0;
+      p.b_f  = 1;
+      p.b_t  = 1;
+      p.b_fs = 1;
+      return p;
+    }())
+    , volumetric(systole::Materials::VolumetricLaw::Form::quadratic, kappa)
+    , tria(MPI_COMM_WORLD)
+  {
+    using namespace systole;
+    Geometry::Parameters geometry;
+    geometry.type      = Geometry::Parameters::Type::box;
+    geometry.box_upper = upper;
+    geometry.box_cells = cells;
+    const auto names   = Geometry::create_mesh(geometry, tria);
+    fibres             = [](const auto &, const auto &points, auto &bases) {
+      bases.resize(points.size());
+      for (auto &b : bases)
+        {
+          b.f = dealii::Tensor<1, 3>({1, 0, 0});
+          b.s = dealii::Tensor<1, 3>({0, 1, 0});
+          b.n = dealii::Tensor<1, 3>({0, 0, 1});
+        }
+    };
+    problem = std::make_unique<Mechanics::Problem>(params,
+                                                   tria,
+                                                   names,
+                                                   2,
+                                                   1,
+                                                   law,
+                                                   volumetric,
+                                                   fibres,
+                                                   logger);
+  }
+
   VentricleMechanics::VentricleMechanics(const MPI_Comm comm)
     : logger(comm, sink)
     , law(test_guccione_parameters())

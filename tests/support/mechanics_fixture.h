@@ -41,6 +41,27 @@ namespace test_support
   systole::Fibres::FibreField
   rotating_fibres();
 
+  /// A box [0, upper] of @p cells hexahedra of an isotropic Guccione
+  /// material (C = 2 kPa, b_f = b_t = b_fs = 1), fibres along x, the
+  /// quadratic volumetric law of bulk modulus @p kappa [kPa], Q2 on a linear
+  /// mapping, with the supports and loads of @p params. The log goes to
+  /// sink.
+  struct GuccioneBox
+  {
+    GuccioneBox(const dealii::Point<3>               &upper,
+                const std::array<unsigned int, 3>    &cells,
+                const systole::Mechanics::Parameters &params,
+                const double                          kappa);
+
+    std::ostringstream                              sink;
+    systole::Logger                                 logger;
+    const systole::Materials::Guccione              law;
+    const systole::Materials::VolumetricLaw         volumetric;
+    dealii::parallel::distributed::Triangulation<3> tria;
+    systole::Fibres::FibreField                     fibres;
+    std::unique_ptr<systole::Mechanics::Problem>    problem;
+  };
+
   /// A smooth displacement of a few tenths of a mm (3 components).
   class Wobble : public dealii::Function<3>
   {

@@ -19,6 +19,7 @@
 #include "materials/guccione.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/problem.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -32,64 +33,6 @@ using namespace systole;
 namespace
 {
   constexpr double pi = 3.14159265358979323846;
-
-  Materials::Guccione::Parameters
-  isotropic_guccione()
-  {
-    Materials::Guccione::Parameters p;
-    p.C    = 2.0;
-    p.b_f  = 1;
-    p.b_t  = 1;
-    p.b_fs = 1;
-    return p;
-  }
-
-  const Fibres::FibreField cartesian_fibres =
-    [](const auto &, const auto &points, auto &bases) {
-      bases.resize(points.size());
-      for (auto &b : bases)
-        {
-          b.f = dealii::Tensor<1, 3>({1, 0, 0});
-          b.s = dealii::Tensor<1, 3>({0, 1, 0});
-          b.n = dealii::Tensor<1, 3>({0, 0, 1});
-        }
-    };
-
-  /// A box of Guccione material with the given supports.
-  struct Box
-  {
-    Box(const dealii::Point<3>            &upper,
-        const std::array<unsigned int, 3> &cells,
-        const Mechanics::Parameters       &params,
-        const double                       kappa)
-      : logger(MPI_COMM_WORLD, sink)
-      , law(isotropic_guccione())
-      , volumetric(Materials::VolumetricLaw::Form::quadratic, kappa)
-      , tria(MPI_COMM_WORLD)
-    {
-      Geometry::Parameters geometry;
-      geometry.type      = Geometry::Parameters::Type::box;
-      geometry.box_upper = upper;
-      geometry.box_cells = cells;
-      const auto names   = Geometry::create_mesh(geometry, tria);
-      problem            = std::make_unique<Mechanics::Problem>(params,
-                                                     tria,
-                                                     names,
-                                                     2,
-                                                     1,
-                                                     law,
-                                                     volumetric,
-                                                     cartesian_fibres,
-                                                     logger);
-    }
-
-    std::ostringstream                              sink;
-    Logger                                          logger;
-    const Materials::Guccione                       law;
-    const Materials::VolumetricLaw                  volumetric;
-    dealii::parallel::distributed::Triangulation<3> tria;
-    std::unique_ptr<Mechanics::Problem>             problem;
-  };
 
   /// The bar of dynamics_test.cc (4 x 1 x 1 mm, clamped at x = 0, pulled on
   /// x = 4 by a smooth pulse), with viscosity and two dashpot supports.
@@ -120,11 +63,11 @@ namespace
 TEST_CASE("dynamic step with viscosity and dashpots: consistent tangent",
           "[mechanics][dynamics][fd]")
 {
-  Box   bar(dealii::Point<3>(4, 1, 1),
-          {{4, 1, 1}},
-          damped_bar_parameters(0.8),
-          20.0);
-  auto &problem = *bar.problem;
+  test_support::GuccioneBox bar(dealii::Point<3>(4, 1, 1),
+                                {{4, 1, 1}},
+                                damped_bar_parameters(0.8),
+                                20.0);
+  auto                     &problem = *bar.problem;
   problem.start_dynamics(0.0, 0.0);
   problem.set_time_step(0.5);
   for (const double t : {0.5, 1.0, 1.5, 2.0})
@@ -163,8 +106,11 @@ TEST_CASE("a stiff block on a spring-dashpot support is a damped oscillator",
   params.spectral_radius   = 0.8;
   params.viscosity         = 0.1; // damps the block's own modes
   params.robin_supports    = {{"x_min", alpha, beta, false}};
-  Box   block(dealii::Point<3>(1, 1, 1), {{1, 1, 1}}, params, 20.0);
-  auto &problem = *block.problem;
+  test_support::GuccioneBox block(dealii::Point<3>(1, 1, 1),
+                                  {{1, 1, 1}},
+                                  params,
+                                  20.0);
+  auto                     &problem = *block.problem;
   problem.set_displacement(
     dealii::Functions::ConstantFunction<3>(std::vector<double>{u0, 0, 0}));
   problem.start_dynamics(0.0, 0.0);
@@ -223,11 +169,11 @@ TEST_CASE("viscous energy balance: kinetic + strain + dissipated = work",
   // The largest |E_kin + E_strain + E_support + D - W| over 10 ms, relative
   // to the largest work, for two steps.
   const auto defect = [](const double dt, double &dissipated_fraction) {
-    Box   bar(dealii::Point<3>(4, 1, 1),
-            {{4, 1, 1}},
-            damped_bar_parameters(1.0),
-            20.0);
-    auto &problem = *bar.problem;
+    test_support::GuccioneBox bar(dealii::Point<3>(4, 1, 1),
+                                  {{4, 1, 1}},
+                                  damped_bar_parameters(1.0),
+                                  20.0);
+    auto                     &problem = *bar.problem;
     problem.start_dynamics(0.0, 0.0);
     problem.set_time_step(dt);
     const auto pressures = [](const double t) {

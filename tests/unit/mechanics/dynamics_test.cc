@@ -24,6 +24,7 @@
 #include "materials/guccione.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/problem.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -48,56 +49,29 @@ namespace
     return t < pulse ? -traction * s * s : 0.0;
   }
 
-  Materials::Guccione::Parameters
-  isotropic_guccione()
+  /// The pulled bar: 4 x 1 x 1 mm, clamped at x = 0, pressure on x = 4.
+  Mechanics::Parameters
+  bar_parameters(const double spectral_radius, const double damping)
   {
-    Materials::Guccione::Parameters p;
-    p.C    = 2.0;
-    p.b_f  = 1;
-    p.b_t  = 1;
-    p.b_fs = 1;
-    return p;
+    Mechanics::Parameters params;
+    params.fixed_boundaries      = {"x_min"};
+    params.pressure_boundary     = "x_max";
+    params.linear_solver         = "direct";
+    params.density               = 1.0; // 1000 kg/m^3
+    params.spectral_radius       = spectral_radius;
+    params.rayleigh_mass_damping = damping;
+    return params;
   }
 
   struct Bar
   {
     explicit Bar(const double spectral_radius, const double damping = 0.0)
-      : logger(MPI_COMM_WORLD, sink)
-      , law(isotropic_guccione())
-      , volumetric(Materials::VolumetricLaw::Form::quadratic, 20.0)
-      , tria(MPI_COMM_WORLD)
+      : box(dealii::Point<3>(4, 1, 1),
+            {{4, 1, 1}},
+            bar_parameters(spectral_radius, damping),
+            20.0)
+      , problem(box.problem)
     {
-      Geometry::Parameters geometry;
-      geometry.type               = Geometry::Parameters::Type::box;
-      geometry.box_upper          = dealii::Point<3>(4, 1, 1);
-      geometry.box_cells          = {{4, 1, 1}};
-      const auto            names = Geometry::create_mesh(geometry, tria);
-      Mechanics::Parameters params;
-      params.fixed_boundaries      = {"x_min"};
-      params.pressure_boundary     = "x_max";
-      params.linear_solver         = "direct";
-      params.density               = 1.0; // 1000 kg/m^3
-      params.spectral_radius       = spectral_radius;
-      params.rayleigh_mass_damping = damping;
-      const Fibres::FibreField fibres =
-        [](const auto &, const auto &points, auto &bases) {
-          bases.resize(points.size());
-          for (auto &b : bases)
-            {
-              b.f = dealii::Tensor<1, 3>({1, 0, 0});
-              b.s = dealii::Tensor<1, 3>({0, 1, 0});
-              b.n = dealii::Tensor<1, 3>({0, 0, 1});
-            }
-        };
-      problem = std::make_unique<Mechanics::Problem>(params,
-                                                     tria,
-                                                     names,
-                                                     2,
-                                                     1,
-                                                     law,
-                                                     volumetric,
-                                                     fibres,
-                                                     logger);
       // At rest, unloaded, at t = 0.
       problem->start_dynamics(0.0, 0.0);
     }
@@ -128,12 +102,8 @@ namespace
       return energy;
     }
 
-    std::ostringstream                              sink;
-    Logger                                          logger;
-    const Materials::Guccione                       law;
-    const Materials::VolumetricLaw                  volumetric;
-    dealii::parallel::distributed::Triangulation<3> tria;
-    std::unique_ptr<Mechanics::Problem>             problem;
+    test_support::GuccioneBox            box;
+    std::unique_ptr<Mechanics::Problem> &problem;
   };
 
   /// max |E - E(pulse)| / E(pulse) after the pulse.

@@ -1,7 +1,12 @@
 // The spring-dashpot supports' entry: the apex-to-base taper of a
-// pericardium, parsed and evaluated against the hand-computed profile.
+// pericardium, parsed and evaluated against the hand-computed profile; the
+// option end-diastole, parsed, and its springs' reference checked through
+// the translation invariance of a block held by them.
+#include <deal.II/base/function.h>
+
 #include "base/errors.h"
 #include "mechanics/parameters.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -80,4 +85,99 @@ TEST_CASE("A malformed taper names the item and the form", "[mechanics]")
                                  "' is not of the form") &&
                    Catch::Contains("taper h0 s_base"));
     }
+}
+
+TEST_CASE("The end-diastole option is parsed with or without a taper, once",
+          "[mechanics]")
+{
+  const auto supports = Mechanics::Parameters::parse_robin_supports(
+    "epicardium: normal, 20, 0, taper 0.5 0.05, end-diastole; base: full "
+    "0.2, 1, 0, end-diastole; apex: normal, 1, 0");
+  REQUIRE(supports.size() == 3);
+  CHECK(supports[0].from_end_diastole);
+  CHECK(supports[0].base_scale == 0.05);
+  CHECK(supports[1].from_end_diastole);
+  CHECK(supports[1].normal_fraction == 0.2);
+  CHECK_FALSE(supports[2].from_end_diastole);
+  for (const std::string item :
+       {"base: full, 1, 0, end-diastole, end-diastole",
+        "base: full, 1, 0, end diastole",
+        "base: full, 1, 0, taper 0.5 0.1, taper 0.5 0.1",
+        "base: full, 1, 0, taper 0.5 0.1, end-diastole, x"})
+    {
+      INFO(item);
+      std::string message;
+      try
+        {
+          Mechanics::Parameters::parse_robin_supports(item);
+        }
+      catch (const std::exception &e)
+        {
+          message = one_line_message(e);
+        }
+      CHECK_THAT(message,
+                 Catch::Contains("Mechanics / Robin supports: '" + item +
+                                 "' is not of the form") &&
+                   Catch::Contains("', end-diastole'"));
+    }
+}
+
+TEST_CASE("A support referred to end-diastole pulls toward the displacement "
+          "it was referred at",
+          "[mechanics]")
+{
+  // A 2 x 1 x 1 mm block held only by a full support on x = 0 and pulled on
+  // x = 2. The problem is invariant under translations (follower pressure,
+  // no clamp) except through the springs: referred to a uniform
+  // displacement c, the equilibrium under the same pull is the one
+  // referred to zero, moved by c.
+  Mechanics::Parameters params;
+  params.fixed_boundaries  = {};
+  params.pressure_boundary = "x_max";
+  params.linear_solver     = "direct";
+  params.robin_supports    = Mechanics::Parameters::parse_robin_supports(
+    "x_min: full, 0.5, 0, end-diastole");
+  test_support::GuccioneBox           box(dealii::Point<3>(2, 1, 1),
+                                {{2, 1, 1}},
+                                params,
+                                20.0);
+  auto                               &problem = *box.problem;
+  const std::vector<dealii::Point<3>> points  = {dealii::Point<3>(0, 0, 0),
+                                                 dealii::Point<3>(2, 1, 1),
+                                                 dealii::Point<3>(1, 0.5, 0)};
+  problem.solve(-0.2, 0.0);
+  const auto   unshifted = problem.deformed_positions(points);
+  const double energy    = problem.support_energy();
+  // The spring stretch is about pull / alpha = 0.4 mm.
+  CHECK(unshifted[0][0] > 0.3);
+
+  const dealii::Tensor<1, 3> c({0.7, -0.3, 0.2});
+  problem.set_displacement(dealii::Functions::ConstantFunction<3>(
+    std::vector<double>{c[0], c[1], c[2]}));
+  problem.refer_supports_to_end_diastole();
+  CHECK(problem.support_energy() == 0.0);
+  problem.solve(-0.2, 0.0);
+  const auto shifted = problem.deformed_positions(points);
+  for (unsigned int i = 0; i < points.size(); ++i)
+    {
+      INFO("point " << i);
+      CHECK((shifted[i] - unshifted[i] - c).norm() < 1e-8);
+    }
+  // The same stretch of the springs, so the same energy in them.
+  CHECK(problem.support_energy() == Approx(energy).epsilon(1e-7));
+
+  // Without the option, the springs pull toward the unloaded state: the
+  // shift is undone.
+  params.robin_supports[0].from_end_diastole = false;
+  test_support::GuccioneBox plain(dealii::Point<3>(2, 1, 1),
+                                  {{2, 1, 1}},
+                                  params,
+                                  20.0);
+  plain.problem->set_displacement(dealii::Functions::ConstantFunction<3>(
+    std::vector<double>{c[0], c[1], c[2]}));
+  plain.problem->refer_supports_to_end_diastole();
+  plain.problem->solve(-0.2, 0.0);
+  const auto back = plain.problem->deformed_positions(points);
+  for (unsigned int i = 0; i < points.size(); ++i)
+    CHECK((back[i] - unshifted[i]).norm() < 1e-8);
 }

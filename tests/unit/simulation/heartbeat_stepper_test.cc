@@ -70,8 +70,14 @@ namespace
     void
     reject() override
     {}
+    void
+    end_diastole() override
+    {
+      end_diastoles.push_back(time);
+    }
 
-    unsigned int iterations = 0;
+    unsigned int        iterations = 0;
+    std::vector<double> end_diastoles; ///< the times of end_diastole()
 
   private:
     std::vector<ChamberElastance> chambers;
@@ -172,6 +178,14 @@ namespace
       ++steps;
     }
     void
+    on_event(const unsigned int            valve,
+             const bool                    opens,
+             const HeartbeatStepper::Step &step) override
+    {
+      if (valve == 0 && !opens) // the mitral valve closes
+        mitral_closures.push_back(step.time);
+    }
+    void
     on_beat(const unsigned int,
             const std::vector<SummaryColumn> &summary) override
     {
@@ -181,6 +195,7 @@ namespace
     }
     std::vector<std::map<std::string, double>> rows;
     unsigned int                               max_order = 0, steps = 0;
+    std::vector<double>                        mitral_closures;
   };
 
   /// The closed loop with elastance chambers in place of the 3D ventricles:
@@ -299,6 +314,10 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
   // Each of the four valves opens and closes once per beat.
   CHECK(stats.n_events == 16);
   CHECK(stats.n_failures == 0);
+  // The ventricles hear of end-diastole at each closure of the mitral
+  // valve, after the step that ends there.
+  REQUIRE(summaries.mitral_closures.size() == 2);
+  CHECK(ventricles.end_diastoles == summaries.mitral_closures);
 
   const auto reference = reference_rows(ClosedLoop(loop.elastance), 2);
   for (unsigned int beat = 0; beat < 2; ++beat)
