@@ -50,11 +50,8 @@ namespace test_support
                            const double                          kappa)
     : logger(MPI_COMM_WORLD, sink)
     , law([] {
-      systole::Materials::Guccione::Parameters p;
-      p.C    = 2.0;
-      p.b_f  = 1;
-      p.b_t  = 1;
-      p.b_fs = 1;
+      auto p = test_guccione_parameters(); // C = 2 kPa
+      p.b_f = p.b_t = p.b_fs = 1;
       return p;
     }())
     , volumetric(systole::Materials::VolumetricLaw::Form::quadratic, kappa)

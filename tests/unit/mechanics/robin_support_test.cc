@@ -12,6 +12,25 @@
 
 using namespace systole;
 
+namespace
+{
+  /// The one-line message of parsing @p item as Robin supports (empty if it
+  /// parses).
+  std::string
+  parse_error(const std::string &item)
+  {
+    try
+      {
+        Mechanics::Parameters::parse_robin_supports(item);
+      }
+    catch (const std::exception &e)
+      {
+        return one_line_message(e);
+      }
+    return "";
+  }
+} // namespace
+
 TEST_CASE("A tapered support scales its springs from the apex to the base",
           "[mechanics]")
 {
@@ -71,16 +90,7 @@ TEST_CASE("A malformed taper names the item and the form", "[mechanics]")
                                  "base: full x, 1, 0, taper 0.5 0"})
     {
       INFO(item);
-      std::string message;
-      try
-        {
-          Mechanics::Parameters::parse_robin_supports(item);
-        }
-      catch (const std::exception &e)
-        {
-          message = one_line_message(e);
-        }
-      CHECK_THAT(message,
+      CHECK_THAT(parse_error(item),
                  Catch::Contains("Mechanics / Robin supports: '" + item +
                                  "' is not of the form") &&
                    Catch::Contains("taper h0 s_base"));
@@ -106,16 +116,7 @@ TEST_CASE("The end-diastole option is parsed with or without a taper, once",
         "base: full, 1, 0, taper 0.5 0.1, end-diastole, x"})
     {
       INFO(item);
-      std::string message;
-      try
-        {
-          Mechanics::Parameters::parse_robin_supports(item);
-        }
-      catch (const std::exception &e)
-        {
-          message = one_line_message(e);
-        }
-      CHECK_THAT(message,
+      CHECK_THAT(parse_error(item),
                  Catch::Contains("Mechanics / Robin supports: '" + item +
                                  "' is not of the form") &&
                    Catch::Contains("', end-diastole'"));
