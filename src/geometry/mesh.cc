@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <set>
 
 namespace systole::Geometry
 {
@@ -169,6 +170,17 @@ namespace systole::Geometry
           "physical name, or by its number where it has none (.vtu files: "
           "\"5\"). Units: -. Default: empty.");
         prm.declare_entry(
+          "Shape",
+          "none",
+          dealii::Patterns::Selection("none|arostica"),
+          "The analytic ventricle the file's mesh discretizes, for the fibre "
+          "generators defined in its ellipsoidal coordinates (Fibres / "
+          "Generator = analytic or arostica): 'none', no such shape (those "
+          "generators are refused); 'arostica', the truncated ellipsoid of "
+          "Arostica et al. 2025 in the benchmark's frame (as Geometry / Type = "
+          "arostica), e.g. for the benchmark's own tetrahedral mesh "
+          "meshes/arostica_benchmark_tet.msh. Units: -. Default: none.");
+        prm.declare_entry(
           "Face tag array",
           "",
           dealii::Patterns::Anything(),
@@ -195,8 +207,7 @@ namespace systole::Geometry
         "Which mesh to use: 'ellipsoid', the idealized truncated-ellipsoid left "
         "ventricle (subsection Ellipsoid); 'box', a brick of hexahedra "
         "(subsection Box); 'gmsh', a mesh read from a file (subsection Gmsh): "
-        "a gmsh .msh or a VTK .vtu file, all hexahedra or (for the serial "
-        "tools only: the simulations need hexahedra) all tetrahedra; "
+        "a gmsh .msh or a VTK .vtu file, all hexahedra or all tetrahedra; "
         "'arostica', the monoventricular geometry of "
         "Arostica et al. 2025 in the benchmark's frame (long axis x, apex at "
         "-x, mm): endocardium r_s = 25, r_l = 90 cut at x = 26.47, epicardium "
@@ -327,6 +338,8 @@ namespace systole::Geometry
       parse_boundary_name_table(prm.get(g, "Boundary names"),
                                 "Geometry / Gmsh / Boundary names");
     p.face_tag_array = prm.get(g, "Face tag array");
+    if (p.type == Type::gmsh && prm.get(g, "Shape") == "arostica")
+      p.lv_shape = LVShape::arostica();
     if (p.type == Type::gmsh)
       AssertThrow(std::filesystem::is_regular_file(p.mesh_file),
                   dealii::ExcMessage(
@@ -469,26 +482,28 @@ namespace systole::Geometry
       return {plane, 0.0, 0.0};
 
     // A ruled base: the plane of the basal ring of the cavity, the vertices
-    // of base faces that are also vertices of a cavity face of the same cell
-    // (the ring's edges are shared by one base and one cavity face of a
-    // cell). Least squares: the centroid and the eigenvector of the smallest
-    // eigenvalue of the scatter matrix.
-    const auto                    cavity_id = names.id(cavity);
-    const MPI_Comm                comm      = tria.get_communicator();
-    std::array<double, 10>        sums{}; // count, sum x (3), sum x x^T (6)
+    // of the owned cells' base faces that are also vertices of a cavity face
+    // (of an owned or ghost cell: on tetrahedra the ring's base and cavity
+    // faces are often of different cells). Least squares: the centroid and
+    // the eigenvector of the smallest eigenvalue of the scatter matrix.
+    const auto             cavity_id = names.id(cavity);
+    const MPI_Comm         comm      = tria.get_communicator();
+    std::array<double, 10> sums{}; // count, sum x (3), sum x x^T (6)
+    std::set<unsigned int> cavity_vertices;
+    for (const auto &cell : tria.active_cell_iterators())
+      if (!cell->is_artificial())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == cavity_id)
+            for (const unsigned int i : face->vertex_indices())
+              cavity_vertices.insert(face->vertex_index(i));
     std::vector<dealii::Point<3>> ring;
     for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
-        for (const auto &base_face : cell->face_iterators())
-          if (base_face->at_boundary() && base_face->boundary_id() == base_id)
-            for (const auto &cavity_face : cell->face_iterators())
-              if (cavity_face->at_boundary() &&
-                  cavity_face->boundary_id() == cavity_id)
-                for (const unsigned int i : base_face->vertex_indices())
-                  for (const unsigned int j : cavity_face->vertex_indices())
-                    if (base_face->vertex_index(i) ==
-                        cavity_face->vertex_index(j))
-                      ring.push_back(base_face->vertex(i));
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() && face->boundary_id() == base_id)
+            for (const unsigned int i : face->vertex_indices())
+              if (cavity_vertices.count(face->vertex_index(i)) > 0)
+                ring.push_back(face->vertex(i));
     for (const auto &x : ring)
       {
         sums[0] += 1;

@@ -350,12 +350,15 @@ namespace systole
     AssertThrow((fibres.generator != "analytic" &&
                  fibres.generator != "arostica") ||
                   prm.get({"Geometry"}, "Type") == "ellipsoid" ||
-                  prm.get({"Geometry"}, "Type") == "arostica",
+                  prm.get({"Geometry"}, "Type") == "arostica" ||
+                  (prm.get({"Geometry"}, "Type") == "gmsh" &&
+                   prm.get({"Geometry", "Gmsh"}, "Shape") == "arostica"),
                 dealii::ExcMessage(
                   "Fibres / Generator = " + fibres.generator +
                   " needs a generated ventricle (Geometry / Type = ellipsoid "
-                  "or arostica): the helix rule is defined in its ellipsoidal "
-                  "coordinates."));
+                  "or arostica) or a mesh file of a known shape (Geometry / "
+                  "Gmsh / Shape = arostica): the helix rule is defined in its "
+                  "ellipsoidal coordinates."));
     Materials::create_passive_law(prm);
     Materials::create_volumetric_law(prm);
     Mechanics::Parameters::parse(prm);

@@ -2,6 +2,7 @@
 #include <deal.II/grid/tria.h>
 
 #include "geometry/mesh.h"
+#include "geometry/mesh_file.h"
 #include "support/cup_mesh.h"
 
 #include <catch2/catch.hpp>
@@ -74,4 +75,31 @@ TEST_CASE("A warped rim is closed by the fan and measured against its size",
   CHECK(closure.rim_size > 1.4);
   CHECK(closure.off_plane > Geometry::rim_warning_fraction * closure.rim_size);
   CHECK_THROWS(Geometry::cavity_lid(tria, names, "endocardium"));
+}
+
+TEST_CASE("The benchmark's tetrahedral ventricle is closed by its endocardial "
+          "ring's plane",
+          "[geometry][cavity]")
+{
+  // meshes/arostica_benchmark_tet.msh: the Arostica et al. 2025 ventricle
+  // meshed by the benchmark (a ruled base: the endocardium cut at
+  // x = 90 * 5/17 mm, the epicardium at x = 97 * 5/20 mm). The base and
+  // endocardial triangles of the ring are mostly faces of different
+  // tetrahedra.
+  dealii::Triangulation<3> tria;
+  Geometry::read_gmsh(SYSTOLE_SOURCE_DIR "/meshes/arostica_benchmark_tet.msh",
+                      1.0,
+                      tria);
+  Geometry::BoundaryNames names("the benchmark's mesh");
+  names.add("endocardium", 1);
+  names.add("epicardium", 2);
+  names.add("base", 3);
+  const auto closure = Geometry::cavity_closure(tria, names, "endocardium");
+  REQUIRE(closure.plane.has_value());
+  CHECK(std::abs(closure.plane->normal[0]) == Approx(1.0).epsilon(1e-9));
+  CHECK(closure.plane->point[0] == Approx(90.0 * 5.0 / 17.0).epsilon(1e-8));
+  // The endocardial rim's diameter, 2 r_s sin(mu_b) with cos(mu_b) = 5/17,
+  // is its bounding box's diagonal over sqrt(2).
+  CHECK(closure.rim_size / std::sqrt(2.0) ==
+        Approx(2 * 25.0 * std::sqrt(1 - 25.0 / 289.0)).epsilon(2e-3));
 }
