@@ -314,10 +314,9 @@ namespace systole::Circulation
   }
 
   std::array<double, 4>
-  ClosedLoop::chamber_pressures(const double                  t,
-                                const dealii::Vector<double> &y,
-                                const dealii::Vector<double> &p_ext) const
+  ClosedLoop::chamber_pressures(const Arguments &a) const
   {
+    const auto &[t, y, p_ext] = a;
     Assert(y.size() == n_state_components,
            dealii::ExcDimensionMismatch(y.size(), n_state_components));
     Assert(p_ext.size() == 2, dealii::ExcDimensionMismatch(p_ext.size(), 2));
@@ -332,24 +331,20 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::cavity_pressures(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &p) const
+  ClosedLoop::cavity_pressures(const Arguments        &a,
+                               dealii::Vector<double> &p) const
   {
-    const auto chambers = chamber_pressures(t, y, p_ext);
+    const auto chambers = chamber_pressures(a);
     p.reinit(2);
     p[0] = chambers[1];
     p[1] = chambers[3];
   }
 
   void
-  ClosedLoop::rhs(const double                  t,
-                  const dealii::Vector<double> &y,
-                  const dealii::Vector<double> &p_ext,
-                  dealii::Vector<double>       &f) const
+  ClosedLoop::rhs(const Arguments &a, dealii::Vector<double> &f) const
   {
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const dealii::Vector<double> &y     = a.y;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
     const auto  &v                      = params.valve;
     const double q_mv                   = v.flow(p_la - p_lv);
     const double q_av = v.flow(p_lv - y[systemic_arterial_pressure]);
@@ -389,14 +384,14 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::jacobian(const double                  t,
-                       const dealii::Vector<double> &y,
-                       const dealii::Vector<double> &p_ext,
-                       dealii::FullMatrix<double>   &df_dy,
-                       dealii::FullMatrix<double>   &df_dp) const
+  ClosedLoop::jacobian(const Arguments            &a,
+                       dealii::FullMatrix<double> &df_dy,
+                       dealii::FullMatrix<double> &df_dp) const
   {
-    const unsigned int n                = n_state_components;
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const double                  t     = a.t;
+    const dealii::Vector<double> &y     = a.y;
+    const unsigned int            n     = n_state_components;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
 
     // The pressures as linear forms in (y, p_ext).
     const auto chamber = [&](const unsigned int      state,
@@ -484,12 +479,11 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::valve_indicators(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &g) const
+  ClosedLoop::valve_indicators(const Arguments        &a,
+                               dealii::Vector<double> &g) const
   {
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const dealii::Vector<double> &y     = a.y;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
     g.reinit(4);
     g[mitral]    = p_la - p_lv;
     g[aortic]    = p_lv - y[systemic_arterial_pressure];
@@ -498,14 +492,12 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::evaluate_outputs(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &values) const
+  ClosedLoop::evaluate_outputs(const Arguments        &a,
+                               dealii::Vector<double> &values) const
   {
-    const auto             chambers = chamber_pressures(t, y, p_ext);
+    const auto             chambers = chamber_pressures(a);
     dealii::Vector<double> g;
-    valve_indicators(t, y, p_ext, g);
+    valve_indicators(a, g);
     values.reinit(n_chambers + 4);
     for (unsigned int i = 0; i < n_chambers; ++i)
       values[i] = chambers[i];

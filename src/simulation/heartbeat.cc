@@ -242,7 +242,7 @@ namespace systole
       for (const auto &cavity : zero_d.cavities())
         if (cavity.kind == Circulation::CavityKind::external)
           y0[cavity.volume_state] = unloaded_volumes[a++];
-      zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
+      zero_d.cavity_pressures({0.0, y0, no_pressures}, p0);
     }
 
     HeartbeatStepper::Settings

@@ -69,7 +69,7 @@ namespace systole
                                    {"bdf_order",
                                     "-",
                                     static_cast<double>(s.order)}};
-    append_model_columns(model, s.time, s.state, s.pressures, s.phases, row);
+    append_model_columns(model, {s.time, s.state, s.pressures}, s.phases, row);
     // The 3D cavities: the volume of the deformed mesh (equal to the 0D
     // volume state to the constraint tolerance), and the old names of the
     // first one (pressure_mmHg, volume_mL, phase).
