@@ -367,20 +367,25 @@ namespace systole::Circulation
     f[systemic_venous_pressure]    = (q_as - q_vs) / vs.compliance;
     f[pulmonary_arterial_pressure] = (q_pv - q_ap) / ap.compliance;
     f[pulmonary_venous_pressure]   = (q_ap - q_vp) / vp.compliance;
-    f[systemic_arterial_flow] =
-      (-as.resistance * q_as -
-       (y[systemic_venous_pressure] - y[systemic_arterial_pressure])) /
-      as.inductance;
+    // L dQ/dt = -R Q - (p_down - p)
+    const auto inductor = [](const ClosedLoop::Compartment &c,
+                             const double                   q,
+                             const double                   p,
+                             const double                   p_down) {
+      return (-c.resistance * q - (p_down - p)) / c.inductance;
+    };
+    f[systemic_arterial_flow] = inductor(as,
+                                         q_as,
+                                         y[systemic_arterial_pressure],
+                                         y[systemic_venous_pressure]);
     f[systemic_venous_flow] =
-      (-vs.resistance * q_vs - (p_ra - y[systemic_venous_pressure])) /
-      vs.inductance;
-    f[pulmonary_arterial_flow] =
-      (-ap.resistance * q_ap -
-       (y[pulmonary_venous_pressure] - y[pulmonary_arterial_pressure])) /
-      ap.inductance;
+      inductor(vs, q_vs, y[systemic_venous_pressure], p_ra);
+    f[pulmonary_arterial_flow] = inductor(ap,
+                                          q_ap,
+                                          y[pulmonary_arterial_pressure],
+                                          y[pulmonary_venous_pressure]);
     f[pulmonary_venous_flow] =
-      (-vp.resistance * q_vp - (p_la - y[pulmonary_venous_pressure])) /
-      vp.inductance;
+      inductor(vp, q_vp, y[pulmonary_venous_pressure], p_la);
   }
 
   void
