@@ -33,7 +33,7 @@ namespace systole
     , tria(*mesh.tria)
     , names(mesh.names)
   {
-    problem = std::make_unique<Mechanics::Problem>(
+    problem = std::make_unique<Mechanics::Problem>(Mechanics::Problem::Inputs{
       params,
       tria,
       names,
@@ -47,7 +47,7 @@ namespace systole
         tria,
         names,
         &logger),
-      logger);
+      logger});
   }
 
   std::vector<IO::Column>

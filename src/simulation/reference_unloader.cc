@@ -191,20 +191,21 @@ namespace systole
     for (const auto &[section, seconds] : model.problem->timings())
       earlier_timings[section] += seconds;
     model.problem.reset();
-    model.problem = std::make_unique<Mechanics::Problem>(
-      model.params,
-      model.tria,
-      model.names,
-      run.polynomial_degree,
-      run.mapping_degree,
-      *model.passive,
-      model.volumetric,
-      Fibres::create_fibre_field(fibres,
-                                 model.geometry.lv_shape,
-                                 model.tria,
-                                 model.names,
-                                 &logger),
-      logger);
+    model.problem =
+      std::make_unique<Mechanics::Problem>(Mechanics::Problem::Inputs{
+        model.params,
+        model.tria,
+        model.names,
+        run.polynomial_degree,
+        run.mapping_degree,
+        *model.passive,
+        model.volumetric,
+        Fibres::create_fibre_field(fibres,
+                                   model.geometry.lv_shape,
+                                   model.tria,
+                                   model.names,
+                                   &logger),
+        logger});
   }
 
   const std::vector<dealii::Point<3>> &
