@@ -476,14 +476,14 @@ namespace systole
     else
       integration.start();
     state_in.reset();
-    RunCheckpointer checkpointer(store,
-                                 results,
-                                 model.tria,
-                                 "mechanics.mesh",
-                                 all_entries,
-                                 in.run,
-                                 in.logger,
-                                 in.comm);
+    RunCheckpointer checkpointer({store,
+                                  results,
+                                  model.tria,
+                                  "mechanics.mesh",
+                                  all_entries,
+                                  in.run,
+                                  in.logger,
+                                  in.comm});
     integration.after_step = checkpoint_writer(checkpointer,
                                                integration,
                                                in.run,

@@ -25,28 +25,8 @@
 
 namespace systole
 {
-  HeartbeatWriter::HeartbeatWriter(const Circulation::Model &model,
-                                   IO::ResultsFile          &results,
-                                   MechanicsVentricles      &ventricles,
-                                   Mechanics::Problem       &problem,
-                                   ElectricalActivation     *ep,
-                                   const RunParameters      &run,
-                                   Logger                   &logger,
-                                   Progress                 &progress,
-                                   Postprocess::Manager     &postprocess,
-                                   const double              period,
-                                   const MPI_Comm            comm)
-    : model(model)
-    , results(results)
-    , ventricles(ventricles)
-    , problem(problem)
-    , ep(ep)
-    , run(run)
-    , logger(logger)
-    , progress(progress)
-    , postprocess(postprocess)
-    , period(period)
-    , comm(comm)
+  HeartbeatWriter::HeartbeatWriter(const HeartbeatWriterParts &parts)
+    : HeartbeatWriterParts(parts)
   {
     for (unsigned int c = 0; c < model.n_cavities(); ++c)
       if (model.cavities()[c].kind == Circulation::CavityKind::external)
