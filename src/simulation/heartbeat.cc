@@ -601,10 +601,7 @@ namespace systole
     IO::ResultsFile &results = *results_file;
     if (ep != nullptr && checkpoint.empty())
       write_purkinje(results, ep->purkinje(), in.comm);
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
-                                     problem,
-                                     model.names,
-                                     &in.logger);
+    Postprocess::Manager postprocess = model.postprocessors(in.prm, in.logger);
     Progress             progress(in.logger,
                       Progress::parse_mode(in.run.progress),
                       0.0,
