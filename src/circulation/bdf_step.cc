@@ -50,7 +50,7 @@ namespace systole::Circulation
     // The derivative at the last state: the first-order predictor and the
     // Hermite predictor of BDF2 need it.
     dealii::Vector<double> f;
-    model.rhs(last.t, last.y, last.p, f);
+    model.rhs({last.t, last.y, last.p}, f);
     y_predicted = last.y;
     if (order() == 1)
       {
@@ -135,7 +135,7 @@ namespace systole::Circulation
     dealii::FullMatrix<double> df_dy, df_dp, J_inverse(n, n);
     // (a0 I - h df/dy)^-1 and df/dp at the current y (n is small: invert).
     const auto invert_jacobian = [&]() {
-      model.jacobian(t_new, y_solution, p_solution, df_dy, df_dp);
+      model.jacobian({t_new, y_solution, p_solution}, df_dy, df_dp);
       for (unsigned int i = 0; i < n; ++i)
         for (unsigned int j = 0; j < n; ++j)
           J_inverse(i, j) = (i == j ? a0 : 0.0) - h * df_dy(i, j);
@@ -144,7 +144,7 @@ namespace systole::Circulation
     constexpr unsigned int max_iterations = 30;
     for (unsigned int it = 0;; ++it)
       {
-        model.rhs(t_new, y_solution, p_solution, f);
+        model.rhs({t_new, y_solution, p_solution}, f);
         invert_jacobian();
         for (unsigned int i = 0; i < n; ++i)
           G[i] = a0 * y_solution[i] - known[i] - h * f[i];
@@ -184,7 +184,7 @@ namespace systole::Circulation
               }
             // The pressures of the elastance cavities at the solution.
             dealii::Vector<double> all;
-            model.cavity_pressures(t_new, y_solution, p_solution, all);
+            model.cavity_pressures({t_new, y_solution, p_solution}, all);
             p_solution = all;
             solved     = true;
             return;

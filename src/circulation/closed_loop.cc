@@ -314,10 +314,9 @@ namespace systole::Circulation
   }
 
   std::array<double, 4>
-  ClosedLoop::chamber_pressures(const double                  t,
-                                const dealii::Vector<double> &y,
-                                const dealii::Vector<double> &p_ext) const
+  ClosedLoop::chamber_pressures(const Arguments &a) const
   {
+    const auto &[t, y, p_ext] = a;
     Assert(y.size() == n_state_components,
            dealii::ExcDimensionMismatch(y.size(), n_state_components));
     Assert(p_ext.size() == 2, dealii::ExcDimensionMismatch(p_ext.size(), 2));
@@ -332,24 +331,20 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::cavity_pressures(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &p) const
+  ClosedLoop::cavity_pressures(const Arguments        &a,
+                               dealii::Vector<double> &p) const
   {
-    const auto chambers = chamber_pressures(t, y, p_ext);
+    const auto chambers = chamber_pressures(a);
     p.reinit(2);
     p[0] = chambers[1];
     p[1] = chambers[3];
   }
 
   void
-  ClosedLoop::rhs(const double                  t,
-                  const dealii::Vector<double> &y,
-                  const dealii::Vector<double> &p_ext,
-                  dealii::Vector<double>       &f) const
+  ClosedLoop::rhs(const Arguments &a, dealii::Vector<double> &f) const
   {
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const dealii::Vector<double> &y     = a.y;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
     const auto  &v                      = params.valve;
     const double q_mv                   = v.flow(p_la - p_lv);
     const double q_av = v.flow(p_lv - y[systemic_arterial_pressure]);
@@ -372,31 +367,36 @@ namespace systole::Circulation
     f[systemic_venous_pressure]    = (q_as - q_vs) / vs.compliance;
     f[pulmonary_arterial_pressure] = (q_pv - q_ap) / ap.compliance;
     f[pulmonary_venous_pressure]   = (q_ap - q_vp) / vp.compliance;
-    f[systemic_arterial_flow] =
-      (-as.resistance * q_as -
-       (y[systemic_venous_pressure] - y[systemic_arterial_pressure])) /
-      as.inductance;
+    // L dQ/dt = -R Q - (p_down - p)
+    const auto inductor = [](const ClosedLoop::Compartment &c,
+                             const double                   q,
+                             const double                   p,
+                             const double                   p_down) {
+      return (-c.resistance * q - (p_down - p)) / c.inductance;
+    };
+    f[systemic_arterial_flow] = inductor(as,
+                                         q_as,
+                                         y[systemic_arterial_pressure],
+                                         y[systemic_venous_pressure]);
     f[systemic_venous_flow] =
-      (-vs.resistance * q_vs - (p_ra - y[systemic_venous_pressure])) /
-      vs.inductance;
-    f[pulmonary_arterial_flow] =
-      (-ap.resistance * q_ap -
-       (y[pulmonary_venous_pressure] - y[pulmonary_arterial_pressure])) /
-      ap.inductance;
+      inductor(vs, q_vs, y[systemic_venous_pressure], p_ra);
+    f[pulmonary_arterial_flow] = inductor(ap,
+                                          q_ap,
+                                          y[pulmonary_arterial_pressure],
+                                          y[pulmonary_venous_pressure]);
     f[pulmonary_venous_flow] =
-      (-vp.resistance * q_vp - (p_la - y[pulmonary_venous_pressure])) /
-      vp.inductance;
+      inductor(vp, q_vp, y[pulmonary_venous_pressure], p_la);
   }
 
   void
-  ClosedLoop::jacobian(const double                  t,
-                       const dealii::Vector<double> &y,
-                       const dealii::Vector<double> &p_ext,
-                       dealii::FullMatrix<double>   &df_dy,
-                       dealii::FullMatrix<double>   &df_dp) const
+  ClosedLoop::jacobian(const Arguments            &a,
+                       dealii::FullMatrix<double> &df_dy,
+                       dealii::FullMatrix<double> &df_dp) const
   {
-    const unsigned int n                = n_state_components;
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const double                  t     = a.t;
+    const dealii::Vector<double> &y     = a.y;
+    const unsigned int            n     = n_state_components;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
 
     // The pressures as linear forms in (y, p_ext).
     const auto chamber = [&](const unsigned int      state,
@@ -484,12 +484,11 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::valve_indicators(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &g) const
+  ClosedLoop::valve_indicators(const Arguments        &a,
+                               dealii::Vector<double> &g) const
   {
-    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(t, y, p_ext);
+    const dealii::Vector<double> &y     = a.y;
+    const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
     g.reinit(4);
     g[mitral]    = p_la - p_lv;
     g[aortic]    = p_lv - y[systemic_arterial_pressure];
@@ -498,14 +497,12 @@ namespace systole::Circulation
   }
 
   void
-  ClosedLoop::evaluate_outputs(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext,
-                               dealii::Vector<double>       &values) const
+  ClosedLoop::evaluate_outputs(const Arguments        &a,
+                               dealii::Vector<double> &values) const
   {
-    const auto             chambers = chamber_pressures(t, y, p_ext);
+    const auto             chambers = chamber_pressures(a);
     dealii::Vector<double> g;
-    valve_indicators(t, y, p_ext, g);
+    valve_indicators(a, g);
     values.reinit(n_chambers + 4);
     for (unsigned int i = 0; i < n_chambers; ++i)
       values[i] = chambers[i];

@@ -86,13 +86,22 @@ namespace systole::Circulation
     Quantity    quantity;
   };
 
+  /// The arguments of every evaluation of a Model: the time @p t [ms], the
+  /// state @p y (size n_states()), and @p p_ext (size n_cavities()): the
+  /// pressures [kPa] of the external cavities, entries of elastance cavities
+  /// ignored. Callers pass them braced: model.rhs({t, y, p_ext}, f).
+  struct Arguments
+  {
+    double                        t;
+    const dealii::Vector<double> &y;
+    const dealii::Vector<double> &p_ext;
+  };
+
   /// A 0D circulation model. Implementations are immutable after
   /// construction; all functions are const and thread-safe, and the state is
   /// passed in (nothing is cached), so a stepper can evaluate any state.
   ///
-  /// The arguments of every evaluation: the time @p t [ms], the state @p y
-  /// (size n_states()), and @p p_ext (size n_cavities()): the pressures
-  /// [kPa] of the external cavities, entries of elastance cavities ignored.
+  /// Every evaluation is at one Arguments (t, y, p_ext).
   ///
   /// How to add a model: (1) write circulation/<model>.{h,cc} deriving from
   /// this class, filling the state, cavity, valve and output lists in its
@@ -165,17 +174,11 @@ namespace systole::Circulation
     /// The pressure of every cavity [kPa] (resized to n_cavities()): p_ext
     /// for external ones, E(t) (V - V_0) for elastance ones.
     virtual void
-    cavity_pressures(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &p) const = 0;
+    cavity_pressures(const Arguments &a, dealii::Vector<double> &p) const = 0;
 
     /// f = dy/dt (resized to n_states()).
     virtual void
-    rhs(const double                  t,
-        const dealii::Vector<double> &y,
-        const dealii::Vector<double> &p_ext,
-        dealii::Vector<double>       &f) const = 0;
+    rhs(const Arguments &a, dealii::Vector<double> &f) const = 0;
 
     /// The Jacobians of f (analytic): @p df_dy = df/dy (n_states x
     /// n_states) at fixed p_ext, and @p df_dp = df/dp_ext (n_states x
@@ -184,28 +187,21 @@ namespace systole::Circulation
     /// changes sign, and the Jacobian there is the one of the side the
     /// indicator is on (open for > 0).
     virtual void
-    jacobian(const double                  t,
-             const dealii::Vector<double> &y,
-             const dealii::Vector<double> &p_ext,
-             dealii::FullMatrix<double>   &df_dy,
-             dealii::FullMatrix<double>   &df_dp) const = 0;
+    jacobian(const Arguments            &a,
+             dealii::FullMatrix<double> &df_dy,
+             dealii::FullMatrix<double> &df_dp) const = 0;
 
     /// The event quantity of every valve (resized to n_valves()): positive
     /// while the valve is open, a sign change is its opening or closing (the
     /// pressure drop across a diode valve [kPa], or the flow through it when
     /// the flow is a state).
     virtual void
-    valve_indicators(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &g) const = 0;
+    valve_indicators(const Arguments &a, dealii::Vector<double> &g) const = 0;
 
     /// The values of outputs() (resized to their number), internal units.
     virtual void
-    evaluate_outputs(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &values) const = 0;
+    evaluate_outputs(const Arguments        &a,
+                     dealii::Vector<double> &values) const = 0;
 
     /// Blood volume [mm^3]: every chamber and cavity volume plus the
     /// stressed volume C p of every compliance (the unstressed volumes of

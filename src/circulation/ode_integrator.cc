@@ -111,7 +111,7 @@ namespace systole::Circulation
                                  Vector       &x)
   {
     pressures(time, p_ext_work);
-    model.jacobian(time, y_work, p_ext_work, jacobian, jacobian_p);
+    model.jacobian({time, y_work, p_ext_work}, jacobian, jacobian_p);
     ++jacobian_evaluations;
     const unsigned int m = jacobian.m();
     system.reinit(m, m);
@@ -144,7 +144,7 @@ namespace systole::Circulation
       [this](const double time, const LA::MPI::Vector &u, LA::MPI::Vector &f) {
         copy(u, y_work);
         pressures(time, p_ext_work);
-        model.rhs(time, y_work, p_ext_work, f_work);
+        model.rhs({time, y_work, p_ext_work}, f_work);
         copy(f_work, f);
       };
     callbacks.newton_solve = [this](const double           time,
@@ -166,7 +166,7 @@ namespace systole::Circulation
       copy(u, y_work);
       Vector indicators;
       pressures(time, p_ext_work);
-      model.valve_indicators(time, y_work, p_ext_work, indicators);
+      model.valve_indicators({time, y_work, p_ext_work}, indicators);
       g.assign(indicators.begin(), indicators.end());
     };
     callbacks.at_root = [this](const double            time,
@@ -218,7 +218,7 @@ namespace systole::Circulation
 
     Vector p_ext, g;
     impl->pressures(t0, p_ext);
-    model.valve_indicators(t0, y0, p_ext, g);
+    model.valve_indicators({t0, y0, p_ext}, g);
     impl->open.resize(g.size());
     for (unsigned int i = 0; i < g.size(); ++i)
       impl->open[i] = g[i] > 0;
@@ -248,7 +248,7 @@ namespace systole::Circulation
     // itself) is an event at t_end.
     Vector p_ext, g;
     m.pressures(t_end, p_ext);
-    m.model.valve_indicators(t_end, m.y, p_ext, g);
+    m.model.valve_indicators({t_end, m.y, p_ext}, g);
     for (unsigned int i = 0; i < g.size(); ++i)
       if ((g[i] > 0) != m.open[i])
         {

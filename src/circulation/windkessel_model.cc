@@ -174,10 +174,9 @@ namespace systole::Circulation
   }
 
   double
-  WindkesselModel::lv_pressure(const double                  t,
-                               const dealii::Vector<double> &y,
-                               const dealii::Vector<double> &p_ext) const
+  WindkesselModel::lv_pressure(const Arguments &a) const
   {
+    const auto &[t, y, p_ext] = a;
     Assert(y.size() == n_states(),
            dealii::ExcDimensionMismatch(y.size(), n_states()));
     Assert(p_ext.size() == 1, dealii::ExcDimensionMismatch(p_ext.size(), 1));
@@ -199,25 +198,20 @@ namespace systole::Circulation
   }
 
   void
-  WindkesselModel::cavity_pressures(const double                  t,
-                                    const dealii::Vector<double> &y,
-                                    const dealii::Vector<double> &p_ext,
-                                    dealii::Vector<double>       &p) const
+  WindkesselModel::cavity_pressures(const Arguments        &a,
+                                    dealii::Vector<double> &p) const
   {
     p.reinit(1);
-    p[0] = lv_pressure(t, y, p_ext);
+    p[0] = lv_pressure(a);
   }
 
   void
-  WindkesselModel::rhs(const double                  t,
-                       const dealii::Vector<double> &y,
-                       const dealii::Vector<double> &p_ext,
-                       dealii::Vector<double>       &f) const
+  WindkesselModel::rhs(const Arguments &a, dealii::Vector<double> &f) const
   {
-    const double p    = lv_pressure(t, y, p_ext);
+    const double p    = lv_pressure(a);
     const double q_mv = params.mitral_valve.flow(params.atrial_pressure - p);
-    const double q_av = aortic_flow(p, y);
-    const double p_ar = y[arterial_pressure];
+    const double q_av = aortic_flow(p, a.y);
+    const double p_ar = a.y[arterial_pressure];
     f.reinit(n_states());
     f[volume] = q_mv - q_av;
     f[arterial_pressure] =
@@ -232,19 +226,18 @@ namespace systole::Circulation
   }
 
   void
-  WindkesselModel::jacobian(const double                  t,
-                            const dealii::Vector<double> &y,
-                            const dealii::Vector<double> &p_ext,
-                            dealii::FullMatrix<double>   &df_dy,
-                            dealii::FullMatrix<double>   &df_dp) const
+  WindkesselModel::jacobian(const Arguments            &a,
+                            dealii::FullMatrix<double> &df_dy,
+                            dealii::FullMatrix<double> &df_dp) const
   {
-    const unsigned int n = n_states();
+    const dealii::Vector<double> &y = a.y;
+    const unsigned int            n = n_states();
     df_dy.reinit(n, n);
     df_dp.reinit(n, 1);
     const bool   external = params.left_ventricle_kind == CavityKind::external;
-    const double p        = lv_pressure(t, y, p_ext);
+    const double p        = lv_pressure(a);
     // dp/dV (elastance) or dp/dp_ext (external).
-    const double dp_dV    = external ? 0.0 : left_ventricle.elastance(t);
+    const double dp_dV    = external ? 0.0 : left_ventricle.elastance(a.t);
     const double dp_dpext = external ? 1.0 : 0.0;
     const double g_mv =
       params.mitral_valve.conductance(params.atrial_pressure - p);
@@ -288,26 +281,23 @@ namespace systole::Circulation
   }
 
   void
-  WindkesselModel::valve_indicators(const double                  t,
-                                    const dealii::Vector<double> &y,
-                                    const dealii::Vector<double> &p_ext,
-                                    dealii::Vector<double>       &g) const
+  WindkesselModel::valve_indicators(const Arguments        &a,
+                                    dealii::Vector<double> &g) const
   {
-    const double p = lv_pressure(t, y, p_ext);
+    const double p = lv_pressure(a);
     g.reinit(2);
     g[0] = params.atrial_pressure - p;
-    g[1] = params.n_elements == 4 ? y[arterial_flow] : p - y[arterial_pressure];
+    g[1] =
+      params.n_elements == 4 ? a.y[arterial_flow] : p - a.y[arterial_pressure];
   }
 
   void
-  WindkesselModel::evaluate_outputs(const double                  t,
-                                    const dealii::Vector<double> &y,
-                                    const dealii::Vector<double> &p_ext,
-                                    dealii::Vector<double>       &values) const
+  WindkesselModel::evaluate_outputs(const Arguments        &a,
+                                    dealii::Vector<double> &values) const
   {
-    const double p    = lv_pressure(t, y, p_ext);
-    const double q_av = aortic_flow(p, y);
-    double       root = y[arterial_pressure];
+    const double p    = lv_pressure(a);
+    const double q_av = aortic_flow(p, a.y);
+    double       root = a.y[arterial_pressure];
     if (params.n_elements == 3)
       root += params.characteristic_impedance * q_av;
     else if (params.n_elements == 4)

@@ -106,35 +106,24 @@ namespace systole::Circulation
     initial_state(dealii::Vector<double> &y) const override;
 
     void
-    cavity_pressures(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &p) const override;
+    cavity_pressures(const Arguments        &a,
+                     dealii::Vector<double> &p) const override;
 
     void
-    rhs(const double                  t,
-        const dealii::Vector<double> &y,
-        const dealii::Vector<double> &p_ext,
-        dealii::Vector<double>       &f) const override;
+    rhs(const Arguments &a, dealii::Vector<double> &f) const override;
 
     void
-    jacobian(const double                  t,
-             const dealii::Vector<double> &y,
-             const dealii::Vector<double> &p_ext,
-             dealii::FullMatrix<double>   &df_dy,
-             dealii::FullMatrix<double>   &df_dp) const override;
+    jacobian(const Arguments            &a,
+             dealii::FullMatrix<double> &df_dy,
+             dealii::FullMatrix<double> &df_dp) const override;
 
     void
-    valve_indicators(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &g) const override;
+    valve_indicators(const Arguments        &a,
+                     dealii::Vector<double> &g) const override;
 
     void
-    evaluate_outputs(const double                  t,
-                     const dealii::Vector<double> &y,
-                     const dealii::Vector<double> &p_ext,
-                     dealii::Vector<double>       &values) const override;
+    evaluate_outputs(const Arguments        &a,
+                     dealii::Vector<double> &values) const override;
 
     double
     total_blood_volume(const dealii::Vector<double> &y) const override;
@@ -148,9 +137,7 @@ namespace systole::Circulation
   private:
     /// Cavity pressure [kPa].
     double
-    lv_pressure(const double                  t,
-                const dealii::Vector<double> &y,
-                const dealii::Vector<double> &p_ext) const;
+    lv_pressure(const Arguments &a) const;
 
     /// Aortic valve flow [mm^3/ms].
     double

@@ -448,48 +448,41 @@ namespace systole::Mechanics
   } // namespace
 
   std::unique_ptr<LinearSolver>
-  create_linear_solver(const std::string                       &type,
-                       const dealii::Mapping<3, 3>             &mapping,
-                       const dealii::DoFHandler<3, 3>          &dof_handler,
-                       const FieldLayout                       &layout,
-                       const dealii::AffineConstraints<double> &constraints,
-                       const double                             tolerance,
-                       const bool                               symmetric,
-                       const DisplacementPreconditioner         preconditioner)
+  create_linear_solver(const LinearSolverInputs &in)
   {
-    if (type == "direct")
-      return std::make_unique<DirectSolver>(symmetric);
-    AssertThrow(type == "iterative",
-                dealii::ExcMessage("Unknown linear solver '" + type + "'."));
+    if (in.type == "direct")
+      return std::make_unique<DirectSolver>(in.symmetric);
+    AssertThrow(in.type == "iterative",
+                dealii::ExcMessage("Unknown linear solver '" + in.type + "'."));
     // p-multigrid needs a coarser degree: Q1 displacements get GAMG, and the
     // solver's name (in the run banner) says why.
     std::unique_ptr<PMultigrid> p_multigrid;
     std::string                 fallback;
-    if (preconditioner == DisplacementPreconditioner::p_multigrid)
+    if (in.preconditioner == DisplacementPreconditioner::p_multigrid)
       {
-        if (PMultigrid::applicable(dof_handler))
+        if (PMultigrid::applicable(in.dof_handler))
           p_multigrid =
-            std::make_unique<PMultigrid>(mapping,
-                                         dof_handler,
-                                         layout,
-                                         constraints,
-                                         layout.mixed()
+            std::make_unique<PMultigrid>(in.mapping,
+                                         in.dof_handler,
+                                         in.layout,
+                                         in.constraints,
+                                         in.layout.mixed()
                                            ? "mechanics_fieldsplit_u_pmg_"
                                            : "mechanics_pmg_");
         else
           fallback = "; not the p-multigrid asked for: Q1 displacements "
                      "have no coarser degree";
       }
-    if (layout.mixed())
-      return std::make_unique<BlockSolver>(mapping,
-                                           dof_handler,
-                                           layout,
-                                           tolerance,
+    if (in.layout.mixed())
+      return std::make_unique<BlockSolver>(in.mapping,
+                                           in.dof_handler,
+                                           in.layout,
+                                           in.tolerance,
                                            std::move(p_multigrid),
                                            fallback);
-    return std::make_unique<IterativeSolver>(mapping,
-                                             dof_handler,
-                                             tolerance,
+    return std::make_unique<IterativeSolver>(in.mapping,
+                                             in.dof_handler,
+                                             in.tolerance,
                                              std::move(p_multigrid),
                                              fallback);
   }

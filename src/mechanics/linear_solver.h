@@ -140,23 +140,28 @@ namespace systole::Mechanics
     name() const = 0;
   };
 
-  /// The solver named @p type ("direct" or "iterative").
-  /// @param[in] dof_handler the mechanics DoFs, renumbered by @p layout
-  ///            (for the rigid-body modes and the blocks)
-  /// @param[in] constraints the constraints of the tangent (p-multigrid)
-  /// @param[in] tolerance relative residual reduction of the iterative solver
-  /// @param[in] symmetric whether the matrices are symmetric (the direct
-  ///            solver then factorizes LDL^T, about half the work of LU)
-  /// @param[in] preconditioner of the displacement (block) of the iterative
-  ///            solvers; p-multigrid falls back to GAMG for Q1 (the name()
-  ///            says so)
+  /// What create_linear_solver() builds a solver from.
+  struct LinearSolverInputs
+  {
+    const std::string           &type; ///< "direct" or "iterative"
+    const dealii::Mapping<3, 3> &mapping;
+    /// the mechanics DoFs, renumbered by layout (for the rigid-body modes
+    /// and the blocks)
+    const dealii::DoFHandler<3, 3> &dof_handler;
+    const FieldLayout              &layout;
+    /// the constraints of the tangent (p-multigrid)
+    const dealii::AffineConstraints<double> &constraints;
+    /// relative residual reduction of the iterative solver
+    double tolerance;
+    /// whether the matrices are symmetric (the direct solver then
+    /// factorizes LDL^T, about half the work of LU)
+    bool symmetric;
+    /// of the displacement (block) of the iterative solvers; p-multigrid
+    /// falls back to GAMG for Q1 (the name() says so)
+    DisplacementPreconditioner preconditioner;
+  };
+
+  /// The solver named @p in.type.
   std::unique_ptr<LinearSolver>
-  create_linear_solver(const std::string                       &type,
-                       const dealii::Mapping<3, 3>             &mapping,
-                       const dealii::DoFHandler<3, 3>          &dof_handler,
-                       const FieldLayout                       &layout,
-                       const dealii::AffineConstraints<double> &constraints,
-                       const double                             tolerance,
-                       const bool                               symmetric,
-                       const DisplacementPreconditioner         preconditioner);
+  create_linear_solver(const LinearSolverInputs &in);
 } // namespace systole::Mechanics

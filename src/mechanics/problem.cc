@@ -132,23 +132,15 @@ namespace systole::Mechanics
     , reduced_volumetric(params.reduced_volumetric_integration && degree > 1)
   {}
 
-  Problem::Impl::Impl(
-    const Parameters                                     &params,
-    dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-    const Geometry::BoundaryNames                        &names,
-    const unsigned int                                    degree,
-    const unsigned int                                    mapping_degree,
-    const Materials::PassiveLaw                          &passive_law,
-    const Materials::VolumetricLaw                       &volumetric_law,
-    Logger                                               &logger)
-    : params(params)
-    , tria(tria)
-    , comm(tria.get_communicator())
-    , logger(logger)
-    , material(params, passive_law, volumetric_law)
-    , discretization(params, tria, degree, mapping_degree)
-    , boundaries(params, tria, names)
-    , loads(params, tria, boundaries, logger)
+  Problem::Impl::Impl(const Inputs &in)
+    : params(in.params)
+    , tria(in.tria)
+    , comm(in.tria.get_communicator())
+    , logger(in.logger)
+    , material(in.params, in.passive_law, in.volumetric_law)
+    , discretization(in.params, in.tria, in.degree, in.mapping_degree)
+    , boundaries(in.params, in.tria, in.names)
+    , loads(in.params, in.tria, boundaries, in.logger)
     , timer(timer_sink,
             dealii::TimerOutput::never,
             dealii::TimerOutput::wall_times)
@@ -517,28 +509,14 @@ namespace systole::Mechanics
       boundaries.support_reference.reinit(d.owned, d.relevant, comm);
   }
 
-  Problem::Problem(const Parameters                                     &params,
-                   dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-                   const Geometry::BoundaryNames                        &names,
-                   const unsigned int                                    degree,
-                   const unsigned int              mapping_degree,
-                   const Materials::PassiveLaw    &passive_law,
-                   const Materials::VolumetricLaw &volumetric_law,
-                   const FibreFunction            &fibres,
-                   Logger                         &logger)
-    : impl(std::make_unique<Impl>(params,
-                                  tria,
-                                  names,
-                                  degree,
-                                  mapping_degree,
-                                  passive_law,
-                                  volumetric_law,
-                                  logger))
+  Problem::Problem(const Inputs &in)
+    : impl(std::make_unique<Impl>(in))
   {
-    Impl &m = *impl;
+    const Parameters &params = in.params;
+    Impl             &m      = *impl;
     m.discretization.distribute_dofs(m.boundaries);
     m.reinit_system();
-    m.points.initialize(m.discretization, fibres);
+    m.points.initialize(m.discretization, in.fibres);
     m.discretization.measure(m.comm);
 
     const auto        n_dofs = m.discretization.dof_handler.n_dofs();
@@ -551,7 +529,7 @@ namespace systole::Mechanics
           : 0;
     m.system.linear_solver_name = solver;
     m.create_linear_solver(
-      symmetric_tangent(params, names, m.boundaries, m.loads));
+      symmetric_tangent(params, in.names, m.boundaries, m.loads));
     if (m.system.linear_solver->needs_pressure_matrix())
       m.system.pressure_matrix = std::make_unique<PressureMatrix>(
         m.discretization.layout,
@@ -758,14 +736,14 @@ namespace systole::Mechanics
   {
     system.symmetric_tangent = symmetric;
     system.linear_solver =
-      Mechanics::create_linear_solver(system.linear_solver_name,
-                                      discretization.mapping,
-                                      discretization.dof_handler,
-                                      discretization.layout,
-                                      discretization.constraints,
-                                      params.linear_tolerance,
-                                      symmetric,
-                                      params.displacement_preconditioner);
+      Mechanics::create_linear_solver({system.linear_solver_name,
+                                       discretization.mapping,
+                                       discretization.dof_handler,
+                                       discretization.layout,
+                                       discretization.constraints,
+                                       params.linear_tolerance,
+                                       symmetric,
+                                       params.displacement_preconditioner});
     factorized.held = false;
   }
 
@@ -803,6 +781,22 @@ namespace systole::Mechanics
     return dealii::Utilities::MPI::sum(force, m.comm);
   }
 
+  namespace
+  {
+    /// The direction of the finite-difference checks: sin(1 + 0.37 i)
+    /// cos(0.11 i) at DoF i, zero where constrained.
+    LA::MPI::Vector
+    check_direction(const Discretization &discretization, const MPI_Comm comm)
+    {
+      LA::MPI::Vector d(discretization.owned, comm);
+      for (const auto i : discretization.owned)
+        d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
+      d.compress(dealii::VectorOperation::insert);
+      discretization.constraints.set_zero(d);
+      return d;
+    }
+  } // namespace
+
   double
   Problem::tangent_error(const double pressure,
                          const double active_tension,
@@ -811,12 +805,8 @@ namespace systole::Mechanics
     Impl                        &m         = *impl;
     const dealii::Vector<double> pressures = m.uniform_pressures(pressure);
     m.assemble(pressures, active_tension, true);
-    LA::MPI::Vector d(m.discretization.owned, m.comm),
-      Kd(m.discretization.owned, m.comm);
-    for (const auto i : m.discretization.owned)
-      d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
-    d.compress(dealii::VectorOperation::insert);
-    m.discretization.constraints.set_zero(d);
+    const LA::MPI::Vector d = check_direction(m.discretization, m.comm);
+    LA::MPI::Vector       Kd(m.discretization.owned, m.comm);
     m.tangent_vmult(Kd, d);
 
     const LA::MPI::Vector u0          = m.u_owned;
@@ -851,12 +841,8 @@ namespace systole::Mechanics
         std::to_string(pressures.size()) + " given, " + std::to_string(k) +
         " cavities)."));
     m.assemble(pressures, active_tension, true, true);
-    LA::MPI::Vector d(m.discretization.owned, m.comm),
-      Jd(m.discretization.owned, m.comm);
-    for (const auto i : m.discretization.owned)
-      d(i) = std::sin(1.0 + 0.37 * i) * std::cos(0.11 * i);
-    d.compress(dealii::VectorOperation::insert);
-    m.discretization.constraints.set_zero(d);
+    const LA::MPI::Vector d = check_direction(m.discretization, m.comm);
+    LA::MPI::Vector       Jd(m.discretization.owned, m.comm);
     // The pressure direction: a different size and sign in each cavity.
     dealii::Vector<double> dp(k);
     for (unsigned int i = 0; i < k; ++i)
@@ -927,23 +913,38 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::set_active_tension(std::vector<std::vector<double>> tension)
+  Problem::Impl::set_point_values(
+    const std::vector<std::vector<double>> &values,
+    double PointData::*value,
+    const bool         allow_empty,
+    const std::string &caller)
   {
-    Impl &m = *impl;
-    AssertThrow(tension.empty() || tension.size() == m.tria.n_active_cells(),
-                dealii::ExcMessage("set_active_tension: one vector per cell "
-                                   "(by active cell index) expected."));
-    for (const auto &cell : m.tria.active_cell_iterators())
+    const bool empty = allow_empty && values.empty();
+    AssertThrow(empty || values.size() == tria.n_active_cells(),
+                dealii::ExcMessage(caller +
+                                   ": one vector per cell (by active cell "
+                                   "index) expected."));
+    for (const auto &cell : tria.active_cell_iterators())
       if (cell->is_locally_owned())
         {
-          const auto data = m.points.point_data.get_data(cell);
+          const auto data = points.point_data.get_data(cell);
           const auto c    = cell->active_cell_index();
-          AssertThrow(tension.empty() || tension[c].size() == data.size(),
-                      dealii::ExcMessage("set_active_tension: one value per "
-                                         "quadrature point expected."));
+          AssertThrow(empty || values[c].size() == data.size(),
+                      dealii::ExcMessage(caller +
+                                         ": one value per quadrature point "
+                                         "expected."));
           for (unsigned int q = 0; q < data.size(); ++q)
-            data[q]->tension = tension.empty() ? 0.0 : tension[c][q];
+            (*data[q]).*value = empty ? 0.0 : values[c][q];
         }
+  }
+
+  void
+  Problem::set_active_tension(std::vector<std::vector<double>> tension)
+  {
+    impl->set_point_values(tension,
+                           &PointData::tension,
+                           true,
+                           "set_active_tension");
   }
 
   void

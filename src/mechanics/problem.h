@@ -167,22 +167,27 @@ namespace systole::Mechanics
                                             dealii::Vector<double>       &W,
                                             dealii::FullMatrix<double> &dW_dp)>;
 
-    /// @param[in] tria the mesh (kept by reference; must outlive this object)
-    /// @param[in] names its boundary parts; every part named in @p params must
-    ///            exist (clear error otherwise)
-    /// @param[in] degree polynomial degree of the displacement (1 or 2)
-    /// @param[in] mapping_degree degree of the geometry mapping
-    /// @param[in] fibres fibre field (evaluated once at the quadrature
-    ///            points of every locally owned cell)
-    Problem(const Parameters                                     &params,
-            dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-            const Geometry::BoundaryNames                        &names,
-            const unsigned int                                    degree,
-            const unsigned int              mapping_degree,
-            const Materials::PassiveLaw    &passive_law,
-            const Materials::VolumetricLaw &volumetric_law,
-            const FibreFunction            &fibres,
-            Logger                         &logger);
+    /// What a problem is built from (the problem's constructor and its
+    /// Impl's take it whole; the callers brace it in this order).
+    struct Inputs
+    {
+      const Parameters &params;
+      /// the mesh (kept by reference; must outlive the problem)
+      dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+      /// its boundary parts; every part named in params must exist (clear
+      /// error otherwise)
+      const Geometry::BoundaryNames &names;
+      unsigned int                   degree; ///< of the displacement (1 or 2)
+      unsigned int                 mapping_degree; ///< of the geometry mapping
+      const Materials::PassiveLaw &passive_law;
+      const Materials::VolumetricLaw &volumetric_law;
+      /// evaluated once at the quadrature points of every locally owned
+      /// cell
+      const FibreFunction &fibres;
+      Logger              &logger;
+    };
+
+    explicit Problem(const Inputs &in);
     ~Problem();
 
     /// Solve for equilibrium under @p pressure [kPa] on every pressure part

@@ -109,7 +109,7 @@ namespace systole::Mechanics
   /// deformation gradient @p F, from the accepted state to @p time over
   /// @p time_step; writes the step's state to @p trial (n_states() values).
   /// Returns T [kPa] and sets @p dT_dstretch and @p stretch (λ = |F f0|).
-  double
+  inline double
   step_tension_model(const Materials::TensionModel &model,
                      const PointData               &data,
                      const dealii::Tensor<2, 3>    &F,
@@ -117,7 +117,20 @@ namespace systole::Mechanics
                      const double                   time_step,
                      double                        *trial,
                      double                        &dT_dstretch,
-                     double                        &stretch);
+                     double                        &stretch)
+  {
+    stretch = (F * data.basis.f).norm();
+    Materials::TensionInput in;
+    in.time             = time;
+    in.time_step        = time_step;
+    in.calcium          = data.calcium;
+    in.stretch          = stretch;
+    in.previous_stretch = data.stretch_n;
+    Materials::TensionOutput out;
+    model.step(data.tension_state.data(), in, trial, out);
+    dT_dstretch = out.dtension_dstretch;
+    return out.tension;
+  }
 
   /// A linear solve or factorization that threw @p e at Newton iteration
   /// @p iteration (relative residual @p relative): throws
@@ -433,14 +446,8 @@ namespace systole::Mechanics
 
   struct Problem::Impl
   {
-    Impl(const Parameters                                     &params,
-         dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-         const Geometry::BoundaryNames                        &names,
-         const unsigned int                                    degree,
-         const unsigned int                                    mapping_degree,
-         const Materials::PassiveLaw                          &passive_law,
-         const Materials::VolumetricLaw                       &volumetric_law,
-         Logger                                               &logger);
+    /// (Problem's constructor then sets up the fibres and the solver.)
+    explicit Impl(const Inputs &in);
 
     /// Residual (and, if @p with_matrix, tangent) at the current u for the
     /// given loads (@p pressures: one per pressure part). Returns the l2 norm
@@ -539,6 +546,16 @@ namespace systole::Mechanics
 
     /// Elastodynamics (time_step > 0: the assembly adds the inertia).
     Dynamics dynamics;
+
+    /// Sets @p value of every point of the locally owned cells to its entry
+    /// of @p values (one vector per cell by active cell index, one value per
+    /// point: the layout of Problem::quadrature_points()), or to 0 if
+    /// @p values is empty and @p allow_empty. Errors name @p caller.
+    void
+    set_point_values(const std::vector<std::vector<double>> &values,
+                     double PointData::*value,
+                     const bool         allow_empty,
+                     const std::string &caller);
 
     /// Calls @p f(active cell index, q, data, F) at every quadrature point
     /// of the locally owned cells, F of the current displacement.

@@ -8,29 +8,6 @@
 
 namespace systole::Mechanics
 {
-  double
-  step_tension_model(const Materials::TensionModel &model,
-                     const PointData               &data,
-                     const dealii::Tensor<2, 3>    &F,
-                     const double                   time,
-                     const double                   time_step,
-                     double                        *trial,
-                     double                        &dT_dstretch,
-                     double                        &stretch)
-  {
-    stretch = (F * data.basis.f).norm();
-    Materials::TensionInput in;
-    in.time             = time;
-    in.time_step        = time_step;
-    in.calcium          = data.calcium;
-    in.stretch          = stretch;
-    in.previous_stretch = data.stretch_n;
-    Materials::TensionOutput out;
-    model.step(data.tension_state.data(), in, trial, out);
-    dT_dstretch = out.dtension_dstretch;
-    return out.tension;
-  }
-
   void
   Problem::set_tension_model(const Materials::TensionModel *model)
   {
@@ -73,21 +50,7 @@ namespace systole::Mechanics
   void
   Problem::set_calcium(const std::vector<std::vector<double>> &calcium)
   {
-    Impl &m = *impl;
-    AssertThrow(calcium.size() == m.tria.n_active_cells(),
-                dealii::ExcMessage("set_calcium: one vector per cell (by "
-                                   "active cell index) expected."));
-    for (const auto &cell : m.tria.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          const auto data = m.points.point_data.get_data(cell);
-          const auto c    = cell->active_cell_index();
-          AssertThrow(calcium[c].size() == data.size(),
-                      dealii::ExcMessage("set_calcium: one value per "
-                                         "quadrature point expected."));
-          for (unsigned int q = 0; q < data.size(); ++q)
-            data[q]->calcium = calcium[c][q];
-        }
+    impl->set_point_values(calcium, &PointData::calcium, false, "set_calcium");
   }
 
   void

@@ -696,7 +696,7 @@ namespace systole
       law->set(rebuilder.build(cal.synthetic_values));
       unloading.unloader->set_vertices(unloading.given);
       const auto r = unloading.unloader->inflate(up.image_pressure);
-      extra_solves += r.load_steps;
+      extra_solves += r.steps;
       unloading.image_volume = model.problem->cavity_volume();
       const auto u           = unloading.unloader->displacements();
       for (unsigned int i = 0; i < unloading.image.size(); ++i)
@@ -723,21 +723,16 @@ namespace systole
     {
       law->set(rebuilder.build(values));
       unloading.unloader->set_vertices(start);
-      u = unloading.unloader->unload(
-        unloading.image,
-        up.image_pressure,
-        up.tolerance,
-        up.tolerance,
-        up.max_iterations,
-        up.acceleration == UnloadingParameters::Acceleration::aitken,
-        cal.target == "synthetic" ? &unloading.given : nullptr,
-        [&](const UnloadingIteration &it) {
-          logger.detail() << "    unloading iteration " << it.iteration
-                          << ": reference "
-                          << Units::mm3_to_mL(it.reference_volume)
-                          << " mL, reload error " << it.reload_error << " mm"
-                          << std::endl;
-        });
+      const auto log_iteration = [&](const UnloadingIteration &it) {
+        logger.detail() << "    unloading iteration " << it.iteration
+                        << ": reference "
+                        << Units::mm3_to_mL(it.reference_volume)
+                        << " mL, reload error " << it.reload_error << " mm"
+                        << std::endl;
+      };
+      const std::vector<dealii::Point<3>> *truth =
+        cal.target == "synthetic" ? &unloading.given : nullptr;
+      u = unloading.unloader->unload(unloading.image, up, truth, log_iteration);
       unloading.fixed_point_iterations += u.iterations;
       unloading.total.forward_solves += u.forward_solves;
       unloading.total.totals += u.totals;
@@ -1102,7 +1097,7 @@ namespace systole
               static_cast<double>(unloading.total.forward_solves)},
              {"unloading_load_steps",
               "-",
-              static_cast<double>(unloading.total.totals.load_steps)},
+              static_cast<double>(unloading.total.totals.steps)},
              {"unloading_newton_iterations",
               "-",
               static_cast<double>(unloading.total.totals.newton)},

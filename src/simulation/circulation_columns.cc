@@ -11,21 +11,19 @@ namespace systole
 {
   void
   append_model_columns(const Circulation::Model              &model,
-                       const double                           t,
-                       const dealii::Vector<double>          &y,
-                       const dealii::Vector<double>          &p_ext,
+                       const Circulation::Arguments          &a,
                        const std::vector<Circulation::Phase> &phases,
                        std::vector<IO::Column>               &row)
   {
     using namespace Circulation;
     dealii::Vector<double> outputs;
-    model.evaluate_outputs(t, y, p_ext, outputs);
+    model.evaluate_outputs(a, outputs);
     for (unsigned int i = 0; i < model.n_states(); ++i)
       {
         const auto &s = model.states()[i];
         row.push_back({s.name + output_suffix(s.quantity),
                        output_unit(s.quantity),
-                       to_output_unit(s.quantity, y[i])});
+                       to_output_unit(s.quantity, a.y[i])});
       }
     for (unsigned int i = 0; i < model.outputs().size(); ++i)
       {
@@ -40,7 +38,7 @@ namespace systole
                      static_cast<double>(code(phases[c]))});
     row.push_back({"total_blood_volume_mL",
                    "mL",
-                   Units::mm3_to_mL(model.total_blood_volume(y))});
+                   Units::mm3_to_mL(model.total_blood_volume(a.y))});
   }
 
 

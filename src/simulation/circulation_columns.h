@@ -16,16 +16,14 @@
 
 namespace systole
 {
-  /// Appends to @p row: every state and output of @p model at (@p t, @p y,
-  /// @p p_ext) named after it with its unit suffix ("lv_volume_mL",
+  /// Appends to @p row: every state and output of @p model at @p a named
+  /// after it with its unit suffix ("lv_volume_mL",
   /// "systemic_arterial_pressure_mmHg", "aortic_valve_flow_mL_per_s", ...),
   /// the phase code of every cavity ("lv_phase", Circulation::code()) and
   /// total_blood_volume_mL.
   void
   append_model_columns(const Circulation::Model              &model,
-                       const double                           t,
-                       const dealii::Vector<double>          &y,
-                       const dealii::Vector<double>          &p_ext,
+                       const Circulation::Arguments          &a,
                        const std::vector<Circulation::Phase> &phases,
                        std::vector<IO::Column>               &row);
 

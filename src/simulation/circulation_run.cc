@@ -154,8 +154,8 @@ namespace systole
     void
     CirculationRun::sample(const double t, const Vector &y)
     {
-      model.cavity_pressures(t, y, p_ext, p_cavities);
-      model.evaluate_outputs(t, y, p_ext, outputs);
+      model.cavity_pressures({t, y, p_ext}, p_cavities);
+      model.evaluate_outputs({t, y, p_ext}, outputs);
       recorder.add(t, y, p_cavities, outputs);
       largest_drift =
         std::max(largest_drift,
@@ -172,7 +172,7 @@ namespace systole
       std::vector<Phase>      phase_list;
       for (unsigned int c = 0; c < model.n_cavities(); ++c)
         phase_list.push_back(phases.phase(c));
-      append_model_columns(model, t, y, p_ext, phase_list, row);
+      append_model_columns(model, {t, y, p_ext}, phase_list, row);
       results.append_timeseries(row);
       progress.update(row_number++, t, "beat " + std::to_string(beat));
     }

@@ -455,11 +455,8 @@ namespace systole
     std::unique_ptr<IO::StateReader> state_in;
     const auto                       results_file =
       open_results(checkpoint, in.run, in.parameter_text, state_in, in.comm);
-    IO::ResultsFile     &results = *results_file;
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
-                                     *model.problem,
-                                     model.names,
-                                     &in.logger);
+    IO::ResultsFile     &results     = *results_file;
+    Postprocess::Manager postprocess = model.postprocessors(in.prm, in.logger);
     Progress             progress(in.logger,
                       Progress::parse_mode(in.run.progress),
                       in.run.start_time,
@@ -476,14 +473,14 @@ namespace systole
     else
       integration.start();
     state_in.reset();
-    RunCheckpointer checkpointer(store,
-                                 results,
-                                 model.tria,
-                                 "mechanics.mesh",
-                                 all_entries,
-                                 in.run,
-                                 in.logger,
-                                 in.comm);
+    RunCheckpointer checkpointer({store,
+                                  results,
+                                  model.tria,
+                                  "mechanics.mesh",
+                                  all_entries,
+                                  in.run,
+                                  in.logger,
+                                  in.comm});
     integration.after_step = checkpoint_writer(checkpointer,
                                                integration,
                                                in.run,

@@ -173,15 +173,7 @@ namespace systole
 
   struct ElectricalActivation::Impl
   {
-    Impl(const dealii::ParameterHandler                             &prm,
-         const RunParameters                                        &run,
-         const Geometry::Parameters                                 &geometry,
-         const dealii::parallel::DistributedTriangulationBase<3, 3> &mech_tria,
-         const Mechanics::Problem                                   &problem,
-         const double                                                period,
-         Logger                                                     &logger,
-         const MPI_Comm                                              comm,
-         const std::string &checkpoint);
+    explicit Impl(const Inputs &in);
 
     /// Values (potential, first, latest activation) at the points of @p rpe,
     /// NaN where a point was not found. Collective.
@@ -268,28 +260,19 @@ namespace systole
   }
 
 
-  ElectricalActivation::Impl::Impl(
-    const dealii::ParameterHandler                             &prm,
-    const RunParameters                                        &run,
-    const Geometry::Parameters                                 &geometry,
-    const dealii::parallel::DistributedTriangulationBase<3, 3> &mech_tria,
-    const Mechanics::Problem                                   &problem,
-    const double                                                period,
-    Logger                                                     &logger,
-    const MPI_Comm                                              comm,
-    const std::string                                          &checkpoint)
-    : params(coupled_parameters(prm, period))
-    , mesh(ep_mesh(geometry, params, comm, checkpoint))
+  ElectricalActivation::Impl::Impl(const Inputs &in)
+    : params(coupled_parameters(in.prm, in.period))
+    , mesh(ep_mesh(in.geometry, params, in.comm, in.checkpoint))
     , kind(*mesh.tria)
-    , mapping(ep_mapping(kind, *mesh.tria, run.mapping_degree))
-    , comm(comm)
+    , mapping(ep_mapping(kind, *mesh.tria, in.run.mapping_degree))
+    , comm(in.comm)
     , tracker(0, params.activation_threshold_mV)
-    , mech_tria(mech_tria)
-    , problem(problem)
-    , mech_output(run.polynomial_degree)
+    , mech_tria(in.mechanics_tria)
+    , problem(in.problem)
+    , mech_output(in.run.polynomial_degree)
   {
-    AssertThrow(!kind.simplex() ||
-                  (run.checkpoint_interval == 0 && run.checkpoint_minutes == 0),
+    AssertThrow(!kind.simplex() || (in.run.checkpoint_interval == 0 &&
+                                    in.run.checkpoint_minutes == 0),
                 dealii::ExcMessage(
                   "The electrophysiology on a tetrahedral mesh cannot be "
                   "checkpointed yet: set Output / Checkpoint interval = 0 and "
@@ -297,13 +280,13 @@ namespace systole
     // The fibre generator runs again on the EP mesh (the rule-based one
     // solves its Laplace problems there); the monodomain model evaluates it
     // once, at its own quadrature points.
-    monodomain = create_monodomain(prm,
-                                   run,
+    monodomain = create_monodomain(in.prm,
+                                   in.run,
                                    params,
-                                   geometry,
+                                   in.geometry,
                                    mesh,
                                    *mapping,
-                                   logger,
+                                   in.logger,
                                    0.0);
 
     std::vector<std::vector<dealii::Point<3>>> points;
@@ -461,25 +444,8 @@ namespace systole
   }
 
 
-  ElectricalActivation::ElectricalActivation(
-    const dealii::ParameterHandler                             &prm,
-    const RunParameters                                        &run,
-    const Geometry::Parameters                                 &geometry,
-    const dealii::parallel::DistributedTriangulationBase<3, 3> &mechanics_tria,
-    const Mechanics::Problem                                   &problem,
-    const double                                                period,
-    Logger                                                     &logger,
-    const MPI_Comm                                              comm,
-    const std::string                                          &checkpoint)
-    : impl(std::make_unique<Impl>(prm,
-                                  run,
-                                  geometry,
-                                  mechanics_tria,
-                                  problem,
-                                  period,
-                                  logger,
-                                  comm,
-                                  checkpoint))
+  ElectricalActivation::ElectricalActivation(const Inputs &in)
+    : impl(std::make_unique<Impl>(in))
   {}
 
 

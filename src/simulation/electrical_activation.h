@@ -71,26 +71,32 @@ namespace systole
   class ElectricalActivation
   {
   public:
-    /// @param[in] geometry the Geometry subsection the mechanics mesh was
-    ///            built from (the EP mesh is built the same way, refined)
-    /// @param[in] mechanics_tria, problem the mechanics (kept by reference)
-    /// @param[in] period beat period [ms]: the Stimulus period (0 there is
-    ///            taken as this period; another value is an error)
-    /// @param[in] checkpoint a checkpoint folder to resume from: the EP mesh
-    ///            is then loaded from it (load_checkpoint() reads the rest)
-    /// Throws on a tetrahedral mesh when @p run asks for checkpoints (Output
-    /// / Checkpoint interval or wall time interval).
-    ElectricalActivation(
-      const dealii::ParameterHandler &prm,
-      const RunParameters            &run,
-      const Geometry::Parameters     &geometry,
+    /// What the electrical activation is built from (its constructor and
+    /// its Impl's take it whole).
+    struct Inputs
+    {
+      const dealii::ParameterHandler &prm;
+      const RunParameters            &run;
+      /// the Geometry subsection the mechanics mesh was built from (the EP
+      /// mesh is built the same way, refined)
+      const Geometry::Parameters &geometry;
+      /// the mechanics (kept by reference)
       const dealii::parallel::DistributedTriangulationBase<3, 3>
-                               &mechanics_tria,
-      const Mechanics::Problem &problem,
-      const double              period,
-      Logger                   &logger,
-      const MPI_Comm            comm,
-      const std::string        &checkpoint = "");
+                               &mechanics_tria;
+      const Mechanics::Problem &problem;
+      /// beat period [ms]: the Stimulus period (0 there is taken as this
+      /// period; another value is an error)
+      double   period;
+      Logger  &logger;
+      MPI_Comm comm;
+      /// a checkpoint folder to resume from ("": none): the EP mesh is then
+      /// loaded from it (load_checkpoint() reads the rest)
+      const std::string &checkpoint;
+    };
+
+    /// Throws on a tetrahedral mesh when Inputs::run asks for checkpoints
+    /// (Output / Checkpoint interval or wall time interval).
+    explicit ElectricalActivation(const Inputs &in);
     ~ElectricalActivation();
 
     /// Whether save_checkpoint() can be called (hexahedral meshes).

@@ -182,14 +182,15 @@ namespace systole
                                       state_in,
                                       comm,
                                       &step);
-      checkpointer = std::make_unique<RunCheckpointer>(store,
-                                                       *results,
-                                                       *mesh.tria,
-                                                       "ep.mesh",
-                                                       all_entries,
-                                                       run,
-                                                       logger,
-                                                       comm);
+      checkpointer =
+        std::make_unique<RunCheckpointer>(RunCheckpointerParts{store,
+                                                               *results,
+                                                               *mesh.tria,
+                                                               "ep.mesh",
+                                                               all_entries,
+                                                               run,
+                                                               logger,
+                                                               comm});
       if (!state_in)
         {
           write_purkinje(*results, ep->purkinje(), comm);

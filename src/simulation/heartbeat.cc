@@ -202,15 +202,16 @@ namespace systole
       // (A calcium-driven tension always runs the electrophysiology.)
       if (calcium_driven || bestel.activation_map == "electrophysiology")
         {
-          a.ep = std::make_unique<ElectricalActivation>(prm,
-                                                        run,
-                                                        model.geometry,
-                                                        model.tria,
-                                                        *model.problem,
-                                                        period,
-                                                        logger,
-                                                        comm,
-                                                        checkpoint);
+          a.ep = std::make_unique<ElectricalActivation>(
+            ElectricalActivation::Inputs{prm,
+                                         run,
+                                         model.geometry,
+                                         model.tria,
+                                         *model.problem,
+                                         period,
+                                         logger,
+                                         comm,
+                                         checkpoint});
           logger.line(a.ep->description());
           a.earliest = a.ep->earliest_stimulus();
           return a;
@@ -242,7 +243,7 @@ namespace systole
       for (const auto &cavity : zero_d.cavities())
         if (cavity.kind == Circulation::CavityKind::external)
           y0[cavity.volume_state] = unloaded_volumes[a++];
-      zero_d.cavity_pressures(0.0, y0, no_pressures, p0);
+      zero_d.cavity_pressures({0.0, y0, no_pressures}, p0);
     }
 
     HeartbeatStepper::Settings
@@ -600,25 +601,22 @@ namespace systole
     IO::ResultsFile &results = *results_file;
     if (ep != nullptr && checkpoint.empty())
       write_purkinje(results, ep->purkinje(), in.comm);
-    Postprocess::Manager postprocess(Postprocess::Parameters::parse(in.prm),
-                                     problem,
-                                     model.names,
-                                     &in.logger);
+    Postprocess::Manager postprocess = model.postprocessors(in.prm, in.logger);
     Progress             progress(in.logger,
                       Progress::parse_mode(in.run.progress),
                       0.0,
                       circulation.period * circulation.n_max_beats);
-    HeartbeatWriter      writer(zero_d,
-                           results,
-                           ventricles,
-                           problem,
-                           ep,
-                           in.run,
-                           in.logger,
-                           progress,
-                           postprocess,
-                           circulation.period,
-                           in.comm);
+    HeartbeatWriter      writer({zero_d,
+                                 results,
+                                 ventricles,
+                                 problem,
+                                 ep,
+                                 in.run,
+                                 in.logger,
+                                 progress,
+                                 postprocess,
+                                 circulation.period,
+                                 in.comm});
     HeartbeatStepper     stepper(zero_d,
                              ventricles,
                              stepper_settings(circulation),
@@ -630,14 +628,14 @@ namespace systole
     if (state_in)
       state.load(state_in->archive());
     state_in.reset();
-    RunCheckpointer checkpointer(set_up.store,
-                                 results,
-                                 model.tria,
-                                 "mechanics.mesh",
-                                 set_up.all_entries,
-                                 in.run,
-                                 in.logger,
-                                 in.comm);
+    RunCheckpointer checkpointer({set_up.store,
+                                  results,
+                                  model.tria,
+                                  "mechanics.mesh",
+                                  set_up.all_entries,
+                                  in.run,
+                                  in.logger,
+                                  in.comm});
     writer.checkpoint = [&](const unsigned int step) {
       checkpointer.write(
         step,

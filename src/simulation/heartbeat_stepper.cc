@@ -40,7 +40,7 @@ namespace systole
       , phases(std::make_unique<Circulation::CavityPhases>(model, open))
       , breakpoints(ventricles.breakpoints_in_beat())
     {
-      model.valve_indicators(0.0, y0, p0, indicators);
+      model.valve_indicators({0.0, y0, p0}, indicators);
     }
 
     /// The valves open at (0, @p y0, @p p0): positive indicators.
@@ -50,7 +50,7 @@ namespace systole
                    const Vector             &p0)
     {
       Vector g;
-      model.valve_indicators(0.0, y0, p0, g);
+      model.valve_indicators({0.0, y0, p0}, g);
       std::vector<bool> open;
       for (const double value : g)
         open.push_back(value > 0);
@@ -229,9 +229,9 @@ namespace systole
         last_failure = one_line_message(e);
         return false;
       }
-    model.valve_indicators(attempt.t_new,
-                           bdf.solution(),
-                           bdf.solution_pressures(),
+    model.valve_indicators({attempt.t_new,
+                            bdf.solution(),
+                            bdf.solution_pressures()},
                            attempt.g);
     return true;
   }
@@ -419,7 +419,7 @@ namespace systole
                     attempt.step_rejected,
                     attempt.step_order};
     Vector     outputs;
-    model.evaluate_outputs(bdf.time(), bdf.state(), bdf.pressures(), outputs);
+    model.evaluate_outputs({bdf.time(), bdf.state(), bdf.pressures()}, outputs);
     recorder.add(bdf.time(), bdf.state(), bdf.pressures(), outputs);
     observer.on_step(step);
     for (const unsigned int v : switched)

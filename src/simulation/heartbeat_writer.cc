@@ -25,28 +25,8 @@
 
 namespace systole
 {
-  HeartbeatWriter::HeartbeatWriter(const Circulation::Model &model,
-                                   IO::ResultsFile          &results,
-                                   MechanicsVentricles      &ventricles,
-                                   Mechanics::Problem       &problem,
-                                   ElectricalActivation     *ep,
-                                   const RunParameters      &run,
-                                   Logger                   &logger,
-                                   Progress                 &progress,
-                                   Postprocess::Manager     &postprocess,
-                                   const double              period,
-                                   const MPI_Comm            comm)
-    : model(model)
-    , results(results)
-    , ventricles(ventricles)
-    , problem(problem)
-    , ep(ep)
-    , run(run)
-    , logger(logger)
-    , progress(progress)
-    , postprocess(postprocess)
-    , period(period)
-    , comm(comm)
+  HeartbeatWriter::HeartbeatWriter(const HeartbeatWriterParts &parts)
+    : HeartbeatWriterParts(parts)
   {
     for (unsigned int c = 0; c < model.n_cavities(); ++c)
       if (model.cavities()[c].kind == Circulation::CavityKind::external)
@@ -69,7 +49,7 @@ namespace systole
                                    {"bdf_order",
                                     "-",
                                     static_cast<double>(s.order)}};
-    append_model_columns(model, s.time, s.state, s.pressures, s.phases, row);
+    append_model_columns(model, {s.time, s.state, s.pressures}, s.phases, row);
     // The 3D cavities: the volume of the deformed mesh (equal to the 0D
     // volume state to the constraint tolerance), and the old names of the
     // first one (pressure_mmHg, volume_mL, phase).

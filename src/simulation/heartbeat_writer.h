@@ -32,24 +32,32 @@ namespace systole
     class Manager;
   }
 
+  /// What a HeartbeatWriter writes from and to: its constructor's argument
+  /// and its members (kept by reference; they must outlive it).
+  struct HeartbeatWriterParts
+  {
+    const Circulation::Model &model;
+    IO::ResultsFile          &results;
+    MechanicsVentricles      &ventricles;
+    Mechanics::Problem       &problem;
+    ElectricalActivation     *ep; ///< null without electrophysiology
+    const RunParameters      &run;
+    Logger                   &logger;
+    Progress                 &progress;
+    Postprocess::Manager     &postprocess;
+    const double              period;
+    MPI_Comm                  comm;
+  };
+
   /// Writes what the heartbeat stepper computes: one /timeseries row per
   /// accepted step, one /events row per valve event, one /summary row per
   /// beat, fields every Output / Field output interval steps, the log, and
   /// the checkpoints when they are due.
-  class HeartbeatWriter : public HeartbeatStepper::Observer
+  class HeartbeatWriter : public HeartbeatStepper::Observer,
+                          private HeartbeatWriterParts
   {
   public:
-    HeartbeatWriter(const Circulation::Model &model,
-                    IO::ResultsFile          &results,
-                    MechanicsVentricles      &ventricles,
-                    Mechanics::Problem       &problem,
-                    ElectricalActivation     *ep,
-                    const RunParameters      &run,
-                    Logger                   &logger,
-                    Progress                 &progress,
-                    Postprocess::Manager     &postprocess,
-                    const double              period,
-                    const MPI_Comm            comm);
+    explicit HeartbeatWriter(const HeartbeatWriterParts &parts);
 
     void
     on_step(const HeartbeatStepper::Step &s) override;
@@ -123,17 +131,6 @@ namespace systole
     void
     write_fields(const unsigned int step);
 
-    const Circulation::Model &model;
-    IO::ResultsFile          &results;
-    MechanicsVentricles      &ventricles;
-    Mechanics::Problem       &problem;
-    ElectricalActivation     *ep;
-    const RunParameters      &run;
-    Logger                   &logger;
-    Progress                 &progress;
-    Postprocess::Manager     &postprocess;
-    const double              period;
-    MPI_Comm                  comm;
     std::vector<unsigned int> external;
     /// The counters of the rows written (saved in checkpoints but
     /// seconds_written).

@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/numerics/data_out.h>
 
+#include "base/errors.h"
 #include "base/logger.h"
 #include "base/units.h"
 #include "fibres/fibre_field.h"
@@ -12,11 +13,76 @@
 
 #include "postprocess/manager.h"
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
 namespace systole
 {
+  SolveCounts &
+  SolveCounts::operator+=(const SolveCounts &other)
+  {
+    steps += other.steps;
+    cuts += other.cuts;
+    newton += other.newton;
+    chord += other.chord;
+    linear += other.linear;
+    solves += other.solves;
+    return *this;
+  }
+
+  SolveCounts
+  MechanicsModel::ramp_load(const LoadRamp &ramp, Logger &logger)
+  {
+    SolveCounts  counts;
+    const double nominal        = 1.0 / params.load_steps;
+    double       fraction       = 0.0;
+    double       increment      = nominal;
+    double       last_increment = nominal;
+    problem->save();
+    while (fraction < 1.0 - 1e-12)
+      {
+        increment           = std::min(increment, 1.0 - fraction);
+        const double target = fraction + increment;
+        if (ramp.before_step)
+          ramp.before_step(counts, fraction, target);
+        problem->predict(std::min(increment / last_increment, 1.0),
+                         target * ramp.pressure,
+                         target * ramp.active_tension);
+        try
+          {
+            const auto report = problem->solve(target * ramp.pressure,
+                                               target * ramp.active_tension);
+            problem->save();
+            counts.newton += report.iterations;
+            counts.chord += report.reused_iterations;
+            counts.linear += report.linear_iterations;
+            counts.solves += report.iterations + report.reused_iterations;
+            ++counts.steps;
+            fraction       = target;
+            last_increment = increment;
+            if (ramp.after_step)
+              ramp.after_step(counts, fraction, report);
+            if (params.adaptive_load_steps && report.easy())
+              increment *= 1.5;
+            else if (params.adaptive_load_steps && report.hard())
+              increment *= 0.5;
+          }
+        catch (const ExcNewtonDidNotConverge &e)
+          {
+            problem->restore();
+            ++counts.cuts;
+            AssertThrow(counts.cuts <= params.max_step_cuts,
+                        dealii::ExcMessage(ramp.failure(counts, target, e)));
+            increment *= 0.5;
+            logger.stream()
+              << "  Newton failed (" << one_line_message(e)
+              << "); cutting the load step to " << increment << std::endl;
+          }
+      }
+    return counts;
+  }
+
   MechanicsModel::MechanicsModel(
     const dealii::ParameterHandler        &prm,
     const RunParameters                   &run,
@@ -33,7 +99,7 @@ namespace systole
     , tria(*mesh.tria)
     , names(mesh.names)
   {
-    problem = std::make_unique<Mechanics::Problem>(
+    problem = std::make_unique<Mechanics::Problem>(Mechanics::Problem::Inputs{
       params,
       tria,
       names,
@@ -47,7 +113,7 @@ namespace systole
         tria,
         names,
         &logger),
-      logger);
+      logger});
   }
 
   std::vector<IO::Column>
@@ -194,6 +260,16 @@ namespace systole
                                  run.polynomial_degree));
         results.write_fields(data_out, step, time);
       }
+  }
+
+  Postprocess::Manager
+  MechanicsModel::postprocessors(const dealii::ParameterHandler &prm,
+                                 Logger                         &logger) const
+  {
+    return Postprocess::Manager(Postprocess::Parameters::parse(prm),
+                                *problem,
+                                names,
+                                &logger);
   }
 
   void

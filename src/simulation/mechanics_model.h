@@ -13,6 +13,7 @@
 #include "mechanics/parameters.h"
 #include "mechanics/problem.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -38,6 +39,34 @@ namespace systole
     unsigned int newton = 0, chord = 0, linear = 0;
     /// Newton and chord iterations that solved a linear system.
     unsigned int solves = 0;
+
+    SolveCounts &
+    operator+=(const SolveCounts &other);
+  };
+
+  /// A ramp of the loads (MechanicsModel::ramp_load()): the loads at load
+  /// fraction 1, and what to call around the steps (before_step and
+  /// after_step may be empty).
+  struct LoadRamp
+  {
+    double pressure       = 0; ///< [kPa]
+    double active_tension = 0; ///< [kPa]
+    /// Before the solve of the step from load @p fraction to @p target.
+    std::function<void(const SolveCounts &counts,
+                       const double       fraction,
+                       const double       target)>
+      before_step;
+    /// After a converged step (counted in @p counts), at its @p fraction.
+    std::function<void(const SolveCounts             &counts,
+                       const double                   fraction,
+                       const Mechanics::NewtonReport &report)>
+      after_step;
+    /// The message when the step cuts ran out at @p target, @p e the last
+    /// failure.
+    std::function<std::string(const SolveCounts    &counts,
+                              const double          target,
+                              const std::exception &e)>
+      failure;
   };
 
   struct MechanicsModel
@@ -102,6 +131,25 @@ namespace systole
                std::vector<IO::Column> &row,
                Postprocess::Manager    &postprocess,
                IO::ResultsFile         &results) const;
+
+    /// Loads the problem from load fraction 0 to 1 of @p ramp in Mechanics /
+    /// Load steps equal steps, adapted (Mechanics / Adaptive load steps) to
+    /// how hard Newton worked: grown after an easy step
+    /// (NewtonReport::easy(): at most 4 iterations; after accelerated chords
+    /// also no shortened update), shrunk after a hard one (8 or more), so
+    /// that the steps follow the nonlinearity of the response (the
+    /// exponential laws are soft first, stiff later). Each step is
+    /// extrapolated from the last, but never further than the last
+    /// increment and only where it lowers the residual (the exponential laws
+    /// stiffen, and the extrapolation overshoots). A failed solve is
+    /// restored and its step halved, at most Mechanics / Maximum step cuts
+    /// times (then ExcMessage(ramp.failure())). Returns the counts.
+    SolveCounts
+    ramp_load(const LoadRamp &ramp, Logger &logger);
+
+    /// The postprocessors of Postprocess in @p prm on this problem.
+    Postprocess::Manager
+    postprocessors(const dealii::ParameterHandler &prm, Logger &logger) const;
 
     /// Writes the end of a run of solves counted by @p counts: the /summary
     /// row (solve_summary() with the postprocessors' end-of-run columns)

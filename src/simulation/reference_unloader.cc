@@ -15,17 +15,6 @@
 
 namespace systole
 {
-  ForwardReport &
-  ForwardReport::operator+=(const ForwardReport &other)
-  {
-    load_steps += other.load_steps;
-    cuts += other.cuts;
-    newton += other.newton;
-    chord += other.chord;
-    linear += other.linear;
-    return *this;
-  }
-
   /// The vertices of the whole mesh, the same table on every rank, sorted by
   /// their first reference position (so that sums over it do not depend on
   /// the partition), and where each vertex of this rank's mesh sits in it.
@@ -191,20 +180,21 @@ namespace systole
     for (const auto &[section, seconds] : model.problem->timings())
       earlier_timings[section] += seconds;
     model.problem.reset();
-    model.problem = std::make_unique<Mechanics::Problem>(
-      model.params,
-      model.tria,
-      model.names,
-      run.polynomial_degree,
-      run.mapping_degree,
-      *model.passive,
-      model.volumetric,
-      Fibres::create_fibre_field(fibres,
-                                 model.geometry.lv_shape,
-                                 model.tria,
-                                 model.names,
-                                 &logger),
-      logger);
+    model.problem =
+      std::make_unique<Mechanics::Problem>(Mechanics::Problem::Inputs{
+        model.params,
+        model.tria,
+        model.names,
+        run.polynomial_degree,
+        run.mapping_degree,
+        *model.passive,
+        model.volumetric,
+        Fibres::create_fibre_field(fibres,
+                                   model.geometry.lv_shape,
+                                   model.tria,
+                                   model.names,
+                                   &logger),
+        logger});
   }
 
   const std::vector<dealii::Point<3>> &
@@ -228,70 +218,27 @@ namespace systole
     return table->displacements(*model.problem, comm);
   }
 
-  ForwardReport
+  SolveCounts
   ReferenceUnloader::inflate(const double pressure)
   {
-    Mechanics::Problem          &problem = *model.problem;
-    const Mechanics::Parameters &params  = model.params;
-    ForwardReport                report;
-    const double                 nominal        = 1.0 / params.load_steps;
-    double                       fraction       = 0.0;
-    double                       increment      = nominal;
-    double                       last_increment = nominal;
-    problem.save();
-    while (fraction < 1.0 - 1e-12)
-      {
-        increment           = std::min(increment, 1.0 - fraction);
-        const double target = fraction + increment;
-        problem.predict(std::min(increment / last_increment, 1.0),
-                        target * pressure,
-                        0.0);
-        try
-          {
-            const auto r = problem.solve(target * pressure, 0.0);
-            problem.save();
-            report.newton += r.iterations;
-            report.chord += r.reused_iterations;
-            report.linear += r.linear_iterations;
-            ++report.load_steps;
-            fraction       = target;
-            last_increment = increment;
-            if (params.adaptive_load_steps && r.easy())
-              increment *= 1.5;
-            else if (params.adaptive_load_steps && r.hard())
-              increment *= 0.5;
-          }
-        catch (const ExcNewtonDidNotConverge &e)
-          {
-            problem.restore();
-            ++report.cuts;
-            AssertThrow(report.cuts <= params.max_step_cuts,
-                        dealii::ExcMessage(
-                          "Unloading: a forward solve did not converge at "
-                          "load fraction " +
-                          dealii::Utilities::to_string(target) + " after " +
-                          std::to_string(params.max_step_cuts) +
-                          " step cuts (" + one_line_message(e) +
-                          "). The reference may have become too distorted: "
-                          "try Unloading / Acceleration = none or more "
-                          "Mechanics / Load steps."));
-            increment *= 0.5;
-            logger.stream()
-              << "  Newton failed (" << one_line_message(e)
-              << "); cutting the load step to " << increment << std::endl;
-          }
-      }
-    return report;
+    LoadRamp ramp;
+    ramp.pressure = pressure;
+    ramp.failure =
+      [&](const SolveCounts &, const double target, const std::exception &e) {
+        return "Unloading: a forward solve did not converge at load fraction " +
+               dealii::Utilities::to_string(target) + " after " +
+               std::to_string(model.params.max_step_cuts) + " step cuts (" +
+               one_line_message(e) +
+               "). The reference may have become too distorted: try Unloading "
+               "/ Acceleration = none or more Mechanics / Load steps.";
+      };
+    return model.ramp_load(ramp, logger);
   }
 
   UnloadingResult
   ReferenceUnloader::unload(
     const std::vector<dealii::Point<3>>                   &image,
-    const double                                           pressure,
-    const double                                           tolerance,
-    const double                                           accept,
-    const unsigned int                                     max_iterations,
-    const bool                                             aitken,
+    const UnloadingParameters                             &up,
     const std::vector<dealii::Point<3>>                   *truth,
     const std::function<void(const UnloadingIteration &)> &on_iteration)
   {
@@ -309,7 +256,7 @@ namespace systole
         UnloadingIteration it;
         it.iteration        = k;
         it.reference_volume = model.problem->cavity_volume();
-        it.forward          = inflate(pressure);
+        it.forward          = inflate(up.image_pressure);
         ++result.forward_solves;
         result.totals += it.forward;
         it.reloaded_volume = model.problem->cavity_volume();
@@ -325,7 +272,8 @@ namespace systole
         it.reload_error    = max_distance(residual);
         it.reference_error = truth ? max_distance(to_truth) : 0.0;
 
-        if (k > 0 && aitken)
+        if (k > 0 &&
+            up.acceleration == UnloadingParameters::Acceleration::aitken)
           {
             double num = 0, den = 0;
             for (unsigned int i = 0; i < residual.size(); ++i)
@@ -337,23 +285,22 @@ namespace systole
             if (den > 0)
               omega = -omega * num / den;
           }
-        const bool done =
-          it.reload_error <= tolerance || (k == 0 && it.reload_error <= accept);
+        const bool done   = it.reload_error <= up.tolerance;
         it.relaxation     = done ? 0.0 : omega;
         result.last       = it;
         result.iterations = k;
         on_iteration(it);
         if (done)
           return result;
-        AssertThrow(k < max_iterations,
+        AssertThrow(k < up.max_iterations,
                     dealii::ExcMessage(
                       "Unloading did not converge in Unloading / Maximum "
                       "iterations = " +
-                      std::to_string(max_iterations) +
+                      std::to_string(up.max_iterations) +
                       " iterations (reload error " +
                       dealii::Utilities::to_string(it.reload_error) +
                       " mm > Unloading / Tolerance = " +
-                      dealii::Utilities::to_string(tolerance) + " mm)."));
+                      dealii::Utilities::to_string(up.tolerance) + " mm)."));
         std::vector<dealii::Point<3>> next = table->X;
         for (unsigned int i = 0; i < residual.size(); ++i)
           next[i] += omega * residual[i];

@@ -6,6 +6,8 @@
 
 #include "fibres/fibre_field.h"
 #include "io/results_file.h"
+#include "simulation/mechanics_model.h"
+#include "simulation/unloading_parameters.h"
 
 #include <functional>
 #include <map>
@@ -19,25 +21,16 @@ namespace systole
   struct MechanicsModel;
   struct RunParameters;
 
-  /// What the load steps of one or more forward solves did.
-  struct ForwardReport
-  {
-    unsigned int load_steps = 0, cuts = 0, newton = 0, chord = 0, linear = 0;
-
-    ForwardReport &
-    operator+=(const ForwardReport &other);
-  };
-
   /// One iteration of the backward-displacement fixed point.
   struct UnloadingIteration
   {
-    unsigned int  iteration        = 0;
-    double        reload_error     = 0; ///< max |X + u(X) - x_img| [mm]
-    double        reference_error  = 0; ///< max |X - truth| [mm] (if known)
-    double        reference_volume = 0; ///< [mm^3]
-    double        reloaded_volume  = 0; ///< [mm^3]
-    double        relaxation       = 0; ///< omega of the update (0: none)
-    ForwardReport forward;
+    unsigned int iteration        = 0;
+    double       reload_error     = 0; ///< max |X + u(X) - x_img| [mm]
+    double       reference_error  = 0; ///< max |X - truth| [mm] (if known)
+    double       reference_volume = 0; ///< [mm^3]
+    double       reloaded_volume  = 0; ///< [mm^3]
+    double       relaxation       = 0; ///< omega of the update (0: none)
+    SolveCounts  forward;
   };
 
   /// The result of ReferenceUnloader::unload().
@@ -45,7 +38,7 @@ namespace systole
   {
     unsigned int       iterations     = 0; ///< reference updates
     unsigned int       forward_solves = 0;
-    ForwardReport      totals;
+    SolveCounts        totals;
     UnloadingIteration last; ///< the final (accepted) iteration
   };
 
@@ -83,7 +76,7 @@ namespace systole
     /// first increment 1 / Load steps, the predictor, increments adapted to
     /// the Newton iterations, a failed step halved up to Maximum step cuts
     /// times (then ExcMessage).
-    ForwardReport
+    SolveCounts
     inflate(const double pressure);
 
     /// The displacement of the last solve at every vertex of vertices().
@@ -91,22 +84,16 @@ namespace systole
     displacements() const;
 
     /// The fixed point X_{k+1} = X_k + omega_k (x_img - X_k - u(X_k)) from
-    /// the current reference X_0 until the reload error max |X + u - x_img|
-    /// is at most @p tolerance [mm]; omega_k = 1 or Aitken's relaxation.
-    /// @p accept: return without any update when the first reload error is
-    /// at most this (>= tolerance; the calibration's outer test).
-    /// @p truth: the true reference, if known (reference_error). Calls
-    /// @p on_iteration after each forward solve. Throws after
-    /// @p max_iterations updates. On return the mechanics holds the reload
-    /// of the returned reference.
+    /// the current reference X_0, loaded to the image pressure of @p up,
+    /// until the reload error max |X + u - x_img| is at most its tolerance
+    /// [mm]; omega_k = 1 or Aitken's relaxation. @p truth: the true
+    /// reference, if known (reference_error). Calls @p on_iteration after
+    /// each forward solve. Throws after its maximum iterations updates. On
+    /// return the mechanics holds the reload of the returned reference.
     UnloadingResult
-    unload(const std::vector<dealii::Point<3>> &image,
-           const double                         pressure,
-           const double                         tolerance,
-           const double                         accept,
-           const unsigned int                   max_iterations,
-           const bool                           aitken,
-           const std::vector<dealii::Point<3>> *truth,
+    unload(const std::vector<dealii::Point<3>>                   &image,
+           const UnloadingParameters                             &up,
+           const std::vector<dealii::Point<3>>                   *truth,
            const std::function<void(const UnloadingIteration &)> &on_iteration);
 
     /// Adds the timer sections of the mechanics built before the current one

@@ -127,23 +127,8 @@ namespace systole
   }
 
 
-  RunCheckpointer::RunCheckpointer(
-    IO::CheckpointStore                                        &store,
-    const IO::ResultsFile                                      &results,
-    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-    const std::string                                          &mesh_file,
-    const std::string                                          &all_entries,
-    const RunParameters                                        &run,
-    Logger                                                     &logger,
-    const MPI_Comm                                              comm)
-    : store(store)
-    , results(results)
-    , tria(tria)
-    , mesh_file(mesh_file)
-    , all_entries(all_entries)
-    , run(run)
-    , logger(logger)
-    , comm(comm)
+  RunCheckpointer::RunCheckpointer(const RunCheckpointerParts &parts)
+    : RunCheckpointerParts(parts)
   {}
 
 

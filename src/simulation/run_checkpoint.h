@@ -61,6 +61,20 @@ namespace systole
                  const std::chrono::steady_clock::time_point &last,
                  const MPI_Comm                               comm);
 
+  /// What a RunCheckpointer writes from and into: its constructor's
+  /// argument and its members (kept by reference but the mesh file's name).
+  struct RunCheckpointerParts
+  {
+    IO::CheckpointStore                                        &store;
+    const IO::ResultsFile                                      &results;
+    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
+    const std::string                                           mesh_file;
+    const std::string                                          &all_entries;
+    const RunParameters                                        &run;
+    Logger                                                     &logger;
+    const MPI_Comm                                              comm;
+  };
+
   /// Writes the checkpoints of a run into @p store: the small state (the
   /// results file's rows, the step, then what the caller saves) through
   /// boost serialization, the parameters, and the mesh with its attached
@@ -68,7 +82,7 @@ namespace systole
   /// folder renamed when complete. A write that fails stops every rank with
   /// one line naming the file, the reason, the intact previous checkpoint
   /// and the fix.
-  class RunCheckpointer
+  class RunCheckpointer : private RunCheckpointerParts
   {
   public:
     /// Saves the run's state after the rows and the step; @p folder is the
@@ -76,15 +90,7 @@ namespace systole
     using SaveState = std::function<void(boost::archive::text_oarchive &archive,
                                          const std::string &folder)>;
 
-    RunCheckpointer(
-      IO::CheckpointStore                                        &store,
-      const IO::ResultsFile                                      &results,
-      const dealii::parallel::DistributedTriangulationBase<3, 3> &tria,
-      const std::string                                          &mesh_file,
-      const std::string                                          &all_entries,
-      const RunParameters                                        &run,
-      Logger                                                     &logger,
-      const MPI_Comm                                              comm);
+    explicit RunCheckpointer(const RunCheckpointerParts &parts);
 
     /// Writes the checkpoint of step @p step: @p save fills the small state
     /// (it may attach cell data to the mesh), @p after_mesh runs after the
@@ -120,14 +126,5 @@ namespace systole
     write_files(const std::string &folder,
                 const std::string &data,
                 const unsigned int step) const;
-
-    IO::CheckpointStore                                        &store;
-    const IO::ResultsFile                                      &results;
-    const dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
-    const std::string                                           mesh_file;
-    const std::string                                          &all_entries;
-    const RunParameters                                        &run;
-    Logger                                                     &logger;
-    const MPI_Comm                                              comm;
   };
 } // namespace systole

@@ -1,35 +1,12 @@
 #pragma once
 
 #include "simulation/problem_type.h"
+#include "simulation/unloading_parameters.h"
 
 #include <string>
 
 namespace systole
 {
-  /// Subsection "Unloading" of the parameter file (Problem = unloading).
-  struct UnloadingParameters
-  {
-    enum class Acceleration
-    {
-      none,
-      aitken
-    };
-
-    double       image_pressure  = 1.333224; ///< [kPa] (10 mmHg)
-    double       tolerance       = 0.01;     ///< [mm]
-    unsigned int max_iterations  = 30;       ///< fixed-point updates
-    Acceleration acceleration    = Acceleration::aitken;
-    bool         synthetic_image = false;
-    std::string  mesh_file       = "unloaded.msh"; ///< in the run folder
-
-    static void
-    declare(dealii::ParameterHandler &prm);
-
-    /// Reads and validates the subsection (clear errors naming the entry).
-    static UnloadingParameters
-    parse(const dealii::ParameterHandler &prm);
-  };
-
   /// Run the "unloading" problem: take the mesh of the parameter file as the
   /// geometry x_img of the ventricle imaged at the cavity pressure
   /// Unloading / Image pressure, and find the stress-free reference X whose

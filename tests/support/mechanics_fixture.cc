@@ -72,15 +72,16 @@ namespace test_support
           b.n = dealii::Tensor<1, 3>({0, 0, 1});
         }
     };
-    problem = std::make_unique<Mechanics::Problem>(params,
-                                                   tria,
-                                                   names,
-                                                   2,
-                                                   1,
-                                                   law,
-                                                   volumetric,
-                                                   fibres,
-                                                   logger);
+    problem = std::make_unique<Mechanics::Problem>(
+      Mechanics::Problem::Inputs{params,
+                                 tria,
+                                 names,
+                                 2,
+                                 1,
+                                 law,
+                                 volumetric,
+                                 fibres,
+                                 logger});
   }
 
   VentricleMechanics::VentricleMechanics(const MPI_Comm comm)
@@ -147,15 +148,16 @@ namespace test_support
   std::unique_ptr<systole::Mechanics::Problem>
   VentricleMechanics::problem(const unsigned int degree)
   {
-    return std::make_unique<systole::Mechanics::Problem>(params,
-                                                         tria,
-                                                         names,
-                                                         degree,
-                                                         degree,
-                                                         law,
-                                                         volumetric,
-                                                         fibres,
-                                                         logger);
+    return std::make_unique<systole::Mechanics::Problem>(
+      systole::Mechanics::Problem::Inputs{params,
+                                          tria,
+                                          names,
+                                          degree,
+                                          degree,
+                                          law,
+                                          volumetric,
+                                          fibres,
+                                          logger});
   }
 
   systole::Mechanics::Problem::VolumeTarget

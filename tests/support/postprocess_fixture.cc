@@ -61,17 +61,18 @@ namespace test_support
     params.fixed_boundaries = {};
     params.linear_solver    = "direct";
     problem                 = std::make_unique<systole::Mechanics::Problem>(
-      params,
-      tria,
-      boundary_names,
-      2,
-      2,
-      law,
-      volumetric,
-      [basis](const auto &, const auto &points, auto &bases) {
-        bases.assign(points.size(), basis);
-      },
-      logger);
+      systole::Mechanics::Problem::Inputs{
+        params,
+        tria,
+        boundary_names,
+        2,
+        2,
+        law,
+        volumetric,
+        [basis](const auto &, const auto &points, auto &bases) {
+          bases.assign(points.size(), basis);
+        },
+        logger});
     systole::Postprocess::Parameters p;
     p.postprocessors      = names;
     p.reference_direction = dealii::Tensor<1, 3>({0, 1, 0});

@@ -44,7 +44,7 @@ namespace
     y[0] = Units::mL_to_mm3(V_mL);
     y[1] = Units::mmHg_to_kPa(arterial_mmHg);
     p[0] = Units::mmHg_to_kPa(p_mmHg);
-    model.evaluate_outputs(t, y, p, outputs);
+    model.evaluate_outputs({t, y, p}, outputs);
     recorder.add(t, y, p, outputs);
   }
 
@@ -195,7 +195,7 @@ TEST_CASE("The periodicity of a closed loop with both ventricles in 3D also "
   const auto sample = [&](const double t, const double lv, const double rv) {
     y[model.cavities()[0].volume_state] = Units::mL_to_mm3(lv);
     y[model.cavities()[1].volume_state] = Units::mL_to_mm3(rv);
-    model.evaluate_outputs(t, y, p, outputs);
+    model.evaluate_outputs({t, y, p}, outputs);
     recorder.add(t, y, p, outputs);
   };
   const std::vector<std::array<double, 2>>   minima = {{{50, 57}},
@@ -253,7 +253,7 @@ TEST_CASE("Each cavity of a model gets its own phase durations",
   Vector y, p(2), outputs;
   model.initial_state(y);
   const auto sample = [&](const double t) {
-    model.evaluate_outputs(t, y, p, outputs);
+    model.evaluate_outputs({t, y, p}, outputs);
     recorder.add(t, y, p, outputs);
   };
   const auto event =

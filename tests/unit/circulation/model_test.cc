@@ -116,8 +116,8 @@ namespace
                     const Vector &p_b)
   {
     Vector g_a, g_b;
-    model.valve_indicators(t, y_a, p_a, g_a);
-    model.valve_indicators(t, y_b, p_b, g_b);
+    model.valve_indicators({t, y_a, p_a}, g_a);
+    model.valve_indicators({t, y_b, p_b}, g_b);
     for (unsigned int i = 0; i < g_a.size(); ++i)
       if ((g_a[i] > 0) != (g_b[i] > 0))
         return false;
@@ -144,14 +144,14 @@ TEST_CASE("Every circulation model's Jacobians equal central differences of "
           const Vector  p = external_pressures(model, t, y);
           INFO("t = " << t << " ms");
           dealii::FullMatrix<double> df_dy, df_dp;
-          model.jacobian(t, y, p, df_dy, df_dp);
+          model.jacobian({t, y, p}, df_dy, df_dp);
           REQUIRE(df_dy.m() == model.n_states());
           REQUIRE(df_dy.n() == model.n_states());
           REQUIRE(df_dp.m() == model.n_states());
           REQUIRE(df_dp.n() == model.n_cavities());
 
           Vector f;
-          model.rhs(t, y, p, f);
+          model.rhs({t, y, p}, f);
           // Size of the terms of f_i, for the round-off of differences.
           std::vector<double> row_scale(model.n_states());
           for (unsigned int i = 0; i < model.n_states(); ++i)
@@ -177,8 +177,8 @@ TEST_CASE("Every circulation model's Jacobians equal central differences of "
                 !same_valve_states(model, t, y_minus, p_minus, y, p))
               return;
             Vector f_plus, f_minus;
-            model.rhs(t, y_plus, p_plus, f_plus);
-            model.rhs(t, y_minus, p_minus, f_minus);
+            model.rhs({t, y_plus, p_plus}, f_plus);
+            model.rhs({t, y_minus, p_minus}, f_minus);
             for (unsigned int i = 0; i < model.n_states(); ++i)
               {
                 const double fd = (f_plus[i] - f_minus[i]) / (2 * h);
@@ -234,7 +234,7 @@ TEST_CASE("The closed loop conserves the blood volume: its flows cancel",
         {
           const Vector p = external_pressures(model, times[s], states[s]);
           Vector       f;
-          model.rhs(times[s], states[s], p, f);
+          model.rhs({times[s], states[s], p}, f);
           // d(blood volume)/dt = sum of the volume weights times f: the
           // blood volume is linear in y, its weights are its differences.
           Vector unit(model.n_states());
@@ -395,7 +395,7 @@ TEST_CASE("The 2-, 3- and 4-element Windkessels driven by a sinusoidal "
         {
           integrator.advance(t);
           p[0] = P0 + A * std::sin(omega * t);
-          model.evaluate_outputs(t, integrator.state(), p, outputs);
+          model.evaluate_outputs({t, integrator.state(), p}, outputs);
           const double q = outputs[4], root = outputs[2];
           CHECK(q == Approx(exact_flow(t)).epsilon(1e-7));
           CHECK(integrator.state()[1] == Approx(exact_distal(t)).epsilon(1e-7));
@@ -426,7 +426,7 @@ TEST_CASE("The closed loop's valves open and close once per beat, each "
   for (const auto &e : events)
     {
       Vector g;
-      model.valve_indicators(e.time, e.state, p_ext, g);
+      model.valve_indicators({e.time, e.state, p_ext}, g);
       // Located on the zero: the pressure drop is tiny against the valve's
       // pressures (about 10 ... 120 mmHg).
       CHECK(std::abs(Units::kPa_to_mmHg(g[e.valve])) < 1e-6);

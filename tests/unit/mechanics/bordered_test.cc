@@ -112,16 +112,9 @@ TEST_CASE("A volume-driven solve recovers the pressure of a pressure-driven "
           "[mechanics]")
 {
   Setup              s;
-  Mechanics::Problem problem(s.params,
-                             s.tria,
-                             s.names,
-                             2,
-                             2,
-                             s.law,
-                             s.volumetric,
-                             s.fibres,
-                             s.logger);
-  const double       V0 = problem.cavity_volume();
+  Mechanics::Problem problem(
+    {s.params, s.tria, s.names, 2, 2, s.law, s.volumetric, s.fibres, s.logger});
+  const double V0 = problem.cavity_volume();
 
   // Pressure-driven: p = 1 kPa with a non-uniform active tension field.
   std::vector<std::vector<dealii::Point<3>>> points;

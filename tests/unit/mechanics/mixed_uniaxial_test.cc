@@ -190,15 +190,16 @@ namespace
               b.n = dealii::Tensor<1, 3>({1, 1, -2}) / std::sqrt(6.0);
             }
         };
-      problem = std::make_unique<Mechanics::Problem>(params,
-                                                     tria,
-                                                     names,
-                                                     degree,
-                                                     1,
-                                                     law,
-                                                     volumetric,
-                                                     fibres,
-                                                     logger);
+      problem = std::make_unique<Mechanics::Problem>(
+        Mechanics::Problem::Inputs{params,
+                                   tria,
+                                   names,
+                                   degree,
+                                   1,
+                                   law,
+                                   volumetric,
+                                   fibres,
+                                   logger});
       CHECK_FALSE(problem->has_cavity());
     }
 

@@ -85,8 +85,8 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     params.robin_boundaries  = {"epicardium"};
     params.robin_stiffness   = 0.5;
     params.linear_solver     = "direct";
-    Mechanics::Problem
-      problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
+    Mechanics::Problem problem(
+      {params, tria, names, 2, 2, law, volumetric, fibres, logger});
     problem.set_displacement(Wobble(0.8));
     CHECK(observed_order(problem, 3.0, 20.0, 1e-3) == Approx(2.0).margin(0.2));
   }
@@ -113,15 +113,15 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
         params.robin_boundaries  = {"epicardium"};
         params.robin_stiffness   = 0.5;
         params.linear_solver     = "direct";
-        Mechanics::Problem problem(params,
-                                   *mesh.tria,
-                                   mesh.names,
-                                   2,
-                                   1,
-                                   law,
-                                   volumetric,
-                                   fibres,
-                                   logger);
+        Mechanics::Problem problem({params,
+                                    *mesh.tria,
+                                    mesh.names,
+                                    2,
+                                    1,
+                                    law,
+                                    volumetric,
+                                    fibres,
+                                    logger});
         REQUIRE(problem.cell_kind().simplex());
         // Smaller than on hexahedra: the split cells near the apex are small.
         problem.set_displacement(Wobble(0.2));
@@ -155,8 +155,8 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
         params.robin_stiffness    = 0.2;
         params.robin_normal_only  = false;
         params.linear_solver      = "direct";
-        Mechanics::Problem
-          problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+        Mechanics::Problem problem(
+          {params, tria, names, 1, 1, law, volumetric, fibres, logger});
         problem.set_displacement(Wobble(0.5));
         if (params.mixed())
           problem.set_pressure_field(2.0);
@@ -200,8 +200,8 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
           params.robin_stiffness      = 0.5;
           params.linear_solver        = c.linear_solver;
           params.augmented_lagrangian = c.augmented_lagrangian;
-          Mechanics::Problem
-            problem(params, tria, names, 2, 2, law, volumetric, fibres, logger);
+          Mechanics::Problem problem(
+            {params, tria, names, 2, 2, law, volumetric, fibres, logger});
           problem.set_displacement(Wobble(0.8));
           problem.set_pressure_field(4.0);
           INFO(problem.discretization_name() << ", " << c.linear_solver);
@@ -258,15 +258,8 @@ TEST_CASE("The mechanics tangent is the derivative of the residual with "
           params.robin_stiffness    = 0.2;
           params.robin_normal_only  = false;
           params.linear_solver      = "direct";
-          Mechanics::Problem problem(params,
-                                     tria,
-                                     names,
-                                     1,
-                                     1,
-                                     *c.law,
-                                     volumetric,
-                                     fibres,
-                                     logger);
+          Mechanics::Problem problem(
+            {params, tria, names, 1, 1, *c.law, volumetric, fibres, logger});
           problem.set_displacement(Wobble(0.3));
           if (params.mixed())
             problem.set_pressure_field(2.0);

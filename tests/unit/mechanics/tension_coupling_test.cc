@@ -127,8 +127,8 @@ TEST_CASE("The mechanics tangent with Land tension at a non-trivial state is "
         params.robin_stiffness    = 0.2;
         params.linear_solver      = "direct";
         params.active_cross_fibre = cross;
-        Mechanics::Problem
-          problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+        Mechanics::Problem problem(
+          {params, tria, names, 1, 1, law, volumetric, fibres, logger});
         INFO(problem.discretization_name()
              << ", cross-fibre fractions " << cross.sheet << ", "
              << cross.normal);
@@ -200,8 +200,8 @@ TEST_CASE("Accepted Land states in the mechanics equal the model stepped at "
   Mechanics::Parameters params;
   params.fixed_boundaries = {"x_min"};
   params.linear_solver    = "direct";
-  Mechanics::Problem
-    problem(params, tria, names, 1, 1, law, volumetric, fibres, logger);
+  Mechanics::Problem problem(
+    {params, tria, names, 1, 1, law, volumetric, fibres, logger});
   problem.set_tension_model(&land);
 
   using State = std::array<double, Materials::Land::n_state_values>;

@@ -253,8 +253,8 @@ namespace
     ModelBeatRecorder recorder(model, integrator.valves_open());
     Vector            p, outputs, p_ext(model.n_cavities());
     const auto        sample = [&](const double t, const Vector &y) {
-      model.cavity_pressures(t, y, p_ext, p);
-      model.evaluate_outputs(t, y, p_ext, outputs);
+      model.cavity_pressures({t, y, p_ext}, p);
+      model.evaluate_outputs({t, y, p_ext}, outputs);
       recorder.add(t, y, p, outputs);
     };
     std::vector<std::map<std::string, double>> rows;
@@ -267,7 +267,7 @@ namespace
           {
             for (const auto &e : integrator.advance(beat * T + i * T / 800))
               {
-                model.cavity_pressures(e.time, e.state, p_ext, p);
+                model.cavity_pressures({e.time, e.state, p_ext}, p);
                 recorder.add_valve_event(e.valve, e.opens, e.time, e.state, p);
                 sample(e.time, e.state);
               }
