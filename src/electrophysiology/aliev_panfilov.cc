@@ -5,37 +5,38 @@
 
 namespace systole::Electrophysiology
 {
-  const std::vector<RealEntry<AlievPanfilov::Parameters>> &
-  AlievPanfilov::Parameters::entries()
+  const std::vector<RealEntry<AlievPanfilovParameters>> &
+  AlievPanfilovParameters::entries()
   {
     using dealii::Patterns::Double;
-    static const std::vector<RealEntry<Parameters>> table = {
+    using P                                      = AlievPanfilovParameters;
+    static const std::vector<RealEntry<P>> table = {
       {"k",
-       &Parameters::k,
+       &P::k,
        Double(0.0),
        "Excitation rate k of the cubic -k u (u - a)(u - 1). Units: -. Source: "
        "physiology.md (Aliev and Panfilov 1996), 8."},
       {"a",
-       &Parameters::a,
+       &P::a,
        Double(0.0, 0.5),
        "Excitation threshold a of the dimensionless potential "
        "u = (V + 80 mV)/100 mV. Units: -. Source: physiology.md, "
        "0.15; must lie in (0, 0.5) for a travelling upstroke."},
       {"epsilon_0",
-       &Parameters::epsilon_0,
+       &P::epsilon_0,
        Double(0.0),
        "Recovery rate at rest. Units: -. Source: physiology.md, 0.002."},
       {"mu_1",
-       &Parameters::mu_1,
+       &P::mu_1,
        Double(0.0),
        "Recovery parameter mu_1 of eps(u, w) = eps_0 + mu_1 w / (u + mu_2). "
        "Units: -. Source: physiology.md, 0.2."},
       {"mu_2",
-       &Parameters::mu_2,
+       &P::mu_2,
        Double(0.0),
        "Recovery parameter mu_2 (> 0). Units: -. Source: physiology.md, 0.3."},
       {"Time unit",
-       &Parameters::time_unit,
+       &P::time_unit,
        Double(0.0),
        "Time T that scales the dimensionless model to physical time "
        "(T du/dt = ...). Units: ms. Source: physiology.md, 12.9 ms."}};
@@ -44,24 +45,7 @@ namespace systole::Electrophysiology
 
 
   void
-  AlievPanfilov::Parameters::declare(dealii::ParameterHandler &prm)
-  {
-    declare_entries(prm, entries());
-  }
-
-
-  AlievPanfilov::Parameters
-  AlievPanfilov::Parameters::parse(const dealii::ParameterHandler &prm)
-  {
-    Parameters p;
-    parse_entries(prm, {"Electrophysiology", model_name}, entries(), p);
-    p.validate();
-    return p;
-  }
-
-
-  void
-  AlievPanfilov::Parameters::validate() const
+  AlievPanfilovParameters::validate() const
   {
     const auto positive = [](const double value, const std::string &entry) {
       AssertThrow(std::isfinite(value) && value > 0,
@@ -79,19 +63,6 @@ namespace systole::Electrophysiology
     AssertThrow(epsilon_0 >= 0 && mu_1 >= 0,
                 dealii::ExcMessage("Electrophysiology / Aliev-Panfilov / "
                                    "epsilon_0 and mu_1 must be >= 0."));
-  }
-
-
-  AlievPanfilov::AlievPanfilov(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
-  }
-
-  std::string
-  AlievPanfilov::name() const
-  {
-    return model_name;
   }
 
 

@@ -71,6 +71,23 @@ namespace systole::Electrophysiology
       /// entry of the state, instead of absolute_tolerance (empty: that one
       /// for all).
       std::vector<double> absolute_tolerances;
+
+      /// The defaults with order, adaptive, the two tolerances and max_step
+      /// from a caller's parameters @p p (members order, adaptive,
+      /// relative_tolerance, absolute_tolerance and time_step, the largest
+      /// step).
+      template <class StepParameters>
+      static Settings
+      of(const StepParameters &p)
+      {
+        Settings s;
+        s.order              = p.order;
+        s.adaptive           = p.adaptive;
+        s.relative_tolerance = p.relative_tolerance;
+        s.absolute_tolerance = p.absolute_tolerance;
+        s.max_step           = p.time_step;
+        return s;
+      }
     };
 
     struct Callbacks

@@ -5,33 +5,34 @@
 
 namespace systole::Electrophysiology
 {
-  const std::vector<RealEntry<MitchellSchaeffer::Parameters>> &
-  MitchellSchaeffer::Parameters::entries()
+  const std::vector<RealEntry<MitchellSchaefferParameters>> &
+  MitchellSchaefferParameters::entries()
   {
     using dealii::Patterns::Double;
-    static const std::vector<RealEntry<Parameters>> table = {
+    using P                                      = MitchellSchaefferParameters;
+    static const std::vector<RealEntry<P>> table = {
       {"tau_in",
-       &Parameters::tau_in,
+       &P::tau_in,
        Double(0.0),
        "Time constant of the inward (depolarising) current. Units: ms. "
        "Source: physiology.md, 0.3 ms."},
       {"tau_out",
-       &Parameters::tau_out,
+       &P::tau_out,
        Double(0.0),
        "Time constant of the outward (repolarising) current. Units: ms. "
        "Source: physiology.md, 6 ms."},
       {"tau_open",
-       &Parameters::tau_open,
+       &P::tau_open,
        Double(0.0),
        "Time constant of the gate opening (v < v_gate). Units: ms. Source: "
        "physiology.md, 120 ms."},
       {"tau_close",
-       &Parameters::tau_close,
+       &P::tau_close,
        Double(0.0),
        "Time constant of the gate closing (v >= v_gate); sets the action "
        "potential duration. Units: ms. Source: physiology.md, 150 ms."},
       {"v_gate",
-       &Parameters::v_gate,
+       &P::v_gate,
        Double(0.0, 1.0),
        "Gate switching potential of the normalised v. Units: -. Source: "
        "physiology.md, 0.13."}};
@@ -40,24 +41,7 @@ namespace systole::Electrophysiology
 
 
   void
-  MitchellSchaeffer::Parameters::declare(dealii::ParameterHandler &prm)
-  {
-    declare_entries(prm, entries());
-  }
-
-
-  MitchellSchaeffer::Parameters
-  MitchellSchaeffer::Parameters::parse(const dealii::ParameterHandler &prm)
-  {
-    Parameters p;
-    parse_entries(prm, {"Electrophysiology", model_name}, entries(), p);
-    p.validate();
-    return p;
-  }
-
-
-  void
-  MitchellSchaeffer::Parameters::validate() const
+  MitchellSchaefferParameters::validate() const
   {
     for (const auto &[value, entry] :
          {std::pair<double, const char *>{tau_in, "tau_in"},
@@ -78,19 +62,6 @@ namespace systole::Electrophysiology
                 dealii::ExcMessage(
                   "Electrophysiology / Mitchell-Schaeffer: tau_out must "
                   "exceed 4 tau_in, otherwise the tissue is not excitable."));
-  }
-
-
-  MitchellSchaeffer::MitchellSchaeffer(const Parameters &parameters)
-    : params(parameters)
-  {
-    params.validate();
-  }
-
-  std::string
-  MitchellSchaeffer::name() const
-  {
-    return model_name;
   }
 
 

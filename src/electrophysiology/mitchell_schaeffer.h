@@ -1,12 +1,32 @@
 #pragma once
 
-#include <deal.II/base/parameter_handler.h>
-
-#include "base/parameter_table.h"
 #include "electrophysiology/two_variable_model.h"
 
 namespace systole::Electrophysiology
 {
+  /// Subsection "Electrophysiology / Mitchell-Schaeffer". Defaults:
+  /// physiology.md (Mitchell and Schaeffer 2003).
+  struct MitchellSchaefferParameters
+    : TwoVariableParameters<MitchellSchaefferParameters>
+  {
+    static constexpr const char *model_name = "Mitchell-Schaeffer";
+
+    double tau_in    = 0.3;   ///< [ms]
+    double tau_out   = 6.0;   ///< [ms]
+    double tau_open  = 120.0; ///< [ms]
+    double tau_close = 150.0; ///< [ms]
+    double v_gate    = 0.13;  ///< [-], in (0, 1)
+
+    /// The entries, their patterns and help: one table for declare() and
+    /// parse().
+    static const std::vector<RealEntry<MitchellSchaefferParameters>> &
+    entries();
+
+    /// Throws ExcMessage naming the entry if a value is out of range.
+    void
+    validate() const;
+  };
+
   /// The Mitchell-Schaeffer model (Mitchell and Schaeffer 2003, Bull. Math.
   /// Biol. 65:767) with the normalised potential v in [0, 1]:
   /// @f[ \frac{dv}{dt} = \frac{h v^2 (1 - v)}{\tau_{in}}
@@ -15,43 +35,10 @@ namespace systole::Electrophysiology
   /// So I_ion = v/τ_out − h v²(1 − v)/τ_in [1/ms]. Rest: v = 0, h = 1. One
   /// state variable (the gate h). Output in mV uses the same convention as
   /// Aliev-Panfilov, V = 100 v − 80 mV (the model itself is normalised).
-  class MitchellSchaeffer : public TwoVariableModel
+  class MitchellSchaeffer : public TwoVariableModel<MitchellSchaefferParameters>
   {
   public:
-    /// Subsection "Electrophysiology / Mitchell-Schaeffer". Defaults:
-    /// physiology.md (Mitchell and Schaeffer 2003).
-    struct Parameters
-    {
-      double tau_in    = 0.3;   ///< [ms]
-      double tau_out   = 6.0;   ///< [ms]
-      double tau_open  = 120.0; ///< [ms]
-      double tau_close = 150.0; ///< [ms]
-      double v_gate    = 0.13;  ///< [-], in (0, 1)
-
-      /// The entries, their patterns and help: one table for declare() and
-      /// parse().
-      static const std::vector<RealEntry<Parameters>> &
-      entries();
-
-      /// Declares the entries in the current subsection.
-      static void
-      declare(dealii::ParameterHandler &prm);
-
-      /// Reads and validates "Electrophysiology / Mitchell-Schaeffer".
-      static Parameters
-      parse(const dealii::ParameterHandler &prm);
-
-      /// Throws ExcMessage naming the entry if a value is out of range.
-      void
-      validate() const;
-    };
-
-    static constexpr const char *model_name = "Mitchell-Schaeffer";
-
-    explicit MitchellSchaeffer(const Parameters &parameters);
-
-    std::string
-    name() const override;
+    using TwoVariableModel::TwoVariableModel;
 
     void
     resting_state(double *state) const override;
@@ -61,8 +48,5 @@ namespace systole::Electrophysiology
 
     void
     state_rhs(const double v, const double *state, double *rhs) const override;
-
-  private:
-    const Parameters params;
   };
 } // namespace systole::Electrophysiology

@@ -450,18 +450,11 @@ namespace systole::Electrophysiology
     const unsigned int rank = dealii::Utilities::MPI::this_mpi_process(comm);
     const auto         located =
       Geometry::locate_in_owned_cells(tria, mapping, points, 1e-10);
-    const unsigned int  n = points.size();
-    std::vector<double> outside(n), least(n);
-    for (unsigned int p = 0; p < n; ++p)
-      outside[p] = located[p].outside;
-    dealii::Utilities::MPI::min(dealii::ArrayView<const double>(outside),
-                                comm,
-                                dealii::ArrayView<double>(least));
     auto &cache = outputs.point_cache;
-    for (unsigned int p = 0; p < n; ++p)
-      if (std::isfinite(outside[p]) && outside[p] == least[p])
+    cache.owner = Geometry::evaluating_ranks(located, comm);
+    for (unsigned int p = 0; p < points.size(); ++p)
+      if (cache.owner[p] == rank)
         {
-          cache.owner[p]   = rank;
           const auto &cell = located[p].cell;
           cache.cells[p]   = {
               dealii::DoFHandler<3>::active_cell_iterator(&tria,
@@ -470,10 +463,6 @@ namespace systole::Electrophysiology
                                                         &space.dof_handler),
               located[p].reference};
         }
-    dealii::Utilities::MPI::min(dealii::ArrayView<const unsigned int>(
-                                  cache.owner),
-                                comm,
-                                dealii::ArrayView<unsigned int>(cache.owner));
   }
 
 

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <utility>
 
 /// @file
 /// exp and log that a compiler vectorizes: branch-free, inline, plain double
@@ -58,6 +59,40 @@ namespace systole::Electrophysiology::SimdMath
     return from_bits((integer + 1023) << 52);
   }
 
+  /// n! in double (exact for n <= 18, below 2^53).
+  constexpr double
+  factorial(const int n)
+  {
+    return n <= 1 ? 1.0 : n * factorial(n - 1);
+  }
+
+  /// 1/n!, rounded once (as the literal 1.0 / n! would be).
+  template <int n>
+  constexpr double inverse_factorial = 1.0 / factorial(n);
+
+  /// Horner's scheme for sum_{n=first}^{last} x^(n - first)/n!: p = 1/last!,
+  /// then p = p x + 1/n! for n = last - 1 - k, k = 0, 1, ... (down to
+  /// first).
+  template <int first, int last, int... k>
+  SYSTOLE_SIMD_INLINE double
+  taylor_of_exp(const double x, std::integer_sequence<int, k...>)
+  {
+    double p = inverse_factorial<last>;
+    ((p = p * x + inverse_factorial<last - 1 - k>), ...);
+    return p;
+  }
+
+  /// sum_{n=first}^{last} x^(n - first)/n! (the partial sums of the Taylor
+  /// series of e^x), by Horner's scheme.
+  template <int first, int last>
+  SYSTOLE_SIMD_INLINE double
+  taylor_of_exp(const double x)
+  {
+    return taylor_of_exp<first, last>(
+      x,
+      std::make_integer_sequence<int, last - first>());
+  }
+
   /// e^x.
   SYSTOLE_SIMD_INLINE double
   exp(const double x)
@@ -72,20 +107,7 @@ namespace systole::Electrophysiology::SimdMath
     const double k  = (xc * log2e + shifter) - shifter;
     const double r  = (xc - k * ln2_hi) - k * ln2_lo;
     // e^r = sum r^n/n!, n <= 13: |r| <= 0.3466, the rest < 5e-18.
-    double p = 1.0 / 6227020800.0;
-    p        = p * r + 1.0 / 479001600.0;
-    p        = p * r + 1.0 / 39916800.0;
-    p        = p * r + 1.0 / 3628800.0;
-    p        = p * r + 1.0 / 362880.0;
-    p        = p * r + 1.0 / 40320.0;
-    p        = p * r + 1.0 / 5040.0;
-    p        = p * r + 1.0 / 720.0;
-    p        = p * r + 1.0 / 120.0;
-    p        = p * r + 1.0 / 24.0;
-    p        = p * r + 1.0 / 6.0;
-    p        = p * r + 0.5;
-    p        = p * r + 1.0;
-    p        = p * r + 1.0;
+    const double p = taylor_of_exp<0, 13>(r);
     // 2^k in two factors (k in [-1077, 1025]), each a normal number: the
     // product overflows to inf or underflows gradually as it should.
     const double k1 = (0.5 * k + shifter) - shifter;
@@ -143,24 +165,7 @@ namespace systole::Electrophysiology::SimdMath
   {
     // (e^x - 1)/x = sum_{n=1}^{18} x^(n-1)/n!: at |x| = 0.5 the rest is
     // below 1e-21.
-    double p = 1.0 / 6402373705728000.0;
-    p        = p * x + 1.0 / 355687428096000.0;
-    p        = p * x + 1.0 / 20922789888000.0;
-    p        = p * x + 1.0 / 1307674368000.0;
-    p        = p * x + 1.0 / 87178291200.0;
-    p        = p * x + 1.0 / 6227020800.0;
-    p        = p * x + 1.0 / 479001600.0;
-    p        = p * x + 1.0 / 39916800.0;
-    p        = p * x + 1.0 / 3628800.0;
-    p        = p * x + 1.0 / 362880.0;
-    p        = p * x + 1.0 / 40320.0;
-    p        = p * x + 1.0 / 5040.0;
-    p        = p * x + 1.0 / 720.0;
-    p        = p * x + 1.0 / 120.0;
-    p        = p * x + 1.0 / 24.0;
-    p        = p * x + 1.0 / 6.0;
-    p        = p * x + 0.5;
-    p        = p * x + 1.0;
+    const double p = taylor_of_exp<1, 18>(x);
     // |x| < 0.5: x/(x p) = 1/p; elsewhere x/(e^x - 1).
     const bool   small = x < 0.5 && x > -0.5;
     const double num   = small ? 1.0 : x;

@@ -4,6 +4,7 @@
 #include <deal.II/lac/petsc_vector.h>
 
 #include "electrophysiology/arkode_adapter.h"
+#include "electrophysiology/time_steps.h"
 
 #include <algorithm>
 #include <cmath>
@@ -128,13 +129,8 @@ namespace systole::Electrophysiology
     y.compress(dealii::VectorOperation::insert);
     std::copy(initial.begin() + 1, initial.end(), states.begin());
 
-    ImexIntegrator::Settings s;
-    s.order              = settings.order;
-    s.adaptive           = settings.adaptive;
-    s.relative_tolerance = settings.relative_tolerance;
-    s.absolute_tolerance = settings.absolute_tolerance;
-    s.max_step           = settings.time_step;
-    ImexIntegrator::Callbacks callbacks;
+    const ImexIntegrator::Settings s = ImexIntegrator::Settings::of(settings);
+    ImexIntegrator::Callbacks      callbacks;
     // The reads and writes go through PETSc's local arrays (one rank owns
     // all entries): dv/dt = -I_ion + stimulus, ds/dt of the non-gates.
     callbacks.explicit_rhs =
@@ -186,45 +182,35 @@ namespace systole::Electrophysiology
     std::vector<double> breakpoints =
       switching_times({m.stimulus}, m.pacing.period, m.t, t_end);
     breakpoints.push_back(t_end);
-    const double scale         = 1 / m.model.potential_scale_mV();
-    double       segment_start = m.t;
-    for (const double segment_end : breakpoints)
-      {
-        const double       span    = segment_end - segment_start;
-        const unsigned int n_steps = static_cast<unsigned int>(
-          std::max(1.0, std::ceil(span / m.settings.time_step - 1e-9)));
-        for (unsigned int k = 1; k <= n_steps; ++k)
-          {
-            const double t_next =
-              k == n_steps ? segment_end : segment_start + k * span / n_steps;
-            m.stimulus_dv_dt =
-              m.stimulus.active(0.5 * (m.t + t_next), m.pacing.period)
-                ? m.pacing.amplitude * scale
-                : 0.0;
-            if (m.gate_half_step_pending && m.model.n_gates() > 0)
-              {
-                // Before ARKode's first step (it reads the state then).
-                double *zi = nullptr;
-                VecGetArray(static_cast<const Vec &>(m.y), &zi);
-                m.model.advance_gates_batch(0.5 * (t_next - m.t),
-                                            1,
-                                            m.n_components,
-                                            zi);
-                VecRestoreArray(static_cast<const Vec &>(m.y), &zi);
-              }
-            m.gate_half_step_pending = false;
-            m.integrator->evolve(m.y, t_next);
-            m.t = t_next;
-            if (observer)
-              {
-                const double *zi = nullptr;
-                VecGetArrayRead(static_cast<const Vec &>(m.y), &zi);
-                observer(m.t, zi[0], zi + 1);
-                VecRestoreArrayRead(static_cast<const Vec &>(m.y), &zi);
-              }
-          }
-        segment_start = segment_end;
-      }
+    const double scale = 1 / m.model.potential_scale_mV();
+    const auto   step  = [&](const double t_next) {
+      m.stimulus_dv_dt =
+        m.stimulus.active(0.5 * (m.t + t_next), m.pacing.period)
+             ? m.pacing.amplitude * scale
+             : 0.0;
+      if (m.gate_half_step_pending && m.model.n_gates() > 0)
+        {
+          // Before ARKode's first step (it reads the state then).
+          double *zi = nullptr;
+          VecGetArray(static_cast<const Vec &>(m.y), &zi);
+          m.model.advance_gates_batch(0.5 * (t_next - m.t),
+                                      1,
+                                      m.n_components,
+                                      zi);
+          VecRestoreArray(static_cast<const Vec &>(m.y), &zi);
+        }
+      m.gate_half_step_pending = false;
+      m.integrator->evolve(m.y, t_next);
+      m.t = t_next;
+      if (observer)
+        {
+          const double *zi = nullptr;
+          VecGetArrayRead(static_cast<const Vec &>(m.y), &zi);
+          observer(m.t, zi[0], zi + 1);
+          VecRestoreArrayRead(static_cast<const Vec &>(m.y), &zi);
+        }
+    };
+    for_each_step(m.t, breakpoints, m.settings.time_step, step);
     const double *zi = nullptr;
     VecGetArrayRead(static_cast<const Vec &>(m.y), &zi);
     std::copy(zi + 1, zi + m.n_components, m.states.begin());

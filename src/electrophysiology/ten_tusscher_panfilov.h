@@ -184,11 +184,6 @@ namespace systole::Electrophysiology
     slow_delayed_rectifier_conductance() const;
 
   private:
-    /// The 12 currents [pA/pF] at (v, state); returns their sum.
-    struct Currents;
-    double
-    currents(const double v, const double *state, Currents &c) const;
-
     const Parameters params;
     const double     g_to; ///< [nS/pF]
     const double     g_Ks; ///< [nS/pF]

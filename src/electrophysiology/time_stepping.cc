@@ -5,6 +5,7 @@
 #include <deal.II/lac/solver_control.h>
 
 #include "electrophysiology/monodomain_impl.h"
+#include "electrophysiology/time_steps.h"
 
 #include <petscmat.h>
 
@@ -14,6 +15,43 @@
 
 namespace systole::Electrophysiology
 {
+  namespace
+  {
+    /// Solves @p A x = b by CG with @p preconditioner from the guess @p x, in
+    /// at most @p max_steps steps to the residual @p tolerance, and returns
+    /// the steps. Otherwise a recoverable step failure: "<method> did not
+    /// converge on <system> (residual ... after ... iterations)".
+    template <class Matrix, class Preconditioner>
+    unsigned int
+    solve_cg(const Matrix          &A,
+             LA::MPI::Vector       &x,
+             const LA::MPI::Vector &b,
+             const Preconditioner  &preconditioner,
+             const unsigned int     max_steps,
+             const double           tolerance,
+             const std::string     &method,
+             const std::string     &system)
+    {
+      dealii::SolverControl control(max_steps, tolerance, false, false);
+      dealii::SolverCG<LA::MPI::Vector> cg(control);
+      try
+        {
+          cg.solve(A, x, b, preconditioner);
+        }
+      catch (const dealii::SolverControl::NoConvergence &e)
+        {
+          AssertThrow(false,
+                      ExcRecoverableStepFailure(
+                        method + " did not converge on " + system +
+                        " (residual " + std::to_string(e.last_residual) +
+                        " after " + std::to_string(e.last_step) +
+                        " iterations)"));
+        }
+      return control.last_step();
+    }
+  } // namespace
+
+
   LocalRead::LocalRead(const LA::MPI::Vector &v)
     : vec(static_cast<const Vec &>(v))
   {
@@ -134,25 +172,14 @@ namespace systole::Electrophysiology
     // M is spectrally equivalent to its diagonal, independently of h (for
     // Q1 hexahedra diag(M)^-1 M has a condition number of at most 3^3), and
     // the guess is the last solution: a few CG iterations.
-    dealii::SolverControl             control(200,
-                                  params.linear_tolerance * b_norm,
-                                  false,
-                                  false);
-    dealii::SolverCG<LA::MPI::Vector> cg(control);
-    try
-      {
-        cg.solve(matrices.mass, x, b, *matrices.mass_jacobi);
-      }
-    catch (const dealii::SolverControl::NoConvergence &e)
-      {
-        AssertThrow(false,
-                    ExcRecoverableStepFailure(
-                      "CG + Jacobi did not converge on the consistent mass "
-                      "matrix (residual " +
-                      std::to_string(e.last_residual) + " after " +
-                      std::to_string(e.last_step) + " iterations)"));
-      }
-    stats.mass_iterations += control.last_step();
+    stats.mass_iterations += solve_cg(matrices.mass,
+                                      x,
+                                      b,
+                                      *matrices.mass_jacobi,
+                                      200,
+                                      params.linear_tolerance * b_norm,
+                                      "CG + Jacobi",
+                                      "the consistent mass matrix");
     ++stats.mass_solves;
   }
 
@@ -270,29 +297,15 @@ namespace systole::Electrophysiology
     const double rhs_norm = matrices.rhs_work.l2_norm();
     if (rhs_norm > 0)
       {
-        dealii::SolverControl             control(1000,
-                                      params.linear_tolerance * rhs_norm,
-                                      false,
-                                      false);
-        dealii::SolverCG<LA::MPI::Vector> cg(control);
-        try
-          {
-            cg.solve(matrices.stage,
-                     matrices.v_work,
-                     matrices.rhs_work,
-                     *matrices.preconditioner);
-          }
-        catch (const dealii::SolverControl::NoConvergence &e)
-          {
-            AssertThrow(false,
-                        ExcRecoverableStepFailure(
-                          "CG + " + params.preconditioner +
-                          " did not converge on (M + " + std::to_string(gamma) +
-                          " K) x = M b (residual " +
-                          std::to_string(e.last_residual) + " after " +
-                          std::to_string(e.last_step) + " iterations)"));
-          }
-        stats.linear_iterations += control.last_step();
+        stats.linear_iterations +=
+          solve_cg(matrices.stage,
+                   matrices.v_work,
+                   matrices.rhs_work,
+                   *matrices.preconditioner,
+                   1000,
+                   params.linear_tolerance * rhs_norm,
+                   "CG + " + params.preconditioner,
+                   "(M + " + std::to_string(gamma) + " K) x = M b");
       }
     else
       matrices.v_work = 0;
@@ -314,12 +327,7 @@ namespace systole::Electrophysiology
   std::unique_ptr<ImexIntegrator>
   Monodomain::Impl::create_integrator(const double t0)
   {
-    ImexIntegrator::Settings settings;
-    settings.order              = params.order;
-    settings.adaptive           = params.adaptive;
-    settings.relative_tolerance = params.relative_tolerance;
-    settings.absolute_tolerance = params.absolute_tolerance;
-    settings.max_step           = params.time_step;
+    ImexIntegrator::Settings settings = ImexIntegrator::Settings::of(params);
     // A consistent mass makes every evaluation of the diffusion term a mass
     // solve: take the one at the end of each implicit stage from the stage
     // solve instead (solved to the same relative tolerance).
@@ -474,9 +482,8 @@ namespace systole::Electrophysiology
                                    " ms) must lie after the current time (" +
                                    std::to_string(m.t) + " ms)."));
     // Steps end at t_end and at every stimulus switching time; between
-    // those breakpoints they are equal and at most Time step long (up to
-    // 1e-9 of a step longer, so that a whole number of steps is not split by
-    // round-off).
+    // those breakpoints they are equal and at most Time step long
+    // (for_each_step).
     if (m.params.model == Parameters::Model::eikonal)
       {
         m.advance_eikonal_only(t_end);
@@ -496,18 +503,9 @@ namespace systole::Electrophysiology
                       breakpoints.end());
     breakpoints.push_back(t_end);
     std::vector<double> v_new;
-    double              segment_start = m.t;
-    for (const double segment_end : breakpoints)
-      {
-        const double       span    = segment_end - segment_start;
-        const unsigned int n_steps = static_cast<unsigned int>(
-          std::max(1.0, std::ceil(span / m.params.time_step - 1e-9)));
-        for (unsigned int k = 1; k <= n_steps; ++k)
-          m.step(k == n_steps ? segment_end
-                              : segment_start + k * span / n_steps,
-                 v_new);
-        segment_start = segment_end;
-      }
+    for_each_step(m.t, breakpoints, m.params.time_step, [&](const double t) {
+      m.step(t, v_new);
+    });
     m.update_output_vectors();
     m.stats.steps = m.steps_before + m.integrator->n_steps();
     m.stats.seconds +=

@@ -9,6 +9,7 @@
 
 #include "base/format.h"
 #include "fibres/frames.h"
+#include "geometry/mesh_file.h"
 #include "geometry/point_location.h"
 #include "geometry/vtk_messages.h"
 
@@ -149,10 +150,7 @@ namespace systole::Fibres
   {
     DTIParameters                  p;
     const std::vector<std::string> path = {"Fibres", "DTI"};
-    std::filesystem::path          file(prm.get(path, "File"));
-    if (!file.empty() && file.is_relative() && !base_directory.empty())
-      file = std::filesystem::path(base_directory) / file;
-    p.file            = file.empty() ? "" : file.lexically_normal().string();
+    p.file = Geometry::file_in_directory(prm.get(path, "File"), base_directory);
     p.tensor_array    = prm.get(path, "Tensor array name");
     const auto values = dealii::Utilities::string_to_double(
       dealii::Utilities::split_string_list(prm.get(path,

@@ -8,7 +8,6 @@
 #include "geometry/mesh_file.h"
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 
 namespace systole::Fibres
@@ -173,10 +172,8 @@ namespace systole::Fibres
     p.biventricular         = Biventricular::Parameters::parse(prm);
     p.dti                   = DTIParameters::parse(prm, base_directory);
     const std::vector<std::string> vtu = {"Fibres", "VTU"};
-    std::filesystem::path          file(prm.get(vtu, "File"));
-    if (!file.empty() && file.is_relative() && !base_directory.empty())
-      file = std::filesystem::path(base_directory) / file;
-    p.vtu_file        = file.empty() ? "" : file.lexically_normal().string();
+    p.vtu_file =
+      Geometry::file_in_directory(prm.get(vtu, "File"), base_directory);
     p.vtu_fibre_array = prm.get(vtu, "Fibre array");
     p.vtu_sheet_array = prm.get(vtu, "Sheet array");
     AssertThrow(p.generator != "vtu" || !p.vtu_file.empty(),

@@ -63,30 +63,40 @@ namespace systole::Geometry
     return std::make_unique<dealii::FE_DGP<3>>(degree);
   }
 
+  namespace
+  {
+    /// The Gauss rule of @p n_points_1d points per direction on the
+    /// simplex (@p simplex, a @p simplex_name) or the hypercube of @p dim.
+    template <int dim>
+    dealii::Quadrature<dim>
+    gauss_rule(const bool         simplex,
+               const char        *simplex_name,
+               const unsigned int n_points_1d)
+    {
+      // deal.II 9.4's QGaussSimplex knows 1 to 4 points per direction and is
+      // silently empty beyond.
+      AssertThrow(!simplex || (n_points_1d >= 1 && n_points_1d <= 4),
+                  dealii::ExcMessage(std::string("A Gauss rule on ") +
+                                     simplex_name +
+                                     " has 1 to 4 points per direction "
+                                     "(asked for " +
+                                     std::to_string(n_points_1d) + ")."));
+      if (simplex)
+        return dealii::QGaussSimplex<dim>(n_points_1d);
+      return dealii::QGauss<dim>(n_points_1d);
+    }
+  } // namespace
+
   dealii::Quadrature<3>
   CellKind::cell_quadrature(const unsigned int n_points_1d) const
   {
-    // deal.II 9.4's QGaussSimplex knows 1 to 4 points per direction and is
-    // silently empty beyond.
-    AssertThrow(!is_simplex || (n_points_1d >= 1 && n_points_1d <= 4),
-                dealii::ExcMessage("A Gauss rule on tetrahedra has 1 to 4 "
-                                   "points per direction (asked for " +
-                                   std::to_string(n_points_1d) + ")."));
-    if (is_simplex)
-      return dealii::QGaussSimplex<3>(n_points_1d);
-    return dealii::QGauss<3>(n_points_1d);
+    return gauss_rule<3>(is_simplex, "tetrahedra", n_points_1d);
   }
 
   dealii::Quadrature<2>
   CellKind::face_quadrature(const unsigned int n_points_1d) const
   {
-    AssertThrow(!is_simplex || (n_points_1d >= 1 && n_points_1d <= 4),
-                dealii::ExcMessage("A Gauss rule on triangles has 1 to 4 "
-                                   "points per direction (asked for " +
-                                   std::to_string(n_points_1d) + ")."));
-    if (is_simplex)
-      return dealii::QGaussSimplex<2>(n_points_1d);
-    return dealii::QGauss<2>(n_points_1d);
+    return gauss_rule<2>(is_simplex, "triangles", n_points_1d);
   }
 
   dealii::Quadrature<3>

@@ -40,6 +40,16 @@
 
 namespace systole::Geometry
 {
+  std::string
+  file_in_directory(const std::string &name, const std::string &base_directory)
+  {
+    std::filesystem::path file(name);
+    if (!file.empty() && file.is_relative() && !base_directory.empty())
+      file = std::filesystem::path(base_directory) / file;
+    return file.empty() ? "" : file.lexically_normal().string();
+  }
+
+
   namespace
   {
     void

@@ -23,6 +23,13 @@ namespace systole::Geometry
   BoundaryNameTable
   parse_boundary_name_table(const std::string &text, const std::string &entry);
 
+  /// The file @p name given in a parameter file whose folder is
+  /// @p base_directory: a relative name is taken from there (unless
+  /// @p base_directory is empty), then normalised; an empty name stays
+  /// empty (no file).
+  std::string
+  file_in_directory(const std::string &name, const std::string &base_directory);
+
   /// How to read a mesh file (read_mesh_file()).
   struct MeshFileOptions
   {

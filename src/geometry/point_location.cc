@@ -111,6 +111,30 @@ namespace systole::Geometry
   }
 
 
+  std::vector<unsigned int>
+  evaluating_ranks(const std::vector<CellPoint> &located, const MPI_Comm comm)
+  {
+    const unsigned int  rank  = dealii::Utilities::MPI::this_mpi_process(comm);
+    const unsigned int  ranks = dealii::Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int  n     = located.size();
+    std::vector<double> distance(n), least(n);
+    for (unsigned int i = 0; i < n; ++i)
+      distance[i] = located[i].outside;
+    dealii::Utilities::MPI::min(dealii::ArrayView<const double>(distance),
+                                comm,
+                                dealii::ArrayView<double>(least));
+    std::vector<unsigned int> candidate(n), owner(n);
+    for (unsigned int i = 0; i < n; ++i)
+      candidate[i] =
+        distance[i] < infinity && distance[i] == least[i] ? rank : ranks;
+    dealii::Utilities::MPI::min(dealii::ArrayView<const unsigned int>(
+                                  candidate),
+                                comm,
+                                dealii::ArrayView<unsigned int>(owner));
+    return owner;
+  }
+
+
   DistributedPoints::DistributedPoints(
     const dealii::Triangulation<3, 3>   &tria,
     const dealii::Mapping<3, 3>         &mapping,
@@ -131,22 +155,7 @@ namespace systole::Geometry
       }
     const auto located = locate_in_owned_cells(tria, mapping, flat, tolerance);
 
-    // The evaluating rank of each point: the least outside, then the lowest.
-    const unsigned int  n = flat.size();
-    std::vector<double> distance(n), least(n);
-    for (unsigned int i = 0; i < n; ++i)
-      distance[i] = located[i].outside;
-    dealii::Utilities::MPI::min(dealii::ArrayView<const double>(distance),
-                                comm,
-                                dealii::ArrayView<double>(least));
-    std::vector<unsigned int> candidate(n), owner(n);
-    for (unsigned int i = 0; i < n; ++i)
-      candidate[i] =
-        distance[i] < infinity && distance[i] == least[i] ? rank : ranks;
-    dealii::Utilities::MPI::min(dealii::ArrayView<const unsigned int>(
-                                  candidate),
-                                comm,
-                                dealii::ArrayView<unsigned int>(owner));
+    const std::vector<unsigned int> owner = evaluating_ranks(located, comm);
 
     found.assign(points.size(), false);
     for (unsigned int i = 0; i < points.size(); ++i)

@@ -41,6 +41,13 @@ namespace systole::Geometry
                         const std::vector<dealii::Point<3>> &points,
                         const double                         tolerance);
 
+  /// The rank that evaluates each of the points that every rank of @p comm
+  /// located in its owned cells (@p located, the same points on every rank):
+  /// the one holding it least outside of a cell, the lowest among equals;
+  /// the number of ranks where none holds it. Collective.
+  std::vector<unsigned int>
+  evaluating_ranks(const std::vector<CellPoint> &located, const MPI_Comm comm);
+
   /// The points of every rank, each evaluated on the rank that owns a cell
   /// holding it (the one it lies least outside of, the lowest rank among
   /// equals): the simplex-safe counterpart of

@@ -12,11 +12,21 @@ namespace systole::Postprocess
 {
   namespace
   {
-    std::unique_ptr<Postprocessor>
-    fields(std::vector<std::pair<std::string, Fields::Getter>> f,
-           const bool                                          frame = false)
+    /// The table line of a postprocessor of point fields: each of @p fields
+    /// a name and the value at a point (in the cardiac frame of the wall
+    /// coordinates if @p frame).
+    PostprocessorRegistry::Entry
+    fields_entry(std::string name,
+                 std::string description,
+                 std::vector<std::pair<std::string, Fields::Getter>> fields,
+                 const bool frame = false)
     {
-      return std::make_unique<Fields>(std::move(f), frame);
+      return {std::move(name),
+              std::move(description),
+              nullptr,
+              [fields, frame] {
+                return std::make_unique<Fields>(fields, frame);
+              }};
     }
 
   } // namespace
@@ -34,14 +44,9 @@ namespace systole::Postprocess
          "AHA segments (NN = 01 ... 17)",
          nullptr,
          [] { return std::make_unique<AhaRegional>(); }},
-        {"active tension",
-         "field active_tension [kPa]",
-         nullptr,
-         [] {
-           return fields({{"active_tension", [](const PointQuantities &q) {
-                             return q.active_tension;
-                           }}});
-         }},
+        fields_entry("active tension",
+                     "field active_tension [kPa]",
+                     {{"active_tension", &PointQuantities::active_tension}}),
         {"clinical kinematics",
          "/timeseries every step, referred to the beat's end-diastole (ED, "
          "the largest cavity volume before ejection): "
@@ -54,55 +59,32 @@ namespace systole::Postprocess
          "aha_NN_peak_ed_strain_circumferential, _longitudinal, _radial",
          nullptr,
          [] { return std::make_unique<ClinicalKinematics>(); }},
-        {"fibre stretch",
-         "field fibre_stretch = |F f0| [-]",
-         nullptr,
-         [] {
-           return fields({{"fibre_stretch", [](const PointQuantities &q) {
-                             return q.fibre_stretch;
-                           }}});
-         }},
-        {"strain",
-         "fields strain_circumferential, strain_longitudinal, strain_radial: "
-         "the Green-Lagrange strain in the cardiac frame of the wall "
-         "coordinates [-]",
-         nullptr,
-         [] {
-           return fields(
-             {{"strain_circumferential",
-               [](const PointQuantities &q) {
-                 return q.strain_circumferential;
-               }},
-              {"strain_longitudinal",
-               [](const PointQuantities &q) { return q.strain_longitudinal; }},
-              {"strain_radial",
-               [](const PointQuantities &q) { return q.strain_radial; }}},
-             true);
-         }},
-        {"stress",
-         "fields first_principal_stress and fibre_stress (Cauchy) [kPa]",
-         nullptr,
-         [] {
-           return fields({{"first_principal_stress",
-                           [](const PointQuantities &q) {
-                             return q.first_principal_stress;
-                           }},
-                          {"fibre_stress", [](const PointQuantities &q) {
-                             return q.fibre_stress;
-                           }}});
-         }},
+        fields_entry("fibre stretch",
+                     "field fibre_stretch = |F f0| [-]",
+                     {{"fibre_stretch", &PointQuantities::fibre_stretch}}),
+        fields_entry(
+          "strain",
+          "fields strain_circumferential, strain_longitudinal, strain_radial: "
+          "the Green-Lagrange strain in the cardiac frame of the wall "
+          "coordinates [-]",
+          {{"strain_circumferential", &PointQuantities::strain_circumferential},
+           {"strain_longitudinal", &PointQuantities::strain_longitudinal},
+           {"strain_radial", &PointQuantities::strain_radial}},
+          true),
+        fields_entry(
+          "stress",
+          "fields first_principal_stress and fibre_stress (Cauchy) [kPa]",
+          {{"first_principal_stress", &PointQuantities::first_principal_stress},
+           {"fibre_stress", &PointQuantities::fibre_stress}}),
         {"ventricle function",
          "/timeseries every step: long_axis_shortening, wall_thickening, "
          "torsion [deg] (apex to base), ejection_fraction (so far in the "
          "beat)",
          nullptr,
          [] { return std::make_unique<VentricleFunction>(); }},
-        {"volume ratio",
-         "field J = det F [-]",
-         nullptr,
-         [] {
-           return fields({{"J", [](const PointQuantities &q) { return q.J; }}});
-         }},
+        fields_entry("volume ratio",
+                     "field J = det F [-]",
+                     {{"J", &PointQuantities::J}}),
       });
     return registry;
   }

@@ -482,22 +482,31 @@ namespace systole::Postprocess
     return values;
   }
 
+  namespace
+  {
+    /// The value of @p part, which only a postprocessor that needs @p what
+    /// sets up (throws otherwise).
+    template <class Part>
+    const Part &
+    needed(const std::optional<Part> &part, const std::string &what)
+    {
+      AssertThrow(part.has_value(),
+                  dealii::ExcMessage(
+                    "Postprocess: no postprocessor needs the " + what + "."));
+      return *part;
+    }
+  } // namespace
+
   const LvWall &
   Manager::wall() const
   {
-    AssertThrow(impl->lv_wall.has_value(),
-                dealii::ExcMessage("Postprocess: no postprocessor needs the "
-                                   "ventricle."));
-    return *impl->lv_wall;
+    return needed(impl->lv_wall, "ventricle");
   }
 
   const AhaSegments &
   Manager::segments() const
   {
-    AssertThrow(impl->aha.has_value(),
-                dealii::ExcMessage("Postprocess: no postprocessor needs the "
-                                   "AHA segments."));
-    return *impl->aha;
+    return needed(impl->aha, "AHA segments");
   }
 
   std::array<double, 17>
