@@ -7,11 +7,12 @@ PRM writes a checkpoint every 20 steps. Every mode works in the current folder, 
 its own (an Output subsection appended to a copy of PRM; only Output may differ on resume):
 
 - reference: the uninterrupted run (1 rank), results/reference.
-- chain: killed with SIGKILL after step 30, resumed (Output / Resume = true) and killed halfway
-  through writing the checkpoint of step 60, resumed (from step 40: the unfinished
-  checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
-  /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
-  the wall-time columns *_seconds excepted).
+- chain: killed with SIGKILL after step 22, resumed (Output / Resume = true, from step 20) and
+  killed halfway through writing the checkpoint of step 60, resumed (from step 40: the
+  unfinished checkpoint.tmp is never read) and killed after step 82, resumed to the end (from
+  step 80); /timeseries, /events and /summary equal the reference to 1e-12 (relative to each
+  column's largest value; the wall-time columns *_seconds excepted). The kills come two steps
+  after a checkpoint: each resume repeats two steps.
 - ranks-2-1 / ranks-1-2 / ranks-2-3: killed on 2 ranks after step 25 and resumed on 1, or
   killed on 1 rank (2 ranks) after step 105 and resumed on 2 (3 ranks); equal to the reference
   to 1e-8 (the *_drift columns, round-off by definition, to 1e-10 absolute besides; every
@@ -151,12 +152,12 @@ def main() -> None:
         # The kills are test-only entries of subsection Output (which may differ on a resume),
         # so every run here names its own file (systole --resume would read the file the run
         # was started with, its kill included).
-        run([systole, prm_for(prm, "chain", kill_after(30), "chain_kill30")], expect_kill=True)
+        run([systole, prm_for(prm, "chain", kill_after(22), "chain_kill22")], expect_kill=True)
         log = run([systole, prm_for(prm, "chain", RESUME + "  set Test kill in checkpoint = 60\n",
                                     "chain_kill60")], expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000020" in log, log[-2000:]
         assert Path("results/chain/checkpoint.tmp").is_dir(), "no unfinished checkpoint left"
-        log = run([systole, prm_for(prm, "chain", RESUME + kill_after(90), "chain_kill90")],
+        log = run([systole, prm_for(prm, "chain", RESUME + kill_after(82), "chain_kill82")],
                   expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000040" in log, log[-2000:]
         log = run([systole, prm_for(prm, "chain", RESUME, "chain_resume")])
