@@ -4,8 +4,10 @@ ParaView itself (pvpython under xvfb-run, through scripts/paraview_load.py): eve
 every step, and a rendered picture.
 
 Needs SYSTOLE_APP (the built systole: the Land and EP runs are made here, with field
-output) and SYSTOLE_XDMF_HEARTBEAT (a heartbeat's results folder with fields, from ctest);
-set by the ctest entry run.pytest_runs. Skips without them unless SYSTOLE_REQUIRE_APP.
+output), SYSTOLE_XDMF_HEARTBEAT (a heartbeat's results folder with fields, from ctest) and
+SYSTOLE_XDMF_LAND_TET (run.land_problem2_tet's results folder: Land problem 2 on the shipped
+tetrahedral ventricle, its fields every 5th step); set by the ctest entry run.pytest_runs.
+Skips without them unless SYSTOLE_REQUIRE_APP.
 """
 
 import os
@@ -32,17 +34,10 @@ def need(variable):
 
 def run_with_fields(prm_name, tmp_path):
     """Run tests/runs/<prm_name> with fields at every 5th step; its results folder."""
-    prm = tmp_path / prm_name
-    prm.write_text((RUNS / prm_name).read_text())
-    return run_with_fields_of(prm, tmp_path)
-
-
-def run_with_fields_of(prm, tmp_path):
-    """Run the parameter file prm (in tmp_path) with fields at every 5th step; its results
-    folder."""
     app = os.path.abspath(need("SYSTOLE_APP"))
+    prm = tmp_path / prm_name
     text = re.sub(r"set Field output interval\s*=\s*\d+", "set Field output interval = 5",
-                  prm.read_text())
+                  (RUNS / prm_name).read_text())
     prm.write_text(text)
     subprocess.run([app, str(prm)], cwd=tmp_path, check=True, capture_output=True,
                    timeout=300)
@@ -151,17 +146,15 @@ def test_ep_slab_in_paraview_every_field_and_step(ep_slab_run, tmp_path):
     check_paraview(ep_slab_run, "transmembrane_potential", tmp_path)
 
 
-def test_tetrahedral_land_problem_xdmf_reads_every_field_of_the_last_step(tmp_path):
-    """Land problem 2 on the shipped tetrahedral ventricle: 4-node tetrahedra, every field."""
-    prm = tmp_path / "land_problem2_tet.prm"
-    text = (RUNS / prm.name).read_text()
-    mesh = re.search(r"set Mesh file\s*=\s*(\S+)", text).group(1)
-    prm.write_text(text.replace(mesh, str((RUNS / mesh).resolve())))
-    names = check_xdmf(run_with_fields_of(prm, tmp_path))
+def test_tetrahedral_land_problem_xdmf_reads_every_field_of_the_last_step():
+    """Land problem 2 on the shipped tetrahedral ventricle (the run of the ctest entry
+    run.land_problem2_tet, fields every 5th step): 4-node tetrahedra, every field."""
+    folder = Path(need("SYSTOLE_XDMF_LAND_TET"))
+    names = check_xdmf(folder)
     assert "displacement" in names and "pressure" in names
     vtk = pytest.importorskip("vtk")
     reader = vtk.vtkXdmfReader()
-    reader.SetFileName(str(tmp_path / "results" / prm.stem / "fields.xdmf"))
+    reader.SetFileName(str(folder / "fields.xdmf"))
     reader.Update()
     grid = reader.GetOutputDataObject(0)
     assert {grid.GetCellType(i) for i in range(grid.GetNumberOfCells())} == {vtk.VTK_TETRA}

@@ -7,17 +7,19 @@ PRM writes a checkpoint every 20 steps. Every mode works in the current folder, 
 its own (an Output subsection appended to a copy of PRM; only Output may differ on resume):
 
 - reference: the uninterrupted run (1 rank), results/reference.
-- chain: killed with SIGKILL after step 30, resumed (Output / Resume = true) and killed halfway
-  through writing the checkpoint of step 60, resumed (from step 40: the unfinished
-  checkpoint.tmp is never read) and killed after step 90, resumed to the end; /timeseries,
-  /events and /summary equal the reference to 1e-12 (relative to each column's largest value;
-  the wall-time columns *_seconds excepted).
+- chain: killed with SIGKILL after step 22, resumed (Output / Resume = true, from step 20) and
+  killed halfway through writing the checkpoint of step 60, resumed (from step 40: the
+  unfinished checkpoint.tmp is never read) and killed after step 82, resumed to the end (from
+  step 80); /timeseries, /events and /summary equal the reference to 1e-12 (relative to each
+  column's largest value; the wall-time columns *_seconds excepted). The kills come two steps
+  after a checkpoint: each resume repeats two steps.
 - ranks-2-1 / ranks-1-2 / ranks-2-3: killed on 2 ranks after step 25 and resumed on 1, or
   killed on 1 rank (2 ranks) after step 105 and resumed on 2 (3 ranks); equal to the reference
   to 1e-8 (the *_drift columns, round-off by definition, to 1e-10 absolute besides; every
   column to 1e-13 absolute besides, for coordinates that are zero by symmetry).
-  KILL_STEP replaces the step of the kill, REFERENCE.h5 the reference run (e.g. a run test
-  of PRM itself).
+  KILL_STEP replaces the step of the kill ('-': the mode's own), REFERENCE.h5 the reference
+  run (e.g. a run test of PRM itself; for chain too, whose reference folder must then hold
+  the last two checkpoints as the reference mode's).
 - other-build (by hand: docs/verification.md): like ranks-2-3, but resumed by OTHER_SYSTOLE, the
   app of another build (e.g. CMAKE_BUILD_TYPE=Debug) of the same checkpoint format:
 
@@ -132,31 +134,37 @@ def compare(reference: Path, result: Path, tolerance: float, floor: float = 0.0,
           f"difference {worst[0]:.3e} {worst[1]}")
 
 
+def last_two_checkpoints_kept(run_folder: Path) -> None:
+    checkpoints = sorted(run_folder.glob("checkpoint_*"))
+    assert len(checkpoints) == 2, f"the last two checkpoints kept, found {checkpoints}"
+
+
 def main() -> None:
     mode, systole, mpiexec, prm = sys.argv[1], Path(sys.argv[2]), sys.argv[3], Path(sys.argv[4])
     mpi2 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "2", systole]
     mpi3 = [mpiexec, "--allow-run-as-root", "--oversubscribe", "-np", "3", systole]
-    kill_step = sys.argv[5] if len(sys.argv) > 5 else None
+    kill_step = sys.argv[5] if len(sys.argv) > 5 and sys.argv[5] != "-" else None
     reference = Path(sys.argv[6] if len(sys.argv) > 6 else "results/reference/results.h5")
 
     if mode == "reference":
         shutil.rmtree("results/reference", ignore_errors=True)
         run([systole, prm_for(prm, "reference")])
-        checkpoints = sorted(Path("results/reference").glob("checkpoint_*"))
-        assert len(checkpoints) == 2, f"the last two checkpoints kept, found {checkpoints}"
+        last_two_checkpoints_kept(Path("results/reference"))
         return
 
     if mode == "chain":
         shutil.rmtree("results/chain", ignore_errors=True)
+        if len(sys.argv) > 6:
+            last_two_checkpoints_kept(reference.parent)
         # The kills are test-only entries of subsection Output (which may differ on a resume),
         # so every run here names its own file (systole --resume would read the file the run
         # was started with, its kill included).
-        run([systole, prm_for(prm, "chain", kill_after(30), "chain_kill30")], expect_kill=True)
+        run([systole, prm_for(prm, "chain", kill_after(22), "chain_kill22")], expect_kill=True)
         log = run([systole, prm_for(prm, "chain", RESUME + "  set Test kill in checkpoint = 60\n",
                                     "chain_kill60")], expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000020" in log, log[-2000:]
         assert Path("results/chain/checkpoint.tmp").is_dir(), "no unfinished checkpoint left"
-        log = run([systole, prm_for(prm, "chain", RESUME + kill_after(90), "chain_kill90")],
+        log = run([systole, prm_for(prm, "chain", RESUME + kill_after(82), "chain_kill82")],
                   expect_kill=True)
         assert "Resuming from results/chain/checkpoint_000040" in log, log[-2000:]
         log = run([systole, prm_for(prm, "chain", RESUME, "chain_resume")])

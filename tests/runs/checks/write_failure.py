@@ -3,7 +3,7 @@
 written stops with one clear line, keeps what it wrote before, and resumes to the same
 results as an uninterrupted run.
 
-    write_failure.py SYSTOLE PRM
+    write_failure.py SYSTOLE PRM [REFERENCE.h5]
     write_failure.py --intact RUN_FOLDER
 
 The second form checks that every checkpoint in RUN_FOLDER matches its MANIFEST (and that
@@ -12,7 +12,8 @@ there is one), e.g. the checkpoint a run that failed for good wrote.
 PRM is a small heartbeat; every mode runs in the current folder with its own run name
 (an Output subsection appended to a copy of PRM) and a checkpoint every 10 steps.
 
-- reference: the uninterrupted run.
+- reference: the uninterrupted run, or REFERENCE.h5 if given (an uninterrupted run of PRM
+  made elsewhere, e.g. its own run test: the checkpoints and fields do not change the rows).
 - results: the file size is limited (RLIMIT_FSIZE, SIGXFSZ ignored, so a write beyond it
   fails with EFBIG as on a full disk) to the size the results file has after step 30 (a
   run killed there by Output / Test kill after step measures it), so a later row cannot
@@ -142,8 +143,11 @@ def main() -> int:
         return 0
     systole, prm = sys.argv[1], Path(sys.argv[2]).resolve()
     shutil.rmtree("results", ignore_errors=True)
-    assert run(systole, prm_for(prm, "reference")).returncode == 0
-    reference = rows(Path("results/reference/results.h5"))
+    if len(sys.argv) > 3:
+        reference = rows(Path(sys.argv[3]))
+    else:
+        assert run(systole, prm_for(prm, "reference")).returncode == 0
+        reference = rows(Path("results/reference/results.h5"))
     n_reference = len(reference["timeseries"]["time"])
 
     # The results file cannot grow after step 30.
