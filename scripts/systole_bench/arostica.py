@@ -111,7 +111,8 @@ def curve_distance(a: dict, b: dict, point: str) -> float:
 def arostica_plan(quick: bool) -> list[tuple[str, float, dict]]:
     """The runs: the generated hexahedral mesh at levels 0, 1 (and 2) with dt = 2, 1 (and
     0.5) ms, level 1 with straight-edged cells, and the participants' own tetrahedral mesh
-    (meshes/arostica_benchmark_tet.msh) with P1 and P2 elements."""
+    (meshes/arostica_benchmark_tet.msh) with P1 and P2 elements (P2 with dt = 2 ms: 89 679
+    DOFs; dt 2 -> 1 ms moves the curves of the generated mesh by at most 0.01 mm)."""
     level = [f"level {n}" for n in range(3)]
     plan = [(level[0], 2.0, {}), (level[0], 1.0, {}), (level[0], 0.5, {}),
             (level[1], 2.0, {}), (level[1], 1.0, {})]
@@ -124,7 +125,7 @@ def arostica_plan(quick: bool) -> list[tuple[str, float, dict]]:
         return plan + tet
     return plan + [(level[1], 0.5, {"Global refinements": "1"}),
                    (level[2], 1.0, {"Global refinements": "2"})] + tet + [
-        ("benchmark mesh P2", 1.0, {**BENCHMARK_MESH, "Polynomial degree": "2"})]
+        ("benchmark mesh P2", 2.0, {**BENCHMARK_MESH, "Polynomial degree": "2"})]
 
 
 def arostica_row(r: dict) -> str:
