@@ -32,8 +32,8 @@ namespace systole::Postprocess
                                        "radial"};
 
     /// The numbers of state() before the points: has_reference, beat,
-    /// ed_volume, ed_time, ed_fixed, the ED shape (9), the peaks, the segment
-    /// peaks; then the number of points.
+    /// ed_volume, ed_time, ed_stage (0, 0.5, 1), the ED shape (9), the peaks,
+    /// the segment peaks; then the number of points.
     constexpr unsigned int n_scalars = 5 + 9 + 11 + 17 * 3;
 
     /// F^-1 e_k for the ED frame (e_c, e_l, e_r) that the reference cardiac
@@ -145,20 +145,30 @@ namespace systole::Postprocess
     if (new_beat)
       {
         beat     = data.beat;
-        ed_fixed = false;
+        ed_stage = EdStage::moving;
       }
-    const double volume = data.cavity_volume;
+    const double volume  = data.cavity_volume;
+    const bool   ejected = std::isfinite(volume) && has_reference &&
+                         volume < (1 - fall_tolerance) * ed_volume;
     if (data.filling.has_value())
       {
         // Every filling step, and the step that closes the mitral valve (the
-        // heartbeat ends that step at the closure).
-        new_reference = new_reference || !ed_fixed;
-        ed_fixed      = ed_fixed || !*data.filling;
+        // heartbeat ends that step at the closure); a refilling before the
+        // ejection moves ED on.
+        if (ed_stage == EdStage::held)
+          ed_stage = ejected         ? EdStage::fixed
+                     : *data.filling ? EdStage::moving
+                                     : EdStage::held;
+        new_reference = new_reference || ed_stage == EdStage::moving;
+        if (ed_stage == EdStage::moving && !*data.filling)
+          ed_stage = EdStage::held;
       }
     else if (!new_reference && std::isfinite(volume))
       {
-        ed_fixed      = ed_fixed || volume < (1 - fall_tolerance) * ed_volume;
-        new_reference = !ed_fixed && volume > (1 + rise_tolerance) * ed_volume;
+        if (ejected)
+          ed_stage = EdStage::fixed;
+        new_reference = ed_stage != EdStage::fixed &&
+                        volume > (1 + rise_tolerance) * ed_volume;
       }
     if (new_reference)
       take_reference(data, shape);
@@ -254,7 +264,9 @@ namespace systole::Postprocess
                                   static_cast<double>(beat),
                                   ed_volume,
                                   ed_time,
-                                  ed_fixed ? 1.0 : 0.0};
+                                  ed_stage == EdStage::fixed  ? 1.0
+                                  : ed_stage == EdStage::held ? 0.5
+                                                              : 0.0};
     for (unsigned int d = 0; d < 3; ++d)
       values.push_back(ed_shape.apex[d]);
     for (unsigned int d = 0; d < 3; ++d)
@@ -298,12 +310,15 @@ namespace systole::Postprocess
                       12 * static_cast<std::size_t>(values[n_scalars]),
                 dealii::ExcMessage("ClinicalKinematics: the saved state has "
                                    "the wrong size."));
-    auto v        = values.begin();
-    has_reference = *v++ != 0.0;
-    beat          = static_cast<unsigned int>(*v++);
-    ed_volume     = *v++;
-    ed_time       = *v++;
-    ed_fixed      = *v++ != 0.0;
+    auto v             = values.begin();
+    has_reference      = *v++ != 0.0;
+    beat               = static_cast<unsigned int>(*v++);
+    ed_volume          = *v++;
+    ed_time            = *v++;
+    const double stage = *v++;
+    ed_stage           = stage == 1.0   ? EdStage::fixed
+                         : stage == 0.5 ? EdStage::held
+                                        : EdStage::moving;
     for (unsigned int d = 0; d < 3; ++d)
       ed_shape.apex[d] = *v++;
     for (unsigned int d = 0; d < 3; ++d)

@@ -55,8 +55,11 @@ namespace systole::Postprocess
   /// End-diastole: the closure of the mitral valve. Where the circulation
   /// says whether the ventricle fills (StepData::filling, the heartbeat):
   /// the first step of each beat, every filling step after it, and the step
-  /// that ends the filling; then it stays until the next beat. (The volume
-  /// creeps on in the isovolumic phases with the leaks of the closed
+  /// that ends the filling; if the valve reopens before the ejection (the
+  /// base springs of `end-diastole` released at the closure), the filling
+  /// moves ED on to its last closure; once the volume has fallen more than
+  /// fall_tolerance below the ED volume, ED stays until the next beat. (The
+  /// volume creeps on in the isovolumic phases with the leaks of the closed
   /// valves.) Without that: the first step of each beat, then every step
   /// whose cavity volume exceeds the ED volume by more than rise_tolerance
   /// of it, until the volume has once fallen below the ED volume by more
@@ -114,11 +117,20 @@ namespace systole::Postprocess
     void
     reset_peaks();
 
-    bool           has_reference = false;
-    unsigned int   beat          = 0;
-    double         ed_volume     = 0;
-    double         ed_time       = 0; ///< [ms in the beat]
-    bool           ed_fixed      = false;
+    bool         has_reference = false;
+    unsigned int beat          = 0;
+    double       ed_volume     = 0;
+    double       ed_time       = 0; ///< [ms in the beat]
+    /// Where ED stands: moves with every step that takes it, held at a
+    /// closure (it moves again if the ventricle refills before ejecting),
+    /// fixed for the rest of the beat. Saved as 0, 0.5 and 1.
+    enum class EdStage
+    {
+      moving,
+      held,
+      fixed
+    };
+    EdStage        ed_stage = EdStage::moving;
     VentricleShape ed_shape;
     /// Per point [cell][q]: F_ED^-1 e_k for the ED frame e_c, e_l, e_r, so
     /// that the stretch along e_k is |F F_ED^-1 e_k|.

@@ -442,6 +442,50 @@ TEST_CASE("Clinical kinematics: end-diastole is the largest volume before "
     CHECK(column_value(summary, "end_diastolic_time") == 20);
   }
 
+  SECTION("with the circulation's phases: a valve that reopens before the "
+          "ejection moves ED to its last closure")
+  {
+    struct Phased
+    {
+      double time, volume, stretch;
+      bool   filling;
+    };
+    const std::vector<Phased> phased = {
+      {0, 100, 1.00, true},    // the first step: ED
+      {10, 110, 1.02, false},  // closes the mitral valve: ED
+      {15, 110, 1.021, false}, // held
+      {20, 112, 1.03, true},   // reopens: ED again
+      {25, 113, 1.04, false},  // closes again: ED
+      {30, 113, 1.05, false},  // held
+      {40, 90, 0.95, false},   // ejection: fixed
+      {50, 120, 1.06, true},   // filling after the ejection: the same ED
+      {60, 121, 1.07, false}}; // and its closure: the same ED
+    const std::vector<double> ed_phased =
+      {1.00, 1.02, 1.02, 1.03, 1.04, 1.04, 1.04, 1.04, 1.04};
+    ClinicalKinematics phases;
+    for (unsigned int i = 0; i < phased.size(); ++i)
+      {
+        s.data(phased[i].stretch * identity, phased[i].volume, phased[i].time);
+        s.step.filling = phased[i].filling;
+        row            = run(phases, s.step);
+        INFO("step " << i);
+        CHECK(std::abs(column_value(row, "global_longitudinal_strain") -
+                       (phased[i].stretch / ed_phased[i] - 1)) < 1e-14);
+        if (i == 2)
+          {
+            // A checkpoint while ED is held keeps it held (the fifth number
+            // of the state: 0 moving, 0.5 held, 1 fixed).
+            ClinicalKinematics resumed;
+            resumed.set_state(phases.state());
+            CHECK(phases.state()[4] == 0.5);
+            CHECK(resumed.state()[4] == 0.5);
+          }
+      }
+    summary.clear();
+    phases.end_beat(s.step, nullptr, summary);
+    CHECK(column_value(summary, "end_diastolic_time") == 25);
+  }
+
   SECTION("without a cavity, the first step of each beat")
   {
     ClinicalKinematics other;
