@@ -112,7 +112,8 @@ namespace systole::Mechanics
   }
 
   double
-  Problem::deformed_area(const std::string &part) const
+  Problem::deformed_area(const std::string       &part,
+                         const std::vector<bool> *cells) const
   {
     const Impl                       &m  = *impl;
     const dealii::types::boundary_id  id = m.boundaries.boundary_names.id(part);
@@ -123,6 +124,8 @@ namespace systole::Mechanics
         dealii::update_JxW_values,
       [&](const dealii::types::boundary_id b) { return b == id; },
       [&](const auto &, const auto &fe_face) {
+        if (cells && !(*cells)[fe_face.get_cell()->active_cell_index()])
+          return;
         grad_u.resize(fe_face.n_quadrature_points);
         fe_face[m.discretization.layout.displacement]
           .get_function_gradients(m.u, grad_u);

@@ -543,9 +543,11 @@ namespace systole::Mechanics
 
     /// Area of boundary part @p part [mm^2] in the current (deformed)
     /// configuration, int |cof(F) N| dA over the reference faces
-    /// (collective). Throws if the mesh has no such part.
+    /// (collective); with @p cells (per active cell index) only the faces
+    /// of the cells it marks. Throws if the mesh has no such part.
     double
-    deformed_area(const std::string &part) const;
+    deformed_area(const std::string       &part,
+                  const std::vector<bool> *cells = nullptr) const;
 
     /// Gauss points per direction of the cells (quadrature_points() uses
     /// QGauss<3> of this order).

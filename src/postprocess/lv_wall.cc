@@ -34,7 +34,8 @@ namespace systole::Postprocess
 
     const dealii::Triangulation<3, 3>                   &tria;
     bool                                                 two_ventricles = false;
-    std::string                                          endo, epi;
+    std::string                                          endo;
+    std::vector<std::string>                             outer;
     std::optional<Fibres::WallCoordinates>               left;
     std::unique_ptr<Fibres::LaplaceFields>               fields;
     std::vector<bool>                                    in_wall;
@@ -79,8 +80,10 @@ namespace systole::Postprocess
                       " has no boundary part named '" + part + "'."));
         Geometry::require_boundary(tria, names, part);
       }
-    m.endo = parts[0];
-    m.epi  = m.two_ventricles ? "" : "epicardium";
+    m.endo  = parts[0];
+    m.outer = m.two_ventricles
+                ? std::vector<std::string>{"epicardium", "rv_endocardium"}
+                : std::vector<std::string>{"epicardium"};
     if (!m.two_ventricles)
       {
         if (frames)
@@ -177,10 +180,10 @@ namespace systole::Postprocess
     return impl->endo;
   }
 
-  const std::string &
-  LvWall::epicardium() const
+  const std::vector<std::string> &
+  LvWall::outer_surface() const
   {
-    return impl->epi;
+    return impl->outer;
   }
 
   bool

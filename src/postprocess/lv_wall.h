@@ -66,10 +66,11 @@ namespace systole::Postprocess
     const std::string &
     endocardium() const;
 
-    /// The LV's own epicardium ("epicardium"), or "" for two ventricles,
-    /// whose LV wall is bounded by the epicardium and the septum's RV side.
-    const std::string &
-    epicardium() const;
+    /// The boundary parts whose faces of the LV wall's cells bound it from
+    /// outside: "epicardium", and for two ventricles also "rv_endocardium"
+    /// (the septum's RV side).
+    const std::vector<std::string> &
+    outer_surface() const;
 
     /// Whether the locally owned or ghost cell @p cell is in the LV wall.
     bool

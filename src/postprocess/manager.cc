@@ -256,10 +256,11 @@ namespace systole::Postprocess
       if (needs.areas)
         {
           data.endocardial_area = problem.deformed_area(lv_wall->endocardium());
-          data.epicardial_area =
-            lv_wall->epicardium().empty()
-              ? 0.0
-              : problem.deformed_area(lv_wall->epicardium());
+          const std::vector<bool> *cells =
+            lv_wall->biventricular() ? &lv_wall->cells() : nullptr;
+          data.epicardial_area = 0;
+          for (const std::string &part : lv_wall->outer_surface())
+            data.epicardial_area += problem.deformed_area(part, cells);
         }
     }
 

@@ -53,9 +53,9 @@ namespace systole::Postprocess
     const std::vector<bool> *wall_cells = nullptr;
     /// Deformed area of the LV endocardium [mm^2].
     double endocardial_area = 0;
-    /// Deformed area of the LV's epicardium [mm^2]; 0 where the LV wall has
-    /// none of its own (two ventricles: the epicardium and the septum's RV
-    /// side bound it).
+    /// Deformed area of the LV wall's outer surface [mm^2]: the epicardium,
+    /// for two ventricles that of the LV wall's cells and the septum's RV
+    /// side (LvWall::outer_surface()).
     double   epicardial_area = 0;
     MPI_Comm comm            = MPI_COMM_WORLD;
 

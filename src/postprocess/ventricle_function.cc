@@ -105,9 +105,7 @@ namespace systole::Postprocess
     shape.apical_rotation = totals[8] / totals[9];
     shape.basal_rotation  = totals[10] / totals[11];
     shape.thickness =
-      data.epicardial_area > 0
-        ? 2 * volume / (data.endocardial_area + data.epicardial_area)
-        : volume / data.endocardial_area;
+      2 * volume / (data.endocardial_area + data.epicardial_area);
     return shape;
   }
 

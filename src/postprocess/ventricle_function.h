@@ -21,8 +21,8 @@ namespace systole::Postprocess
     double apical_rotation = 0, basal_rotation = 0;
     /// The mean wall thickness T = 2 V_wall / (A_endo + A_epi) [mm]: the
     /// deformed wall volume over the mean of the deformed endocardial and
-    /// epicardial areas; T = V_wall / A_endo for two ventricles (the LV
-    /// wall has no epicardium of its own: StepData::epicardial_area = 0).
+    /// outer areas (for two ventricles the LV wall's: its cells, bounded by
+    /// the LV endocardium, the epicardium and the septum's RV side).
     double thickness = 0;
   };
 

@@ -87,7 +87,8 @@ TEST_CASE("The LV wall of two ventricles: the LV free wall and the septum, "
   const auto &wall = s.manager->wall();
   REQUIRE(wall.biventricular());
   CHECK(wall.endocardium() == "lv_endocardium");
-  CHECK(wall.epicardium().empty());
+  CHECK(wall.outer_surface() ==
+        std::vector<std::string>{"epicardium", "rv_endocardium"});
   const auto lv_endo = s.boundary_names.id("lv_endocardium"),
              rv_endo = s.boundary_names.id("rv_endocardium"),
              epi     = s.boundary_names.id("epicardium");
@@ -399,4 +400,48 @@ TEST_CASE("Two ventricles with the RV outside the septal segments: the error "
   INFO(message);
   CHECK(message.find("outside the septal segments") != std::string::npos);
   CHECK(message.find("set it to 0.000, 1.000,") != std::string::npos);
+}
+
+TEST_CASE("Two ventricles: the LV wall's outer surface is its cells' faces on "
+          "the epicardium and the septum's RV side, and its mean thickness "
+          "is the shape's 5 mm",
+          "[postprocess][biv]")
+{
+  Setup       s({"ventricle function"}, Setup::random_basis(), biv_mesh);
+  const auto &wall  = s.manager->wall();
+  const auto &cells = wall.cells();
+  REQUIRE(wall.outer_surface() ==
+          std::vector<std::string>{"epicardium", "rv_endocardium"});
+  std::vector<bool> others(cells.size());
+  for (unsigned int i = 0; i < cells.size(); ++i)
+    others[i] = !cells[i];
+  // Each part's area splits into the LV wall's faces and the others'.
+  for (const std::string part :
+       {"epicardium", "rv_endocardium", "lv_endocardium"})
+    {
+      INFO(part);
+      const double whole = s.problem->deformed_area(part);
+      CHECK(std::abs(s.problem->deformed_area(part, &cells) +
+                     s.problem->deformed_area(part, &others) - whole) <
+            1e-12 * whole);
+    }
+  // The septum's RV side is in the LV wall, the RV free wall's inside not.
+  const double rv_wall_side =
+    s.problem->deformed_area("rv_endocardium", &cells);
+  CHECK(rv_wall_side > 0.2 * s.problem->deformed_area("rv_endocardium"));
+  CHECK(rv_wall_side < 0.8 * s.problem->deformed_area("rv_endocardium"));
+  // The mean thickness 2 V / (A_endo + A_outer) of the undeformed LV wall
+  // against the shape's (scripts/make_biv_hex_mesh.py: LV wall 5 mm, the
+  // septum included: 4.94 mm); V / A_endo alone gives 5.78 mm.
+  double volume = 0;
+  for (const auto &cell : s.problem->triangulation().active_cell_iterators())
+    if (cell->is_locally_owned() && cells[cell->active_cell_index()])
+      volume += cell->measure();
+  const double endo = s.problem->deformed_area("lv_endocardium", &cells);
+  const double outer =
+    s.problem->deformed_area("epicardium", &cells) + rv_wall_side;
+  const double thickness = 2 * volume / (endo + outer);
+  INFO("thickness " << thickness << " mm, V / A_endo " << volume / endo);
+  CHECK(std::abs(thickness - 5.0) < 0.25);
+  CHECK(volume / endo > 5.5);
 }
