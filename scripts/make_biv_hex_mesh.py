@@ -59,6 +59,15 @@ RV_EPI = grown(RV_ENDO, RV_WALL)
 LV_EPI = grown(LV_ENDO, LV_WALL)
 
 
+def set_shape(base_z, lv_wall):
+    """Another cut and LV wall of the shape (--base-z, --lv-wall): rebinds this module's base
+    plane, LV wall thickness and LV epicardium, which every function here reads."""
+    global BASE_Z, LV_WALL, LV_EPI
+    BASE_Z, LV_WALL = base_z, lv_wall
+    LV_EPI = grown(LV_ENDO, LV_WALL)
+    SURFACES["lv_epi"] = LV_EPI
+
+
 def level(ellipsoid, x):
     c, r = np.asarray(ellipsoid[0]), np.asarray(ellipsoid[1])
     return np.sum(((x - c) / r) ** 2, axis=-1) - 1.0
@@ -524,10 +533,20 @@ def main():
                         "below this")
     parser.add_argument("--no-improve", action="store_true",
                         help="skip the node optimisation (the constructed positions)")
+    parser.add_argument("--base-z", type=float, default=BASE_Z,
+                        help="height of the base plane [mm] (the LV cavity ellipsoid is centred "
+                        "at z = 0 with its apex at z = -32.5; default: the cardiac-geometries "
+                        "shape's 25, where the LV narrows to 64 %% of its width)")
+    parser.add_argument("--lv-wall", type=float, default=LV_WALL,
+                        help="thickness of the LV wall [mm] (default 5)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args()
     if args.cells % 2:
         parser.error("--cells must be even")
+    if not (-LV_ENDO[1][2] < args.base_z < LV_ENDO[1][2]) or args.lv_wall <= 0:
+        parser.error("--base-z must lie between the LV cavity's apex (-32.5) and its top (32.5) "
+                     "and --lv-wall must be > 0")
+    set_shape(args.base_z, args.lv_wall)
     rows = args.rows or round(0.8 * args.cells)
     nodes, cells, cavity = build(args.cells, rows, args.lv_layers, args.corner, args.cap)
     cells = orient(nodes, cells)

@@ -20,10 +20,10 @@ warnings.filterwarnings("ignore", category=integrate.IntegrationWarning)
 
 
 
-def lv_cavity_volume() -> float:
+def lv_cavity_volume(base_z=BASE_Z) -> float:
     """pi a b (z_b + c - (z_b^3 + c^3) / (3 c^2)): the ellipsoid below z = z_b [mm^3]."""
     (_, (a, b, c)) = LV_ENDO
-    z = BASE_Z
+    z = base_z
     return math.pi * a * b * (z + c - (z**3 + c**3) / (3 * c * c))
 
 
@@ -34,9 +34,11 @@ def _half_width(ellipsoid, y, z):
     return (radii[0] * math.sqrt(s) if s > 0 else 0.0), centre[0]
 
 
-def rv_cavity_volume(tolerance=1e-8) -> float:
-    """The RV cavity: inside the RV cavity ellipsoid, outside the LV wall ellipsoid, z < z_b."""
-    lv_wall = grown(LV_ENDO, LV_WALL)
+def rv_cavity_volume(tolerance=1e-8, base_z=BASE_Z, lv_thickness=LV_WALL) -> float:
+    """The RV cavity: inside the RV cavity ellipsoid, outside the LV wall ellipsoid, z < z_b
+    (the base plane @p base_z and the LV wall's thickness @p lv_thickness in mm, as the mesh
+    generator's --base-z and --lv-wall)."""
+    lv_wall = grown(LV_ENDO, lv_thickness)
     (centre, radii) = RV_ENDO
 
     def length(y, z):
@@ -51,16 +53,16 @@ def rv_cavity_volume(tolerance=1e-8) -> float:
             return 0.0
         y_max = radii[1] * math.sqrt(s)
         # The LV wall's edge in y at this z: a kink of the integrand.
-        lv = grown(LV_ENDO, LV_WALL)[1]
+        lv = lv_wall[1]
         s_lv = 1.0 - (z / lv[2]) ** 2
         points = [lv[1] * math.sqrt(s_lv)] if s_lv > 0 else None
         return integrate.quad(lambda y: length(y, z), -y_max, y_max, points=points and
                               [-points[0], points[0]], epsabs=0, epsrel=tolerance, limit=200)[0]
 
     z_min = centre[2] - radii[2]
-    lv_apex = -grown(LV_ENDO, LV_WALL)[1][2]
-    breaks = [lv_apex] if z_min < lv_apex < BASE_Z else None
-    return integrate.quad(slice_area, z_min, BASE_Z, points=breaks, epsabs=0, epsrel=tolerance,
+    lv_apex = -lv_wall[1][2]
+    breaks = [lv_apex] if z_min < lv_apex < base_z else None
+    return integrate.quad(slice_area, z_min, base_z, points=breaks, epsabs=0, epsrel=tolerance,
                           limit=200)[0]
 
 
