@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,6 +65,23 @@ namespace systole
       std::function<void(dealii::ParameterHandler &)> declare;
       std::function<Signature>                        create;
     };
+
+    /// The entry of a class @p T built from its own parameters: @p name,
+    /// @p description, T::Parameters::declare, and a builder that makes a T
+    /// of T::Parameters::parse(prm) (a builder's further arguments, as the
+    /// period of a tension model, are not used). For the extension points
+    /// whose builders return a std::unique_ptr to a base of T.
+    template <class T>
+    static Entry
+    entry_of(std::string name, std::string description)
+    {
+      return {std::move(name),
+              std::move(description),
+              &T::Parameters::declare,
+              [](const dealii::ParameterHandler &prm, const auto &...) {
+                return std::make_unique<T>(T::Parameters::parse(prm));
+              }};
+    }
 
     /// @param[in] what the parameter that chooses an entry, as errors name
     ///            it ("Material / Passive law")

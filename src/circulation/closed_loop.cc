@@ -18,12 +18,32 @@ namespace systole::Circulation
     constexpr double       one_millisecond = 1.0; ///< [ms], see StateInfo
     constexpr unsigned int n_chambers      = 4;
 
-    /// The compartments in state order, with their subsection names.
-    const std::array<const char *, 4> compartment_names = {
-      {"Systemic arteries",
-       "Systemic veins",
-       "Pulmonary arteries",
-       "Pulmonary veins"}};
+    /// A compartment's subsection and what lies downstream of it (help).
+    struct CompartmentName
+    {
+      const char *subsection;
+      const char *downstream;
+    };
+
+    /// The compartments in state order.
+    const std::array<CompartmentName, 4> compartment_names = {
+      {{"Systemic arteries", "VEN,SYS"},
+       {"Systemic veins", "RA"},
+       {"Pulmonary arteries", "VEN,PUL"},
+       {"Pulmonary veins", "LA"}}};
+
+    /// The compartments of @p p (ClosedLoop::Parameters, const or not), in
+    /// the order of compartment_names and of their pressure and flow states.
+    template <class P>
+    auto
+    compartments(P &p)
+    {
+      return std::array<decltype(&p.systemic_arteries), 4>{
+        {&p.systemic_arteries,
+         &p.systemic_veins,
+         &p.pulmonary_arteries,
+         &p.pulmonary_veins}};
+    }
 
     void
     declare_compartment(dealii::ParameterHandler      &prm,
@@ -161,16 +181,11 @@ namespace systole::Circulation
     prm.enter_subsection("Right atrium");
     ChamberElastance::Parameters::declare(prm, d.right_atrium, "right atrium");
     prm.leave_subsection();
-    declare_compartment(prm,
-                        d.systemic_arteries,
-                        compartment_names[0],
-                        "VEN,SYS");
-    declare_compartment(prm, d.systemic_veins, compartment_names[1], "RA");
-    declare_compartment(prm,
-                        d.pulmonary_arteries,
-                        compartment_names[2],
-                        "VEN,PUL");
-    declare_compartment(prm, d.pulmonary_veins, compartment_names[3], "LA");
+    for (unsigned int i = 0; i < compartment_names.size(); ++i)
+      declare_compartment(prm,
+                          *compartments(d)[i],
+                          compartment_names[i].subsection,
+                          compartment_names[i].downstream);
   }
 
   ClosedLoop::Parameters
@@ -182,21 +197,20 @@ namespace systole::Circulation
   {
     const std::vector<std::string> path = {"Circulation", "Closed loop"};
     Parameters                     p;
-    p.period                = period;
-    p.left_ventricle        = left_ventricle;
-    p.right_ventricle       = right_ventricle;
-    p.left_atrium           = ChamberElastance::Parameters::parse(prm,
+    p.period          = period;
+    p.left_ventricle  = left_ventricle;
+    p.right_ventricle = right_ventricle;
+    p.left_atrium     = ChamberElastance::Parameters::parse(prm,
                                                         {"Circulation",
-                                                                   "Closed loop",
-                                                                   "Left atrium"});
-    p.right_atrium          = ChamberElastance::Parameters::parse(prm,
+                                                             "Closed loop",
+                                                             "Left atrium"});
+    p.right_atrium    = ChamberElastance::Parameters::parse(prm,
                                                          {"Circulation",
-                                                                   "Closed loop",
-                                                                   "Right atrium"});
-    p.systemic_arteries     = parse_compartment(prm, compartment_names[0]);
-    p.systemic_veins        = parse_compartment(prm, compartment_names[1]);
-    p.pulmonary_arteries    = parse_compartment(prm, compartment_names[2]);
-    p.pulmonary_veins       = parse_compartment(prm, compartment_names[3]);
+                                                             "Closed loop",
+                                                             "Right atrium"});
+    for (unsigned int i = 0; i < compartment_names.size(); ++i)
+      *compartments(p)[i] =
+        parse_compartment(prm, compartment_names[i].subsection);
     p.valve.open_resistance = resistance_from_mmHg_s_per_mL(
       prm.get_double(path, "Open valve resistance"));
     p.valve.closed_resistance = resistance_from_mmHg_s_per_mL(
@@ -216,10 +230,9 @@ namespace systole::Circulation
     right_atrium.validate(closed_loop_path + " / Right atrium", period);
     left_ventricle.validate("Circulation / Left ventricle", period);
     right_ventricle.validate("Circulation / Right ventricle", period);
-    validate_compartment(systemic_arteries, compartment_names[0]);
-    validate_compartment(systemic_veins, compartment_names[1]);
-    validate_compartment(pulmonary_arteries, compartment_names[2]);
-    validate_compartment(pulmonary_veins, compartment_names[3]);
+    for (unsigned int i = 0; i < compartment_names.size(); ++i)
+      validate_compartment(*compartments(*this)[i],
+                           compartment_names[i].subsection);
     AssertThrow(valve.open_resistance > 0,
                 dealii::ExcMessage(
                   closed_loop_path + " / Open valve resistance = " +
@@ -299,18 +312,34 @@ namespace systole::Circulation
   ClosedLoop::initial_state(dealii::Vector<double> &y) const
   {
     y.reinit(n_state_components);
-    y[la_volume]                   = params.left_atrium.initial_volume;
-    y[lv_volume]                   = params.left_ventricle.initial_volume;
-    y[ra_volume]                   = params.right_atrium.initial_volume;
-    y[rv_volume]                   = params.right_ventricle.initial_volume;
-    y[systemic_arterial_pressure]  = params.systemic_arteries.initial_pressure;
-    y[systemic_venous_pressure]    = params.systemic_veins.initial_pressure;
-    y[pulmonary_arterial_pressure] = params.pulmonary_arteries.initial_pressure;
-    y[pulmonary_venous_pressure]   = params.pulmonary_veins.initial_pressure;
-    y[systemic_arterial_flow]      = params.systemic_arteries.initial_flow;
-    y[systemic_venous_flow]        = params.systemic_veins.initial_flow;
-    y[pulmonary_arterial_flow]     = params.pulmonary_arteries.initial_flow;
-    y[pulmonary_venous_flow]       = params.pulmonary_veins.initial_flow;
+    y[la_volume] = params.left_atrium.initial_volume;
+    y[lv_volume] = params.left_ventricle.initial_volume;
+    y[ra_volume] = params.right_atrium.initial_volume;
+    y[rv_volume] = params.right_ventricle.initial_volume;
+    static_assert(pulmonary_venous_pressure == systemic_arterial_pressure + 3 &&
+                    pulmonary_venous_flow == systemic_arterial_flow + 3,
+                  "the compartments' states in the order of compartments()");
+    for (unsigned int i = 0; i < compartment_names.size(); ++i)
+      {
+        const Compartment &c              = *compartments(params)[i];
+        y[systemic_arterial_pressure + i] = c.initial_pressure;
+        y[systemic_arterial_flow + i]     = c.initial_flow;
+      }
+  }
+
+  std::array<ClosedLoop::Chamber, 4>
+  ClosedLoop::chambers() const
+  {
+    static_assert(la_volume == 0 && lv_volume == 1 && ra_volume == 2 &&
+                    rv_volume == 3,
+                  "the chambers' volume states in the order of chambers()");
+    return {
+      {{&left_atrium, false, 0},
+       {&left_ventricle, params.left_ventricle_kind == CavityKind::external, 0},
+       {&right_atrium, false, 1},
+       {&right_ventricle,
+        params.right_ventricle_kind == CavityKind::external,
+        1}}};
   }
 
   std::array<double, 4>
@@ -320,14 +349,12 @@ namespace systole::Circulation
     Assert(y.size() == n_state_components,
            dealii::ExcDimensionMismatch(y.size(), n_state_components));
     Assert(p_ext.size() == 2, dealii::ExcDimensionMismatch(p_ext.size(), 2));
-    return {{left_atrium.pressure(t, y[la_volume]),
-             params.left_ventricle_kind == CavityKind::external
-               ? p_ext[0]
-               : left_ventricle.pressure(t, y[lv_volume]),
-             right_atrium.pressure(t, y[ra_volume]),
-             params.right_ventricle_kind == CavityKind::external
-               ? p_ext[1]
-               : right_ventricle.pressure(t, y[rv_volume])}};
+    const auto            c = chambers();
+    std::array<double, 4> p;
+    for (unsigned int i = 0; i < n_chambers; ++i)
+      p[i] =
+        c[i].external ? p_ext[c[i].cavity] : c[i].elastance->pressure(t, y[i]);
+    return p;
   }
 
   void
@@ -351,41 +378,30 @@ namespace systole::Circulation
     const double q_tv = v.flow(p_ra - p_rv);
     const double q_pv = v.flow(p_rv - y[pulmonary_arterial_pressure]);
 
-    const auto &as = params.systemic_arteries, &vs = params.systemic_veins,
-               &ap = params.pulmonary_arteries, &vp = params.pulmonary_veins;
     const double q_as = y[systemic_arterial_flow];
     const double q_vs = y[systemic_venous_flow];
     const double q_ap = y[pulmonary_arterial_flow];
     const double q_vp = y[pulmonary_venous_flow];
 
     f.reinit(n_state_components);
-    f[la_volume]                   = q_vp - q_mv;
-    f[lv_volume]                   = q_mv - q_av;
-    f[ra_volume]                   = q_vs - q_tv;
-    f[rv_volume]                   = q_tv - q_pv;
-    f[systemic_arterial_pressure]  = (q_av - q_as) / as.compliance;
-    f[systemic_venous_pressure]    = (q_as - q_vs) / vs.compliance;
-    f[pulmonary_arterial_pressure] = (q_pv - q_ap) / ap.compliance;
-    f[pulmonary_venous_pressure]   = (q_ap - q_vp) / vp.compliance;
-    // L dQ/dt = -R Q - (p_down - p)
-    const auto inductor = [](const ClosedLoop::Compartment &c,
-                             const double                   q,
-                             const double                   p,
-                             const double                   p_down) {
-      return (-c.resistance * q - (p_down - p)) / c.inductance;
-    };
-    f[systemic_arterial_flow] = inductor(as,
-                                         q_as,
-                                         y[systemic_arterial_pressure],
-                                         y[systemic_venous_pressure]);
-    f[systemic_venous_flow] =
-      inductor(vs, q_vs, y[systemic_venous_pressure], p_ra);
-    f[pulmonary_arterial_flow] = inductor(ap,
-                                          q_ap,
-                                          y[pulmonary_arterial_pressure],
-                                          y[pulmonary_venous_pressure]);
-    f[pulmonary_venous_flow] =
-      inductor(vp, q_vp, y[pulmonary_venous_pressure], p_la);
+    f[la_volume] = q_vp - q_mv;
+    f[lv_volume] = q_mv - q_av;
+    f[ra_volume] = q_vs - q_tv;
+    f[rv_volume] = q_tv - q_pv;
+    // Each compartment (in the order of compartments()): C dp/dt = Q_in - Q,
+    // L dQ/dt = -R Q - (p_down - p).
+    const std::array<double, 4> q_in   = {{q_av, q_as, q_pv, q_ap}};
+    const std::array<double, 4> p_down = {
+      {y[systemic_venous_pressure], p_ra, y[pulmonary_venous_pressure], p_la}};
+    for (unsigned int i = 0; i < q_in.size(); ++i)
+      {
+        const Compartment &c              = *compartments(params)[i];
+        const double       q              = y[systemic_arterial_flow + i];
+        const double       p              = y[systemic_arterial_pressure + i];
+        f[systemic_arterial_pressure + i] = (q_in[i] - q) / c.compliance;
+        f[systemic_arterial_flow + i] =
+          (-c.resistance * q - (p_down[i] - p)) / c.inductance;
+      }
   }
 
   void
@@ -399,26 +415,13 @@ namespace systole::Circulation
     const auto [p_la, p_lv, p_ra, p_rv] = chamber_pressures(a);
 
     // The pressures as linear forms in (y, p_ext).
-    const auto chamber = [&](const unsigned int      state,
-                             const ChamberElastance &elastance,
-                             const bool              external,
-                             const unsigned int      cavity) -> Form {
-      if (external)
-        return {{n + cavity, 1.0}};
-      return {{state, elastance.elastance(t)}};
-    };
-    const Form d_la = chamber(la_volume, left_atrium, false, 0);
-    const Form d_lv =
-      chamber(lv_volume,
-              left_ventricle,
-              params.left_ventricle_kind == CavityKind::external,
-              0);
-    const Form d_ra = chamber(ra_volume, right_atrium, false, 0);
-    const Form d_rv =
-      chamber(rv_volume,
-              right_ventricle,
-              params.right_ventricle_kind == CavityKind::external,
-              1);
+    const auto          c = chambers();
+    std::array<Form, 4> d_chamber;
+    for (unsigned int i = 0; i < n_chambers; ++i)
+      d_chamber[i] = c[i].external ? Form{{n + c[i].cavity, 1.0}}
+                                   : Form{{i, c[i].elastance->elastance(t)}};
+    const Form &d_la = d_chamber[la_volume], &d_lv = d_chamber[lv_volume],
+               &d_ra = d_chamber[ra_volume], &d_rv = d_chamber[rv_volume];
     const Form d_as = {{systemic_arterial_pressure, 1.0}};
     const Form d_vs = {{systemic_venous_pressure, 1.0}};
     const Form d_ap = {{pulmonary_arterial_pressure, 1.0}};
@@ -442,36 +445,29 @@ namespace systole::Circulation
     const Form d_qap = {{pulmonary_arterial_flow, 1.0}};
     const Form d_qvp = {{pulmonary_venous_flow, 1.0}};
 
-    const auto &as = params.systemic_arteries, &vs = params.systemic_veins,
-               &ap = params.pulmonary_arteries, &vp = params.pulmonary_veins;
     // Row i of f as a linear form.
     std::array<Form, n_state_components> rows;
     rows[la_volume] = combine(1, d_qvp, -1, d_mv);
     rows[lv_volume] = combine(1, d_mv, -1, d_av);
     rows[ra_volume] = combine(1, d_qvs, -1, d_tv);
     rows[rv_volume] = combine(1, d_tv, -1, d_pv);
-    rows[systemic_arterial_pressure] =
-      combine(1 / as.compliance, d_av, -1 / as.compliance, d_qas);
-    rows[systemic_venous_pressure] =
-      combine(1 / vs.compliance, d_qas, -1 / vs.compliance, d_qvs);
-    rows[pulmonary_arterial_pressure] =
-      combine(1 / ap.compliance, d_pv, -1 / ap.compliance, d_qap);
-    rows[pulmonary_venous_pressure] =
-      combine(1 / vp.compliance, d_qap, -1 / vp.compliance, d_qvp);
-    // L dQ/dt = -R Q - p_down + p
-    const auto inductor = [](const ClosedLoop::Compartment &c,
-                             const Form                    &d_q,
-                             const Form                    &d_p,
-                             const Form                    &d_down) {
-      return combine(1.0 / c.inductance,
-                     combine(-c.resistance, d_q, 1.0, d_p),
-                     -1.0 / c.inductance,
-                     d_down);
-    };
-    rows[systemic_arterial_flow]  = inductor(as, d_qas, d_as, d_vs);
-    rows[systemic_venous_flow]    = inductor(vs, d_qvs, d_vs, d_ra);
-    rows[pulmonary_arterial_flow] = inductor(ap, d_qap, d_ap, d_vp);
-    rows[pulmonary_venous_flow]   = inductor(vp, d_qvp, d_vp, d_la);
+    // The compartments as in rhs(): C dp/dt = Q_in - Q, L dQ/dt = -R Q -
+    // p_down + p.
+    const std::array<const Form *, 4> d_in   = {{&d_av, &d_qas, &d_pv, &d_qap}};
+    const std::array<const Form *, 4> d_down = {{&d_vs, &d_ra, &d_vp, &d_la}};
+    const std::array<const Form *, 4> d_p    = {{&d_as, &d_vs, &d_ap, &d_vp}};
+    const std::array<const Form *, 4> d_q = {{&d_qas, &d_qvs, &d_qap, &d_qvp}};
+    for (unsigned int i = 0; i < d_in.size(); ++i)
+      {
+        const Compartment &c = *compartments(params)[i];
+        rows[systemic_arterial_pressure + i] =
+          combine(1 / c.compliance, *d_in[i], -1 / c.compliance, *d_q[i]);
+        rows[systemic_arterial_flow + i] =
+          combine(1.0 / c.inductance,
+                  combine(-c.resistance, *d_q[i], 1.0, *d_p[i]),
+                  -1.0 / c.inductance,
+                  *d_down[i]);
+      }
 
     df_dy.reinit(n, n);
     df_dp.reinit(n, 2);

@@ -185,6 +185,20 @@ namespace systole::Circulation
     }
 
   private:
+    /// A chamber: its elastance, or, if external, the cavity whose pressure
+    /// (an entry of p_ext) it takes.
+    struct Chamber
+    {
+      const ChamberElastance *elastance;
+      bool                    external;
+      unsigned int            cavity;
+    };
+
+    /// The four chambers in the order of their volume states (LA, LV, RA,
+    /// RV).
+    std::array<Chamber, 4>
+    chambers() const;
+
     /// The four chamber pressures (LA, LV, RA, RV) [kPa].
     std::array<double, 4>
     chamber_pressures(const Arguments &a) const;

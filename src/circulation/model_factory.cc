@@ -78,13 +78,6 @@ namespace systole::Circulation
   }
 
 
-  std::vector<std::string>
-  model_names()
-  {
-    return models().names();
-  }
-
-
   void
   declare_model_parameters(dealii::ParameterHandler &prm)
   {

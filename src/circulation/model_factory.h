@@ -32,12 +32,14 @@ namespace systole::Circulation
     Registry<std::unique_ptr<Model>(const dealii::ParameterHandler &,
                                     const ModelInputs &)>;
 
-  /// The table of circulation models (model_factory.cc).
+  /// The table of circulation models (model_factory.cc), alphabetical:
+  /// "2-element Windkessel", "3-element Windkessel", "4-element Windkessel",
+  /// "closed loop".
   ModelRegistry &
   models();
 
   /// Declares, in subsection "Circulation":
-  /// - "Model": a Patterns::Selection of model_names(), default "closed
+  /// - "Model": a Patterns::Selection of the names of models(), default "closed
   ///   loop", whose help lists every model;
   /// - subsections "Left ventricle" and "Right ventricle": the 0D
   ///   elastance ventricles of the models (ChamberElastance rows);
@@ -58,9 +60,4 @@ namespace systole::Circulation
   std::unique_ptr<Model>
   create_model(const dealii::ParameterHandler &prm,
                const std::vector<std::string> &external = {});
-
-  /// Names of all models as shown to users: "2-element Windkessel",
-  /// "3-element Windkessel", "4-element Windkessel", "closed loop".
-  std::vector<std::string>
-  model_names();
 } // namespace systole::Circulation

@@ -330,10 +330,11 @@ namespace systole::Electrophysiology
     void
     free_memory();
 
+    /// ARKode's right-hand sides: f = f_E(t, y) (@p implicit false) and
+    /// f = f_I(t, y).
+    template <bool implicit>
     static int
-    explicit_rhs(realtype time, N_Vector y, N_Vector f, void *data);
-    static int
-    implicit_rhs(realtype time, N_Vector y, N_Vector f, void *data);
+    rhs(realtype time, N_Vector y, N_Vector f, void *data);
     static int
     solve(SUNLinearSolver solver, SUNMatrix, N_Vector x, N_Vector b, realtype);
     static int
@@ -424,8 +425,8 @@ namespace systole::Electrophysiology
     in_view.reinit(y);
     out_view.reinit(y);
     iterate_view.reinit(y);
-    memory = ARKStepCreate(callbacks.explicit_rhs ? &explicit_rhs : nullptr,
-                           has_implicit_part() ? &implicit_rhs : nullptr,
+    memory = ARKStepCreate(callbacks.explicit_rhs ? &rhs<false> : nullptr,
+                           has_implicit_part() ? &rhs<true> : nullptr,
                            t,
                            state,
                            context);
@@ -534,30 +535,22 @@ namespace systole::Electrophysiology
   }
 
 
+  template <bool implicit>
   int
-  ImexIntegrator::Impl::explicit_rhs(const realtype time,
-                                     N_Vector       y,
-                                     N_Vector       f,
-                                     void          *data)
+  ImexIntegrator::Impl::rhs(const realtype time,
+                            N_Vector       y,
+                            N_Vector       f,
+                            void          *data)
   {
     Impl &self = *static_cast<Impl *>(data);
     return self.guarded([&]() {
       const View in(self.in_view, y), out(self.out_view, f);
-      self.callbacks.explicit_rhs(time, self.in_view, self.out_view);
-      ++self.explicit_evaluations;
-    });
-  }
-
-
-  int
-  ImexIntegrator::Impl::implicit_rhs(const realtype time,
-                                     N_Vector       y,
-                                     N_Vector       f,
-                                     void          *data)
-  {
-    Impl &self = *static_cast<Impl *>(data);
-    return self.guarded([&]() {
-      const View in(self.in_view, y), out(self.out_view, f);
+      if (!implicit)
+        {
+          self.callbacks.explicit_rhs(time, self.in_view, self.out_view);
+          ++self.explicit_evaluations;
+          return;
+        }
       if (self.linear_implicit_part())
         self.callbacks.implicit_rhs(self.in_view, self.out_view);
       else

@@ -12,9 +12,6 @@ namespace systole::Electrophysiology
 {
   namespace
   {
-    using Transfer =
-      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>;
-
     template <class Archive>
     void
     serialize_statistics(Archive &archive, Statistics &stats)
@@ -58,17 +55,10 @@ namespace systole::Electrophysiology
                                                       : m.tracker.latest()[i];
         }
     }
-    m.checkpoint.vectors.resize(n);
-    std::vector<const LA::MPI::Vector *> in;
-    for (unsigned int c = 0; c < n; ++c)
-      {
-        // Assigning an owned vector fills the ghosts (deal.II 9.4, PETSc).
-        m.checkpoint.vectors[c].reinit(m.space.owned, m.space.relevant, m.comm);
-        m.checkpoint.vectors[c] = owned[c];
-        in.push_back(&m.checkpoint.vectors[c]);
-      }
-    m.checkpoint.transfer = std::make_unique<Transfer>(m.space.dof_handler);
-    m.checkpoint.transfer->prepare_for_serialization(in);
+    std::vector<const LA::MPI::Vector *> sources;
+    for (const auto &v : owned)
+      sources.push_back(&v);
+    m.checkpoint.attach(m.space.dof_handler, m.space.relevant, sources);
     archive &m.t &m.matrices.gamma_stage &m.matrices.gamma_amg;
     serialize_statistics(archive, m.stats);
     // Whether the gates' opening Rush-Larsen half step is still to come.
@@ -86,16 +76,9 @@ namespace systole::Electrophysiology
     serialize_statistics(archive, m.stats);
     archive &m.gate_half_step_pending;
 
-    const unsigned int             n = m.space.n_components + 2;
-    std::vector<LA::MPI::Vector>   out(n);
-    std::vector<LA::MPI::Vector *> pointers;
-    for (auto &v : out)
-      {
-        v.reinit(m.space.owned, m.comm);
-        pointers.push_back(&v);
-      }
-    Transfer transfer(m.space.dof_handler);
-    transfer.deserialize(pointers);
+    const unsigned int                 n = m.space.n_components + 2;
+    const std::vector<LA::MPI::Vector> out =
+      read_attached_vectors(m.space.dof_handler, m.space.owned, n);
     std::vector<double> first(m.space.n_owned), latest(m.space.n_owned);
     {
       const LocalWrite y(m.state);
@@ -138,7 +121,6 @@ namespace systole::Electrophysiology
   void
   Monodomain::finish_checkpoint()
   {
-    impl->checkpoint.transfer.reset();
-    impl->checkpoint.vectors.clear();
+    impl->checkpoint.clear();
   }
 } // namespace systole::Electrophysiology

@@ -13,13 +13,8 @@ namespace systole::Electrophysiology
     IonicModelRegistry::Entry
     entry(const char *description)
     {
-      return {
-        Model::model_name,
-        description,
-        &Model::Parameters::declare,
-        [](const dealii::ParameterHandler &prm) -> std::unique_ptr<IonicModel> {
-          return std::make_unique<Model>(Model::Parameters::parse(prm));
-        }};
+      return IonicModelRegistry::entry_of<Model>(Model::model_name,
+                                                 description);
     }
   } // namespace
 
@@ -48,13 +43,6 @@ namespace systole::Electrophysiology
           "Physiol. 291:H1088)."),
       });
     return registry;
-  }
-
-
-  std::vector<std::string>
-  ionic_model_names()
-  {
-    return ionic_models().names();
   }
 
 

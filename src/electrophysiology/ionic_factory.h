@@ -18,14 +18,16 @@ namespace systole::Electrophysiology
   using IonicModelRegistry =
     Registry<std::unique_ptr<IonicModel>(const dealii::ParameterHandler &)>;
 
-  /// The table of ionic models (ionic_factory.cc).
+  /// The table of ionic models (ionic_factory.cc), alphabetical:
+  /// "Aliev-Panfilov", "Mitchell-Schaeffer", "ten Tusscher-Panfilov".
   IonicModelRegistry &
   ionic_models();
 
   /// Declares, in the current subsection (the caller enters
   /// "Electrophysiology"), the entry "Ionic model" (a Patterns::Selection of
-  /// ionic_model_names(), whose help lists every model with its reference)
-  /// and one subsection per model, named as the model, with its parameters.
+  /// the names of ionic_models(), whose help lists every model with its
+  /// reference) and one subsection per model, named as the model, with its
+  /// parameters.
   void
   declare_ionic_model_parameters(dealii::ParameterHandler &prm);
 
@@ -37,9 +39,4 @@ namespace systole::Electrophysiology
   /// The model called @p name with its default parameters (tests, tools).
   std::unique_ptr<IonicModel>
   create_ionic_model(const std::string &name);
-
-  /// Names of all models, alphabetical: "Aliev-Panfilov",
-  /// "Mitchell-Schaeffer", "ten Tusscher-Panfilov".
-  std::vector<std::string>
-  ionic_model_names();
 } // namespace systole::Electrophysiology

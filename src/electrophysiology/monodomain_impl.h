@@ -14,6 +14,7 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include "base/attached_vectors.h"
 #include "base/linear_algebra.h"
 #include "base/logger.h"
 #include "electrophysiology/activation.h"
@@ -337,14 +338,8 @@ namespace systole::Electrophysiology
     /// ARKode steps before the integrator was last created (a restart).
     unsigned long steps_before = 0;
 
-    /// A checkpoint being written: node vectors and their transfer.
-    struct CheckpointTransfer
-    {
-      std::vector<LA::MPI::Vector> vectors;
-      std::unique_ptr<
-        dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
-        transfer;
-    } checkpoint;
+    /// A checkpoint being written: the node vectors.
+    AttachedVectors checkpoint;
 
     /// The stage matrix M_L + gamma K and its preconditioner for @p gamma
     /// (kept when gamma changes little; see solve_stage()).

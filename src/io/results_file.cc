@@ -50,6 +50,27 @@ namespace systole::IO
       return id;
     }
 
+    /// Creates the dataset @p name of @p type and dataspace @p space in
+    /// @p location (creation properties @p properties); throws naming
+    /// @p what.
+    hid_t
+    create_dataset(const hid_t        location,
+                   const std::string &name,
+                   const hid_t        type,
+                   const hid_t        space,
+                   const std::string &what,
+                   const hid_t        properties = H5P_DEFAULT)
+    {
+      return checked(H5Dcreate2(location,
+                                name.c_str(),
+                                type,
+                                space,
+                                H5P_DEFAULT,
+                                properties,
+                                H5P_DEFAULT),
+                     what);
+    }
+
     /// Creates the group @p name in @p parent with its links' creation order
     /// tracked, so readers list the columns in the order written.
     hid_t
@@ -129,14 +150,12 @@ namespace systole::IO
                 const hid_t plist =
                   checked(H5Pcreate(H5P_DATASET_CREATE), "plist");
                 check(H5Pset_chunk(plist, 1, &chunk), "chunk");
-                const hid_t dataset = checked(H5Dcreate2(group,
-                                                         column.name.c_str(),
-                                                         H5T_NATIVE_DOUBLE,
-                                                         space,
-                                                         H5P_DEFAULT,
-                                                         plist,
-                                                         H5P_DEFAULT),
-                                              "column " + column.name);
+                const hid_t dataset = create_dataset(group,
+                                                     column.name,
+                                                     H5T_NATIVE_DOUBLE,
+                                                     space,
+                                                     "column " + column.name,
+                                                     plist);
                 write_string_attribute(dataset, "unit", column.unit);
                 H5Pclose(plist);
                 H5Sclose(space);
@@ -218,14 +237,11 @@ namespace systole::IO
       const hsize_t global_dims[2] = {n_global, width};
       const hid_t   file_space =
         checked(H5Screate_simple(2, global_dims, nullptr), "space");
-      const hid_t   dataset  = checked(H5Dcreate2(location,
-                                               name.c_str(),
-                                               file_type,
-                                               file_space,
-                                               H5P_DEFAULT,
-                                               H5P_DEFAULT,
-                                               H5P_DEFAULT),
-                                    "dataset " + name);
+      const hid_t   dataset  = create_dataset(location,
+                                           name,
+                                           file_type,
+                                           file_space,
+                                           "dataset " + name);
       const hsize_t start[2] = {offset, 0}, count[2] = {n_local, width};
       const hid_t   memory_space =
         checked(H5Screate_simple(2, count, nullptr), "space");
@@ -282,14 +298,11 @@ namespace systole::IO
           std::string name = v.name;
           std::replace(name.begin(), name.end(), '/', ':');
           const hid_t space   = checked(H5Screate(H5S_SCALAR), "scalar space");
-          const hid_t dataset = checked(H5Dcreate2(group,
-                                                   name.c_str(),
-                                                   H5T_NATIVE_DOUBLE,
-                                                   space,
-                                                   H5P_DEFAULT,
-                                                   H5P_DEFAULT,
-                                                   H5P_DEFAULT),
-                                        "/statistics/" + name);
+          const hid_t dataset = create_dataset(group,
+                                               name,
+                                               H5T_NATIVE_DOUBLE,
+                                               space,
+                                               "/statistics/" + name);
           check(H5Dwrite(dataset,
                          H5T_NATIVE_DOUBLE,
                          H5S_ALL,
@@ -598,15 +611,9 @@ namespace systole::IO
                           std::max<std::size_t>(parameter_text.size(), 1)),
               "string size");
         check(H5Tset_cset(type, H5T_CSET_UTF8), "utf8");
-        const hid_t       space   = checked(H5Screate(H5S_SCALAR), "space");
-        const hid_t       dataset = checked(H5Dcreate2(impl->file,
-                                                 "parameters",
-                                                 type,
-                                                 space,
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT),
-                                      "/parameters");
+        const hid_t space = checked(H5Screate(H5S_SCALAR), "space");
+        const hid_t dataset =
+          create_dataset(impl->file, "parameters", type, space, "/parameters");
         const std::string padded =
           parameter_text.empty() ? std::string(" ") : parameter_text;
         check(
@@ -929,14 +936,11 @@ namespace systole::IO
             for (hsize_t i = 0; i < n; ++i)
               buffer.replace(i * width, column.text[i].size(), column.text[i]);
           }
-        const hid_t dataset = checked(H5Dcreate2(group,
-                                                 column.name.c_str(),
-                                                 type,
-                                                 space,
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT,
-                                                 H5P_DEFAULT),
-                                      so_far + "/" + column.name);
+        const hid_t dataset = create_dataset(group,
+                                             column.name,
+                                             type,
+                                             space,
+                                             so_far + "/" + column.name);
         if (n > 0)
           check(H5Dwrite(dataset,
                          type,

@@ -18,13 +18,7 @@ namespace systole::Materials
     PassiveLawRegistry::Entry
     entry(const char *description)
     {
-      return {
-        Law::law_name,
-        description,
-        &Law::Parameters::declare,
-        [](const dealii::ParameterHandler &prm) -> std::unique_ptr<PassiveLaw> {
-          return std::make_unique<Law>(Law::Parameters::parse(prm));
-        }};
+      return PassiveLawRegistry::entry_of<Law>(Law::law_name, description);
     }
   } // namespace
 
@@ -66,13 +60,6 @@ namespace systole::Materials
           "Biomech. 3:111)."),
       });
     return registry;
-  }
-
-
-  std::vector<std::string>
-  passive_law_names()
-  {
-    return passive_laws().names();
   }
 
 

@@ -20,12 +20,16 @@ namespace systole::Materials
   using PassiveLawRegistry =
     Registry<std::unique_ptr<PassiveLaw>(const dealii::ParameterHandler &)>;
 
-  /// The table of passive laws (factory.cc).
+  /// The table of passive laws (factory.cc), alphabetical, case-insensitive
+  /// (a unit test checks it). The unit tests take their list of laws from its
+  /// names(), so a law added to the table without test parameters and closed
+  /// forms fails them.
   PassiveLawRegistry &
   passive_laws();
 
   /// Declares subsection "Material" with
-  /// - "Passive law": a Patterns::Selection of passive_law_names(), default
+  /// - "Passive law": a Patterns::Selection of the names of passive_laws(),
+  /// default
   ///   "Guccione", whose help lists every law with its reference;
   /// - one subsection per law, named as the law ("Material / Guccione", ...),
   ///   holding that law's Parameters (all declared, so a parameter file is
@@ -46,11 +50,4 @@ namespace systole::Materials
   /// The volumetric law of "Material / Volumetric" (parsed and validated).
   VolumetricLaw
   create_volumetric_law(const dealii::ParameterHandler &prm);
-
-  /// Names of all passive laws as shown to users, in the order of the table
-  /// in factory.cc: alphabetical, case-insensitive (a unit test checks it).
-  /// The unit tests take their list of laws from here, so a law added to the
-  /// table without test parameters and closed forms fails them.
-  std::vector<std::string>
-  passive_law_names();
 } // namespace systole::Materials

@@ -23,19 +23,15 @@ namespace systole::Materials
           return std::make_unique<BestelTension>(Bestel::Parameters::parse(prm),
                                                  period);
         }},
-       {Land::model_name,
-        "the calcium-driven human cross-bridge model of Land et al. 2017 "
-        "(J. Mol. Cell. Cardiol. 106:68) with length and velocity "
-        "dependence (subsection Land), driven by a cell model's calcium "
-        "(Problem = cell, or Problem = heartbeat with an ionic model with "
-        "calcium: ten Tusscher-Panfilov; the heartbeat then always runs "
-        "the electrophysiology and couples the tension two-way with the "
-        "fibre stretch and its rate);",
-        &Land::Parameters::declare,
-        [](const dealii::ParameterHandler &prm,
-           const double) -> std::unique_ptr<TensionModel> {
-          return std::make_unique<Land>(Land::Parameters::parse(prm));
-        }}});
+       TensionModelRegistry::entry_of<Land>(
+         Land::model_name,
+         "the calcium-driven human cross-bridge model of Land et al. 2017 "
+         "(J. Mol. Cell. Cardiol. 106:68) with length and velocity "
+         "dependence (subsection Land), driven by a cell model's calcium "
+         "(Problem = cell, or Problem = heartbeat with an ionic model with "
+         "calcium: ten Tusscher-Panfilov; the heartbeat then always runs "
+         "the electrophysiology and couples the tension two-way with the "
+         "fibre stretch and its rate);")});
     return registry;
   }
 
@@ -62,11 +58,5 @@ namespace systole::Materials
   create_tension_model(const dealii::ParameterHandler &prm, const double period)
   {
     return tension_models().create(tension_model_name(prm), prm, period);
-  }
-
-  std::vector<std::string>
-  tension_model_names()
-  {
-    return tension_models().names();
   }
 } // namespace systole::Materials

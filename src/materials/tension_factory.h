@@ -26,7 +26,7 @@ namespace systole::Materials
   tension_models();
 
   /// Declares subsection "Active tension": "Model" (a selection of
-  /// tension_model_names(), default "Bestel"), the Bestel entries
+  /// the names of tension_models(), default "Bestel"), the Bestel entries
   /// (Bestel::Parameters, which stay at the subsection's top level) and one
   /// subsection per other model ("Active tension / Land").
   void
@@ -42,8 +42,4 @@ namespace systole::Materials
   /// The name in "Active tension / Model".
   std::string
   tension_model_name(const dealii::ParameterHandler &prm);
-
-  /// Names of all tension models, as shown to users.
-  std::vector<std::string>
-  tension_model_names();
 } // namespace systole::Materials

@@ -19,8 +19,6 @@ namespace systole::Mechanics
 {
   namespace
   {
-    using Transfer =
-      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>;
     using CellIterator = dealii::Triangulation<3, 3>::cell_iterator;
     using CellStatus   = dealii::Triangulation<3, 3>::CellStatus;
     using Range = boost::iterator_range<std::vector<char>::const_iterator>;
@@ -126,9 +124,9 @@ namespace systole::Mechanics
   Problem::prepare_checkpoint(boost::archive::text_oarchive &archive)
   {
     Impl &m = *impl;
-    // SolutionTransfer reads every DoF of the owned cells: ghosted copies.
-    // In a time integration also the accepted dynamic state (u_n, v_n, a_n,
-    // R(u_n)) and that of the factorized tangent.
+    // The saved states and the factorized iterate; in a time integration also
+    // the accepted dynamic state (u_n, v_n, a_n, R(u_n)) and that of the
+    // factorized tangent.
     Dynamics                            &d       = m.dynamics;
     std::vector<const LA::MPI::Vector *> sources = {&m.history.u_saved,
                                                     &m.history.u_previous,
@@ -144,19 +142,9 @@ namespace systole::Mechanics
                       &d.factorized_a_n});
     if (m.boundaries.any_from_end_diastole())
       sources.push_back(&m.boundaries.support_reference);
-    m.pending_checkpoint.vectors.resize(sources.size());
-    std::vector<const LA::MPI::Vector *> in;
-    for (unsigned int i = 0; i < sources.size(); ++i)
-      {
-        m.pending_checkpoint.vectors[i].reinit(m.discretization.owned,
-                                               m.discretization.relevant,
-                                               m.comm);
-        m.pending_checkpoint.vectors[i] = *sources[i];
-        in.push_back(&m.pending_checkpoint.vectors[i]);
-      }
-    m.pending_checkpoint.transfer =
-      std::make_unique<Transfer>(m.discretization.dof_handler);
-    m.pending_checkpoint.transfer->prepare_for_serialization(in);
+    m.pending_checkpoint.vectors.attach(m.discretization.dof_handler,
+                                        m.discretization.relevant,
+                                        sources);
     // The tension of the factorized iterate, and the tension model's
     // accepted state of every point (its states, the stretch, the tension),
     // packed per owned cell.
@@ -381,15 +369,10 @@ namespace systole::Mechanics
       m.setup_dynamics();
 
     const bool referred = m.boundaries.any_from_end_diastole();
-    std::vector<LA::MPI::Vector>   out((dynamic ? 10 : 3) + (referred ? 1 : 0));
-    std::vector<LA::MPI::Vector *> pointers;
-    for (auto &v : out)
-      {
-        v.reinit(m.discretization.owned, m.comm);
-        pointers.push_back(&v);
-      }
-    Transfer transfer(m.discretization.dof_handler);
-    transfer.deserialize(pointers);
+    const std::vector<LA::MPI::Vector> out =
+      read_attached_vectors(m.discretization.dof_handler,
+                            m.discretization.owned,
+                            (dynamic ? 10 : 3) + (referred ? 1 : 0));
     m.history.u_saved    = out[0];
     m.history.u_previous = out[1];
     m.factorized.u       = out[2];
@@ -419,7 +402,6 @@ namespace systole::Mechanics
   void
   Problem::finish_checkpoint()
   {
-    impl->pending_checkpoint.transfer.reset();
     impl->pending_checkpoint.vectors.clear();
     impl->pending_checkpoint.cell_data.clear();
   }

@@ -24,10 +24,31 @@ namespace systole::Mechanics
 {
   namespace
   {
+    /// A solver of the penalty formulation's systems (displacement only): no
+    /// pressure matrix and no augmentation.
+    class PenaltySolver : public LinearSolver
+    {
+    public:
+      void
+      setup(const LA::MPI::SparseMatrix &K,
+            const PressureMatrix *,
+            const LA::MPI::SparseMatrix *augmentation) final
+      {
+        AssertThrow(augmentation == nullptr,
+                    dealii::ExcInternalError("augmented penalty solve"));
+        setup_displacement(K);
+      }
+
+    protected:
+      /// setup() with the displacement tangent @p K.
+      virtual void
+      setup_displacement(const LA::MPI::SparseMatrix &K) = 0;
+    };
+
     /// MUMPS through PETSc (KSPPREONLY): Cholesky (LDL^T) for symmetric
     /// matrices, LU otherwise. A new factorization per setup(); the solves
     /// after it reuse it.
-    class DirectSolver : public LinearSolver
+    class DirectSolver : public PenaltySolver
     {
     public:
       explicit DirectSolver(const bool symmetric)
@@ -40,12 +61,8 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K,
-            const PressureMatrix *,
-            const LA::MPI::SparseMatrix *augmentation) override
+      setup_displacement(const LA::MPI::SparseMatrix &K) override
       {
-        AssertThrow(augmentation == nullptr,
-                    dealii::ExcInternalError("augmented direct solve"));
         // The sparsity pattern never changes: after the first factorization
         // MUMPS reuses its analysis (ordering, symbolic factorization) and
         // factorizes numerically only. If that fails (pivoting needs more
@@ -174,7 +191,7 @@ namespace systole::Mechanics
     /// penalty formulation: displacement only), or FGMRES + p-multigrid (its
     /// smoothers make the preconditioner vary from one application to the
     /// next).
-    class IterativeSolver : public LinearSolver
+    class IterativeSolver : public PenaltySolver
     {
     public:
       IterativeSolver(const dealii::Mapping<3, 3>    &mapping,
@@ -207,12 +224,8 @@ namespace systole::Mechanics
       }
 
       void
-      setup(const LA::MPI::SparseMatrix &K,
-            const PressureMatrix *,
-            const LA::MPI::SparseMatrix *augmentation) override
+      setup_displacement(const LA::MPI::SparseMatrix &K) override
       {
-        AssertThrow(augmentation == nullptr,
-                    dealii::ExcInternalError("augmented penalty solve"));
         Mat                A = K;
         std::array<Vec, 6> vectors;
         for (unsigned int i = 0; i < 6; ++i)

@@ -18,6 +18,7 @@
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include "base/attached_vectors.h"
 #include "base/linear_algebra.h"
 #include "base/logger.h"
 #include "fibres/fibre_basis.h"
@@ -432,15 +433,11 @@ namespace systole::Mechanics
     dealii::FullMatrix<double>   low_rank_inverse;
   };
 
-  /// A checkpoint being written: the ghosted vectors and their transfer
-  /// (alive until the triangulation's save()), and the packed cell data, by
-  /// active cell index.
+  /// A checkpoint being written: the attached vectors (alive until the
+  /// triangulation's save()), and the packed cell data, by active cell index.
   struct CheckpointBuffers
   {
-    std::vector<LA::MPI::Vector> vectors;
-    std::unique_ptr<
-      dealii::parallel::distributed::SolutionTransfer<3, LA::MPI::Vector>>
-                                   transfer;
+    AttachedVectors                vectors;
     std::vector<std::vector<char>> cell_data;
   };
 

@@ -43,27 +43,21 @@ namespace systole
 
 
   std::vector<IO::Column>
-  valve_event_columns(const Circulation::Model     &model,
-                      const double                  time,
-                      const unsigned int            beat,
-                      const unsigned int            valve,
-                      const bool                    opens,
-                      const dealii::Vector<double> &y,
-                      const dealii::Vector<double> &cavity_pressures)
+  valve_event_columns(const Circulation::Model &model, const ValveEventRow &e)
   {
-    std::vector<IO::Column> row = {{"time", "ms", time},
-                                   {"beat", "-", static_cast<double>(beat)},
-                                   {"valve", "-", static_cast<double>(valve)},
-                                   {"opens", "-", opens ? 1.0 : 0.0}};
+    std::vector<IO::Column> row = {{"time", "ms", e.time},
+                                   {"beat", "-", static_cast<double>(e.beat)},
+                                   {"valve", "-", static_cast<double>(e.valve)},
+                                   {"opens", "-", e.opens ? 1.0 : 0.0}};
     for (unsigned int c = 0; c < model.n_cavities(); ++c)
       {
         const auto &cavity = model.cavities()[c];
         row.push_back({cavity.name + "_volume_mL",
                        "mL",
-                       Units::mm3_to_mL(y[cavity.volume_state])});
+                       Units::mm3_to_mL(e.y[cavity.volume_state])});
         row.push_back({cavity.name + "_pressure_mmHg",
                        "mmHg",
-                       Units::kPa_to_mmHg(cavity_pressures[c])});
+                       Units::kPa_to_mmHg(e.cavity_pressures[c])});
       }
     return row;
   }

@@ -27,17 +27,23 @@ namespace systole
                        const std::vector<Circulation::Phase> &phases,
                        std::vector<IO::Column>               &row);
 
-  /// The /events row of a valve event: time, beat, valve (index into
-  /// Model::valves()), opens (1 or 0), and the volume and pressure of every
-  /// cavity (@p cavity_pressures: all cavities) there.
+  /// A valve event as the /events row records it. Callers pass it braced:
+  /// valve_event_columns(model, {time, beat, valve, opens, y, p}).
+  struct ValveEventRow
+  {
+    double                        time; ///< [ms]
+    unsigned int                  beat;
+    unsigned int                  valve; ///< index into Model::valves()
+    bool                          opens; ///< else it closes
+    const dealii::Vector<double> &y;     ///< the state of the model there
+    /// The pressure of every cavity there [kPa].
+    const dealii::Vector<double> &cavity_pressures;
+  };
+
+  /// The /events row of the valve event @p e: time, beat, valve, opens (1
+  /// or 0), and the volume and pressure of every cavity there.
   std::vector<IO::Column>
-  valve_event_columns(const Circulation::Model     &model,
-                      const double                  time,
-                      const unsigned int            beat,
-                      const unsigned int            valve,
-                      const bool                    opens,
-                      const dealii::Vector<double> &y,
-                      const dealii::Vector<double> &cavity_pressures);
+  valve_event_columns(const Circulation::Model &model, const ValveEventRow &e);
 
   /// "Beat k: lv EDV .. mL, ESV .. mL, EF .. %, peak .. mmHg; EDV change
   /// .. %[, stroke volumes .. % apart]" from a summary row of

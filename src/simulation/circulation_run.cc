@@ -184,13 +184,9 @@ namespace systole
       phases.update(open);
       sample(e.time, e.state);
       recorder.add_valve_event(e.valve, e.opens, e.time, e.state, p_cavities);
-      results.append_event(valve_event_columns(model,
-                                               e.time,
-                                               beat,
-                                               e.valve,
-                                               e.opens,
-                                               e.state,
-                                               p_cavities));
+      results.append_event(valve_event_columns(
+        model,
+        {e.time, beat, e.valve, e.opens, e.state, p_cavities}));
       ++n_events;
     }
 

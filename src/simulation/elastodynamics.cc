@@ -453,10 +453,9 @@ namespace systole
       LoadCurveParameters::create(in.prm, "Active stress");
 
     std::unique_ptr<IO::StateReader> state_in;
-    const auto                       results_file =
-      open_results(checkpoint, in.run, in.parameter_text, state_in, in.comm);
-    IO::ResultsFile     &results     = *results_file;
-    Postprocess::Manager postprocess = model.postprocessors(in.prm, in.logger);
+    const auto           results_file = open_results(checkpoint, in, state_in);
+    IO::ResultsFile     &results      = *results_file;
+    Postprocess::Manager postprocess  = model.postprocessors(in.prm, in.logger);
     Progress             progress(in.logger,
                       Progress::parse_mode(in.run.progress),
                       in.run.start_time,

@@ -69,10 +69,10 @@ namespace systole
                            Logger                         &logger,
                            const MPI_Comm                  comm);
 
-      /// The results file: a new one, or the one of the checkpoint with the
-      /// state of the run at its step.
+      /// The results file of the run @p in: a new one, or the one of the
+      /// checkpoint with the state of the run at its step.
       void
-      open_results(const std::string &parameter_text);
+      open_results(const RunInputs &in);
 
       /// The time loop from the first step on (to the end, or to an
       /// interruption).
@@ -172,16 +172,11 @@ namespace systole
     }
 
     void
-    ElectrophysiologyRun::open_results(const std::string &parameter_text)
+    ElectrophysiologyRun::open_results(const RunInputs &in)
     {
       std::unique_ptr<IO::StateReader> state_in;
       unsigned int                     step = 0;
-      results                               = systole::open_results(checkpoint,
-                                      run,
-                                      parameter_text,
-                                      state_in,
-                                      comm,
-                                      &step);
+      results = systole::open_results(checkpoint, in, state_in, &step);
       checkpointer =
         std::make_unique<RunCheckpointer>(RunCheckpointerParts{store,
                                                                *results,
@@ -394,7 +389,7 @@ namespace systole
   run_electrophysiology_problem(const RunInputs &in)
   {
     ElectrophysiologyRun ep_run(in.prm, in.run, in.logger, in.comm);
-    ep_run.open_results(in.parameter_text);
+    ep_run.open_results(in);
     ep_run.time_loop();
     ep_run.finish();
   }

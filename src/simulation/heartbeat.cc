@@ -596,9 +596,8 @@ namespace systole
     // of the results file and the last step first, then the components in a
     // fixed order.
     std::unique_ptr<IO::StateReader> state_in;
-    const auto                       results_file =
-      open_results(checkpoint, in.run, in.parameter_text, state_in, in.comm);
-    IO::ResultsFile &results = *results_file;
+    const auto       results_file = open_results(checkpoint, in, state_in);
+    IO::ResultsFile &results      = *results_file;
     if (ep != nullptr && checkpoint.empty())
       write_purkinje(results, ep->purkinje(), in.comm);
     Postprocess::Manager postprocess = model.postprocessors(in.prm, in.logger);

@@ -121,13 +121,9 @@ namespace systole
                             const HeartbeatStepper::Step &s)
   {
     const auto timed = timer_section(timer, "Heartbeat / output");
-    results.append_event(valve_event_columns(model,
-                                             s.time,
-                                             s.beat,
-                                             valve,
-                                             opens,
-                                             s.state,
-                                             s.pressures));
+    results.append_event(valve_event_columns(
+      model,
+      {s.time, s.beat, valve, opens, s.state, s.pressures}));
     std::ostringstream o;
     o << std::fixed << std::setprecision(1) << "  t = " << s.time
       << " ms: " << model.valves()[valve].name << " valve "

@@ -11,6 +11,7 @@
 #include "io/checkpoint_format.h"
 #include "io/results_file.h"
 #include "simulation/parameters.h"
+#include "simulation/problem_type.h"
 
 #include <boost/archive/text_iarchive.hpp>
 #include <boost/archive/text_oarchive.hpp>
@@ -83,29 +84,27 @@ namespace systole
 
   std::unique_ptr<IO::ResultsFile>
   open_results(const std::string                &checkpoint,
-               const RunParameters              &run,
-               const std::string                &parameter_text,
+               const RunInputs                  &in,
                std::unique_ptr<IO::StateReader> &state_in,
-               const MPI_Comm                    comm,
                unsigned int                     *resumed_step)
   {
     if (checkpoint.empty())
-      return std::make_unique<IO::ResultsFile>(run.output_directory,
-                                               parameter_text,
-                                               comm);
+      return std::make_unique<IO::ResultsFile>(in.run.output_directory,
+                                               in.parameter_text,
+                                               in.comm);
     state_in =
       std::make_unique<IO::StateReader>(IO::read_checkpoint_state(checkpoint,
-                                                                  comm),
+                                                                  in.comm),
                                         checkpoint);
     IO::ResultsFile::Rows                  rows;
     unsigned int                           step = 0;
     state_in->archive() & rows.timeseries &rows.summary &rows.events &step;
     if (resumed_step != nullptr)
       *resumed_step = step;
-    return std::make_unique<IO::ResultsFile>(run.output_directory,
+    return std::make_unique<IO::ResultsFile>(in.run.output_directory,
                                              rows,
                                              step,
-                                             comm);
+                                             in.comm);
   }
 
 

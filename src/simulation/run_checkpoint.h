@@ -16,6 +16,7 @@ namespace systole
 {
   class Logger;
   struct RunParameters;
+  struct RunInputs;
   namespace IO
   {
     class CheckpointStore;
@@ -40,16 +41,15 @@ namespace systole
                     Logger              &logger,
                     const MPI_Comm       comm);
 
-  /// The results file of a run: new, or (resuming from @p checkpoint)
-  /// reopened with the rows of the checkpoint's small state, whose rest
-  /// @p state_in then reads (the rows and the step, into @p resumed_step if
-  /// given, come first in it, see RunCheckpointer::write()). Collective.
+  /// The results file of the run @p in: new, or (resuming from
+  /// @p checkpoint) reopened with the rows of the checkpoint's small state,
+  /// whose rest @p state_in then reads (the rows and the step, into
+  /// @p resumed_step if given, come first in it, see
+  /// RunCheckpointer::write()). Collective.
   std::unique_ptr<IO::ResultsFile>
   open_results(const std::string                &checkpoint,
-               const RunParameters              &run,
-               const std::string                &parameter_text,
+               const RunInputs                  &in,
                std::unique_ptr<IO::StateReader> &state_in,
-               const MPI_Comm                    comm,
                unsigned int                     *resumed_step = nullptr);
 
   /// Whether the checkpoint of step @p step is due: every Output /

@@ -110,7 +110,7 @@ namespace test_support
   passive_law_cases()
   {
     std::vector<LawCase> result;
-    for (const std::string &name : Materials::passive_law_names())
+    for (const std::string &name : Materials::passive_laws().names())
       {
         const auto found = table().find(name);
         if (found == table().end() || found->second.empty())

@@ -12,7 +12,7 @@
 
 /// @file
 /// The passive laws under test: for every law of the factory table
-/// (Materials::passive_law_names()) the parameter sets the unit tests use.
+/// (Materials::passive_laws().names()) the parameter sets the unit tests use.
 /// The tests iterate passive_law_cases(), so their list of laws is the
 /// factory's: a law added to the table without an entry in
 /// law_parameters.cc fails every one of them.

@@ -481,11 +481,11 @@ TEST_CASE("The circulation model table builds every model from the "
           "parameter file, defaults as in physiology.md",
           "[circulation]")
 {
-  CHECK(model_names() == std::vector<std::string>{"2-element Windkessel",
-                                                  "3-element Windkessel",
-                                                  "4-element Windkessel",
-                                                  "closed loop"});
-  for (const auto &name : model_names())
+  CHECK(models().names() == std::vector<std::string>{"2-element Windkessel",
+                                                     "3-element Windkessel",
+                                                     "4-element Windkessel",
+                                                     "closed loop"});
+  for (const auto &name : models().names())
     {
       dealii::ParameterHandler prm;
       declared(prm);

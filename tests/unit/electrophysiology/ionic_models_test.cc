@@ -187,11 +187,11 @@ TEST_CASE("Mitchell-Schaeffer fires, and its action potential lasts "
 TEST_CASE("The ionic model factory knows every model and rejects others",
           "[ep][ionic]")
 {
-  CHECK(ionic_model_names() ==
+  CHECK(ionic_models().names() ==
         std::vector<std::string>{"Aliev-Panfilov",
                                  "Mitchell-Schaeffer",
                                  "ten Tusscher-Panfilov"});
-  for (const auto &name : ionic_model_names())
+  for (const auto &name : ionic_models().names())
     CHECK(create_ionic_model(name)->name() == name);
   CHECK_THROWS_WITH(create_ionic_model("FitzHugh"),
                     Catch::Contains("Ionic model = \"FitzHugh\" is unknown"));

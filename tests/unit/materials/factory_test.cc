@@ -35,7 +35,7 @@ TEST_CASE("Every law of the factory table has test parameters and every "
           "test parameter set is a law of the table",
           "[materials][factory]")
 {
-  const std::vector<std::string> table = Materials::passive_law_names();
+  const std::vector<std::string> table = Materials::passive_laws().names();
   const std::vector<std::string> tested =
     test_support::laws_with_test_parameters();
   for (const std::string &name : table)
@@ -73,7 +73,7 @@ TEST_CASE("Every law of the factory table has test parameters and every "
 TEST_CASE("The factory table is alphabetical and its names are unique",
           "[materials][factory]")
 {
-  const std::vector<std::string> names = Materials::passive_law_names();
+  const std::vector<std::string> names = Materials::passive_laws().names();
   REQUIRE(names.size() > 1);
   for (std::size_t i = 1; i < names.size(); ++i)
     {
