@@ -165,6 +165,41 @@ namespace
 
   const std::array<const char *, 3> strain_columns = {
     {"circumferential", "longitudinal", "radial"}};
+
+  /// A step of a beat with the circulation's phases: its time [ms], cavity
+  /// volume [mL], uniform stretch and whether the ventricle fills, and the
+  /// stretch at the ED it must be referred to.
+  struct Phased
+  {
+    double time, volume, stretch;
+    bool   filling;
+    double ed_stretch;
+  };
+
+  /// Runs @p steps through @p k, checking each step's longitudinal strain
+  /// against its ED stretch; @p at(i) is called after step i. Returns the
+  /// beat's end_diastolic_time.
+  double
+  run_phases(Synthetic                               &s,
+             ClinicalKinematics                      &k,
+             const std::vector<Phased>               &steps,
+             const std::function<void(unsigned int)> &at = {})
+  {
+    for (unsigned int i = 0; i < steps.size(); ++i)
+      {
+        s.data(steps[i].stretch * identity, steps[i].volume, steps[i].time);
+        s.step.filling = steps[i].filling;
+        const auto row = run(k, s.step);
+        INFO("step " << i);
+        CHECK(std::abs(column_value(row, "global_longitudinal_strain") -
+                       (steps[i].stretch / steps[i].ed_stretch - 1)) < 1e-14);
+        if (at)
+          at(i);
+      }
+    std::vector<IO::Column> summary;
+    k.end_beat(s.step, nullptr, summary);
+    return column_value(summary, "end_diastolic_time");
+  }
 } // namespace
 
 TEST_CASE("Clinical kinematics: a deformation after a prestretch gives the "
@@ -414,76 +449,43 @@ TEST_CASE("Clinical kinematics: end-diastole is the largest volume before "
   {
     // The volume still rises in isovolumetric contraction (the closed
     // valves leak), by more than the 1e-6 of the volume rule.
-    struct Phased
-    {
-      double time, volume, stretch;
-      bool   filling;
-    };
-    const std::vector<Phased> phased = {
-      {0, 100, 1.00, true},                // the first step: ED
-      {10, 99.5, 0.99, true},              // filling, smaller: still ED
-      {20, 110, 1.02, false},              // closes the mitral valve: ED
-      {30, 110 * (1 + 1e-5), 1.03, false}, // the leak's creep: not ED
-      {40, 90, 0.95, false},               // ejection
-      {50, 120, 1.04, true}};              // filling again: the same ED
-    const std::vector<double> ed_phased = {1.00, 0.99, 1.02, 1.02, 1.02, 1.02};
-    ClinicalKinematics        phases;
-    for (unsigned int i = 0; i < phased.size(); ++i)
-      {
-        s.data(phased[i].stretch * identity, phased[i].volume, phased[i].time);
-        s.step.filling = phased[i].filling;
-        row            = run(phases, s.step);
-        INFO("step " << i);
-        CHECK(std::abs(column_value(row, "global_longitudinal_strain") -
-                       (phased[i].stretch / ed_phased[i] - 1)) < 1e-14);
-      }
-    summary.clear();
-    phases.end_beat(s.step, nullptr, summary);
-    CHECK(column_value(summary, "end_diastolic_time") == 20);
+    ClinicalKinematics phases;
+    CHECK(run_phases(s,
+                     phases,
+                     {{0, 100, 1.00, true, 1.00},   // the first step: ED
+                      {10, 99.5, 0.99, true, 0.99}, // filling, smaller: ED
+                      {20, 110, 1.02, false, 1.02}, // closes the mitral valve
+                      {30, 110 * (1 + 1e-5), 1.03, false, 1.02}, // the creep
+                      {40, 90, 0.95, false, 1.02},               // ejection
+                      {50, 120, 1.04, true, 1.02}}) == 20); // filling again
   }
 
   SECTION("with the circulation's phases: a valve that reopens before the "
           "ejection moves ED to its last closure")
   {
-    struct Phased
-    {
-      double time, volume, stretch;
-      bool   filling;
-    };
-    const std::vector<Phased> phased = {
-      {0, 100, 1.00, true},    // the first step: ED
-      {10, 110, 1.02, false},  // closes the mitral valve: ED
-      {15, 110, 1.021, false}, // held
-      {20, 112, 1.03, true},   // reopens: ED again
-      {25, 113, 1.04, false},  // closes again: ED
-      {30, 113, 1.05, false},  // held
-      {40, 90, 0.95, false},   // ejection: fixed
-      {50, 120, 1.06, true},   // filling after the ejection: the same ED
-      {60, 121, 1.07, false}}; // and its closure: the same ED
-    const std::vector<double> ed_phased =
-      {1.00, 1.02, 1.02, 1.03, 1.04, 1.04, 1.04, 1.04, 1.04};
     ClinicalKinematics phases;
-    for (unsigned int i = 0; i < phased.size(); ++i)
-      {
-        s.data(phased[i].stretch * identity, phased[i].volume, phased[i].time);
-        s.step.filling = phased[i].filling;
-        row            = run(phases, s.step);
-        INFO("step " << i);
-        CHECK(std::abs(column_value(row, "global_longitudinal_strain") -
-                       (phased[i].stretch / ed_phased[i] - 1)) < 1e-14);
-        if (i == 2)
-          {
-            // A checkpoint while ED is held keeps it held (the fifth number
-            // of the state: 0 moving, 0.5 held, 1 fixed).
-            ClinicalKinematics resumed;
-            resumed.set_state(phases.state());
-            CHECK(phases.state()[4] == 0.5);
-            CHECK(resumed.state()[4] == 0.5);
-          }
-      }
-    summary.clear();
-    phases.end_beat(s.step, nullptr, summary);
-    CHECK(column_value(summary, "end_diastolic_time") == 25);
+    const auto         held = [&](const unsigned int i) {
+      if (i != 2)
+        return;
+      // A checkpoint while ED is held keeps it held (the fifth number of the
+      // state: 0 moving, 0.5 held, 1 fixed).
+      ClinicalKinematics resumed;
+      resumed.set_state(phases.state());
+      CHECK(phases.state()[4] == 0.5);
+      CHECK(resumed.state()[4] == 0.5);
+    };
+    CHECK(run_phases(s,
+                     phases,
+                     {{0, 100, 1.00, true, 1.00},    // the first step: ED
+                      {10, 110, 1.02, false, 1.02},  // closes the valve: ED
+                      {15, 110, 1.021, false, 1.02}, // held
+                      {20, 112, 1.03, true, 1.03},   // reopens: ED again
+                      {25, 113, 1.04, false, 1.04},  // closes again: ED
+                      {30, 113, 1.05, false, 1.04},  // held
+                      {40, 90, 0.95, false, 1.04},   // ejection: fixed
+                      {50, 120, 1.06, true, 1.04},   // filling after it
+                      {60, 121, 1.07, false, 1.04}}, // and its closure
+                     held) == 25);
   }
 
   SECTION("without a cavity, the first step of each beat")
