@@ -43,6 +43,31 @@ namespace systole::Postprocess
     mutable std::vector<std::vector<Fibres::FieldValue>> values;
   };
 
+  namespace
+  {
+    /// The mean of the centres of the boundary faces with id @p id
+    /// (collective).
+    dealii::Point<3>
+    face_centre_mean(const dealii::Triangulation<3, 3> &tria,
+                     const dealii::types::boundary_id   id)
+    {
+      dealii::Tensor<1, 3> sum;
+      double               count = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() && face->boundary_id() == id)
+              {
+                sum += face->center();
+                count += 1;
+              }
+      const MPI_Comm comm = tria.get_communicator();
+      sum                 = dealii::Utilities::MPI::sum(sum, comm);
+      count               = dealii::Utilities::MPI::sum(count, comm);
+      return dealii::Point<3>(sum / count);
+    }
+  } // namespace
+
   LvWall::LvWall(const dealii::Triangulation<3, 3> &tria,
                  const Geometry::BoundaryNames     &names,
                  const bool                         frames,
@@ -138,20 +163,8 @@ namespace systole::Postprocess
     n_wall              = dealii::Utilities::MPI::sum(n_wall, comm);
     n_cells             = dealii::Utilities::MPI::sum(n_cells, comm);
 
-    // The RV's side: the mean of the rv_endocardium's face centres.
-    dealii::Tensor<1, 3> sum;
-    double               count = 0;
-    for (const auto &cell : tria.active_cell_iterators())
-      if (cell->is_locally_owned())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary() && face->boundary_id() == rv_endo)
-            {
-              sum += face->center();
-              count += 1;
-            }
-    sum           = dealii::Utilities::MPI::sum(sum, comm);
-    count         = dealii::Utilities::MPI::sum(count, comm);
-    m.rv_centroid = dealii::Point<3>(sum / count);
+    // The RV's side.
+    m.rv_centroid = face_centre_mean(tria, rv_endo);
 
     const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
