@@ -469,6 +469,7 @@ namespace systole
         m.next_end_time(); // step size, breakpoints, beat end, event bracket
         if (!m.solve_coupled()) // electrophysiology, tension, mechanics + 0D
           {
+            observer.on_failure(m.bdf.time(), m.attempt.t_new, m.last_failure);
             m.cut_after_failure();
             continue;
           }

@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace systole
@@ -186,6 +187,16 @@ namespace systole
         (void)valve;
         (void)opens;
         (void)step;
+      }
+      /// The coupled solve from @p t_from to @p t_to [ms] failed (Newton did
+      /// not converge or an element inverted; @p why: the message in one
+      /// line); the step is halved and redone.
+      virtual void
+      on_failure(const double t_from, const double t_to, const std::string &why)
+      {
+        (void)t_from;
+        (void)t_to;
+        (void)why;
       }
       /// A beat ended; @p summary from Circulation::ModelBeatRecorder.
       virtual void

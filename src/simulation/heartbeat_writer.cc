@@ -138,6 +138,19 @@ namespace systole
 
 
   void
+  HeartbeatWriter::on_failure(const double       t_from,
+                              const double       t_to,
+                              const std::string &why)
+  {
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(1) << "  t = " << t_from
+      << " ms: the coupled solve to " << std::setprecision(2) << t_to
+      << " ms failed, the step is halved: " << why;
+    logger.line(o.str());
+  }
+
+
+  void
   HeartbeatWriter::on_beat(
     const unsigned int                             beat,
     const std::vector<Circulation::SummaryColumn> &summary)

@@ -68,6 +68,11 @@ namespace systole
              const HeartbeatStepper::Step &s) override;
 
     void
+    on_failure(const double       t_from,
+               const double       t_to,
+               const std::string &why) override;
+
+    void
     on_beat(const unsigned int                             beat,
             const std::vector<Circulation::SummaryColumn> &summary) override;
 

@@ -186,6 +186,13 @@ namespace
         mitral_closures.push_back(step.time);
     }
     void
+    on_failure(const double t_from,
+               const double t_to,
+               const std::string &) override
+    {
+      failed_steps.emplace_back(t_from, t_to);
+    }
+    void
     on_beat(const unsigned int,
             const std::vector<SummaryColumn> &summary) override
     {
@@ -196,6 +203,8 @@ namespace
     std::vector<std::map<std::string, double>> rows;
     unsigned int                               max_order = 0, steps = 0;
     std::vector<double>                        mitral_closures;
+    /// Each failed solve's start and end [ms] (on_failure).
+    std::vector<std::pair<double, double>> failed_steps;
   };
 
   /// The closed loop with elastance chambers in place of the 3D ventricles:
@@ -370,6 +379,14 @@ TEST_CASE("A step redone after a failure is shorter than the failed one, also "
   // attempt (no failed solve repeated: at most a few per step).
   CHECK(ventricles.failures > 0);
   CHECK(stats.n_failures == ventricles.failures);
+  // The observer heard of each failure, in the surrogate's failing window:
+  // a step from after T - 2 ms longer than 0.3 ms.
+  REQUIRE(summaries.failed_steps.size() == ventricles.failures);
+  for (const auto &[from, to] : summaries.failed_steps)
+    {
+      CHECK(to > T - 2.0);
+      CHECK(to - from > 0.3);
+    }
 }
 
 TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
