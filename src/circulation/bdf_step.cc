@@ -110,6 +110,18 @@ namespace systole::Circulation
   }
 
 
+  dealii::Vector<double>
+  BdfStep::start_pressures() const
+  {
+    if (!first_order)
+      return predicted_pressures();
+    dealii::Vector<double> p(external.size());
+    for (unsigned int k = 0; k < external.size(); ++k)
+      p[k] = history.back().p[external[k]];
+    return p;
+  }
+
+
   void
   BdfStep::solve(const dealii::Vector<double> &p,
                  dealii::Vector<double>       &W,

@@ -92,8 +92,9 @@ namespace systole::Circulation
     /// The predicted state at the end of the step (extrapolated from the
     /// history, exact for a solution polynomial of the step's order), and
     /// the predicted pressures of the external cavities (linear
-    /// extrapolation; the last pressure right after a restart), in the
-    /// layout of solve()'s @p p.
+    /// extrapolation of the last two accepted pressures, also right after a
+    /// restart: the error estimate of the pressures uses it), in the layout
+    /// of solve()'s @p p.
     const dealii::Vector<double> &
     predicted_state() const
     {
@@ -101,6 +102,15 @@ namespace systole::Circulation
     }
     dealii::Vector<double>
     predicted_pressures() const;
+    /// The pressures a coupled solve starts from: predicted_pressures(), but
+    /// the last accepted ones right after the start and a restart(). A
+    /// restart follows a valve switch (or end-diastole, where supports may
+    /// be re-referred), where the pressure's slope changes; the slope before
+    /// it, extrapolated from the short step that located the event, was
+    /// 6.9 kPa below the LV's pressure in the BiV heartbeat's first filling
+    /// (a negative cavity pressure, an indefinite tangent, a failed solve).
+    dealii::Vector<double>
+    start_pressures() const;
 
     /// Solve the step's equations for y given the pressures @p p of the
     /// external cavities (size external_cavities().size()), by Newton's

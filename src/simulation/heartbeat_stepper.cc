@@ -198,7 +198,7 @@ namespace systole
     bdf.begin(attempt.t_new);
     ventricles.set_time(attempt.t_new);
     ventricles.predict(last_step > 0 ? attempt.h_try / last_step : 0);
-    Vector                   p = bdf.predicted_pressures();
+    Vector                   p = bdf.start_pressures();
     const CavityVolumeTarget target =
       [this](const Vector &p, Vector &W, dealii::FullMatrix<double> &dW_dp) {
         bdf.solve(p, W, dW_dp);
