@@ -29,18 +29,11 @@ namespace systole::Circulation
   constexpr const char *
   name(const Phase phase)
   {
-    switch (phase)
-      {
-        case Phase::filling:
-          return "filling";
-        case Phase::isovolumetric_contraction:
-          return "isovolumetric_contraction";
-        case Phase::ejection:
-          return "ejection";
-        case Phase::isovolumetric_relaxation:
-          return "isovolumetric_relaxation";
-      }
-    return "unknown";
+    constexpr const char *names[n_phases] = {"filling",
+                                             "isovolumetric_contraction",
+                                             "ejection",
+                                             "isovolumetric_relaxation"};
+    return names[code(phase)];
   }
 
   /// What happens at the transition @p from -> @p to, in words ("mitral

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include "base/first_members.h"
+
 namespace systole::Geometry
 {
   BoundaryNames::BoundaryNames(const std::string &source)
@@ -44,10 +46,7 @@ namespace systole::Geometry
   std::vector<std::string>
   BoundaryNames::names() const
   {
-    std::vector<std::string> result;
-    for (const auto &entry : ids)
-      result.push_back(entry.first);
-    return result;
+    return first_members(ids);
   }
 
   const std::string &

@@ -7,6 +7,7 @@
 #include <deal.II/grid/cell_id.h>
 #include <deal.II/grid/tria.h>
 
+#include "base/first_members.h"
 #include "base/format.h"
 #include "geometry/point_location.h"
 
@@ -389,9 +390,7 @@ namespace systole::Geometry
       // Rim edges, and the rim's vertices with their rim edges.
       std::map<unsigned int, std::vector<unsigned int>> rim_neighbours;
       std::map<unsigned int, dealii::Point<3>>          vertex_of;
-      std::vector<unsigned int>                         sorted_lines;
-      for (const auto &[index, count] : n_faces_of_line)
-        sorted_lines.push_back(index);
+      std::vector<unsigned int> sorted_lines = first_members(n_faces_of_line);
       std::sort(sorted_lines.begin(), sorted_lines.end());
       for (const unsigned int index : sorted_lines)
         {

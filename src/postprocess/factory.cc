@@ -29,6 +29,16 @@ namespace systole::Postprocess
               }};
     }
 
+    /// The table line of a postprocessor @p T that has no settings.
+    template <class T>
+    PostprocessorRegistry::Entry
+    entry_of(std::string name, std::string description)
+    {
+      return {std::move(name), std::move(description), nullptr, [] {
+                return std::make_unique<T>();
+              }};
+    }
+
   } // namespace
 
   PostprocessorRegistry &
@@ -38,27 +48,25 @@ namespace systole::Postprocess
     static PostprocessorRegistry registry(
       "Postprocess / List of postprocessors",
       {
-        {"AHA segments",
-         "/summary per beat: aha_NN_peak_strain_circumferential, "
-         "_longitudinal, _radial and aha_NN_activation_time [ms] of the 17 "
-         "AHA segments (NN = 01 ... 17)",
-         nullptr,
-         [] { return std::make_unique<AhaRegional>(); }},
+        entry_of<AhaRegional>(
+          "AHA segments",
+          "/summary per beat: aha_NN_peak_strain_circumferential, "
+          "_longitudinal, _radial and aha_NN_activation_time [ms] of the 17 "
+          "AHA segments (NN = 01 ... 17)"),
         fields_entry("active tension",
                      "field active_tension [kPa]",
                      {{"active_tension", &PointQuantities::active_tension}}),
-        {"clinical kinematics",
-         "/timeseries every step, referred to the beat's end-diastole (ED, "
-         "the largest cavity volume before ejection): "
-         "global_{longitudinal,circumferential,radial}_strain and "
-         "endocardial_..._strain (Lagrangian engineering strain in the ED "
-         "cardiac frame, wall and inner-third means), twist [deg], "
-         "torsion_per_length [deg/mm], av_plane_displacement [mm], "
-         "apex_displacement [mm], wall_thickening_ed; /summary per beat: "
-         "peak_<column>, end_diastolic_time [ms] and "
-         "aha_NN_peak_ed_strain_circumferential, _longitudinal, _radial",
-         nullptr,
-         [] { return std::make_unique<ClinicalKinematics>(); }},
+        entry_of<ClinicalKinematics>(
+          "clinical kinematics",
+          "/timeseries every step, referred to the beat's end-diastole (ED, "
+          "the largest cavity volume before ejection): "
+          "global_{longitudinal,circumferential,radial}_strain and "
+          "endocardial_..._strain (Lagrangian engineering strain in the ED "
+          "cardiac frame, wall and inner-third means), twist [deg], "
+          "torsion_per_length [deg/mm], av_plane_displacement [mm], "
+          "apex_displacement [mm], wall_thickening_ed; /summary per beat: "
+          "peak_<column>, end_diastolic_time [ms] and "
+          "aha_NN_peak_ed_strain_circumferential, _longitudinal, _radial"),
         fields_entry("fibre stretch",
                      "field fibre_stretch = |F f0| [-]",
                      {{"fibre_stretch", &PointQuantities::fibre_stretch}}),
@@ -76,12 +84,11 @@ namespace systole::Postprocess
           "fields first_principal_stress and fibre_stress (Cauchy) [kPa]",
           {{"first_principal_stress", &PointQuantities::first_principal_stress},
            {"fibre_stress", &PointQuantities::fibre_stress}}),
-        {"ventricle function",
-         "/timeseries every step: long_axis_shortening, wall_thickening, "
-         "torsion [deg] (apex to base), ejection_fraction (so far in the "
-         "beat)",
-         nullptr,
-         [] { return std::make_unique<VentricleFunction>(); }},
+        entry_of<VentricleFunction>(
+          "ventricle function",
+          "/timeseries every step: long_axis_shortening, wall_thickening, "
+          "torsion [deg] (apex to base), ejection_fraction (so far in the "
+          "beat)"),
         fields_entry("volume ratio",
                      "field J = det F [-]",
                      {{"J", &PointQuantities::J}}),

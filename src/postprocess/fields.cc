@@ -1,5 +1,7 @@
 #include "postprocess/fields.h"
 
+#include "base/first_members.h"
+
 namespace systole::Postprocess
 {
   Fields::Fields(std::vector<std::pair<std::string, Getter>> fields,
@@ -19,10 +21,7 @@ namespace systole::Postprocess
   std::vector<std::string>
   Fields::field_names() const
   {
-    std::vector<std::string> names;
-    for (const auto &f : fields)
-      names.push_back(f.first);
-    return names;
+    return first_members(fields);
   }
 
   double

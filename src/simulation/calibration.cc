@@ -4,6 +4,7 @@
 #include <deal.II/base/utilities.h>
 
 #include "base/errors.h"
+#include "base/first_members.h"
 #include "base/logger.h"
 #include "base/units.h"
 #include "geometry/gmsh_export.h"
@@ -511,9 +512,7 @@ namespace systole
       targets.pressures_mmHg = cal.pressures_mmHg;
       if (cal.target == "pressure-volume pairs")
         {
-          targets.pressures_mmHg.clear();
-          for (const auto &[p, v] : cal.pairs)
-            targets.pressures_mmHg.push_back(p);
+          targets.pressures_mmHg = first_members(cal.pairs);
         }
       targets.n_pressures = targets.pressures_mmHg.size();
       for (const double p : targets.pressures_mmHg)

@@ -62,12 +62,11 @@ namespace systole
     class CirculationRun
     {
     public:
+      /// The settings, logger and communicator of the run are those of
+      /// @p in.
       CirculationRun(const Circulation::Parameters &circulation,
                      const Model                   &model,
-                     const RunParameters           &run,
-                     const std::string             &parameter_text,
-                     Logger                        &logger,
-                     const MPI_Comm                 comm);
+                     const RunInputs               &in);
 
       /// Integrates beat @p beat to its end, writing its rows and events;
       /// false when interrupted.
@@ -124,21 +123,18 @@ namespace systole
 
     CirculationRun::CirculationRun(const Circulation::Parameters &circulation,
                                    const Model                   &model,
-                                   const RunParameters           &run,
-                                   const std::string &parameter_text,
-                                   Logger            &logger,
-                                   const MPI_Comm     comm)
+                                   const RunInputs               &in)
       : circulation(circulation)
       , model(model)
-      , run(run)
-      , logger(logger)
-      , comm(comm)
+      , run(in.run)
+      , logger(in.logger)
+      , comm(in.comm)
       , y0(initial_state(model))
       , integrator(model, integrator_settings(circulation), 0.0, y0)
       , phases(model, integrator.valves_open())
       , open(integrator.valves_open())
       , recorder(model, integrator.valves_open())
-      , results(run.output_directory, parameter_text, comm)
+      , results(run.output_directory, in.parameter_text, comm)
       , progress(logger,
                  Progress::parse_mode(run.progress),
                  0.0,
@@ -281,12 +277,7 @@ namespace systole
     const auto circulation = Circulation::Parameters::parse(in.prm);
     const auto model       = create_model(in.prm);
     log_banner(circulation, *model, in.run, in.logger);
-    CirculationRun r(circulation,
-                     *model,
-                     in.run,
-                     in.parameter_text,
-                     in.logger,
-                     in.comm);
+    CirculationRun r(circulation, *model, in);
     unsigned int   n_beats  = 0;
     bool           periodic = false;
     for (unsigned int beat = 0; beat < circulation.n_max_beats; ++beat)

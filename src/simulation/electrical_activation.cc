@@ -235,28 +235,21 @@ namespace systole
 
 
   std::unique_ptr<Electrophysiology::Monodomain>
-  create_monodomain(const dealii::ParameterHandler      &prm,
-                    const RunParameters                 &run,
-                    const Electrophysiology::Parameters &params,
-                    const Geometry::Parameters          &geometry,
-                    const Geometry::DistributedMesh     &mesh,
-                    const dealii::Mapping<3, 3>         &mapping,
-                    Logger                              &logger,
-                    const double                         start_time)
+  create_monodomain(const MonodomainInputs &in)
   {
     return std::make_unique<Electrophysiology::Monodomain>(
-      params,
-      *mesh.tria,
-      mapping,
+      in.params,
+      *in.mesh.tria,
+      in.mapping,
       Fibres::create_fibre_field(
-        Fibres::Parameters::parse(prm, run.parameter_directory),
-        geometry.lv_shape,
-        *mesh.tria,
-        mesh.names,
-        &logger),
-      mesh.names,
-      logger,
-      start_time);
+        Fibres::Parameters::parse(in.prm, in.run.parameter_directory),
+        in.geometry.lv_shape,
+        *in.mesh.tria,
+        in.mesh.names,
+        &in.logger),
+      in.mesh.names,
+      in.logger,
+      in.start_time);
   }
 
 
@@ -280,14 +273,8 @@ namespace systole
     // The fibre generator runs again on the EP mesh (the rule-based one
     // solves its Laplace problems there); the monodomain model evaluates it
     // once, at its own quadrature points.
-    monodomain = create_monodomain(in.prm,
-                                   in.run,
-                                   params,
-                                   in.geometry,
-                                   mesh,
-                                   *mapping,
-                                   in.logger,
-                                   0.0);
+    monodomain = create_monodomain(
+      {in.prm, in.run, params, in.geometry, mesh, *mapping, in.logger, 0.0});
 
     std::vector<std::vector<dealii::Point<3>>> points;
     problem.quadrature_points(points);

@@ -30,19 +30,28 @@ namespace systole
     class Problem;
   }
 
-  /// The monodomain model of @p params on @p mesh (with @p mapping), with
-  /// its own fibre field: the Fibres generator of @p prm run on that mesh
-  /// (the rule-based one solves its Laplace problems there). The model
-  /// starts at @p start_time [ms].
+  /// What create_monodomain() builds a monodomain model from.
+  struct MonodomainInputs
+  {
+    /// the Fibres subsection (read relative to run.parameter_directory)
+    const dealii::ParameterHandler      &prm;
+    const RunParameters                 &run;
+    const Electrophysiology::Parameters &params;
+    /// the Geometry subsection @p mesh was built from
+    const Geometry::Parameters      &geometry;
+    const Geometry::DistributedMesh &mesh;
+    const dealii::Mapping<3, 3>     &mapping;
+    Logger                          &logger;
+    /// [ms]
+    double start_time;
+  };
+
+  /// The monodomain model of @p in.params on @p in.mesh (with its mapping),
+  /// with its own fibre field: the Fibres generator of @p in.prm run on that
+  /// mesh (the rule-based one solves its Laplace problems there). The model
+  /// starts at @p in.start_time.
   std::unique_ptr<Electrophysiology::Monodomain>
-  create_monodomain(const dealii::ParameterHandler      &prm,
-                    const RunParameters                 &run,
-                    const Electrophysiology::Parameters &params,
-                    const Geometry::Parameters          &geometry,
-                    const Geometry::DistributedMesh     &mesh,
-                    const dealii::Mapping<3, 3>         &mapping,
-                    Logger                              &logger,
-                    const double                         start_time);
+  create_monodomain(const MonodomainInputs &in);
 
   /// The electrical activation of an electromechanical heartbeat: the
   /// monodomain model (subsection Electrophysiology) on its own mesh, the

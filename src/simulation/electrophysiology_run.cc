@@ -143,14 +143,8 @@ namespace systole
                                                  : checkpoint + "/ep.mesh"))
       , kind(*mesh.tria)
       , mapping(kind.mapping(*mesh.tria, run.mapping_degree))
-      , ep(create_monodomain(prm,
-                             run,
-                             params,
-                             geometry,
-                             mesh,
-                             *mapping,
-                             logger,
-                             run.start_time))
+      , ep(create_monodomain(
+          {prm, run, params, geometry, mesh, *mapping, logger, run.start_time}))
       , n_steps(static_cast<unsigned int>(
           std::ceil((run.end_time - run.start_time) / run.time_step - 1e-9)))
     {
