@@ -662,12 +662,7 @@ namespace systole::Mechanics
                                   material.reference_shear_stiffness)
           : 0.0;
       if (options.mixed)
-        Materials::add_volumetric_stress(in.F,
-                                         -w.p_values[q],
-                                         0.0,
-                                         out.S,
-                                         out.dS_dE,
-                                         options.with_matrix);
+        Materials::add_volumetric_stress(in, -w.p_values[q], 0.0, out);
       else if (!options.reduced_volumetric)
         material.volumetric_law.add_to(in.F, out.S, out.dS_dE);
       // The active stress comes after the volumetric part: it is not
