@@ -119,14 +119,10 @@ namespace systole::Fibres
   {
     std::vector<double> t;
     transmural(cell, points, t);
-    bases.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        bases[i] = basis(points[i], t[i]);
-        validate(bases[i],
-                 "(" + std::to_string(points[i][0]) + ", " +
-                   std::to_string(points[i][1]) + ", " +
-                   std::to_string(points[i][2]) + ") (arostica generator)");
-      }
+    validated_bases(
+      points,
+      name,
+      [&](const unsigned int i) { return basis(points[i], t[i]); },
+      bases);
   }
 } // namespace systole::Fibres

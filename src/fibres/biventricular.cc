@@ -424,10 +424,11 @@ namespace systole::Fibres
     fields->evaluate(cell, points, v);
     std::vector<BiventricularCoordinates> c;
     coordinates(cell, points, c);
-    bases.resize(points.size());
     const Parameters &p = params;
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
+    validated_bases(
+      points,
+      name,
+      [&](const unsigned int i) {
         const dealii::Tensor<1, 3> &g_epi = v[epi][i].gradient,
                                    &g_psi = v[psi][i].gradient;
         AssertThrow(g_epi.norm() > 0 && std::isfinite(g_epi.norm()),
@@ -492,10 +493,8 @@ namespace systole::Fibres
             b.s = -b.s;
             b.n = -b.n;
           }
-        bases[i] = b;
-        validate(bases[i],
-                 Geometry::format_point(points[i]) +
-                   " (biventricular generator)");
-      }
+        return b;
+      },
+      bases);
   }
 } // namespace systole::Fibres
