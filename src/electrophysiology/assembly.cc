@@ -14,6 +14,36 @@
 
 namespace systole::Electrophysiology
 {
+  namespace
+  {
+    /// Adds the cell terms of every locally owned cell of @p dofs to
+    /// @p global (a vector or matrix; compressed at the end): per cell,
+    /// @p fe_values is reinitialized, @p local zeroed and written by
+    /// @p fill(cell), and added at the cell's DoFs.
+    template <class Local, class Global, class Fill>
+    void
+    add_cell_terms(const dealii::DoFHandler<3> &dofs,
+                   dealii::FEValues<3>         &fe_values,
+                   Local                       &local,
+                   Global                      &global,
+                   const Fill                  &fill)
+    {
+      std::vector<dealii::types::global_dof_index> indices(
+        fe_values.dofs_per_cell);
+      for (const auto &cell : dofs.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            fe_values.reinit(cell);
+            local = 0;
+            fill(cell);
+            cell->get_dof_indices(indices);
+            global.add(indices, local);
+          }
+      global.compress(dealii::VectorOperation::add);
+    }
+  } // namespace
+
+
   void
   Monodomain::Impl::assemble_lumped_mass()
   {
@@ -29,20 +59,17 @@ namespace systole::Electrophysiology
                                     dealii::update_JxW_values);
     const unsigned int     n = space.fe->n_dofs_per_cell();
     dealii::Vector<double> local(n);
-    std::vector<dealii::types::global_dof_index> indices(n);
     matrices.lumped_mass_vector.reinit(space.owned, comm);
-    for (const auto &cell : space.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          local = 0;
-          for (unsigned int q = 0; q < nodal.size(); ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              local[i] += fe_values.shape_value(i, q) * fe_values.JxW(q);
-          cell->get_dof_indices(indices);
-          matrices.lumped_mass_vector.add(indices, local);
-        }
-    matrices.lumped_mass_vector.compress(dealii::VectorOperation::add);
+    const auto cell_terms = [&](const auto &) {
+      for (unsigned int q = 0; q < nodal.size(); ++q)
+        for (unsigned int i = 0; i < n; ++i)
+          local[i] += fe_values.shape_value(i, q) * fe_values.JxW(q);
+    };
+    add_cell_terms(space.dof_handler,
+                   fe_values,
+                   local,
+                   matrices.lumped_mass_vector,
+                   cell_terms);
 
     matrices.lumped_mass.resize(space.n_owned);
     {
@@ -78,22 +105,19 @@ namespace systole::Electrophysiology
                                     dealii::update_JxW_values);
     const unsigned int         n = space.fe->n_dofs_per_cell();
     dealii::FullMatrix<double> local(n, n);
-    std::vector<dealii::types::global_dof_index> indices(n);
-    matrices.mass = 0;
-    for (const auto &cell : space.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          local = 0;
-          for (unsigned int q = 0; q < gauss.size(); ++q)
-            for (unsigned int i = 0; i < n; ++i)
-              for (unsigned int j = 0; j < n; ++j)
-                local(i, j) += fe_values.shape_value(i, q) *
-                               fe_values.shape_value(j, q) * fe_values.JxW(q);
-          cell->get_dof_indices(indices);
-          matrices.mass.add(indices, local);
-        }
-    matrices.mass.compress(dealii::VectorOperation::add);
+    matrices.mass         = 0;
+    const auto cell_terms = [&](const auto &) {
+      for (unsigned int q = 0; q < gauss.size(); ++q)
+        for (unsigned int i = 0; i < n; ++i)
+          for (unsigned int j = 0; j < n; ++j)
+            local(i, j) += fe_values.shape_value(i, q) *
+                           fe_values.shape_value(j, q) * fe_values.JxW(q);
+    };
+    add_cell_terms(space.dof_handler,
+                   fe_values,
+                   local,
+                   matrices.mass,
+                   cell_terms);
     matrices.mass_jacobi =
       std::make_unique<dealii::PETScWrappers::PreconditionJacobi>();
     matrices.mass_jacobi->initialize(matrices.mass);
@@ -130,72 +154,68 @@ namespace systole::Electrophysiology
     const std::vector<std::vector<dealii::Tensor<2, 3>>> *deformation)
   {
     const double D_l = params.diffusivity_l(), D_t = params.diffusivity_t();
-    dealii::FEValues<3>        fe_values(mapping,
+    dealii::FEValues<3>               fe_values(mapping,
                                   *space.fe,
                                   space.quadrature,
                                   dealii::update_gradients |
                                     dealii::update_JxW_values);
-    const unsigned int         n = space.fe->n_dofs_per_cell();
-    dealii::FullMatrix<double> local(n, n);
-    std::vector<dealii::types::global_dof_index> indices(n);
-    std::vector<dealii::Tensor<1, 3>>            D_grad(n);
+    const unsigned int                n = space.fe->n_dofs_per_cell();
+    dealii::FullMatrix<double>        local(n, n);
+    std::vector<dealii::Tensor<1, 3>> D_grad(n);
     const dealii::Tensor<2, 3> identity = dealii::unit_symmetric_tensor<3>();
 
     matrices.stiffness = 0;
-    for (const auto &cell : space.dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fe_values.reinit(cell);
-          local = 0;
-          const auto &fibres_q =
-            space.fibre_directions[cell->active_cell_index()];
-          const std::vector<dealii::Tensor<2, 3>> *F_cell = nullptr;
-          if (deformation != nullptr &&
-              !(*deformation)[cell->active_cell_index()].empty())
-            {
-              F_cell = &(*deformation)[cell->active_cell_index()];
-              AssertThrow(F_cell->size() == 1 ||
-                            F_cell->size() == space.quadrature.size(),
-                          dealii::ExcMessage(
-                            "Monodomain::set_deformation_gradients: give one "
-                            "F per cell or one per point of "
-                            "diffusion_quadrature()."));
-            }
-          for (unsigned int q = 0; q < space.quadrature.size(); ++q)
-            {
-              dealii::Tensor<2, 3> D;
-              if (F_cell == nullptr)
-                D =
-                  D_t * identity +
+    add_cell_terms(
+      space.dof_handler,
+      fe_values,
+      local,
+      matrices.stiffness,
+      [&](const auto &cell) {
+        const auto &fibres_q =
+          space.fibre_directions[cell->active_cell_index()];
+        const std::vector<dealii::Tensor<2, 3>> *F_cell = nullptr;
+        if (deformation != nullptr &&
+            !(*deformation)[cell->active_cell_index()].empty())
+          {
+            F_cell = &(*deformation)[cell->active_cell_index()];
+            AssertThrow(F_cell->size() == 1 ||
+                          F_cell->size() == space.quadrature.size(),
+                        dealii::ExcMessage(
+                          "Monodomain::set_deformation_gradients: give one "
+                          "F per cell or one per point of "
+                          "diffusion_quadrature()."));
+          }
+        for (unsigned int q = 0; q < space.quadrature.size(); ++q)
+          {
+            dealii::Tensor<2, 3> D;
+            if (F_cell == nullptr)
+              D = D_t * identity +
                   (D_l - D_t) * dealii::outer_product(fibres_q[q], fibres_q[q]);
-              else
-                {
-                  // Spatial diffusivity along the deformed fibre, pulled back
-                  // to the reference configuration: J F^-1 D(f) F^-T.
-                  const auto  &F = (*F_cell)[F_cell->size() == 1 ? 0 : q];
-                  const double J = dealii::determinant(F);
-                  AssertThrow(J > 0,
-                              dealii::ExcMessage(
-                                "Monodomain: a deformation gradient with "
-                                "det F <= 0."));
-                  dealii::Tensor<1, 3> f = F * fibres_q[q];
-                  f /= f.norm();
-                  const dealii::Tensor<2, 3> D_spatial =
-                    D_t * identity + (D_l - D_t) * dealii::outer_product(f, f);
-                  const dealii::Tensor<2, 3> F_inv = dealii::invert(F);
-                  D = J * F_inv * D_spatial * dealii::transpose(F_inv);
-                }
-              for (unsigned int i = 0; i < n; ++i)
-                D_grad[i] = D * fe_values.shape_grad(i, q);
-              const double JxW = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                for (unsigned int j = 0; j < n; ++j)
-                  local(i, j) += fe_values.shape_grad(i, q) * D_grad[j] * JxW;
-            }
-          cell->get_dof_indices(indices);
-          matrices.stiffness.add(indices, local);
-        }
-    matrices.stiffness.compress(dealii::VectorOperation::add);
+            else
+              {
+                // Spatial diffusivity along the deformed fibre, pulled back
+                // to the reference configuration: J F^-1 D(f) F^-T.
+                const auto  &F = (*F_cell)[F_cell->size() == 1 ? 0 : q];
+                const double J = dealii::determinant(F);
+                AssertThrow(J > 0,
+                            dealii::ExcMessage(
+                              "Monodomain: a deformation gradient with "
+                              "det F <= 0."));
+                dealii::Tensor<1, 3> f = F * fibres_q[q];
+                f /= f.norm();
+                const dealii::Tensor<2, 3> D_spatial =
+                  D_t * identity + (D_l - D_t) * dealii::outer_product(f, f);
+                const dealii::Tensor<2, 3> F_inv = dealii::invert(F);
+                D = J * F_inv * D_spatial * dealii::transpose(F_inv);
+              }
+            for (unsigned int i = 0; i < n; ++i)
+              D_grad[i] = D * fe_values.shape_grad(i, q);
+            const double JxW = fe_values.JxW(q);
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int j = 0; j < n; ++j)
+                local(i, j) += fe_values.shape_grad(i, q) * D_grad[j] * JxW;
+          }
+      });
     matrices.gamma_stage = -1;
     matrices.gamma_amg   = -1;
   }

@@ -104,11 +104,10 @@ namespace systole::Fibres
     const std::vector<dealii::Point<3>>                     &points,
     std::vector<double>                                     &values) const
   {
-    std::vector<std::vector<FieldValue>> v;
-    fields->evaluate(cell, points, v);
-    values.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      values[i] = std::clamp(v[0][i].value, 0.0, 1.0);
+    const auto clamped = [](const auto &v, const unsigned int i) {
+      return std::clamp(v[0][i].value, 0.0, 1.0);
+    };
+    fields->evaluate_each(cell, points, values, clamped);
   }
 
   void
@@ -119,14 +118,10 @@ namespace systole::Fibres
   {
     std::vector<double> t;
     transmural(cell, points, t);
-    bases.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        bases[i] = basis(points[i], t[i]);
-        validate(bases[i],
-                 "(" + std::to_string(points[i][0]) + ", " +
-                   std::to_string(points[i][1]) + ", " +
-                   std::to_string(points[i][2]) + ") (arostica generator)");
-      }
+    validated_bases(
+      points,
+      name,
+      [&](const unsigned int i) { return basis(points[i], t[i]); },
+      bases);
   }
 } // namespace systole::Fibres

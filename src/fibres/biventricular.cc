@@ -277,6 +277,53 @@ namespace systole::Fibres
       rv  = 2,
       psi = 3
     };
+
+    using FieldValues = std::vector<std::vector<FieldValue>>;
+
+    /// The coordinates at point @p i of the fields' values @p v.
+    BiventricularCoordinates
+    coordinates_at(const FieldValues &v, const unsigned int i)
+    {
+      BiventricularCoordinates c;
+      c.phi_epi            = v[epi][i].value;
+      c.phi_lv             = v[lv][i].value;
+      c.phi_rv             = v[rv][i].value;
+      c.psi                = v[psi][i].value;
+      const double lv_part = std::max(0.0, c.phi_lv),
+                   rv_part = std::max(0.0, c.phi_rv);
+      if (lv_part + rv_part > 1e-8)
+        c.depth = rv_part / (lv_part + rv_part);
+      else
+        {
+          // On the epicardium both vanish: the limit of the ratio is that of
+          // their normal derivatives.
+          const double g_lv = v[lv][i].gradient.norm(),
+                       g_rv = v[rv][i].gradient.norm();
+          c.depth           = g_lv + g_rv > 0 ? g_rv / (g_lv + g_rv) : 0.5;
+        }
+      c.depth = std::clamp(c.depth, 0.0, 1.0);
+      return c;
+    }
+
+    /// The wall frame (Biventricular::wall_frames()) at point @p i of the
+    /// fields' values @p v.
+    WallFrame
+    wall_frame_at(const FieldValues &v, const unsigned int i)
+    {
+      WallFrame w;
+      w.transmural = v[epi][i].value;
+      w.apicobasal = v[psi][i].value;
+      // wall_basis with alpha = beta = 0 is (e_c, e_t, e_t x ... ): f = e_c,
+      // s = e_t.
+      const dealii::Tensor<1, 3> &g = v[psi][i].gradient;
+      const FibreBasis b = wall_basis(v[epi][i].gradient, g, 0.0, 0.0);
+      w.e_c              = b.f;
+      w.e_t              = b.s;
+      w.e_l              = dealii::cross_product_3d(w.e_t, w.e_c);
+      const dealii::Tensor<1, 3> tangent = g - (g * w.e_t) * w.e_t;
+      w.degenerate                       = !(tangent.norm() > 1e-6 * g.norm());
+      return w;
+    }
   } // namespace
 
   Biventricular::Biventricular(const Parameters                  &params,
@@ -362,30 +409,7 @@ namespace systole::Fibres
     const std::vector<dealii::Point<3>>                     &points,
     std::vector<BiventricularCoordinates>                   &result) const
   {
-    std::vector<std::vector<FieldValue>> v;
-    fields->evaluate(cell, points, v);
-    result.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        BiventricularCoordinates &c = result[i];
-        c.phi_epi                   = v[epi][i].value;
-        c.phi_lv                    = v[lv][i].value;
-        c.phi_rv                    = v[rv][i].value;
-        c.psi                       = v[psi][i].value;
-        const double lv_part        = std::max(0.0, c.phi_lv),
-                     rv_part        = std::max(0.0, c.phi_rv);
-        if (lv_part + rv_part > 1e-8)
-          c.depth = rv_part / (lv_part + rv_part);
-        else
-          {
-            // On the epicardium both vanish: the limit of the ratio is that
-            // of their normal derivatives.
-            const double g_lv = v[lv][i].gradient.norm(),
-                         g_rv = v[rv][i].gradient.norm();
-            c.depth           = g_lv + g_rv > 0 ? g_rv / (g_lv + g_rv) : 0.5;
-          }
-        c.depth = std::clamp(c.depth, 0.0, 1.0);
-      }
+    fields->evaluate_each(cell, points, result, coordinates_at);
   }
 
   void
@@ -394,24 +418,7 @@ namespace systole::Fibres
     const std::vector<dealii::Point<3>>                     &points,
     std::vector<WallFrame>                                  &frames) const
   {
-    std::vector<std::vector<FieldValue>> v;
-    fields->evaluate(cell, points, v);
-    frames.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        WallFrame &w = frames[i];
-        w.transmural = v[epi][i].value;
-        w.apicobasal = v[psi][i].value;
-        // wall_basis with alpha = beta = 0 is (e_c, e_t, e_t x ... ): f = e_c,
-        // s = e_t.
-        const dealii::Tensor<1, 3> &g = v[psi][i].gradient;
-        const FibreBasis b = wall_basis(v[epi][i].gradient, g, 0.0, 0.0);
-        w.e_c              = b.f;
-        w.e_t              = b.s;
-        w.e_l              = dealii::cross_product_3d(w.e_t, w.e_c);
-        const dealii::Tensor<1, 3> tangent = g - (g * w.e_t) * w.e_t;
-        w.degenerate = !(tangent.norm() > 1e-6 * g.norm());
-      }
+    fields->evaluate_each(cell, points, frames, wall_frame_at);
   }
 
   void
@@ -422,14 +429,14 @@ namespace systole::Fibres
   {
     std::vector<std::vector<FieldValue>> v;
     fields->evaluate(cell, points, v);
-    std::vector<BiventricularCoordinates> c;
-    coordinates(cell, points, c);
-    bases.resize(points.size());
     const Parameters &p = params;
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        const dealii::Tensor<1, 3> &g_epi = v[epi][i].gradient,
-                                   &g_psi = v[psi][i].gradient;
+    validated_bases(
+      points,
+      name,
+      [&](const unsigned int i) {
+        const BiventricularCoordinates c     = coordinates_at(v, i);
+        const dealii::Tensor<1, 3>    &g_epi = v[epi][i].gradient,
+                                   &g_psi    = v[psi][i].gradient;
         AssertThrow(g_epi.norm() > 0 && std::isfinite(g_epi.norm()),
                     dealii::ExcMessage(
                       "Biventricular fibres: the transmural gradient "
@@ -442,7 +449,7 @@ namespace systole::Fibres
         // the wall normal.
         const dealii::Tensor<1, 3> n_lv = direction(-v[lv][i].gradient, g_epi),
                                    n_rv = direction(v[rv][i].gradient, -g_epi);
-        const double d                  = c[i].depth;
+        const double d                  = c.depth;
         // Angles through the septum in that orientation: the RV's own
         // (alpha, beta) are (-alpha, -beta) there.
         const auto septal =
@@ -475,7 +482,7 @@ namespace systole::Fibres
                                       0.5 * (p.rv_beta_endo + p.rv_beta_epi));
         const FibreBasis q_epi =
           wall(p.lv_alpha_epi, p.lv_beta_epi, p.rv_alpha_epi, p.rv_beta_epi);
-        const double e = std::clamp(c[i].phi_epi, 0.0, 1.0);
+        const double e = std::clamp(c.phi_epi, 0.0, 1.0);
         FibreBasis   b = e <= 0.5 ? bislerp(q_endo, q_mid, 2 * e)
                                   : bislerp(q_mid, q_epi, 2 * e - 1);
         // bislerp returns axes with arbitrary signs: take f with a positive
@@ -492,10 +499,8 @@ namespace systole::Fibres
             b.s = -b.s;
             b.n = -b.n;
           }
-        bases[i] = b;
-        validate(bases[i],
-                 Geometry::format_point(points[i]) +
-                   " (biventricular generator)");
-      }
+        return b;
+      },
+      bases);
   }
 } // namespace systole::Fibres

@@ -261,16 +261,11 @@ namespace systole::Fibres
               const std::string                                         &name)
     {
       return [rule, name](const auto &, const auto &points, auto &bases) {
-        bases.resize(points.size());
-        for (unsigned int i = 0; i < points.size(); ++i)
-          {
-            bases[i] = rule(points[i]);
-            validate(bases[i],
-                     "(" + std::to_string(points[i][0]) + ", " +
-                       std::to_string(points[i][1]) + ", " +
-                       std::to_string(points[i][2]) + ") (" + name +
-                       " generator)");
-          }
+        validated_bases(
+          points,
+          name,
+          [&](const unsigned int i) { return rule(points[i]); },
+          bases);
       };
     }
 

@@ -2,6 +2,8 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include "geometry/point_location.h"
+
 #include <cmath>
 
 namespace systole::Fibres
@@ -26,6 +28,22 @@ namespace systole::Fibres
       bad("the directions are not orthogonal");
     if ((dealii::cross_product_3d(b.f, b.s) - b.n).norm() > tol)
       bad("it is not right-handed (n != f x s)");
+  }
+
+  void
+  validated_bases(const std::vector<dealii::Point<3>>           &points,
+                  const std::string                             &name,
+                  const std::function<FibreBasis(unsigned int)> &basis_at,
+                  std::vector<FibreBasis>                       &bases)
+  {
+    bases.resize(points.size());
+    for (unsigned int i = 0; i < points.size(); ++i)
+      {
+        bases[i] = basis_at(i);
+        validate(bases[i],
+                 Geometry::format_point(points[i]) + " (" + name +
+                   " generator)");
+      }
   }
 
   double

@@ -32,6 +32,14 @@ namespace systole::Fibres
            const std::string &where,
            const double       tolerance = 1e-8);
 
+  /// A generator's frames at @p points: @p bases[i] = @p basis_at(i), each
+  /// validated (an error names the point and the generator @p name).
+  void
+  validated_bases(const std::vector<dealii::Point<3>>           &points,
+                  const std::string                             &name,
+                  const std::function<FibreBasis(unsigned int)> &basis_at,
+                  std::vector<FibreBasis>                       &bases);
+
   /// Helix angle of @p f [rad] in the local frame of the wall: the angle
   /// between f and the circumferential direction e_c, positive towards the
   /// apex-to-base direction e_l: atan2(f . e_l, f . e_c).

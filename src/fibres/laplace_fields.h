@@ -89,6 +89,22 @@ namespace systole::Fibres
              const std::vector<dealii::Point<3>>                     &points,
              std::vector<std::vector<FieldValue>> &values) const;
 
+    /// One result per point: @p out[i] = @p at(values, i) with the values
+    /// of evaluate() at the points @p points of @p cell.
+    template <class T, class At>
+    void
+    evaluate_each(const dealii::Triangulation<3, 3>::active_cell_iterator &cell,
+                  const std::vector<dealii::Point<3>> &points,
+                  std::vector<T>                      &out,
+                  const At                            &at) const
+    {
+      std::vector<std::vector<FieldValue>> values;
+      evaluate(cell, points, values);
+      out.resize(points.size());
+      for (unsigned int i = 0; i < points.size(); ++i)
+        out[i] = at(values, i);
+    }
+
     /// "Q2", "P1", ...: the element, for reports.
     std::string
     element_name() const;

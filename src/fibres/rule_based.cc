@@ -254,12 +254,10 @@ namespace systole::Fibres
   {
     std::vector<WallFrame> frames;
     wall.evaluate(cell, points, frames);
-    bases.resize(points.size());
-    for (unsigned int i = 0; i < points.size(); ++i)
-      {
-        bases[i] = basis(frames[i]);
-        validate(bases[i],
-                 Geometry::format_point(points[i]) + " (rule-based generator)");
-      }
+    validated_bases(
+      points,
+      name,
+      [&](const unsigned int i) { return basis(frames[i]); },
+      bases);
   }
 } // namespace systole::Fibres

@@ -8,26 +8,9 @@ namespace systole::Materials
 {
   BestelTension::BestelTension(const Bestel::Parameters &params,
                                const double              period)
-    : bestel(params, period)
+    : TensionModel(model_name, TensionDrive::activation_time, 0)
+    , bestel(params, period)
   {}
-
-  std::string
-  BestelTension::name() const
-  {
-    return model_name;
-  }
-
-  TensionDrive
-  BestelTension::drive() const
-  {
-    return TensionDrive::activation_time;
-  }
-
-  unsigned int
-  BestelTension::n_states() const
-  {
-    return 0;
-  }
 
   void
   BestelTension::initial_state(double *) const

@@ -17,12 +17,6 @@ namespace systole::Materials
     /// @param[in] period beat period [ms]
     BestelTension(const Bestel::Parameters &params, const double period);
 
-    std::string
-    name() const override;
-    TensionDrive
-    drive() const override;
-    unsigned int
-    n_states() const override;
     void
     initial_state(double *state) const override;
     /// T = Bestel::tension(time, activation time), 0 while the point is not

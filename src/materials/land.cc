@@ -171,7 +171,8 @@ namespace systole::Materials
   }
 
   Land::Land(const Parameters &params)
-    : p(params)
+    : TensionModel(model_name, TensionDrive::calcium, n_state_values)
+    , p(params)
   {
     k_wu = p.k_uw * (1.0 / p.r_w - 1.0) - p.k_ws;
     k_su = p.k_ws * p.r_w * (1.0 / p.r_s - 1.0);
@@ -180,24 +181,6 @@ namespace systole::Materials
     A   = p.A_eff * p.r_s / ((1.0 - p.r_s) * p.r_w + p.r_s);
     c_w = p.phi * p.k_uw * (1.0 - p.r_w) / p.r_w;
     c_s = p.phi * p.k_ws * p.r_w * (1.0 - p.r_s) / p.r_s;
-  }
-
-  std::string
-  Land::name() const
-  {
-    return model_name;
-  }
-
-  TensionDrive
-  Land::drive() const
-  {
-    return TensionDrive::calcium;
-  }
-
-  unsigned int
-  Land::n_states() const
-  {
-    return n_state_values;
   }
 
   void

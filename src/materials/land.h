@@ -87,12 +87,6 @@ namespace systole::Materials
 
     explicit Land(const Parameters &params);
 
-    std::string
-    name() const override;
-    TensionDrive
-    drive() const override;
-    unsigned int
-    n_states() const override;
     /// At rest: no calcium bound, every cross-bridge blocked (TmBlocked =
     /// 1), no distortion.
     void

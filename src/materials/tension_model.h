@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 
 /// @file
 /// The active-tension extension point: a model of the fibre tension T_a of
@@ -13,7 +14,8 @@
 /// 1. write materials/<model>.{h,cc} deriving from TensionModel, with a
 ///    nested Parameters struct (declare/parse in subsection "Active tension /
 ///    <name>", units in every help text, bounds checked in parse) and a
-///    static `model_name`;
+///    static `model_name`, which it passes to this base's constructor with
+///    its drive and number of states;
 /// 2. add one entry to the table in materials/tension_factory.cc;
 /// 3. add tests/unit/materials/<model>_test.cc: the resting state is at rest
 ///    (zero tension), an independent value (a steady state, a closed form),
@@ -68,17 +70,26 @@ namespace systole::Materials
     virtual ~TensionModel() = default;
 
     /// Name used in the parameter file ("Active tension / Model").
-    virtual std::string
-    name() const = 0;
+    const std::string &
+    name() const
+    {
+      return model_name;
+    }
 
     /// What drives the model.
-    virtual TensionDrive
-    drive() const = 0;
+    TensionDrive
+    drive() const
+    {
+      return model_drive;
+    }
 
     /// Number of state values per point (0: the tension is a function of
     /// the inputs).
-    virtual unsigned int
-    n_states() const = 0;
+    unsigned int
+    n_states() const
+    {
+      return model_n_states;
+    }
 
     /// The resting state (n_states() values).
     virtual void
@@ -107,5 +118,21 @@ namespace systole::Materials
     {
       return 0;
     }
+
+  protected:
+    /// A model's identity, fixed on construction: its name, what drives it
+    /// and its number of state values per point.
+    TensionModel(std::string        name,
+                 const TensionDrive drive,
+                 const unsigned int n_states)
+      : model_name(std::move(name))
+      , model_drive(drive)
+      , model_n_states(n_states)
+    {}
+
+  private:
+    std::string  model_name;
+    TensionDrive model_drive;
+    unsigned int model_n_states;
   };
 } // namespace systole::Materials

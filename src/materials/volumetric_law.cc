@@ -9,6 +9,34 @@ namespace systole::Materials
     constexpr const char *quadratic_name   = "quadratic";
     constexpr const char *logarithmic_name = "logarithmic";
     constexpr const char *simo_taylor_name = "Simo-Taylor";
+
+    /// add_volumetric_stress() on F, S and dS/dE.
+    void
+    add_stress(const dealii::Tensor<2, 3>    &F,
+               const double                   dU,
+               const double                   d2U,
+               dealii::SymmetricTensor<2, 3> &S,
+               dealii::SymmetricTensor<4, 3> &dS_dE,
+               const bool                     with_tangent)
+    {
+      const double                        J = dealii::determinant(F);
+      const dealii::SymmetricTensor<2, 3> C_inv =
+        dealii::invert(dealii::symmetrize(dealii::transpose(F) * F));
+      // S = 2 dU/dC = J U' C^{-1} (dJ/dC = J/2 C^{-1}); dS/dE = 2 dS/dC with
+      // dC^{-1}/dC = -C^{-1} (.) C^{-1}, (A (.) B)_IJKL = (A_IK B_JL + A_IL
+      // B_JK) / 2 (what deal.II's dC_inv_dC returns).
+      S += (J * dU) * C_inv;
+      if (!with_tangent)
+        return;
+      const double a = J * (dU + J * d2U), b = -J * dU;
+      for (unsigned int I = 0; I < 3; ++I)
+        for (unsigned int J_ = I; J_ < 3; ++J_)
+          for (unsigned int K = 0; K < 3; ++K)
+            for (unsigned int L = K; L < 3; ++L)
+              dS_dE[I][J_][K][L] +=
+                a * C_inv[I][J_] * C_inv[K][L] +
+                b * (C_inv[I][K] * C_inv[J_][L] + C_inv[I][L] * C_inv[J_][K]);
+    }
   } // namespace
 
 
@@ -172,39 +200,17 @@ namespace systole::Materials
   {
     const double J = dealii::determinant(F);
     AssertThrow(J > 0.0, ExcNonPositiveVolumeRatio(J));
-    add_volumetric_stress(F,
-                          first_derivative(J),
-                          second_derivative(J),
-                          S,
-                          dS_dE);
+    add_stress(F, first_derivative(J), second_derivative(J), S, dS_dE, true);
   }
 
 
   void
-  add_volumetric_stress(const dealii::Tensor<2, 3>    &F,
-                        const double                   dU,
-                        const double                   d2U,
-                        dealii::SymmetricTensor<2, 3> &S,
-                        dealii::SymmetricTensor<4, 3> &dS_dE,
-                        const bool                     with_tangent)
+  add_volumetric_stress(const PassiveInput &in,
+                        const double        dU,
+                        const double        d2U,
+                        PassiveOutput      &out)
   {
-    const double                        J = dealii::determinant(F);
-    const dealii::SymmetricTensor<2, 3> C_inv =
-      dealii::invert(dealii::symmetrize(dealii::transpose(F) * F));
-    // S = 2 dU/dC = J U' C^{-1} (dJ/dC = J/2 C^{-1}); dS/dE = 2 dS/dC with
-    // dC^{-1}/dC = -C^{-1} (.) C^{-1}, (A (.) B)_IJKL = (A_IK B_JL + A_IL
-    // B_JK) / 2 (what deal.II's dC_inv_dC returns).
-    S += (J * dU) * C_inv;
-    if (!with_tangent)
-      return;
-    const double a = J * (dU + J * d2U), b = -J * dU;
-    for (unsigned int I = 0; I < 3; ++I)
-      for (unsigned int J_ = I; J_ < 3; ++J_)
-        for (unsigned int K = 0; K < 3; ++K)
-          for (unsigned int L = K; L < 3; ++L)
-            dS_dE[I][J_][K][L] +=
-              a * C_inv[I][J_] * C_inv[K][L] +
-              b * (C_inv[I][K] * C_inv[J_][L] + C_inv[I][L] * C_inv[J_][K]);
+    add_stress(in.F, dU, d2U, out.S, out.dS_dE, in.with_tangent);
   }
 
 

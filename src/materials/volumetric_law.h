@@ -143,20 +143,18 @@ namespace systole::Materials
     VolumetricForm form;
   };
 
-  /// Adds the stress of a volumetric energy with the given derivatives at
-  /// J = det F: @f$S = J U' C^{-1}@f$ and
+  /// Adds to @p out the stress of a volumetric energy with the given
+  /// derivatives at J = det F: @f$S = J U' C^{-1}@f$ and
   /// @f$\partial S/\partial E = J (U' + J U'') C^{-1}\otimes C^{-1}
-  /// - 2 J U' C^{-1}\odot C^{-1}@f$ [kPa]. VolumetricLaw::add_to() passes its
-  /// U'(J), U''(J); the mixed formulation passes U' = -p, U'' = 0 (the
-  /// pressure p [kPa] as Lagrange multiplier of J - 1, positive in
-  /// compression).
-  /// @param[in] F deformation gradient [-], det F > 0 (not checked here).
-  /// @param[in] with_tangent false: S only (@p dS_dE untouched).
+  /// - 2 J U' C^{-1}\odot C^{-1}@f$ [kPa] (out.psi untouched). VolumetricLaw
+  /// adds so its U'(J), U''(J); the mixed formulation passes U' = -p,
+  /// U'' = 0 (the pressure p [kPa] as Lagrange multiplier of J - 1, positive
+  /// in compression).
+  /// @param[in] in in.F the deformation gradient [-], det F > 0 (not checked
+  /// here); in.with_tangent false: S only (out.dS_dE untouched).
   void
-  add_volumetric_stress(const dealii::Tensor<2, 3>    &F,
-                        const double                   dU,
-                        const double                   d2U,
-                        dealii::SymmetricTensor<2, 3> &S,
-                        dealii::SymmetricTensor<4, 3> &dS_dE,
-                        bool                           with_tangent = true);
+  add_volumetric_stress(const PassiveInput &in,
+                        const double        dU,
+                        const double        d2U,
+                        PassiveOutput      &out);
 } // namespace systole::Materials

@@ -253,6 +253,27 @@ namespace systole::Mechanics
                                (1.0 / inverse_mu + gamma_prime);
     }
 
+    /// The switches of one assembly: what it builds and which terms are on.
+    struct AssemblyOptions
+    {
+      bool with_matrix            = false;
+      bool with_volume_derivative = false;
+      /// The Schur-complement preconditioner of the mixed iterative solver.
+      bool with_pressure_matrix = false;
+      bool mixed                = false; ///< a pressure field
+      /// The volumetric penalty on its own (reduced) quadrature rule.
+      bool reduced_volumetric = false;
+      bool dynamic            = false; ///< the inertia of a time step
+      /// The rate terms (Kelvin-Voigt viscosity, dashpots) and the viscosity.
+      bool with_rates = false, viscous = false;
+      /// The augmented Lagrangian's gamma (0: none).
+      double gamma = 0.0;
+      /// 1 / (1 - alpha_f) and c / (1 - alpha_f) of the inertia (0 when
+      /// quasi-static), and dv/du of a time step.
+      double inertia_weight = 0.0, mass_weight = 0.0;
+      double velocity_coefficient = 0.0;
+    };
+
     /// Pressure rows and columns of the mixed formulations at one point
     /// (energy -p (J - 1) - p^2 / (2 kappa)):
     /// R_p,a = -psi_a (J - 1 + p / kappa), K_up = K_pu^T = -J F^{-T} : grad
@@ -268,9 +289,7 @@ namespace systole::Mechanics
                        const double               p,
                        const double               inverse_kappa,
                        const double               inverse_mu,
-                       const double               gamma,
-                       const bool                 with_matrix,
-                       const bool                 with_pressure_matrix,
+                       const AssemblyOptions     &options,
                        ShapeScratch              &s,
                        CellSystem                &cell)
     {
@@ -282,7 +301,7 @@ namespace systole::Mechanics
           s.psi[a] = values.shape_value(a, q);
           cell.residual(a) -= s.psi[a] * (J - 1.0 + p * inverse_kappa) * JxW;
         }
-      if (!with_matrix)
+      if (!options.with_matrix)
         return;
       // (grad_phi of the displacement functions was set by add_stress_point.)
       for (const unsigned int b : s.u_dofs)
@@ -298,16 +317,17 @@ namespace systole::Mechanics
           for (const unsigned int b : s.p_dofs)
             cell.matrix(a, b) -= s.psi[a] * s.psi[b] * inverse_kappa * JxW;
         }
-      if (with_pressure_matrix)
+      if (options.with_pressure_matrix)
         {
-          const double w = schur_weight(inverse_kappa, inverse_mu, gamma);
+          const double w =
+            schur_weight(inverse_kappa, inverse_mu, options.gamma);
           for (unsigned int i = 0; i < s.p_dofs.size(); ++i)
             for (unsigned int j = 0; j < s.p_dofs.size(); ++j)
               {
                 const double psi_psi =
                   s.psi[s.p_dofs[i]] * s.psi[s.p_dofs[j]] * JxW;
                 cell.pressure_matrix(i, j) -= w * psi_psi;
-                if (gamma > 0.0)
+                if (options.gamma > 0.0)
                   cell.pressure_weight(i, j) +=
                     (inverse_kappa + inverse_mu) * psi_psi;
               }
@@ -460,27 +480,6 @@ namespace systole::Mechanics
         }
       return std::max(mu / 3.0, floor);
     }
-
-    /// The switches of one assembly: what it builds and which terms are on.
-    struct AssemblyOptions
-    {
-      bool with_matrix            = false;
-      bool with_volume_derivative = false;
-      /// The Schur-complement preconditioner of the mixed iterative solver.
-      bool with_pressure_matrix = false;
-      bool mixed                = false; ///< a pressure field
-      /// The volumetric penalty on its own (reduced) quadrature rule.
-      bool reduced_volumetric = false;
-      bool dynamic            = false; ///< the inertia of a time step
-      /// The rate terms (Kelvin-Voigt viscosity, dashpots) and the viscosity.
-      bool with_rates = false, viscous = false;
-      /// The augmented Lagrangian's gamma (0: none).
-      double gamma = 0.0;
-      /// 1 / (1 - alpha_f) and c / (1 - alpha_f) of the inertia (0 when
-      /// quasi-static), and dv/du of a time step.
-      double inertia_weight = 0.0, mass_weight = 0.0;
-      double velocity_coefficient = 0.0;
-    };
 
     /// The material of the bulk term: the laws and their coefficients.
     struct BulkMaterial
@@ -662,12 +661,7 @@ namespace systole::Mechanics
                                   material.reference_shear_stiffness)
           : 0.0;
       if (options.mixed)
-        Materials::add_volumetric_stress(in.F,
-                                         -w.p_values[q],
-                                         0.0,
-                                         out.S,
-                                         out.dS_dE,
-                                         options.with_matrix);
+        Materials::add_volumetric_stress(in, -w.p_values[q], 0.0, out);
       else if (!options.reduced_volumetric)
         material.volumetric_law.add_to(in.F, out.S, out.dS_dE);
       // The active stress comes after the volumetric part: it is not
@@ -746,9 +740,7 @@ namespace systole::Mechanics
                                w.p_values[q],
                                material.inverse_bulk_modulus,
                                point.inverse_mu,
-                               options.gamma,
-                               options.with_matrix,
-                               options.with_pressure_matrix,
+                               options,
                                w.shape,
                                w.cell_system);
         }

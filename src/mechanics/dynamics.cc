@@ -497,32 +497,26 @@ namespace systole::Mechanics
   double
   Problem::strain_energy() const
   {
-    const Impl                       &m = *impl;
+    const Impl &m      = *impl;
+    double      energy = 0.0;
+    impl->for_each_point([&](const unsigned int,
+                             const unsigned int,
+                             PointData                  &data,
+                             const dealii::Tensor<2, 3> &F,
+                             const double                JxW) {
+      Materials::PassiveInput in;
+      in.F            = F;
+      in.basis        = data.basis;
+      in.with_tangent = false;
+      Materials::PassiveOutput out;
+      m.material.passive_law.evaluate(in, out);
+      const double U =
+        m.discretization.reduced_volumetric
+          ? 0.0
+          : m.material.volumetric_law.energy(dealii::determinant(in.F));
+      energy += (out.psi + U) * JxW;
+    });
     std::vector<dealii::Tensor<2, 3>> grad_u;
-    double                            energy = 0.0;
-    m.discretization.for_each_owned_cell(
-      m.discretization.n_q_1d,
-      cell_flags,
-      [&](const auto &cell, const auto &fe_values) {
-        grad_u.resize(fe_values.n_quadrature_points);
-        fe_values[m.discretization.layout.displacement]
-          .get_function_gradients(m.u, grad_u);
-        const auto data = m.points.point_data.get_data(cell);
-        for (const unsigned int q : fe_values.quadrature_point_indices())
-          {
-            Materials::PassiveInput in;
-            in.F            = dealii::unit_symmetric_tensor<3>() + grad_u[q];
-            in.basis        = data[q]->basis;
-            in.with_tangent = false;
-            Materials::PassiveOutput out;
-            m.material.passive_law.evaluate(in, out);
-            const double U =
-              m.discretization.reduced_volumetric
-                ? 0.0
-                : m.material.volumetric_law.energy(dealii::determinant(in.F));
-            energy += (out.psi + U) * fe_values.JxW(q);
-          }
-      });
     if (m.discretization.reduced_volumetric)
       m.discretization.for_each_owned_cell(
         m.discretization.n_q_1d - 1,

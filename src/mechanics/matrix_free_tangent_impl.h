@@ -80,26 +80,14 @@ namespace systole::Mechanics::internal
     void
     vmult(Vector &dst, const Vector &src) const
     {
-      matrix_free.cell_loop(&TangentOperator::apply_cells,
-                            this,
-                            dst,
-                            src,
-                            true);
-      for (const unsigned int i : matrix_free.get_constrained_dofs())
-        dst.local_element(i) = src.local_element(i);
+      apply(dst, src, /*add=*/false);
     }
 
     /// dst += K src.
     void
     vmult_add(Vector &dst, const Vector &src) const
     {
-      matrix_free.cell_loop(&TangentOperator::apply_cells,
-                            this,
-                            dst,
-                            src,
-                            false);
-      for (const unsigned int i : matrix_free.get_constrained_dofs())
-        dst.local_element(i) += src.local_element(i);
+      apply(dst, src, /*add=*/true);
     }
 
     /// K is symmetric (a Hessian).
@@ -142,11 +130,12 @@ namespace systole::Mechanics::internal
     void
     residual(Vector &dst) const
     {
-      matrix_free.cell_loop(&TangentOperator::residual_cells,
-                            this,
-                            dst,
-                            u,
-                            true);
+      matrix_free.cell_loop(
+        &TangentOperator::loop_cells<&TangentOperator::residual_batch>,
+        this,
+        dst,
+        u,
+        true);
     }
 
     std::size_t
@@ -273,17 +262,61 @@ namespace systole::Mechanics::internal
       return state;
     }
 
-    void
-    apply_cells(const MF &,
-                Vector       &dst,
-                const Vector &src,
-                const Range  &cells) const;
+    /// F = I + grad u at point @p q of @p phi (gradients evaluated).
+    static Grad
+    deformation_gradient(const Eval &phi, const unsigned int q)
+    {
+      Grad F = phi.get_gradient(q);
+      for (unsigned int d = 0; d < 3; ++d)
+        F[d][d] += 1.0;
+      return F;
+    }
 
+    /// dst = K src (dst += K src with @p add); constrained rows: the
+    /// identity.
     void
-    residual_cells(const MF &,
-                   Vector       &dst,
-                   const Vector &src,
-                   const Range  &cells) const;
+    apply(Vector &dst, const Vector &src, const bool add) const
+    {
+      matrix_free.cell_loop(
+        &TangentOperator::loop_cells<&TangentOperator::apply_batch>,
+        this,
+        dst,
+        src,
+        /*zero_dst_vector=*/!add);
+      for (const unsigned int i : matrix_free.get_constrained_dofs())
+        if (add)
+          dst.local_element(i) += src.local_element(i);
+        else
+          dst.local_element(i) = src.local_element(i);
+    }
+
+    /// A worker of MatrixFree::cell_loop(): per cell batch of @p cells,
+    /// @p batch reads @p src into phi and submits its gradients, which are
+    /// integrated and added to @p dst.
+    template <void (
+      TangentOperator::*batch)(Eval &, const Vector &, const Range &) const>
+    void
+    loop_cells(const MF &,
+               Vector       &dst,
+               const Vector &src,
+               const Range  &cells) const
+    {
+      Eval phi(matrix_free);
+      for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+        {
+          phi.reinit(cell);
+          (this->*batch)(phi, src, cells);
+          phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+        }
+    }
+
+    /// K src on the batch of @p phi (one of @p cells).
+    void
+    apply_batch(Eval &phi, const Vector &src, const Range &cells) const;
+
+    /// R(src) on the batch of @p phi.
+    void
+    residual_batch(Eval &phi, const Vector &src, const Range &) const;
 
     /// out = A h with A the upper triangle of a symmetric 9 x 9 matrix, row
     /// by row.
@@ -392,10 +425,8 @@ namespace systole::Mechanics::internal
           matrix_free.n_active_entries_per_cell_batch(cell);
         for (unsigned int q = 0; q < phi.n_q_points; ++q)
           {
-            Grad F = phi.get_gradient(q);
-            for (unsigned int d = 0; d < 3; ++d)
-              F[d][d] += 1.0;
-            const VA J = determinant(F);
+            const Grad F = deformation_gradient(phi, q);
+            const VA   J = determinant(F);
             for (unsigned int l = 0; l < lanes; ++l)
               min_J = std::min(min_J, J[l]);
             const State state = law.state(F);
@@ -460,63 +491,48 @@ namespace systole::Mechanics::internal
 
   template <typename VA>
   void
-  TangentOperator<VA>::apply_cells(const MF &,
-                                   Vector       &dst,
+  TangentOperator<VA>::apply_batch(Eval         &phi,
                                    const Vector &src,
                                    const Range  &cells) const
   {
-    Eval phi(matrix_free);
-    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+    const unsigned int cell = phi.get_current_cell_index();
+    // Start loading the next batch's point data while this one's sum
+    // factorization runs (the cached tangent is streamed from memory).
+    if (cell + 1 < cells.second)
       {
-        phi.reinit(cell);
-        // Start loading the next batch's point data while this one's sum
-        // factorization runs (the cached tangent is streamed from memory).
-        if (cell + 1 < cells.second)
-          {
-            const bool  single = variant == Variant::cached_single;
-            const char *next =
-              single ? reinterpret_cast<const char *>(point_single(cell + 1, 0))
-                     : reinterpret_cast<const char *>(point(cell + 1, 0));
-            const std::size_t bytes = (single ? sizeof(VAf) : sizeof(VA)) *
-                                      per_point() * Eval::static_n_q_points;
-            for (std::size_t offset = 0; offset < bytes; offset += 64)
-              __builtin_prefetch(next + offset, 0, 1);
-          }
-        phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
-        if (cached())
-          apply_cached(phi, cell);
-        else
-          for (unsigned int q = 0; q < phi.n_q_points; ++q)
-            phi.submit_gradient(law.linearization(load(point(cell, q)),
-                                                  phi.get_gradient(q)),
-                                q);
-        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+        const bool  single = variant == Variant::cached_single;
+        const char *next =
+          single ? reinterpret_cast<const char *>(point_single(cell + 1, 0))
+                 : reinterpret_cast<const char *>(point(cell + 1, 0));
+        const std::size_t bytes = (single ? sizeof(VAf) : sizeof(VA)) *
+                                  per_point() * Eval::static_n_q_points;
+        for (std::size_t offset = 0; offset < bytes; offset += 64)
+          __builtin_prefetch(next + offset, 0, 1);
       }
+    phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
+    if (cached())
+      apply_cached(phi, cell);
+    else
+      for (unsigned int q = 0; q < phi.n_q_points; ++q)
+        phi.submit_gradient(law.linearization(load(point(cell, q)),
+                                              phi.get_gradient(q)),
+                            q);
   }
 
 
   template <typename VA>
   void
-  TangentOperator<VA>::residual_cells(const MF &,
-                                      Vector       &dst,
+  TangentOperator<VA>::residual_batch(Eval         &phi,
                                       const Vector &src,
-                                      const Range  &cells) const
+                                      const Range &) const
   {
-    Eval phi(matrix_free);
-    for (unsigned int cell = cells.first; cell < cells.second; ++cell)
+    phi.read_dof_values_plain(src);
+    phi.evaluate(dealii::EvaluationFlags::gradients);
+    for (unsigned int q = 0; q < phi.n_q_points; ++q)
       {
-        phi.reinit(cell);
-        phi.read_dof_values_plain(src);
-        phi.evaluate(dealii::EvaluationFlags::gradients);
-        for (unsigned int q = 0; q < phi.n_q_points; ++q)
-          {
-            Grad F = phi.get_gradient(q), P;
-            for (unsigned int d = 0; d < 3; ++d)
-              F[d][d] += 1.0;
-            law.evaluate<VA>(F, nullptr, P, nullptr);
-            phi.submit_gradient(P, q);
-          }
-        phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+        Grad P;
+        law.evaluate<VA>(deformation_gradient(phi, q), nullptr, P, nullptr);
+        phi.submit_gradient(P, q);
       }
   }
 } // namespace systole::Mechanics::internal

@@ -67,11 +67,7 @@ namespace systole::Mechanics
             Materials::PassiveOutput law;
             m.material.passive_law.evaluate(in, law);
             if (mixed)
-              Materials::add_volumetric_stress(s.F,
-                                               -p_values[q],
-                                               0.0,
-                                               law.S,
-                                               law.dS_dE);
+              Materials::add_volumetric_stress(in, -p_values[q], 0.0, law);
             else
               m.material.volumetric_law.add_to(s.F, law.S, law.dS_dE);
             if (s.active_tension != 0.0)

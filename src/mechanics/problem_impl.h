@@ -554,13 +554,14 @@ namespace systole::Mechanics
                      const bool         allow_empty,
                      const std::string &caller);
 
-    /// Calls @p f(active cell index, q, data, F) at every quadrature point
-    /// of the locally owned cells, F of the current displacement.
+    /// Calls @p f(active cell index, q, data, F, JxW) at every quadrature
+    /// point of the locally owned cells, F of the current displacement.
     void
     for_each_point(const std::function<void(const unsigned int,
                                             const unsigned int,
                                             PointData &,
-                                            const dealii::Tensor<2, 3> &)> &f);
+                                            const dealii::Tensor<2, 3> &,
+                                            const double)> &f);
 
     /// Wall times of assembly and linear solves (sections "Mechanics /
     /// ..."), summed over the run.

@@ -68,13 +68,14 @@ namespace systole::Mechanics
     const std::function<void(const unsigned int,
                              const unsigned int,
                              PointData &,
-                             const dealii::Tensor<2, 3> &)> &f)
+                             const dealii::Tensor<2, 3> &,
+                             const double)> &f)
   {
     Impl                             &m = *this;
     std::vector<dealii::Tensor<2, 3>> grad_u;
     m.discretization.for_each_owned_cell(
       m.discretization.n_q_1d,
-      dealii::update_gradients,
+      dealii::update_gradients | dealii::update_JxW_values,
       [&](const auto &cell, const auto &fe_values) {
         grad_u.resize(fe_values.n_quadrature_points);
         fe_values[m.discretization.layout.displacement]
@@ -84,7 +85,8 @@ namespace systole::Mechanics
           f(cell->active_cell_index(),
             q,
             *data[q],
-            dealii::unit_symmetric_tensor<3>() + grad_u[q]);
+            dealii::unit_symmetric_tensor<3>() + grad_u[q],
+            fe_values.JxW(q));
       });
   }
 
@@ -124,7 +126,8 @@ namespace systole::Mechanics
     m.for_each_point([&](const unsigned int,
                          const unsigned int,
                          PointData                  &data,
-                         const dealii::Tensor<2, 3> &F) {
+                         const dealii::Tensor<2, 3> &F,
+                         const double) {
       double stretch;
       data.model_tension = step_at_point(m.points, data, F, trial, stretch);
       data.tension_state = trial;
@@ -143,7 +146,8 @@ namespace systole::Mechanics
     m.for_each_point([&](const unsigned int          c,
                          const unsigned int          q,
                          PointData                  &data,
-                         const dealii::Tensor<2, 3> &F) {
+                         const dealii::Tensor<2, 3> &F,
+                         const double) {
       double stretch;
       tensions[c].resize(q + 1);
       tensions[c][q] = step_at_point(m.points, data, F, trial, stretch);

@@ -17,25 +17,12 @@ namespace test_support
       std::function<double(const systole::Materials::TensionInput &)>;
 
     ToyTension(std::string name, Function tension, const double onset = 0)
-      : model_name(std::move(name))
+      : TensionModel(std::move(name),
+                     systole::Materials::TensionDrive::activation_time,
+                     0)
       , tension(std::move(tension))
       , onset(onset)
     {}
-    std::string
-    name() const override
-    {
-      return model_name;
-    }
-    systole::Materials::TensionDrive
-    drive() const override
-    {
-      return systole::Materials::TensionDrive::activation_time;
-    }
-    unsigned int
-    n_states() const override
-    {
-      return 0;
-    }
     void
     initial_state(double *) const override
     {}
@@ -60,8 +47,7 @@ namespace test_support
     }
 
   private:
-    std::string model_name;
-    Function    tension;
-    double      onset;
+    Function tension;
+    double   onset;
   };
 } // namespace test_support
