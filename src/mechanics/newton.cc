@@ -384,10 +384,7 @@ namespace systole::Mechanics
             ok = false;
             break;
           }
-        // The iterate before this chord, to go back to if it is worse.
-        const LA::MPI::Vector        u_before = m.u_owned;
-        const dealii::Vector<double> p_before = pressures;
-        dealii::Vector<double>       dp;
+        dealii::Vector<double> dp;
         if (!bordered_update(m.factorized.volume_rows,
                              m.factorized.w,
                              volume_residual(),
@@ -415,21 +412,7 @@ namespace systole::Mechanics
         // (The first iteration mostly corrects the volume, which |R| does
         // not measure: judge the rate from the second on.)
         if (ok && it > 0 && !chords_worth_going_on(residual[0] / previous))
-          {
-            // Slow: full Newton from here, or from the iterate before this
-            // chord if the chord raised |R_u| (in the BiV heartbeat's first
-            // filling, Newton from such an iterate diverged: 1.1e3 -> 1e110).
-            if (residual[0] > previous)
-              {
-                m.u_owned   = u_before;
-                m.u         = m.u_owned;
-                pressures   = p_before;
-                residual[0] = previous;
-                out << "      (the last chord raised |R_u|: undone)"
-                    << std::endl;
-              }
-            break;
-          }
+          break; // slow: continue with full Newton from here
       }
     const bool wasted = !ok || !(residual[0] < start_residual);
     if (wasted)
