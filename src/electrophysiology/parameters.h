@@ -37,10 +37,21 @@ namespace systole::Electrophysiology
     double      endocardial_velocity  = 2; ///< [mm/ms]
   };
 
+  /// The time integration of the monodomain and of a single cell (the ARK
+  /// IMEX method of ImexIntegrator, ImexIntegrator::Settings::of()).
+  struct TimeSteps
+  {
+    double       time_step = 0.1;   ///< (maximum) ARKode step [ms]
+    unsigned int order     = 3;     ///< order of the IMEX ARK method (3 to 5)
+    bool         adaptive  = false; ///< adapt the step to the tolerances
+    double       relative_tolerance = 1e-4; ///< adaptive steps only [-]
+    double       absolute_tolerance = 1e-5; ///< adaptive steps [model units]
+  };
+
   /// Subsection "Electrophysiology": the monodomain model, its
-  /// discretization and time integration, the stimulation protocol.
-  /// Defaults: physiology.md (Niederer et al. 2011 tissue values).
-  struct Parameters
+  /// discretization and time integration (TimeSteps), the stimulation
+  /// protocol. Defaults: physiology.md (Niederer et al. 2011 tissue values).
+  struct Parameters : TimeSteps
   {
     /// "Model": how the activation is computed. monodomain: the
     /// reaction-diffusion model; reaction_eikonal: the ionic model at every
@@ -75,13 +86,8 @@ namespace systole::Electrophysiology
     /// the EP mesh.
     unsigned int mesh_refinement = 0;
 
-    double       time_step = 0.1;   ///< (maximum) ARKode step [ms]
-    unsigned int order     = 3;     ///< order of the IMEX ARK method (3 to 5)
-    bool         adaptive  = false; ///< adapt the step to the tolerances
-    double       relative_tolerance = 1e-4;  ///< adaptive steps only [-]
-    double       absolute_tolerance = 1e-5;  ///< adaptive steps [model units]
-    double       linear_tolerance   = 1e-8;  ///< CG relative residual [-]
-    std::string  preconditioner     = "AMG"; ///< of CG: "AMG" or "Jacobi"
+    double      linear_tolerance = 1e-8;  ///< CG relative residual [-]
+    std::string preconditioner   = "AMG"; ///< of CG: "AMG" or "Jacobi"
     /// Mass matrix of the potential: false: lumped (Gauss-Lobatto, diagonal);
     /// true: consistent (Gauss), with the ionic current still at the nodes.
     bool consistent_mass = false;

@@ -897,9 +897,7 @@ namespace systole::Electrophysiology
   std::vector<Stimulus>
   junction_stimuli(const PurkinjeNetwork               &network,
                    const std::vector<dealii::Point<3>> &positions,
-                   const double                         radius,
-                   const double                         duration,
-                   const double                         amplitude,
+                   const Stimulus                      &pulse,
                    const MPI_Comm                       comm)
   {
     const auto distance = nearest_nodes(network, positions, comm).first;
@@ -911,10 +909,11 @@ namespace systole::Electrophysiology
         s.region.shape  = StimulusRegion::Shape::sphere;
         s.region.centre = network.nodes[network.junctions[j]];
         // A little over the nearest node's distance: it lies inside.
-        s.region.radius = std::max(radius, distance[j] * (1 + 1e-9) + 1e-12);
+        s.region.radius =
+          std::max(pulse.region.radius, distance[j] * (1 + 1e-9) + 1e-12);
         s.start = network.times[network.junctions[j]] + network.junction_delay;
-        s.duration  = duration;
-        s.amplitude = amplitude;
+        s.duration  = pulse.duration;
+        s.amplitude = pulse.amplitude;
         stimuli.push_back(s);
       }
     return stimuli;

@@ -274,16 +274,15 @@ namespace systole::Electrophysiology
   merge(const PurkinjeNetwork &a, const PurkinjeNetwork &b);
 
   /// The junctions of @p network as stimuli of the monodomain model: per
-  /// junction a sphere around it of radius @p radius, widened to reach the
-  /// nearest of the nodes at @p positions (the locally owned ones of each
-  /// rank; nearest over all ranks), on from the junction's time plus the
-  /// delay for @p duration [ms] at @p amplitude [µA/mm³]. Collective.
+  /// junction a sphere around it of the radius of @p pulse's region [mm],
+  /// widened to reach the nearest of the nodes at @p positions (the locally
+  /// owned ones of each rank; nearest over all ranks), on from the
+  /// junction's time plus the delay for @p pulse's duration [ms] at its
+  /// amplitude [µA/mm³] (the rest of @p pulse unused). Collective.
   std::vector<Stimulus>
   junction_stimuli(const PurkinjeNetwork               &network,
                    const std::vector<dealii::Point<3>> &positions,
-                   const double                         radius,
-                   const double                         duration,
-                   const double                         amplitude,
+                   const Stimulus                      &pulse,
                    const MPI_Comm                       comm);
 
   /// The junctions of @p network as sources of the myocardial eikonal

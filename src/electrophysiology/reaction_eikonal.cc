@@ -172,14 +172,11 @@ namespace systole::Electrophysiology
     // The His bundle activates at the first stimulus's start (the
     // monodomain has no eikonal latency); the junctions' stimuli replace
     // the given ones.
-    const Stimulus first = params.stimuli.front();
-    grow_purkinje(names, first.start);
-    params.stimuli = junction_stimuli(purkinje,
-                                      space.node_positions,
-                                      params.purkinje.junction_radius,
-                                      first.duration,
-                                      first.amplitude,
-                                      comm);
+    Stimulus pulse = params.stimuli.front();
+    grow_purkinje(names, pulse.start);
+    pulse.region.radius = params.purkinje.junction_radius;
+    params.stimuli =
+      junction_stimuli(purkinje, space.node_positions, pulse, comm);
   }
 
 

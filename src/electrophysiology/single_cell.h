@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include "electrophysiology/ionic_model.h"
+#include "electrophysiology/parameters.h"
 #include "electrophysiology/stimulus.h"
 
 #include <functional>
@@ -44,15 +45,9 @@ namespace systole::Electrophysiology
       parse(const dealii::ParameterHandler &prm);
     };
 
-    /// Time integration (the entries of subsection Electrophysiology).
-    struct Settings
-    {
-      double       time_step          = 0.01; ///< (maximum) step [ms]
-      unsigned int order              = 3;    ///< of the ARK method, 3 to 5
-      bool         adaptive           = false;
-      double       relative_tolerance = 1e-4;
-      double       absolute_tolerance = 1e-5;
-    };
+    /// Time integration (the entries of subsection Electrophysiology; a
+    /// Parameters serves as it is).
+    using Settings = TimeSteps;
 
     /// Called after every step with the time [ms], the potential [model
     /// units] and the states.

@@ -194,12 +194,10 @@ namespace systole::Mechanics
     dealii::Tensor<1, 3>                    &area_sum,
     std::array<dealii::Vector<double>, 3>   *alpha)
   {
-    const auto                       &fe = fe_face.get_fe();
-    const unsigned int                n  = fe.n_dofs_per_cell();
-    std::vector<unsigned int>         component(n);
+    const auto                       &fe        = fe_face.get_fe();
+    const unsigned int                n         = fe.n_dofs_per_cell();
+    const std::vector<unsigned int>   component = shape_components(fe);
     std::vector<dealii::Tensor<1, 3>> grad(n), turn(n);
-    for (unsigned int a = 0; a < n; ++a)
-      component[a] = fe.system_to_component_index(a).first;
     for (const unsigned int q : fe_face.quadrature_point_indices())
       {
         const dealii::Tensor<2, 3> F =

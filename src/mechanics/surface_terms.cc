@@ -7,6 +7,15 @@
 
 namespace systole::Mechanics
 {
+  std::vector<unsigned int>
+  shape_components(const dealii::FiniteElement<3, 3> &fe)
+  {
+    std::vector<unsigned int> component(fe.n_dofs_per_cell());
+    for (unsigned int a = 0; a < component.size(); ++a)
+      component[a] = fe.system_to_component_index(a).first;
+    return component;
+  }
+
   void
   area_derivative(const dealii::Tensor<2, 3> &F,
                   const dealii::Tensor<1, 3> &N,
@@ -35,12 +44,10 @@ namespace systole::Mechanics
                   dealii::Vector<double>                  &vector,
                   dealii::FullMatrix<double>              *matrix)
   {
-    const auto                       &fe = fe_face.get_fe();
-    const unsigned int                n  = fe.n_dofs_per_cell();
-    std::vector<unsigned int>         component(n);
+    const auto                       &fe        = fe_face.get_fe();
+    const unsigned int                n         = fe.n_dofs_per_cell();
+    const std::vector<unsigned int>   component = shape_components(fe);
     std::vector<dealii::Tensor<1, 3>> grad(n);
-    for (unsigned int b = 0; b < n; ++b)
-      component[b] = fe.system_to_component_index(b).first;
     for (const unsigned int q : fe_face.quadrature_point_indices())
       {
         const dealii::Tensor<2, 3> F =

@@ -32,6 +32,11 @@ namespace systole::Mechanics
   /// @param[in] scale s
   /// @param[in,out] vector local vector v (size dofs_per_cell)
   /// @param[in,out] matrix local matrix M, or nullptr to skip it
+  /// The vector component (0, 1, 2; 3: a pressure field of the mixed
+  /// formulations) of each shape function of @p fe.
+  std::vector<unsigned int>
+  shape_components(const dealii::FiniteElement<3, 3> &fe);
+
   /// The derivative of the area vector cof(F) N: A[i][j][K] = eps_ijk
   /// eps_JKL F_kL N_J, so that (dcof(F)[e_j (x) g] N)_i = sum_K A[i][j][K]
   /// g_K (cof F is quadratic in F).

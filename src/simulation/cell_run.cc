@@ -92,7 +92,7 @@ namespace systole
         , ep(Parameters::parse(in.prm))
         , pacing(SingleCell::Pacing::parse(in.prm))
         , model(*ep.ionic_model)
-        , cell(model, settings(ep), pacing, in.run.start_time)
+        , cell(model, ep, pacing, in.run.start_time)
         , tension(in.prm, model, pacing, in.run)
         , results(in.run.output_directory, in.parameter_text, in.comm)
         , period(pacing.period > 0 ? pacing.period
@@ -105,18 +105,6 @@ namespace systole
       run_loop();
 
     private:
-      static SingleCell::Settings
-      settings(const Parameters &ep)
-      {
-        SingleCell::Settings settings;
-        settings.time_step          = ep.time_step;
-        settings.order              = ep.order;
-        settings.adaptive           = ep.adaptive;
-        settings.relative_tolerance = ep.relative_tolerance;
-        settings.absolute_tolerance = ep.absolute_tolerance;
-        return settings;
-      }
-
       long
       beat_of(const double t) const
       {
