@@ -365,6 +365,7 @@ namespace systole::Mechanics
     bool                         ok             = assemble(residual, false);
     const double                 start_residual = residual[0];
     constexpr unsigned int       max_chord_iterations = 12;
+    bool                         rose                 = false;
     for (unsigned int it = 0; ok; ++it)
       {
         reference = std::max({reference,
@@ -411,10 +412,14 @@ namespace systole::Mechanics
         out << std::defaultfloat << std::endl;
         // (The first iteration mostly corrects the volume, which |R| does
         // not measure: judge the rate from the second on.)
+        rose = residual[0] > previous;
         if (ok && it > 0 && !chords_worth_going_on(residual[0] / previous))
           break; // slow: continue with full Newton from here
       }
-    const bool wasted = !ok || !(residual[0] < start_residual);
+    // Failed, no better, or the last chord raised |R_u| (the old
+    // factorization no longer fits: in the BiV heartbeat's first filling
+    // Newton from such an iterate diverged, 1.1e3 -> 2.7e110).
+    const bool wasted = !ok || rose || !(residual[0] < start_residual);
     if (wasted)
       {
         // Failed or no better: full Newton from the start.
