@@ -136,3 +136,56 @@ TEST_CASE("BdfStep's volume target dW/dp of two external cavities equals "
   CHECK(dW_dp(0, 0) < 0);
   CHECK(dW_dp(1, 1) < 0);
 }
+
+TEST_CASE("BdfStep's start pressures: the linear extrapolation of the last "
+          "two, but the last accepted ones right after a restart",
+          "[circulation][bdf]")
+{
+  ClosedLoop::Parameters parameters;
+  parameters.left_ventricle_kind = parameters.right_ventricle_kind =
+    CavityKind::external;
+  const ClosedLoop model(parameters);
+  Vector           y0;
+  model.initial_state(y0);
+  Vector p0(2);
+  p0[0] = 1.2; // kPa
+  p0[1] = 0.4;
+  BdfStep::Settings          settings;
+  BdfStep                    step(model, settings, 0.0, y0, p0);
+  Vector                     W;
+  dealii::FullMatrix<double> dW_dp;
+  // Accepted: 1.2, 0.4 at 0 ms, then 2.0, 0.1 at 1 ms (a steep change, as
+  // across the short step that locates a valve event).
+  step.begin(1.0);
+  Vector p1(2);
+  p1[0] = 2.0;
+  p1[1] = 0.1;
+  step.solve(p1, W, dW_dp);
+  step.accept();
+  // A step of 3 ms: the extrapolation goes on with the slope of the last
+  // step, the start too.
+  step.begin(4.0);
+  const Vector predicted = step.predicted_pressures();
+  CHECK(std::abs(predicted[0] - (2.0 + 3.0 * 0.8)) < 1e-14);
+  CHECK(std::abs(predicted[1] - (0.1 - 3.0 * 0.3)) < 1e-14);
+  Vector start = step.start_pressures();
+  CHECK(std::abs(start[0] - predicted[0]) < 1e-14);
+  CHECK(std::abs(start[1] - predicted[1]) < 1e-14);
+  // After a restart (a valve switched) the start is the last accepted
+  // pressure; the prediction (the error estimate's) is unchanged.
+  step.restart();
+  step.begin(4.0);
+  start = step.start_pressures();
+  CHECK(start[0] == 2.0);
+  CHECK(start[1] == 0.1);
+  CHECK(std::abs(step.predicted_pressures()[0] - predicted[0]) < 1e-14);
+  // Once the first step after the restart is accepted (2.6 kPa at 4 ms),
+  // the extrapolation is the start again: 2.6 + 1 ms x 0.2 kPa/ms.
+  Vector p2 = p1;
+  p2[0]     = 2.6;
+  step.solve(p2, W, dW_dp);
+  step.accept();
+  step.begin(5.0);
+  CHECK(std::abs(step.start_pressures()[0] - 2.8) < 1e-14);
+  CHECK(step.order() == 2);
+}
