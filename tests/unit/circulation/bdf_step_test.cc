@@ -46,6 +46,26 @@ namespace
     return step.state();
   }
 
+  /// The closed loop with both ventricles external (3D in a heartbeat).
+  ClosedLoop::Parameters
+  two_external_cavities()
+  {
+    ClosedLoop::Parameters parameters;
+    parameters.left_ventricle_kind = parameters.right_ventricle_kind =
+      CavityKind::external;
+    return parameters;
+  }
+
+  /// The pressures of the two external cavities [kPa].
+  Vector
+  cavity_pressures(const double lv, const double rv)
+  {
+    Vector p(2);
+    p[0] = lv;
+    p[1] = rv;
+    return p;
+  }
+
   double
   relative_difference(const Vector &a, const Vector &b)
   {
@@ -91,16 +111,12 @@ TEST_CASE("BdfStep's volume target dW/dp of two external cavities equals "
           "central differences",
           "[circulation][bdf]")
 {
-  ClosedLoop::Parameters parameters;
-  parameters.left_ventricle_kind = parameters.right_ventricle_kind =
-    CavityKind::external;
-  const ClosedLoop model(parameters);
+  const ClosedLoop model(two_external_cavities());
   REQUIRE(model.n_cavities() == 2);
   Vector y0;
   model.initial_state(y0);
-  Vector p0(2);
-  p0[0] = 1.2; // kPa: the mitral valve open, the aortic one closed
-  p0[1] = 0.4;
+  // The mitral valve open, the aortic one closed.
+  const Vector      p0 = cavity_pressures(1.2, 0.4);
   BdfStep::Settings settings;
   BdfStep           step(model, settings, 0.0, y0, p0);
   REQUIRE(step.external_cavities().size() == 2);
@@ -141,25 +157,17 @@ TEST_CASE("BdfStep's start pressures: the linear extrapolation of the last "
           "two, but the last accepted ones right after a restart",
           "[circulation][bdf]")
 {
-  ClosedLoop::Parameters parameters;
-  parameters.left_ventricle_kind = parameters.right_ventricle_kind =
-    CavityKind::external;
-  const ClosedLoop model(parameters);
+  const ClosedLoop model(two_external_cavities());
   Vector           y0;
   model.initial_state(y0);
-  Vector p0(2);
-  p0[0] = 1.2; // kPa
-  p0[1] = 0.4;
-  BdfStep::Settings          settings;
-  BdfStep                    step(model, settings, 0.0, y0, p0);
-  Vector                     W;
+  const BdfStep::Settings settings;
+  BdfStep step(model, settings, 0.0, y0, cavity_pressures(1.2, 0.4));
+  Vector  W;
   dealii::FullMatrix<double> dW_dp;
   // Accepted: 1.2, 0.4 at 0 ms, then 2.0, 0.1 at 1 ms (a steep change, as
   // across the short step that locates a valve event).
   step.begin(1.0);
-  Vector p1(2);
-  p1[0] = 2.0;
-  p1[1] = 0.1;
+  const Vector p1 = cavity_pressures(2.0, 0.1);
   step.solve(p1, W, dW_dp);
   step.accept();
   // A step of 3 ms: the extrapolation goes on with the slope of the last
