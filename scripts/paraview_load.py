@@ -1,9 +1,11 @@
 #!/usr/bin/env pvpython
 """Load a Systole run into ParaView with sensible colour maps.
 
-    pvpython scripts/paraview_load.py results/<run>/fields.xdmf [FIELD]
-        [--screenshot PNG] [--dump NPZ]
-    (or, in the ParaView GUI: View > Python Shell > Run Script, with sys.argv set)
+    python -m systole_post.pvpython scripts/paraview_load.py results/<run>/fields.xdmf
+        [FIELD] [--screenshot PNG] [--dump NPZ]
+    (pvpython under xvfb-run: systole_post.pvpython finds it, e.g. the checkout's
+    .paraview/usr/bin/pvpython, run by that absolute path; or, in the ParaView GUI:
+    View > Python Shell > Run Script, with sys.argv set)
 
 Opens the XDMF file (every field step, in time), warps the mesh by the displacement, colours
 it by FIELD (default: the first present of DEFAULT_ORDER) and gives every known field a
@@ -11,7 +13,7 @@ colour map and range convention: strains and stresses diverging about 0, the fib
 and J diverging about 1, activation times sequential. Without a display (no window mapped,
 e.g. under xvfb-run) it saves a screenshot of the last step beside the file, or to PNG.
 --dump writes what ParaView read, every point field of every time step, to NPZ (keys
-"times", "points", "<step>/<field>"): scripts/tests/test_paraview.py compares it with h5py.
+"times", "points", "<step>/<field>"): scripts/tests/test_xdmf_vtk.py compares it with h5py.
 """
 
 import sys

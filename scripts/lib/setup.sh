@@ -15,17 +15,22 @@ export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$SYSTOLE_ROOT}
 # renders scripts/report.py's page in the pytest (scripts/tests/test_report.py). gmsh and its
 # Python module: scripts/make_biv_mesh.py regenerates meshes/biv_coarse.msh (the tests read
 # the shipped file and need neither). The gmsh C++ API (gmsh.h, libgmsh: reading .msh files)
-# comes with libdeal.ii-dev, which depends on libgmsh-dev. Not Debian's ParaView: its
-# python3-paraview (pvpython) conflicts with python3-vtk9, which libvtk9-dev needs; where
-# pvpython and xvfb-run are installed, the ParaView tests of scripts/tests/test_xdmf_vtk.py
-# run and scripts/run puts a ParaView picture in the report.
+# comes with libdeal.ii-dev, which depends on libgmsh-dev. paraview (its libraries) and xvfb
+# (xvfb-run, with xauth): the ParaView tests of scripts/tests/test_xdmf_vtk.py and the ParaView
+# picture scripts/run puts in the report. Debian's pvpython is in python3-paraview, which
+# declares Conflicts: python3-vtk9, which libvtk9-dev needs: the install below goes without
+# recommends (paraview recommends python3-paraview), and systole_install_pvpython unpacks
+# python3-paraview's files into the checkout instead of installing it.
 SYSTOLE_PACKAGES=(
   libdeal.ii-dev libsundials-dev libhdf5-mpi-dev libeigen3-dev libvtk9-dev libopenblas0-serial
   catch2 cmake ninja-build ccache mold clang-format-14 g++ git
   openmpi-bin python3 python3-venv
   chromium
   gmsh python3-gmsh
+  paraview xvfb xauth
 )
+# Where systole_install_pvpython unpacks python3-paraview (gitignored).
+SYSTOLE_PARAVIEW=${SYSTOLE_PARAVIEW:-$SYSTOLE_ROOT/.paraview}
 
 say() { printf '[systole] %s\n' "$*"; }
 
@@ -69,6 +74,58 @@ systole_install_venv() {
   echo "$want" > "$stamp"
 }
 
+# pvpython without python3-paraview installed: its files (pvpython, ParaView's own vtkmodules)
+# unpacked with dpkg -x into $SYSTOLE_PARAVIEW, at the exact version of the installed paraview
+# (its libraries), no root needed once paraview is installed. Run by its absolute path,
+# $SYSTOLE_PARAVIEW/usr/bin/pvpython imports the prefix's modules before the system's (through
+# a relative path it picks python3-vtk9's vtkmodules and crashes). It renders under xvfb-run
+# only: Debian's build has neither EGL nor OSMesa. Exports SYSTOLE_PVPYTHON (where it is set
+# already, that pvpython is used and nothing is unpacked); systole_post.pvpython finds it.
+systole_install_pvpython() {
+  if [ -n "${SYSTOLE_PVPYTHON:-}" ]; then
+    return 0
+  fi
+  local version stamp=$SYSTOLE_PARAVIEW/.version pvpython=$SYSTOLE_PARAVIEW/usr/bin/pvpython
+  version=$(dpkg-query -W -f='${Version}' paraview 2>/dev/null) || {
+    say "error: Debian's paraview is not installed (pvpython needs its libraries)"
+    return 1
+  }
+  if [ ! -x "$pvpython" ] || [ "$(cat "$stamp" 2>/dev/null)" != "$version" ]; then
+    say "unpacking python3-paraview $version (pvpython) into $SYSTOLE_PARAVIEW"
+    local tmp deb sandbox=()
+    tmp=$(mktemp -d) || return 1
+    # As root, apt-get download hands the file to the user _apt, who cannot write here.
+    if [ "$(id -u)" -eq 0 ]; then
+      sandbox=(-o APT::Sandbox::User=root)
+    fi
+    if ! (cd "$tmp" && apt-get download -q "${sandbox[@]}" "python3-paraview=$version" \
+        >/dev/null 2>&1); then
+      if [ "$(id -u)" -eq 0 ]; then
+        # Package lists missing or older than the installed paraview.
+        apt-get update -q >/dev/null
+        (cd "$tmp" && apt-get download -q "${sandbox[@]}" "python3-paraview=$version" \
+          >/dev/null) || true
+      fi
+    fi
+    deb=$(find "$tmp" -name 'python3-paraview_*.deb' -print -quit)
+    if [ -z "$deb" ]; then
+      rm -rf "$tmp"
+      say "error: could not download python3-paraview=$version (apt-get download); as root," \
+        "apt-get update refreshes the package lists, or set SYSTOLE_PVPYTHON to a pvpython"
+      return 1
+    fi
+    rm -rf "$SYSTOLE_PARAVIEW"
+    if ! dpkg -x "$deb" "$SYSTOLE_PARAVIEW" || ! "$pvpython" --version >/dev/null 2>&1; then
+      rm -rf "$tmp" "$SYSTOLE_PARAVIEW"
+      say "error: python3-paraview $version unpacked into $SYSTOLE_PARAVIEW does not run"
+      return 1
+    fi
+    rm -rf "$tmp"
+    echo "$version" > "$stamp"
+  fi
+  export SYSTOLE_PVPYTHON=$pvpython
+}
+
 systole_build() {
   local jobs
   jobs=$(nproc)
@@ -88,5 +145,5 @@ systole_build() {
 }
 
 systole_setup() {
-  systole_install_packages && systole_install_venv && systole_build
+  systole_install_packages && systole_install_pvpython && systole_install_venv && systole_build
 }
