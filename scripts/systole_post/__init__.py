@@ -13,6 +13,8 @@ Modules:
 - :mod:`systole_post.study`: ``systole-study``: designed parameter studies of a base .prm,
   run N at a time and resumable, gathered into one table.
 - :mod:`systole_post.sensitivity`: Gaussian-process emulator and Sobol indices of a study.
+- :mod:`systole_post.pvpython`: finds pvpython (the set-up unpacks Debian's) and runs a script
+  in it under xvfb-run.
 """
 
 from systole_post.results import Results, ResultsError, read_results

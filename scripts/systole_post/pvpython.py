@@ -25,9 +25,10 @@ ROOT = Path(__file__).resolve().parents[2]
 PREFIX_PVPYTHON = Path(".paraview") / "usr" / "bin" / "pvpython"
 
 #: How to get pvpython and xvfb-run, for the messages of the tests and scripts/run.
-HOW_TO_INSTALL = ("scripts/test or scripts/run installs them (scripts/lib/setup.sh: the "
-                  "packages paraview xvfb xauth, as root, then systole_install_pvpython "
-                  "unpacks python3-paraview into .paraview/), or set SYSTOLE_PVPYTHON")
+HOW_TO_INSTALL = ("the set-up of scripts/test and scripts/run installs both "
+                  "(scripts/lib/setup.sh: the packages paraview xvfb xauth, as root, then "
+                  "systole_install_pvpython unpacks python3-paraview into .paraview/), or "
+                  "set SYSTOLE_PVPYTHON")
 
 
 def _executable(path) -> bool:
