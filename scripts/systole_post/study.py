@@ -14,6 +14,8 @@ A study file (TOML) names the base parameter file, the entries to vary and the d
     ranks = 1             # MPI ranks per case
     summary_rows = "last" # "last": one row per case (its last beat); "all": every beat
     timeseries_final = [] # /timeseries columns whose last value joins the table (final_<name>)
+    timeseries_at_start = []  # /timeseries columns at the start of the row's beat (start_<name>)
+    statistics = []       # /statistics values of the run (statistics_<name>), e.g. n_dofs
     events = false        # true: the beat's valve events join the table, e.g.
                           # valve1_closes_lv_pressure_mmHg (valve numbers as in /events)
 
@@ -134,6 +136,8 @@ class Study:
         parallel, ranks: cases at a time and MPI ranks per case.
         summary_rows: "last" or "all".
         timeseries_final: /timeseries columns whose last value is gathered.
+        timeseries_at_start: /timeseries columns gathered at the start of the row's beat.
+        statistics: /statistics values gathered (the same in every row of a case).
         text: the study file's text; base_text: the base file's text.
     """
 
@@ -145,6 +149,8 @@ class Study:
     ranks: int = 1
     summary_rows: str = "last"
     timeseries_final: list[str] = field(default_factory=list)
+    timeseries_at_start: list[str] = field(default_factory=list)
+    statistics: list[str] = field(default_factory=list)
     events: bool = False
     fixed: dict = field(default_factory=dict)
     text: str = ""
@@ -231,7 +237,8 @@ def load_study(path: str | Path) -> Study:
     if clash:
         raise StudyError(f"{path}: parameter name(s) {sorted(clash)} are reserved")
     run = data.get("run", {})
-    unknown = set(run) - {"parallel", "ranks", "summary_rows", "timeseries_final", "events"}
+    unknown = set(run) - {"parallel", "ranks", "summary_rows", "timeseries_final",
+                          "timeseries_at_start", "statistics", "events"}
     if unknown:
         raise StudyError(f"{path}: unknown [run] key(s) {sorted(unknown)}")
     summary_rows = run.get("summary_rows", "last")
@@ -241,6 +248,8 @@ def load_study(path: str | Path) -> Study:
                  parallel=int(run.get("parallel", 1)), ranks=int(run.get("ranks", 1)),
                  summary_rows=summary_rows,
                  timeseries_final=list(run.get("timeseries_final", [])),
+                 timeseries_at_start=list(run.get("timeseries_at_start", [])),
+                 statistics=list(run.get("statistics", [])),
                  events=bool(run.get("events", False)),
                  fixed={split_entry(k): v for k, v in data.get("set", {}).items()},
                  text=text, base_text=base.read_text())
@@ -754,7 +763,11 @@ def gather(out_dir: str | Path, study: Study | None = None) -> Table:
                 if name in results.timeseries:
                     final["final_" + name] = float(results.timeseries[name][-1])
                     units.setdefault("final_" + name, results.units.get(name, ""))
-            summary_rows = [row | final for row in summary_rows]
+            for name in study.statistics:
+                if name in results.statistics:
+                    final["statistics_" + name] = results.statistics[name]
+            summary_rows = [row | final | _start_columns(results, row, study, units)
+                            for row in summary_rows]
             if study.events:
                 summary_rows = [row | _event_columns(case_dir / RESULTS_IN_CASE,
                                                      row.get("beat"), units)
@@ -774,6 +787,21 @@ def gather(out_dir: str | Path, study: Study | None = None) -> Table:
                  ranges={p.name: (p.low, p.high) for p in study.parameters
                          if p.low is not None},
                  logs={p.name: p.log for p in study.parameters})
+
+
+def _start_columns(results, row: dict, study: Study, units: dict) -> dict:
+    """start_<name>: the /timeseries column ``name`` when the row's beat starts (its
+    /summary start_time; linear in time between the samples around it)."""
+    start = row.get("start_time")
+    if start is None:
+        return {}
+    columns = {}
+    for name in study.timeseries_at_start:
+        if name in results.timeseries and "time" in results.timeseries:
+            columns["start_" + name] = float(np.interp(start, results.timeseries["time"],
+                                                       results.timeseries[name]))
+            units.setdefault("start_" + name, results.units.get(name, ""))
+    return columns
 
 
 def _event_columns(path: Path, beat, units: dict) -> dict:
@@ -811,6 +839,8 @@ def _study_from_meta(out_dir: Path, meta: dict) -> Study:
                  parameters=parameters, design={}, text=text,
                  summary_rows=run.get("summary_rows", "last"),
                  timeseries_final=list(run.get("timeseries_final", [])),
+                 timeseries_at_start=list(run.get("timeseries_at_start", [])),
+                 statistics=list(run.get("statistics", [])),
                  events=bool(run.get("events", False)))
 
 

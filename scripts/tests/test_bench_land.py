@@ -1,85 +1,90 @@
-"""The land group (scripts/systole_bench/land.py): its cases (the afterload x1 run is the preload
-run at 10 mmHg), the numbers it reads from a run (the filling state when the reported beat
-starts), and the Frank-Starling and ESPVR verdicts of its section."""
+"""The land group (scripts/systole_bench/land.py): its sweeps run as the studies of the land
+recipes (here with a fake runner, tests/fake_land_systole.py), resume, and the Frank-Starling
+and ESPVR verdicts of the section built from the studies' tables."""
 
-import subprocess
+import sys
+from pathlib import Path
 
-import h5py
-import numpy as np
 import pytest
 
 from systole_bench import land
-from conftest import write_results_file
+
+FAKE = Path(__file__).resolve().parent / "fake_land_systole.py"
 
 
-def test_the_cases_of_both_ventricles():
-    for full in (False, True):
-        cases = land.land_cases(full)
-        assert sorted(cases) == sorted(
-            [f"land_preload_{label}_{edp}" for label in ("with", "without")
-             for edp in (6, 10, 14)] + ["land_afterload_0.7", "land_afterload_1.4"])
-        for name, changes in cases.items():
-            assert ("Active tension/Land/beta0" in changes) == ("without" in name)
-            # The coarse ventricle is run with the full one's tension and mitral valve.
-            assert ("Circulation/Mitral valve resistance" in changes) == (not full)
-        assert cases["land_afterload_1.4"]["Circulation/Atrial pressure"] == "10"
-    assert land.land_afterload_name(1.0) == "land_preload_with_10"
-    assert land.land_afterload_name(0.7) == "land_afterload_0.7"
+def fake_command(tmp_path):
+    return [sys.executable, str(FAKE), "{prm}", str(tmp_path / "launches.txt")]
 
 
-def test_a_run_gives_the_filling_state_when_its_last_beat_starts(tmp_path):
-    # Two beats of 800 ms; the LV pressure rises linearly from 2 to 6 mmHg over the last
-    # 100 ms of beat 0 and the mean tension falls from 1.0 to 0.5 kPa (steps at 750 and
-    # 810 ms: the values at 800 ms are interpolated).
-    timeseries = {"time": [0.0, 700.0, 750.0, 810.0, 900.0, 1600.0],
-                  "beat": [0, 0, 0, 1, 1, 1],
-                  "lv_volume_mL": [100.0, 110.0, 115.0, 121.0, 100.0, 118.0],
-                  "lv_pressure_mmHg": [0.0, 2.0, 4.0, 6.4, 90.0, 5.0],
-                  "mean_active_tension": [50.0, 1.0, 0.75, 0.45, 60.0, 0.5]}
-    summary = {"beat": [0.0, 1.0], "start_time": [0.0, 800.0], "end_time": [800.0, 1600.0],
-               "lv_EDV_mL": [110.0, 121.0], "lv_SV_mL": [40.0, 50.0]}
-    # Beat 1: the aortic valve (1) opens at 70 mmHg and closes at 95 mmHg.
-    events = {"time": [850.0, 1100.0], "beat": [1.0, 1.0], "valve": [1.0, 1.0],
-              "opens": [1.0, 0.0], "lv_pressure_mmHg": [70.0, 95.0]}
-    folder = tmp_path / "results" / "run"
-    folder.mkdir(parents=True)
-    path = write_results_file(folder / "results.h5", timeseries, summary=summary,
-                              events=events)
-    with h5py.File(path, "a") as f:
-        stats = f.create_group("statistics")
-        for key, value in (("wall_time", 20.0), ("n_dofs", 801), ("beats", 2), ("periodic", 0),
-                           ("newton_iterations", 40), ("steps", 10), ("ep_nodes", 1685)):
-            stats.create_dataset(key, data=value)
-    ok = subprocess.CompletedProcess([], 0, "", "")
-    row = land.land_row("run", tmp_path, ok, False, 2)
-    assert row["summary"]["lv_SV_mL"] == 50.0
-    assert row["start_pressure"] == pytest.approx(6.0)
-    assert row["start_tension"] == pytest.approx(0.5)
-    assert (row["opening_pressure"], row["esp"]) == (70.0, 95.0)
-    # The first beat: it starts at 0 ms.
-    first = land.land_row("run", tmp_path, ok, False, 2, beat=0)
-    assert first["summary"]["lv_SV_mL"] == 40.0
-    assert first["start_pressure"] == 0.0 and first["esp"] != first["esp"]  # no closure: NaN
+def launches(tmp_path):
+    path = tmp_path / "launches.txt"
+    return path.read_text().split() if path.exists() else []
 
 
-def fake_row(sv: float, edv: float) -> dict:
+@pytest.mark.parametrize("full", (False, True), ids=("coarse", "full"))
+def test_the_sweeps_run_as_studies_and_give_the_section(tmp_path, full):
+    studies = tmp_path / "studies"
+    rows = land.run_sweeps(tmp_path / "no-build", full, jobs=2, studies=studies,
+                           command=fake_command(tmp_path))
+    assert sorted(p.name for p in studies.iterdir()) == sorted(
+        land.recipe(sweep, full).stem for sweep in land.SWEEPS)
+    assert len(launches(tmp_path)) == 9
+    assert sorted(rows["preload_with"]) == sorted(rows["preload_without"]) == [6.0, 10.0, 14.0]
+    assert sorted(rows["afterload"]) == [0.7, 1.0, 1.4]
+    # The filling state when the last beat starts (interpolated at 800 ms), that beat's
+    # aortic closure.
+    r = rows["preload_with"][6.0]
+    assert r["start_lv_pressure_mmHg"] == pytest.approx(5.5)
+    assert r["start_mean_active_tension"] == pytest.approx(0.3)
+    assert rows["afterload"][1.4]["valve1_closes_lv_pressure_mmHg"] == pytest.approx(172.0)
+
+    text = land.land_text(rows, full, jobs=2)
+    assert "| 6 | 5.50 | 6.00 | 126.0 | 50.00 | 0.300 | 5.50 | 6.00 | 126.0 | 50.00 | 0.300 |" \
+        in text
+    assert "+10.00 mL with the length dependence (monotonic), +6.00 mL without it (more " \
+           "with it)" in text
+    assert "| x1.4 | 83.00 | 172.00 | 130.0 | 47.00 | 182.0 |" in text
+    assert "P_es = 4.000 (V_es - 40.0 mL) mmHg" in text and "R^2 = 1.0000" in text
+    assert "801 mechanics DOFs, 1685 EP nodes, 1 rank each, 2 runs at a time" in text
+    assert "16.0 to 24.0 s (4.00 Newton iterations per step)" in text
+
+
+def test_a_stopped_group_reruns_only_the_unfinished_cases(tmp_path):
+    studies = tmp_path / "studies"
+    land.run_sweeps(tmp_path, False, jobs=2, studies=studies, command=fake_command(tmp_path))
+    assert len(launches(tmp_path)) == 9
+    # Everything finished: nothing runs again.
+    land.run_sweeps(tmp_path, False, jobs=2, studies=studies, command=fake_command(tmp_path))
+    assert len(launches(tmp_path)) == 9
+    # A case interrupted (no status) is the only one rerun.
+    (studies / "land_afterload_coarse" / "cases" / "case_0002" / "status.json").unlink()
+    rows = land.run_sweeps(tmp_path, False, jobs=2, studies=studies,
+                           command=fake_command(tmp_path))
+    assert launches(tmp_path)[9:] == ["case_0002"]
+    assert all(r["status"] == "done" for sweep in rows.values() for r in sweep.values())
+
+
+def row(sv: float, edv: float, status: str = "done") -> dict:
     # Every end-systolic point on the line P = 4 (V - 40 mL).
-    esp = 4.0 * (edv - sv - 40.0)
-    return {"ok": True, "busy": False, "ranks": 2, "dofs": 801, "ep_nodes": 1685,
-            "wall": 200.0, "beats": 2, "newton": 500, "steps": 100, "esp": esp,
-            "start_pressure": 6.0, "start_tension": 0.3,
-            "summary": {"lv_EDP_mmHg": 6.0, "lv_EDV_mL": edv, "lv_SV_mL": sv,
-                        "lv_ESV_mL": edv - sv, "lv_peak_pressure_mmHg": esp + 10}}
+    return {"status": status, "error": "" if status == "done" else "Newton failed",
+            "statistics_n_dofs": 801.0, "statistics_ep_nodes": 1685.0,
+            "statistics_wall_time": 200.0, "statistics_beats": 2.0,
+            "statistics_newton_iterations": 500.0, "statistics_steps": 100.0,
+            "start_lv_pressure_mmHg": 6.0, "start_mean_active_tension": 0.3,
+            "lv_EDP_mmHg": 6.0, "lv_EDV_mL": edv, "lv_SV_mL": sv, "lv_ESV_mL": edv - sv,
+            "lv_peak_pressure_mmHg": 4.0 * (edv - sv - 40.0) + 10,
+            "valve1_closes_lv_pressure_mmHg": 4.0 * (edv - sv - 40.0)}
 
 
-def rows(with_sv, without_sv) -> dict:
-    result = {}
+def rows(with_sv, without_sv, failed_afterload=False) -> dict:
+    result = {"afterload": {}}
     for label, svs in (("with", with_sv), ("without", without_sv)):
-        for edp, sv in zip((6, 10, 14), svs):
-            result[f"land_preload_{label}_{edp}"] = fake_row(sv, 120.0 + edp)
-    # x1 is the preload run at 10 mmHg with the length dependence.
-    for factor, esv in ((0.7, 60.0), (1.4, 90.0)):
-        result[f"land_afterload_{factor:g}"] = fake_row(130.0 - esv, 130.0)
+        result[f"preload_{label}"] = {edp: row(sv, 120.0 + edp)
+                                      for edp, sv in zip((6.0, 10.0, 14.0), svs)}
+    for factor, esv in ((0.7, 60.0), (1.0, 75.0), (1.4, 90.0)):
+        result["afterload"][factor] = row(130.0 - esv, 130.0)
+    if failed_afterload:
+        result["afterload"][1.4] = row(40.0, 130.0, status="failed")
     return result
 
 
@@ -88,6 +93,14 @@ def test_the_section_says_whether_the_length_dependence_adds_stroke_volume():
     assert "+10.00 mL with the length dependence (monotonic), +6.00 mL without it (more " \
            "with it)" in text
     assert "P_es = 4.000 (V_es - 40.0 mL) mmHg" in text and "R^2 = 1.0000" in text
+    assert "801 mechanics DOFs, 1685 EP nodes, 2 ranks;" in text
     text = land.land_text(rows((50.0, 49.0, 55.0), (50.0, 55.0, 60.0)), full=False)
     assert "+5.00 mL with the length dependence (NOT monotonic), +10.00 mL without it (NOT " \
            "more with it)" in text
+
+
+def test_a_failed_case_is_a_row_that_says_why_and_leaves_out_the_espvr():
+    text = land.land_text(rows((50.0, 55.0, 60.0), (50.0, 53.0, 56.0), failed_afterload=True),
+                          full=True)
+    assert "| x1.4 | failed: Newton failed |" in text
+    assert "ESPVR" not in text.split("| x1.4 |")[1]

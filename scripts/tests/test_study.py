@@ -270,3 +270,26 @@ def test_every_recipe_loads_and_makes_its_design(recipe, tmp_path):
     assert design and study.base.is_file()
     prm = st.case_prm(study, design[0], tmp_path)
     assert st.parameter_paths(prm) >= {p.entry for p in study.parameters} | set(study.fixed)
+
+
+def test_table_gathers_timeseries_at_the_start_of_each_beat_and_statistics(tmp_path):
+    parameters = {"x1": 'entry = "Fake / x1"\nvalues = [3.0]',
+                  "x2": 'entry = "Fake / x2"\nvalues = [0.0]'}
+    run = ('summary_rows = "all"\ntimeseries_at_start = ["volume", "absent"]\n'
+           'statistics = ["n_dofs", "absent"]')
+    study = write_study(tmp_path, 'type = "grid"', parameters, beats=2, run=run)
+    assert (study.timeseries_at_start, study.statistics) == (["volume", "absent"],
+                                                             ["n_dofs", "absent"])
+    out = tmp_path / "out"
+    with open(tmp_path / "progress.txt", "w") as log:
+        st.run_study(study, out, command=fake_command(tmp_path), stream=log)
+    # The fake's volume goes from 1 to x1 = 3 over t = 0 ... 1; let its beats start at 0 and
+    # 0.5 and give it a /statistics group.
+    with h5py.File(out / "cases" / "case_0000" / st.RESULTS_IN_CASE, "a") as h5file:
+        h5file["summary"].create_dataset("start_time", data=[0.0, 0.5])
+        h5file.create_group("statistics").create_dataset("n_dofs", data=801.0)
+    table = st.gather(out, study)
+    assert table.columns["start_volume"] == [1.0, 2.0]
+    assert table.units["start_volume"] == "mm^3"
+    assert table.columns["statistics_n_dofs"] == [801.0, 801.0]
+    assert "start_absent" not in table.columns and "statistics_absent" not in table.columns
