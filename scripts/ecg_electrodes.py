@@ -32,7 +32,13 @@ BODY = {
 
 
 def model_frame(right_angle: float) -> np.ndarray:
-    """Rows: the model's x, y, z axes in body coordinates."""
+    """Rows: the model's x, y, z axes in body coordinates.
+
+    The body frame (left, anterior, superior) is left-handed, the model's frame right-handed:
+    the model's y is z x x in space, which in body coordinates is ex x ez (not ez x ex,
+    which would place the mirror image of the heart: a left-handed helix of the fibres
+    turned right-handed and the model's +y on the wrong side). So the matrix has
+    determinant -1 in these coordinates."""
     d = np.radians
     a = np.array([np.cos(d(45)) * np.cos(d(30)), np.sin(d(30)),
                   -np.sin(d(45)) * np.cos(d(30))])
@@ -40,7 +46,7 @@ def model_frame(right_angle: float) -> np.ndarray:
     ex = towards - (towards @ a) * a
     ex /= np.linalg.norm(ex)
     ez = -a
-    return np.array([ex, np.cross(ez, ex), ez])
+    return np.array([ex, np.cross(ex, ez), ez])
 
 
 def electrodes(centre, right_angle: float) -> dict[str, np.ndarray]:

@@ -66,9 +66,9 @@ def test_electrodes_default_and_rotation():
 
     # The defaults reproduce Electrophysiology / ECG electrodes' default (rounded to mm).
     e = ecg_electrodes.electrodes((0, 0, -40), 0)
-    assert np.allclose(np.round(e["V1"]), [100, 25, -37])
-    assert np.allclose(np.round(e["LL"]), [-134, 226, -273])
-    # The frame is a rotation: distances between electrodes are kept, and turning the
+    assert np.allclose(np.round(e["V1"]), [100, -25, -37])
+    assert np.allclose(np.round(e["LL"]), [-134, -226, -273])
+    # The frame is orthonormal: distances between electrodes are kept, and turning the
     # model about its long axis moves no electrode along it.
     body = ecg_electrodes.BODY
     turned = ecg_electrodes.electrodes((15, 0, -8), 45)
@@ -78,4 +78,9 @@ def test_electrodes_default_and_rotation():
         assert np.isclose(turned[a][2] - (-8), e[a][2] - (-40))
     frame = ecg_electrodes.model_frame(30)
     assert np.allclose(frame @ frame.T, np.eye(3))
-    assert np.isclose(np.linalg.det(frame), 1)
+    # The body frame (left, anterior, superior) is left-handed, the model's right-handed:
+    # determinant -1 in these coordinates (+1 would place the heart's mirror image).
+    assert np.isclose(np.linalg.det(frame), -1)
+    # The model's y = z x x in space: with the RV (+x) forwards and the base (+z) up, +y
+    # points to the patient's left (the body's +x).
+    assert ecg_electrodes.model_frame(0)[1][0] > 0.5

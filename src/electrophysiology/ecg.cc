@@ -24,11 +24,14 @@ namespace systole::Electrophysiology
     /// torso around the LV of parameters/lv_heartbeat.prm (long axis along
     /// z, base at z = 5 mm, apex at z = -92 mm), its centre (0, 0, -40) at
     /// the origin of the body frame and its long axis pointing to the apex
-    /// leftwards, anteriorly and inferiorly (docs/architecture.md, "ECG").
+    /// leftwards, anteriorly and inferiorly (docs/architecture.md, "ECG");
+    /// scripts/ecg_electrodes.py's defaults. The model's +y lies to the
+    /// patient's left and up (until 2026-12-06 the mirror image: every y
+    /// had the other sign).
     const char *default_electrodes =
-      "V1: 100 25 -37; V2: 87 -11 -70; V3: 69 -14 -96; V4: 46 -18 -120; "
-      "V5: -2 -53 -133; V6: -58 -71 -121; RA: 145 35 211; LA: 4 -247 -34; "
-      "LL: -134 226 -273";
+      "V1: 100 -25 -37; V2: 87 11 -70; V3: 69 14 -96; V4: 46 18 -120; "
+      "V5: -2 53 -133; V6: -58 71 -121; RA: 145 -35 211; LA: 4 247 -34; "
+      "LL: -134 -226 -273";
   } // namespace
 
 

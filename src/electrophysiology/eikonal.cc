@@ -1,6 +1,7 @@
 #include "electrophysiology/eikonal.h"
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/grid/grid_tools.h>
@@ -14,6 +15,7 @@
 #include <functional>
 #include <limits>
 #include <queue>
+#include <set>
 
 namespace systole::Electrophysiology
 {
@@ -187,8 +189,9 @@ namespace systole::Electrophysiology
 
   namespace
   {
-    /// The points of the fast endocardial layer's boundary part (its faces'
-    /// vertices and centres, gathered from every rank), in a tree.
+    /// The points of the fast endocardial layer's boundary parts (a
+    /// comma-separated list; their faces' vertices and centres, gathered from
+    /// every rank), in a tree.
     dealii::RTree<dealii::Point<3>>
     layer_points(const dealii::DoFHandler<3>   &dofs,
                  const Geometry::BoundaryNames &names,
@@ -198,15 +201,20 @@ namespace systole::Electrophysiology
                   dealii::ExcMessage(
                     "Electrophysiology / Fast endocardial layer velocity "
                     "must be > 0."));
-      const auto &tria = dofs.get_triangulation();
-      Geometry::require_boundary(tria, names, settings.endocardial_part);
-      const auto                    id = names.id(settings.endocardial_part);
+      const auto                          &tria = dofs.get_triangulation();
+      std::set<dealii::types::boundary_id> ids;
+      for (const auto &part :
+           dealii::Utilities::split_string_list(settings.endocardial_part))
+        {
+          Geometry::require_boundary(tria, names, part);
+          ids.insert(names.id(part));
+        }
       std::vector<dealii::Point<3>> local_points;
       for (const auto &cell : tria.active_cell_iterators())
         if (cell->is_locally_owned())
           for (const auto f : cell->face_indices())
             if (cell->face(f)->at_boundary() &&
-                cell->face(f)->boundary_id() == id)
+                ids.count(cell->face(f)->boundary_id()) > 0)
               {
                 local_points.push_back(cell->face(f)->center());
                 for (const auto v : cell->face(f)->vertex_indices())

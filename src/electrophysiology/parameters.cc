@@ -118,10 +118,11 @@ namespace systole::Electrophysiology
         "Fast endocardial layer",
         "",
         Anything(),
-        "Eikonal models: name of a boundary part (e.g. endocardium) whose "
-        "cells within Fast endocardial layer thickness conduct isotropically "
-        "at Fast endocardial layer velocity (a Purkinje-like layer); empty: "
-        "none. Units: -.");
+        "Eikonal models: names of boundary parts, comma-separated (e.g. "
+        "endocardium, or lv_endocardium, rv_endocardium), whose cells within "
+        "Fast endocardial layer thickness conduct isotropically at Fast "
+        "endocardial layer velocity (a Purkinje-like layer); empty: none. "
+        "Units: -.");
       prm.declare_entry(
         "Fast endocardial layer thickness",
         "0",

@@ -29,9 +29,10 @@ namespace systole::Electrophysiology
     double velocity_fibre  = 0.611; ///< along f [mm/ms]
     double velocity_sheet  = 0.222; ///< along s, across the fibres [mm/ms]
     double velocity_normal = 0.222; ///< along n = f x s [mm/ms]
-    /// The cells whose centre lies within @p endocardial_thickness of this
-    /// boundary part conduct isotropically at @p endocardial_velocity (a
-    /// fast endocardial, Purkinje-like layer); empty: none.
+    /// The cells whose centre lies within @p endocardial_thickness of these
+    /// boundary parts (a comma-separated list) conduct isotropically at @p
+    /// endocardial_velocity (a fast endocardial, Purkinje-like layer);
+    /// empty: none.
     std::string endocardial_part;
     double      endocardial_thickness = 0; ///< [mm]
     double      endocardial_velocity  = 2; ///< [mm/ms]
