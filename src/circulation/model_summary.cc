@@ -94,7 +94,10 @@ namespace systole::Circulation
                          const dealii::Vector<double> &cavity_pressures,
                          const dealii::Vector<double> &outputs)
   {
-    samples.push_back({time, y, cavity_pressures, outputs});
+    std::vector<int> codes(model.n_cavities());
+    for (unsigned int c = 0; c < codes.size(); ++c)
+      codes[c] = code(phases.phase(c));
+    samples.push_back({time, y, cavity_pressures, outputs, codes});
   }
 
   /// The pressure-volume loop of one cavity over the beat.
@@ -137,16 +140,29 @@ namespace systole::Circulation
             const double dt = s.time - q.time;
             if (dt > 0)
               {
-                const double dpdt = (p - q.cavity_pressures[c]) / dt;
-                dpdt_max          = std::max(dpdt_max, dpdt);
-                dpdt_min          = std::min(dpdt_min, dpdt);
+                // The clinical indices: dp/dt max while the cavity
+                // contracts (isovolumetric contraction, ejection), dp/dt
+                // min while it relaxes or fills (a sample's phase is that
+                // of the interval up to it: its events come after it). So
+                // a jump of the load right after the inlet valve's closure
+                // (the supports re-referred to end-diastole: 1.5 mmHg at
+                // once) is neither.
+                const double dpdt  = (p - q.cavity_pressures[c]) / dt;
+                const int    phase = s.phases[c];
+                if (phase == code(Phase::isovolumetric_contraction) ||
+                    phase == code(Phase::ejection))
+                  dpdt_max = std::max(dpdt_max, dpdt);
+                else
+                  dpdt_min = std::min(dpdt_min, dpdt);
               }
           }
       }
     if (samples.empty())
       v_max = v_min = p_peak = nan;
     if (dpdt_max == -inf)
-      dpdt_max = dpdt_min = nan;
+      dpdt_max = nan;
+    if (dpdt_min == inf)
+      dpdt_min = nan;
     // The valve closures, where the beat has them.
     for (const auto &closure : closures)
       if (closure.valve == cavity.inlet_valve)

@@ -65,8 +65,10 @@ namespace systole::Circulation
   ///   volume still changes by the leaks after a closure, by about 1e-5 mL
   ///   per beat), c_SV_mL, c_EF (%), c_peak_pressure_mmHg,
   ///   c_stroke_work_mmHg_mL (-oint p dV, trapezoidal), c_dpdt_max and
-  ///   c_dpdt_min (mmHg/s: the largest and smallest difference quotient of
-  ///   the cavity pressure between consecutive samples), and the time spent
+  ///   c_dpdt_min (mmHg/s: the largest difference quotient of the cavity
+  ///   pressure between consecutive samples in isovolumetric contraction and
+  ///   ejection, the smallest in isovolumetric relaxation and filling; NaN
+  ///   in a beat without such an interval), and the time spent
   ///   in each phase of CavityPhases within the beat (ms):
   ///   c_filling_duration, c_isovolumetric_contraction_duration,
   ///   c_ejection_duration, c_isovolumetric_relaxation_duration. The phase
@@ -193,12 +195,14 @@ namespace systole::Circulation
     {
       double                 time;
       dealii::Vector<double> y, cavity_pressures, outputs;
+      /// The phase code of each cavity up to the sample (add()).
+      std::vector<int> phases;
 
       template <class Archive>
       void
       serialize(Archive &archive, const unsigned int /*version*/)
       {
-        archive &time &y &cavity_pressures &outputs;
+        archive &time &y &cavity_pressures &outputs &phases;
       }
     };
 

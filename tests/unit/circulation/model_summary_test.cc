@@ -161,12 +161,30 @@ TEST_CASE("A rectangular PV loop gives the hand-computed model beat summary",
     CHECK(e["lv_isovolumetric_contraction_duration"] == 0.0);
     CHECK(e["lv_ejection_duration"] == 0.0);
     CHECK(e["lv_isovolumetric_relaxation_duration"] == 0.0);
-    CHECK(e["lv_dpdt_max"] == Approx(0.0).margin(1e-12));
+    // Filling throughout: no contraction to take dp/dt max from.
+    CHECK(std::isnan(e["lv_dpdt_max"]));
+    CHECK(e["lv_dpdt_min"] == Approx(0.0).margin(1e-12));
     // No closure: EDV is the largest volume of the beat.
     CHECK(e["lv_EDV_mL"] == Approx(120.0));
     CHECK(e["periodicity"] == Approx(0.0).margin(1e-15));
     CHECK(e["EDV_change"] == Approx(0.0).margin(1e-15));
     CHECK(std::isnan(e["SV_difference"]));
+  }
+
+  SECTION("dp/dt max is taken in contraction, dp/dt min in relaxation and "
+          "filling: a jump right after the inlet valve closes is neither")
+  {
+    // The supports re-referred at the closure drop the pressure 1.5 mmHg
+    // in 0.1 ms (-15000 mmHg/s), then it rises to 80 mmHg at 850 ms.
+    recorder.start(1, 800.0);
+    sample_and_event({800, 120, 10, 80}, mitral, false);
+    add_sample(model, recorder, 800.1, 120, 8.5, 80);
+    sample_and_event({850, 120, 80, 78}, aortic, true);
+    auto e = by_name(recorder.finish(850.0));
+    CHECK(e["lv_dpdt_max"] == Approx((80.0 - 8.5) / 0.0499));
+    // Only zero-length intervals in filling (the end of beat 0 and the
+    // closure's sample, both at 800 ms).
+    CHECK(std::isnan(e["lv_dpdt_min"]));
   }
 }
 
