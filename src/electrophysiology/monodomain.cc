@@ -173,10 +173,10 @@ namespace systole::Electrophysiology
                 ? "eikonal"
                 : (params.reaction_eikonal_diffusion ? "reaction-eikonal RE+"
                                                      : "reaction-eikonal RE-"))
-          << ", conduction velocities " << params.eikonal.velocity_fibre
+          << ",\n  conduction velocities " << params.eikonal.velocity_fibre
           << " / " << params.eikonal.velocity_sheet << " / "
           << params.eikonal.velocity_normal
-          << " mm/ms (fibre / sheet / normal), last activation " << last
+          << " mm/ms (fibre / sheet / normal),\n  last activation " << last
           << " ms, eikonal solve " << eikonal.statistics.seconds << " s ("
           << eikonal.statistics.rounds << " exchange rounds)";
         logger.line(o.str());
@@ -184,9 +184,10 @@ namespace systole::Electrophysiology
       }
     o << "Electrophysiology: monodomain, " << model.name() << ", "
       << (space.kind.simplex() ? "P" : "Q") << params.degree << ", "
-      << space.dof_handler.n_dofs() << " nodes, D = " << params.diffusivity_l()
-      << " / " << params.diffusivity_t()
-      << " mm^2/ms (along / across fibres), IMEX ARK order " << params.order
+      << space.dof_handler.n_dofs()
+      << " nodes,\n  D = " << params.diffusivity_l() << " / "
+      << params.diffusivity_t()
+      << " mm^2/ms (along / across fibres),\n  IMEX ARK order " << params.order
       << ", " << (params.adaptive ? "adaptive steps <= " : "fixed steps ")
       << params.time_step << " ms, CG + " << params.preconditioner << ", "
       << (params.consistent_mass ? "consistent" : "lumped") << " mass";

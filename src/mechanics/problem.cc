@@ -371,8 +371,8 @@ namespace systole::Mechanics
     const bool base_in_plane = boundaries.fixed_ids.count(base_id) > 0 ||
                                boundaries.sliding_ids.count(base_id) > 0;
     if (!base_in_plane)
-      logger.line("The base is not held in its plane: each cavity is "
-                  "closed by the fan from its moving rim's vertex mean.");
+      logger.line("The base is not held in its plane: each cavity is closed "
+                  "by the fan\n  from its moving rim's vertex mean.");
     for (unsigned int c = 0; c < pressure_ids.size(); ++c)
       {
         Geometry::check_cavity_rim(tria, names, pressure_names[c], "base");

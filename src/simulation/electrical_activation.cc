@@ -846,7 +846,7 @@ namespace systole
       << m.params.mesh_refinement << " time(s), "
       << m.mesh.tria->n_global_active_cells() << " " << m.kind.name() << ", "
       << (m.kind.simplex() ? "P" : "Q") << m.params.degree << ", "
-      << m.monodomain->n_dofs() << " nodes; stimulus every "
+      << m.monodomain->n_dofs() << " nodes;\n  stimulus every "
       << m.params.stimulus_period << " ms, read at "
       << dealii::Utilities::MPI::sum(m.n_points, m.comm)
       << " mechanics quadrature points";
