@@ -10,6 +10,8 @@
 #include "materials/active_stress.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
+#include "mechanics/hyperelastic_kernel.h"
+#include "mechanics/matrix_free_tangent.h"
 #include "mechanics/problem_impl.h"
 #include "mechanics/surface_terms.h"
 
@@ -127,26 +129,14 @@ namespace systole::Mechanics
       if (!with_matrix)
         return;
 
-      double C[3][3][3][3], T[3][3][3][3], D[3][3][3][3];
-      for (unsigned int I = 0; I < 3; ++I)
-        for (unsigned int J = 0; J < 3; ++J)
-          for (unsigned int K = 0; K < 3; ++K)
-            for (unsigned int L = 0; L < 3; ++L)
-              C[I][J][K][L] = dS_dE[I][J][K][L];
-      for (unsigned int c = 0; c < 3; ++c)
-        for (unsigned int J = 0; J < 3; ++J)
-          for (unsigned int K = 0; K < 3; ++K)
-            for (unsigned int L = 0; L < 3; ++L)
-              T[c][J][K][L] = F[c][0] * C[0][J][K][L] +
-                              F[c][1] * C[1][J][K][L] + F[c][2] * C[2][J][K][L];
+      // D = A JxW, A = dP/dF (hyperelastic_kernel.h).
+      const Tensor<4, 3> A = first_elasticity_tangent(F, S, dS_dE);
+      double             D[3][3][3][3];
       for (unsigned int c = 0; c < 3; ++c)
         for (unsigned int J = 0; J < 3; ++J)
           for (unsigned int d = 0; d < 3; ++d)
             for (unsigned int L = 0; L < 3; ++L)
-              D[c][J][d][L] =
-                (T[c][J][0][L] * F[d][0] + T[c][J][1][L] * F[d][1] +
-                 T[c][J][2][L] * F[d][2] + (c == d ? S[J][L] : 0.0)) *
-                JxW;
+              D[c][J][d][L] = A[c][J][d][L] * JxW;
 
       for (unsigned int B = 0; B < n; ++B)
         {
@@ -1253,6 +1243,27 @@ namespace systole::Mechanics
       return true;
     }
 
+    /// The material of the bulk term of the laws @p material, the tension
+    /// model of @p points and @p params under the uniform @p active_tension
+    /// [kPa].
+    BulkMaterial
+    bulk_material(const MaterialLaws     &material,
+                  const QuadraturePoints &points,
+                  const Parameters       &params,
+                  const double            active_tension)
+    {
+      return {material.passive_law,
+              material.volumetric_law,
+              points.tension_model,
+              points.tension_time,
+              points.tension_time_step,
+              active_tension,
+              params.active_cross_fibre,
+              params.viscosity,
+              material.inverse_bulk_modulus,
+              material.reference_shear_stiffness};
+    }
+
     /// Throws unless there is one pressure per pressure part of @p loads,
     /// and a cavity if @p with_volume_derivative.
     void
@@ -1331,25 +1342,17 @@ namespace systole::Mechanics
                         ? points.tension_model->n_states()
                         : 0,
                   options.gamma);
-    const CellTerms terms{options,
-                          {material.passive_law,
-                           material.volumetric_law,
-                           points.tension_model,
-                           points.tension_time,
-                           points.tension_time_step,
-                           active_tension,
-                           params.active_cross_fibre,
-                           params.viscosity,
-                           material.inverse_bulk_modulus,
-                           material.reference_shear_stiffness},
-                          discretization.layout,
-                          *discretization.fe,
-                          u,
-                          dynamics,
-                          discretization.constraints,
-                          boundaries,
-                          params.density};
-    unsigned int    inverted = 0;
+    const CellTerms terms{
+      options,
+      bulk_material(material, points, params, active_tension),
+      discretization.layout,
+      *discretization.fe,
+      u,
+      dynamics,
+      discretization.constraints,
+      boundaries,
+      params.density};
+    unsigned int inverted = 0;
     for (const auto &cell : discretization.dof_handler.active_cell_iterators())
       if (cell->is_locally_owned() &&
           !assemble_cell(terms,
@@ -1382,6 +1385,64 @@ namespace systole::Mechanics
     AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
                 ExcInvertedElement());
     return system.residual.l2_norm();
+  }
+
+  void
+  Problem::Impl::update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                                            const double       active_tension)
+  {
+    // (Not timed: the solves do not use it.)
+    const AssemblyOptions options =
+      assembly_options(true,
+                       false,
+                       discretization.layout.mixed(),
+                       false,
+                       0.0,
+                       discretization.reduced_volumetric,
+                       params.viscosity,
+                       dynamics);
+    // What the stored 9 x 9 of a point can hold: a major-symmetric dP/dF of
+    // the full rule, without the rate terms or the inertia.
+    AssertThrow(
+      !options.mixed && !options.reduced_volumetric && !options.dynamic &&
+        !options.with_rates && discretization.n_q_1d == 3 &&
+        !(points.tension_model != nullptr && params.active_cross_fibre.any()),
+      dealii::ExcMessage("Mechanics: the matrix-free tangent needs the penalty "
+                         "formulation on Q2 with the full volumetric rule, "
+                         "quasi-static, and no cross-fibre tension model."));
+    CellScratch        w(discretization,
+                  loads.cavities.size(),
+                  points.tension_model != nullptr
+                           ? points.tension_model->n_states()
+                           : 0,
+                  0.0);
+    const BulkMaterial bulk =
+      bulk_material(material, points, params, active_tension);
+    unsigned int inverted = 0;
+    tangent.update([&](const dealii::DoFHandler<3>::cell_iterator &cell,
+                       std::vector<Tensor<4, 3>>                  &A) {
+      AssertThrow(A.size() == w.fe_values.n_quadrature_points,
+                  dealii::ExcInternalError());
+      w.fe_values.reinit(cell);
+      w.fe_values[discretization.layout.displacement]
+        .get_function_gradients(u, w.grad_u);
+      const auto data = points.point_data.get_data(cell);
+      for (const unsigned int q : w.fe_values.quadrature_point_indices())
+        {
+          PointStress point;
+          if (evaluate_point(bulk, options, q, *data[q], w, point))
+            A[q] = first_elasticity_tangent(point.in.F,
+                                            point.out.S,
+                                            point.out.dS_dE);
+          else
+            {
+              inverted = 1;
+              A[q]     = 0;
+            }
+        }
+    });
+    AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
+                ExcInvertedElement());
   }
 
   // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on

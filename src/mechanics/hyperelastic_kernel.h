@@ -4,15 +4,56 @@
 // (MatrixFreeTangent): first Piola-Kirchhoff stress and its directional
 // derivative from one set of functions, templated on the number type so
 // that the same code runs on deal.II's VectorizedArray (a batch of cells)
-// and on double (a future matrix-based path). Only deal.II's tensor header
-// here.
+// and on double (a future matrix-based path); and the first elasticity
+// tangent from (F, S, dS/dE), shared by the matrix-based assembly and the
+// general matrix-free tangent. Only deal.II's tensor headers here.
 
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
 #include <cmath>
 
 namespace systole::Mechanics
 {
+  /// The first elasticity tangent @f$\mathbb{A} = \partial P/\partial F@f$
+  /// of a point from the deformation gradient @p F, the second
+  /// Piola-Kirchhoff stress @p S [kPa] and its tangent @p dS_dE [kPa]:
+  /// @f$A_{iJkL} = F_{iI} (\partial S/\partial E)_{IJKL} F_{kK} +
+  /// \delta_{ik} S_{JL}@f$ (material and geometric stiffness; P = F S),
+  /// so that dP = A : dF. The one conversion of the mechanics: the
+  /// matrix-based assembly (add_stress_point) and the general matrix-free
+  /// tangent (Problem::matrix_free_tangent()) both use it.
+  template <typename Number>
+  dealii::Tensor<4, 3, Number>
+  first_elasticity_tangent(const dealii::Tensor<2, 3, Number>          &F,
+                           const dealii::SymmetricTensor<2, 3, Number> &S,
+                           const dealii::SymmetricTensor<4, 3, Number> &dS_dE)
+  {
+    // dS/dE copied out once (SymmetricTensor's access is not free), then
+    // T_cJKL = F_cI C_IJKL and A_cJdL = T_cJKL F_dK + delta_cd S_JL.
+    Number C[3][3][3][3], T[3][3][3][3];
+    for (unsigned int I = 0; I < 3; ++I)
+      for (unsigned int J = 0; J < 3; ++J)
+        for (unsigned int K = 0; K < 3; ++K)
+          for (unsigned int L = 0; L < 3; ++L)
+            C[I][J][K][L] = dS_dE[I][J][K][L];
+    for (unsigned int c = 0; c < 3; ++c)
+      for (unsigned int J = 0; J < 3; ++J)
+        for (unsigned int K = 0; K < 3; ++K)
+          for (unsigned int L = 0; L < 3; ++L)
+            T[c][J][K][L] = F[c][0] * C[0][J][K][L] + F[c][1] * C[1][J][K][L] +
+                            F[c][2] * C[2][J][K][L];
+    dealii::Tensor<4, 3, Number> A;
+    for (unsigned int c = 0; c < 3; ++c)
+      for (unsigned int J = 0; J < 3; ++J)
+        for (unsigned int d = 0; d < 3; ++d)
+          for (unsigned int L = 0; L < 3; ++L)
+            A[c][J][d][L] = T[c][J][0][L] * F[d][0] + T[c][J][1][L] * F[d][1] +
+                            T[c][J][2][L] * F[d][2] +
+                            (c == d ? S[J][L] : Number(0.0));
+    return A;
+  }
+
   /// Compressible neo-Hookean law of the penalty (displacement-only)
   /// formulation: the isochoric neo-Hookean energy plus the Simo-Taylor
   /// volumetric penalty, the sum Materials::NeoHookean +

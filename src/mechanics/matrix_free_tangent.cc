@@ -11,6 +11,9 @@ namespace systole::Mechanics
   {
     using internal::TangentOperator<
       dealii::VectorizedArray<double>>::TangentOperator;
+
+    /// Built without a law: the point tangents come from the caller.
+    bool general = false;
   };
 
 
@@ -23,6 +26,25 @@ namespace systole::Mechanics
     : impl(
         std::make_unique<Impl>(mapping, dof_handler, constraints, law, variant))
   {}
+
+
+  MatrixFreeTangent::MatrixFreeTangent(
+    const dealii::Mapping<3>                &mapping,
+    const dealii::DoFHandler<3>             &dof_handler,
+    const dealii::AffineConstraints<double> &constraints,
+    const Variant                            variant)
+    : impl(std::make_unique<Impl>(mapping,
+                                  dof_handler,
+                                  constraints,
+                                  NeoHookeanPenalty(),
+                                  variant))
+  {
+    AssertThrow(variant != Variant::recompute,
+                dealii::ExcMessage("MatrixFreeTangent: the general tangent "
+                                   "(no law) is stored: Variant::cached or "
+                                   "cached_single, not recompute."));
+    impl->general = true;
+  }
 
 
   MatrixFreeTangent::~MatrixFreeTangent() = default;
@@ -38,7 +60,20 @@ namespace systole::Mechanics
   void
   MatrixFreeTangent::update(const Vector &u)
   {
+    AssertThrow(!impl->general,
+                dealii::ExcMessage("MatrixFreeTangent: the general tangent has "
+                                   "no law; update it with CellTangents."));
     impl->update(u);
+  }
+
+
+  void
+  MatrixFreeTangent::update(const CellTangents &tangents)
+  {
+    AssertThrow(impl->general,
+                dealii::ExcMessage("MatrixFreeTangent: a tangent built with a "
+                                   "law is updated from a displacement."));
+    impl->update_from(tangents);
   }
 
 
@@ -52,7 +87,17 @@ namespace systole::Mechanics
   void
   MatrixFreeTangent::residual(Vector &dst) const
   {
+    AssertThrow(!impl->general,
+                dealii::ExcMessage("MatrixFreeTangent: the general tangent has "
+                                   "no residual."));
     impl->residual(dst);
+  }
+
+
+  const std::vector<unsigned int> &
+  MatrixFreeTangent::constrained_dofs() const
+  {
+    return impl->matrix_free.get_constrained_dofs();
   }
 
 

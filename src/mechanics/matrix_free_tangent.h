@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
@@ -7,7 +8,9 @@
 
 #include "mechanics/hyperelastic_kernel.h"
 
+#include <functional>
 #include <memory>
+#include <vector>
 
 namespace systole::Mechanics
 {
@@ -36,6 +39,13 @@ namespace systole::Mechanics
   ///
   /// Both use NeoHookeanPenalty's state() and linearization(); its stress()
   /// gives the residual.
+  ///
+  /// The general tangent (the constructor without a law): update(
+  /// CellTangents) takes the first elasticity tangent dP/dF of every point
+  /// from the caller, cell by cell (e.g. from the mechanics' own point kernel,
+  /// Problem::matrix_free_tangent(): any passive law with its fibre frame,
+  /// the volumetric penalty, the active tension), and stores it like
+  /// Variant::cached (or cached_single); vmult() is then the same code.
   /// Constrained DoFs: the constraints (homogeneous for the tangent) are
   /// applied to the input and the output; on the constrained rows vmult()
   /// returns the input (the identity, as deal.II's MatrixFreeOperators).
@@ -66,6 +76,23 @@ namespace systole::Mechanics
                       const NeoHookeanPenalty                 &law,
                       const Variant                            variant);
 
+    /// The first elasticity tangent A = dP/dF [kPa] at the quadrature points
+    /// of one locally owned @p cell, in the order of QGauss<3>(3) (x
+    /// fastest), A[q][i][J][k][L] = dP_iJ/dF_kL; the vector arrives sized
+    /// 27. It must have the major symmetry A_iJkL = A_kLiJ (a hyperelastic
+    /// tangent): only the upper triangle of the pulled-back 9 x 9 is stored.
+    using CellTangents =
+      std::function<void(const dealii::DoFHandler<3>::cell_iterator &cell,
+                         std::vector<dealii::Tensor<4, 3>>          &A)>;
+
+    /// The general tangent: no law of its own, the point tangents come from
+    /// update(const CellTangents &). @p variant: cached or cached_single
+    /// (throws for recompute). The arguments as in the other constructor.
+    MatrixFreeTangent(const dealii::Mapping<3>                &mapping,
+                      const dealii::DoFHandler<3>             &dof_handler,
+                      const dealii::AffineConstraints<double> &constraints,
+                      const Variant                            variant);
+
     ~MatrixFreeTangent();
 
     /// Sizes @p v in the operator's parallel layout (owned + ghosts).
@@ -79,13 +106,25 @@ namespace systole::Mechanics
     void
     update(const Vector &u);
 
+    /// The general tangent: store @p tangents of every locally owned cell
+    /// (pulled back to the unit cell, JxW folded in). Throws for a tangent
+    /// built with a law. Collective only in what @p tangents does.
+    void
+    update(const CellTangents &tangents);
+
     /// dst = K src with K the tangent at the last update() (collective).
     void
     vmult(Vector &dst, const Vector &src) const;
 
     /// dst = R(u) at the last update() (constrained rows zero; collective).
+    /// Not for the general tangent (throws).
     void
     residual(Vector &dst) const;
+
+    /// The locally owned constrained DoFs (local indices of the vectors of
+    /// initialize_dof_vector()), on which vmult() is the identity.
+    const std::vector<unsigned int> &
+    constrained_dofs() const;
 
     /// Global number of DoFs.
     dealii::types::global_dof_index

@@ -77,6 +77,11 @@ namespace systole::Mechanics::internal
     void
     update(const Vector &u_in);
 
+    /// MatrixFreeTangent::update(const CellTangents &): the point storage
+    /// from the caller's dP/dF (a cached variant).
+    void
+    update_from(const MatrixFreeTangent::CellTangents &tangents);
+
     void
     vmult(Vector &dst, const Vector &src) const
     {
@@ -364,15 +369,17 @@ namespace systole::Mechanics::internal
 
     /// The cached tangent at one point, pulled back to the unit cell: the
     /// upper triangle of
-    /// @f$\hat A_{(ilpha)(keta)} = JxW\, G_{Jlpha} A_{iJkL} G_{Leta}@f$
+    /// @f$\hat A_{(i\alpha)(k\beta)} = JxW\, G_{J\alpha} A_{iJkL} G_{L\beta}@f$
     /// (A = dP/dF, G the inverse Jacobian as deal.II stores it: physical
     /// gradient_J = sum_alpha G_{J alpha} unit gradient_alpha), built column
-    /// by column from the law's linearization() (the same linearization).
-    void
-    tangent_of(const State &state,
-               const Grad  &inverse_jacobian,
-               const VA    &JxW,
-               VA          *A) const
+    /// by column from @p linearization (H -> dP = A : H: the law's
+    /// linearization() or the caller's A).
+    template <typename Linearization>
+    static void
+    pulled_back_tangent(const Linearization &linearization,
+                        const Grad          &inverse_jacobian,
+                        const VA            &JxW,
+                        VA                  *A)
     {
       std::array<std::array<VA, 9>, 9> columns;
       for (unsigned int b = 0; b < 9; ++b)
@@ -381,7 +388,7 @@ namespace systole::Mechanics::internal
           Grad               H; // physical gradient of e_k N, unit grad e_beta
           for (unsigned int L = 0; L < 3; ++L)
             H[k][L] = inverse_jacobian[L][beta];
-          const Grad dP = law.linearization(state, H);
+          const Grad dP = linearization(H);
           for (unsigned int i = 0; i < 3; ++i)
             for (unsigned int alpha = 0; alpha < 3; ++alpha)
               {
@@ -397,6 +404,56 @@ namespace systole::Mechanics::internal
           // Symmetric up to round-off; average the two halves.
           A[index] = 0.5 * (columns[b][a] + columns[a][b]);
     }
+
+    /// pulled_back_tangent() with the law's linearization at @p state.
+    void
+    tangent_of(const State &state,
+               const Grad  &inverse_jacobian,
+               const VA    &JxW,
+               VA          *A) const
+    {
+      pulled_back_tangent(
+        [&](const Grad &H) { return law.linearization(state, H); },
+        inverse_jacobian,
+        JxW,
+        A);
+    }
+
+    /// Resize the point storage of a cached variant for update().
+    void
+    resize_storage()
+    {
+      const std::size_t n_points =
+        static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+        Eval::static_n_q_points;
+      if (variant == Variant::cached_single)
+        storage_single.resize(n_points * n_sym);
+      // (cached_single: one point's tangent in double before rounding)
+      storage.resize(
+        variant == Variant::cached_single ? n_sym : n_points * per_point());
+    }
+
+    /// Store the tangent @p A (double) of point @p q of the batch @p cell,
+    /// for cached_single in single precision.
+    void
+    store_tangent(const unsigned int cell, const unsigned int q)
+    {
+      if (variant != Variant::cached_single)
+        return; // tangent_of() wrote it in place
+      VAf *single =
+        &storage_single[(cell * Eval::static_n_q_points + q) * n_sym];
+      for (unsigned int a = 0; a < n_sym; ++a)
+        for (unsigned int l = 0; l < VA::size(); ++l)
+          single[a][l] = static_cast<float>(storage[a][l]);
+    }
+
+    /// Where tangent_of() writes the tangent of point @p q of the batch
+    /// @p cell (cached_single: the buffer store_tangent() rounds).
+    VA *
+    tangent_destination(const unsigned int cell, const unsigned int q)
+    {
+      return variant == Variant::cached_single ? &storage[0] : point(cell, q);
+    }
   };
 
 
@@ -406,14 +463,11 @@ namespace systole::Mechanics::internal
   {
     u.copy_locally_owned_data_from(u_in);
     u.update_ghost_values();
-    const std::size_t n_points =
-      static_cast<std::size_t>(matrix_free.n_cell_batches()) *
-      Eval::static_n_q_points;
-    if (variant == Variant::cached_single)
-      storage_single.resize(n_points * n_sym);
-    // (cached_single: one point's tangent in double before rounding)
-    storage.resize(variant == Variant::cached_single ? n_sym
-                                                     : n_points * per_point());
+    if (cached())
+      resize_storage();
+    else
+      storage.resize(static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+                     Eval::static_n_q_points * per_point());
     Eval   phi(matrix_free);
     double min_J = 1.0;
     for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
@@ -432,22 +486,13 @@ namespace systole::Mechanics::internal
             const State state = law.state(F);
             if (variant == Variant::recompute)
               store(state, point(cell, q));
-            else if (variant == Variant::cached)
-              tangent_of(state,
-                         phi.inverse_jacobian(q),
-                         phi.JxW(q),
-                         point(cell, q));
             else
               {
                 tangent_of(state,
                            phi.inverse_jacobian(q),
                            phi.JxW(q),
-                           &storage[0]);
-                VAf *single =
-                  &storage_single[(cell * phi.n_q_points + q) * n_sym];
-                for (unsigned int a = 0; a < n_sym; ++a)
-                  for (unsigned int l = 0; l < VA::size(); ++l)
-                    single[a][l] = static_cast<float>(storage[a][l]);
+                           tangent_destination(cell, q));
+                store_tangent(cell, q);
               }
           }
       }
@@ -458,6 +503,52 @@ namespace systole::Mechanics::internal
                   std::to_string(min_J) +
                   " <= 0 at a quadrature point (an inverted element); "
                   "reduce the load step or refine the mesh."));
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::update_from(
+    const MatrixFreeTangent::CellTangents &tangents)
+  {
+    AssertThrow(cached(), dealii::ExcInternalError());
+    resize_storage();
+    constexpr unsigned int n_q = Eval::static_n_q_points;
+    using Tangent              = dealii::Tensor<4, 3, VA>;
+    std::vector<dealii::Tensor<4, 3>> lane(n_q);
+    std::vector<Tangent>              batch(n_q);
+    Eval                              phi(matrix_free);
+    for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
+      {
+        phi.reinit(cell);
+        // The lanes of the batch; the empty ones keep a zero tangent.
+        std::fill(batch.begin(), batch.end(), Tangent());
+        for (unsigned int l = 0;
+             l < matrix_free.n_active_entries_per_cell_batch(cell);
+             ++l)
+          {
+            tangents(matrix_free.get_cell_iterator(cell, l), lane);
+            AssertThrow(lane.size() == n_q, dealii::ExcInternalError());
+            for (unsigned int q = 0; q < n_q; ++q)
+              for (unsigned int e = 0; e < 81; ++e)
+                {
+                  const auto index = Tangent::unrolled_to_component_indices(e);
+                  batch[q][index][l] = lane[q][index];
+                }
+          }
+        for (unsigned int q = 0; q < n_q; ++q)
+          {
+            const Tangent &A = batch[q];
+            pulled_back_tangent(
+              [&A](const Grad &H) {
+                return dealii::double_contract<2, 0, 3, 1>(A, H);
+              },
+              phi.inverse_jacobian(q),
+              phi.JxW(q),
+              tangent_destination(cell, q));
+            store_tangent(cell, q);
+          }
+      }
   }
 
 

@@ -30,6 +30,11 @@ namespace systole
   class Logger;
 }
 
+namespace dealii::PETScWrappers::MPI
+{
+  class SparseMatrix;
+}
+
 namespace systole::Materials
 {
   class PassiveLaw;
@@ -149,6 +154,7 @@ namespace systole::Mechanics
   /// row, has an inexact volume row: it converges to the right (u, p), as
   /// the residuals are exact, but linearly instead of quadratically.
   class NewtonSolver;
+  class MatrixFreeTangent;
 
   class Problem
   {
@@ -463,6 +469,37 @@ namespace systole::Mechanics
     tangent_error(const double pressure,
                   const double active_tension,
                   const double h);
+
+    /// Matrix-free (issue 40): a new MatrixFreeTangent of the bulk term at
+    /// the current displacement under the uniform @p active_tension [kPa]
+    /// (plus the per-point tensions and the tension model's step, as the
+    /// assembly): the general cached tangent (Variant::cached, or
+    /// cached_single with @p single) on this problem's mapping, DoFs and
+    /// constraints, whose dP/dF at every point comes from the assembly's own
+    /// point kernel (the passive law with the fibre frame, the volumetric
+    /// penalty, the active tension) and first_elasticity_tangent(). The
+    /// bulk term only: without follower pressure, Robin springs or loaded
+    /// lids, it is the assembled tangent at zero cavity pressure without
+    /// supports. Penalty formulation, Q2 hexahedra, the full volumetric
+    /// rule, quasi-static (throws otherwise). Not used by the solves. The
+    /// problem must outlive it. Collective.
+    std::unique_ptr<MatrixFreeTangent>
+    matrix_free_tangent(const double active_tension, const bool single = false);
+
+    /// Refill @p tangent (made by matrix_free_tangent() of this problem) at
+    /// the current displacement and @p active_tension [kPa]. Collective.
+    void
+    update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                               const double       active_tension);
+
+    /// Verification hook: assemble the residual and the tangent at the
+    /// current displacement under @p pressure [kPa] on every pressure part
+    /// and @p active_tension [kPa], and return the sparse tangent (condensed:
+    /// a constrained row or column holds its diagonal entry alone; without
+    /// the low-rank coupling of loaded lids), valid until the next
+    /// assembly. Collective.
+    const dealii::PETScWrappers::MPI::SparseMatrix &
+    assembled_tangent(const double pressure, const double active_tension);
 
     /// Verification hook: set the displacement to the interpolant of
     /// @p displacement (3 components, mm), then apply the constraints.

@@ -36,6 +36,8 @@
 
 namespace systole::Mechanics
 {
+  class MatrixFreeTangent;
+
   /// What the mechanics keeps at one quadrature point of a locally owned
   /// cell (in a CellDataStorage; set up once).
   struct PointData
@@ -457,6 +459,16 @@ namespace systole::Mechanics
              const double                  active_tension,
              const bool                    with_matrix,
              const bool                    with_volume_derivative = false);
+
+    /// Refill the general matrix-free @p tangent (on this problem's
+    /// mapping, DoFs and constraints) with dP/dF of the bulk term at the
+    /// current u under @p active_tension (and the per-point tensions, the
+    /// tension model): evaluate_point() and first_elasticity_tangent(), the
+    /// kernel of assemble(). Throws where the formulation has terms it
+    /// cannot hold (assembly.cc) and ExcInvertedElement collectively.
+    void
+    update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                               const double       active_tension);
 
     /// @p pressure on every pressure part.
     dealii::Vector<double>

@@ -1,0 +1,25 @@
+// The mechanics' own matrix-free tangent (Problem::matrix_free_tangent(),
+// issue 40) against the Problem's assembled tangent.
+#include "support/matrix_free_problem.h"
+
+#include <catch2/catch.hpp>
+
+TEST_CASE("The mechanics' matrix-free tangent is its assembled tangent: Land "
+          "ventricle, Q2, Guccione with rule-based fibres, Simo-Taylor "
+          "penalty, uniform and per-point active tension",
+          "[mechanics][matrix-free]")
+{
+  const auto d = test_support::matrix_free_problem_differences(MPI_COMM_WORLD);
+  INFO("cached " << d.cached << ", single " << d.single << ", other tension "
+                 << d.other_tension << ", stale " << d.stale << ", updated "
+                 << d.updated);
+  CHECK(d.cached < 1e-10);
+  CHECK(d.updated < 1e-10);
+  // Single precision: about 1e-7 relative.
+  CHECK(d.single < 1e-5);
+  CHECK(d.single > 1e-10);
+  // What the check tells apart: the active stress (10 kPa of the uniform
+  // tension left out) and a tangent of another displacement.
+  CHECK(d.other_tension > 1e-3);
+  CHECK(d.stale > 1e-3);
+}
