@@ -419,7 +419,7 @@ namespace systole::Mechanics::internal
         A);
     }
 
-    /// Resize the point storage of a cached variant for update().
+    /// Size the point storage for update() and update_from().
     void
     resize_storage()
     {
@@ -463,11 +463,7 @@ namespace systole::Mechanics::internal
   {
     u.copy_locally_owned_data_from(u_in);
     u.update_ghost_values();
-    if (cached())
-      resize_storage();
-    else
-      storage.resize(static_cast<std::size_t>(matrix_free.n_cell_batches()) *
-                     Eval::static_n_q_points * per_point());
+    resize_storage();
     Eval   phi(matrix_free);
     double min_J = 1.0;
     for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
