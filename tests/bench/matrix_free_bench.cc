@@ -11,19 +11,35 @@
 // docs/verification.md ("Mechanics: the matrix-free tangent") has the
 // numbers.
 //
+// With --problem: the mechanics' own tangents of a Mechanics::Problem (a box
+// of n^3 Q2 cells on its MappingQCache, the Guccione law of the tests with a
+// fibre frame rotating along z, Simo-Taylor penalty, x = 0 fixed, 10 kPa of
+// active tension, at a smooth displacement): the assembled PETSc matrix
+// (Problem::assembled_tangent()) against the general cached matrix-free
+// tangent filled by the Problem's point kernel
+// (Problem::matrix_free_tangent()), in double and single precision.
+//
 //   [mpirun -np 2] build/tests/systole-mf-bench [--no-sparse] n1 [n2 ...]
 //   [mpirun -np 2] build/tests/systole-mf-bench --multigrid r1 [r2 ...]
+//   [mpirun -np 2] build/tests/systole-mf-bench --problem n1 [n2 ...]
 //
 // (n: cells per direction; DOFs = 3 (2n + 1)^3. r: refinements of 2 x 2 x 2
 // cells for the multigrid-preconditioned CG.)
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/vectorization.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
 
+#include "base/logger.h"
+#include "geometry/mesh.h"
+#include "materials/guccione.h"
 #include "materials/neo_hookean.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/matrix_free_multigrid.h"
 #include "mechanics/matrix_free_tangent.h"
+#include "mechanics/problem.h"
+#include "support/mechanics_fixture.h"
 #include "support/penalty_tangent.h"
 
 #include "matrix_free_bench_simd.h"
@@ -35,6 +51,7 @@
 #include <cstring>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -148,6 +165,18 @@ namespace
     std::fflush(stdout);
   }
 
+  /// The bytes one product of @p op moves: the point storage, the geometry
+  /// it reads (Jacobian and JxW), the DoF indices (4 bytes per cell DoF),
+  /// src read, dst written and read back (24 bytes per DOF).
+  template <typename Operator>
+  double
+  matrix_free_bytes_moved(const Operator &op)
+  {
+    return sum(op.point_storage_bytes() + 8.0 * op.n_geometry_numbers() +
+               4.0 * 81 * op.n_quadrature_points() / 27) +
+           24.0 * op.m();
+  }
+
   /// The library's MatrixFreeTangent behind bench::Tangent.
   class LibraryTangent : public bench::Tangent
   {
@@ -246,14 +275,7 @@ namespace
     // Memory: the operator's own data and its two vectors.
     row.bytes_memory = sum(op.memory_consumption() + x.memory_consumption() +
                            y.memory_consumption());
-    // Moved per application: the point storage, the geometry (Jacobian and
-    // JxW), the DoF indices (4 bytes per cell DoF), src read, dst written
-    // and read back (24 bytes per DOF).
-    const double n_dofs = op.m();
-    row.bytes_moved =
-      sum(op.point_storage_bytes() + 8.0 * op.n_geometry_numbers() +
-          4.0 * 81 * op.n_quadrature_points() / 27) +
-      24.0 * n_dofs;
+    row.bytes_moved  = matrix_free_bytes_moved(op);
     return row;
   }
 
@@ -348,6 +370,94 @@ namespace
                   1e9 * solve / iterations / box.dof_handler.n_dofs());
     std::fflush(stdout);
   }
+
+  /// The mechanics' own tangents of a Problem on a box of @p n^3 Q2 cells
+  /// (see the file's comment): the assembled sparse matrix and the general
+  /// cached matrix-free tangent (double, single), one row each.
+  void
+  problem_rows(const unsigned int n, const double bandwidth)
+  {
+    std::ostringstream        sink;
+    Logger                    logger(comm, sink);
+    const Materials::Guccione law(test_support::test_guccione_parameters());
+    const Materials::VolumetricLaw volumetric(
+      Materials::VolumetricLaw::Form::simo_taylor,
+      100.0);
+    const Fibres::FibreField fibres = test_support::rotating_fibres();
+    Geometry::Parameters     geometry;
+    geometry.type      = Geometry::Parameters::Type::box;
+    geometry.box_upper = dealii::Point<3>(10, 10, 10);
+    geometry.box_cells = {{n, n, n}};
+    dealii::parallel::distributed::Triangulation<3> tria(comm);
+    const auto            names = Geometry::create_mesh(geometry, tria);
+    Mechanics::Parameters params;
+    params.fixed_boundaries = {"x_min"};
+    params.linear_solver    = "direct";
+    Mechanics::Problem problem(
+      {params, tria, names, 2, 2, law, volumetric, fibres, logger});
+    problem.set_displacement(test_support::Wobble());
+    constexpr double tension = 10.0;
+    const double     n_dofs  = problem.n_dofs();
+    if (dealii::Utilities::MPI::this_mpi_process(comm) == 0)
+      std::printf("problem n %u  cells %u  DOFs %.0f (Guccione, rotating "
+                  "fibres, penalty, Q2 on MappingQCache)\n",
+                  n,
+                  tria.n_global_active_cells(),
+                  n_dofs);
+
+    // The direction: zero on the constrained DoFs.
+    const std::unique_ptr<Mechanics::MatrixFreeTangent> first =
+      problem.matrix_free_tangent(tension);
+    bench::Vector direction, y;
+    first->initialize_dof_vector(direction);
+    y.reinit(direction);
+    const dealii::IndexSet owned = direction.locally_owned_elements();
+    for (unsigned int i = 0; i < direction.locally_owned_size(); ++i)
+      direction.local_element(i) =
+        std::sin(1.0 + 0.37 * owned.nth_index_in_set(i));
+    for (const unsigned int i : first->constrained_dofs())
+      direction.local_element(i) = 0.0;
+
+    Row sparse;
+    sparse.name                                       = "Problem sparse matrix";
+    const dealii::PETScWrappers::MPI::SparseMatrix *K = nullptr;
+    sparse.setup_update =
+      best_time([&]() { K = &problem.assembled_tangent(0.0, tension); }, 0.0);
+    dealii::PETScWrappers::MPI::Vector x_sparse(owned, comm),
+      y_sparse(owned, comm);
+    for (unsigned int i = 0; i < direction.locally_owned_size(); ++i)
+      x_sparse(owned.nth_index_in_set(i)) = direction.local_element(i);
+    x_sparse.compress(dealii::VectorOperation::insert);
+    sparse.apply = best_time([&]() { K->vmult(y_sparse, x_sparse); });
+    for (unsigned int i = 0; i < direction.locally_owned_size(); ++i)
+      sparse.result.push_back(y_sparse(owned.nth_index_in_set(i)));
+    // AIJ, as sparse_row().
+    const double nnz    = K->n_nonzero_elements();
+    sparse.bytes_moved  = 12.0 * nnz + 20.0 * n_dofs;
+    sparse.bytes_memory = 12.0 * nnz + 4.0 * n_dofs + 16.0 * n_dofs;
+    print(sparse, n_dofs, bandwidth, sparse.result);
+
+    for (const bool single : {false, true})
+      {
+        Row                                                 row;
+        const double                                        t0 = now();
+        const std::unique_ptr<Mechanics::MatrixFreeTangent> op =
+          problem.matrix_free_tangent(tension, single);
+        // (init: MatrixFree's initialization and the first fill)
+        row.setup_once = dealii::Utilities::MPI::max(now() - t0, comm);
+        row.setup_update =
+          best_time([&]() { problem.update_matrix_free_tangent(*op, tension); },
+                    0.0);
+        row.apply = best_time([&]() { op->vmult(y, direction); });
+        row.result.assign(y.begin(), y.begin() + y.locally_owned_size());
+        row.name = single ? "Problem MF single" : "Problem MF cached";
+        row.bytes_memory =
+          sum(op->memory_consumption() + direction.memory_consumption() +
+              y.memory_consumption());
+        row.bytes_moved = matrix_free_bytes_moved(*op);
+        print(row, n_dofs, bandwidth, sparse.result);
+      }
+  }
 } // namespace
 
 
@@ -356,13 +466,15 @@ main(int argc, char *argv[])
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const bool root        = dealii::Utilities::MPI::this_mpi_process(comm) == 0;
-  bool       with_sparse = true, multigrid = false;
+  bool       with_sparse = true, multigrid = false, with_problem = false;
   std::vector<unsigned int> sizes;
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--no-sparse") == 0)
       with_sparse = false;
     else if (std::strcmp(argv[i], "--multigrid") == 0)
       multigrid = true;
+    else if (std::strcmp(argv[i], "--problem") == 0)
+      with_problem = true;
     else
       sizes.push_back(std::atoi(argv[i]));
       // The 8-lane build runs only where the processor has AVX-512F.
@@ -388,6 +500,12 @@ main(int argc, char *argv[])
                 1e-9 * bandwidth,
                 static_cast<unsigned int>(
                   dealii::VectorizedArray<double>::size()));
+  if (with_problem)
+    {
+      for (const unsigned int n : sizes)
+        problem_rows(n, bandwidth);
+      return 0;
+    }
   for (const unsigned int n : sizes)
     {
       const test_support::BoxMechanics box(comm, n);
