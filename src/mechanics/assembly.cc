@@ -1264,6 +1264,37 @@ namespace systole::Mechanics
               material.reference_shear_stiffness};
     }
 
+    /// The switches of the matrix-free tangent's point kernel (the
+    /// assembly's with the matrix, no pressure matrix). Throws where the
+    /// formulation has terms the stored 9 x 9 of a point cannot hold.
+    AssemblyOptions
+    matrix_free_options(const Discretization   &discretization,
+                        const Parameters       &params,
+                        const QuadraturePoints &points,
+                        const Dynamics         &dynamics)
+    {
+      const AssemblyOptions options =
+        assembly_options(true,
+                         false,
+                         discretization.layout.mixed(),
+                         false,
+                         0.0,
+                         discretization.reduced_volumetric,
+                         params.viscosity,
+                         dynamics);
+      // A major-symmetric dP/dF of the full rule, without the rate terms or
+      // the inertia.
+      AssertThrow(
+        !options.mixed && !options.reduced_volumetric && !options.dynamic &&
+          !options.with_rates && discretization.n_q_1d == 3 &&
+          !(points.tension_model != nullptr && params.active_cross_fibre.any()),
+        dealii::ExcMessage(
+          "Mechanics: the matrix-free tangent needs the penalty formulation "
+          "on Q2 with the full volumetric rule, quasi-static, and no "
+          "cross-fibre tension model."));
+      return options;
+    }
+
     /// Throws unless there is one pressure per pressure part of @p loads,
     /// and a cavity if @p with_volume_derivative.
     void
@@ -1388,28 +1419,18 @@ namespace systole::Mechanics
   }
 
   void
+  Problem::Impl::check_matrix_free_tangent() const
+  {
+    matrix_free_options(discretization, params, points, dynamics);
+  }
+
+  void
   Problem::Impl::update_matrix_free_tangent(MatrixFreeTangent &tangent,
                                             const double       active_tension)
   {
     // (Not timed: the solves do not use it.)
     const AssemblyOptions options =
-      assembly_options(true,
-                       false,
-                       discretization.layout.mixed(),
-                       false,
-                       0.0,
-                       discretization.reduced_volumetric,
-                       params.viscosity,
-                       dynamics);
-    // What the stored 9 x 9 of a point can hold: a major-symmetric dP/dF of
-    // the full rule, without the rate terms or the inertia.
-    AssertThrow(
-      !options.mixed && !options.reduced_volumetric && !options.dynamic &&
-        !options.with_rates && discretization.n_q_1d == 3 &&
-        !(points.tension_model != nullptr && params.active_cross_fibre.any()),
-      dealii::ExcMessage("Mechanics: the matrix-free tangent needs the penalty "
-                         "formulation on Q2 with the full volumetric rule, "
-                         "quasi-static, and no cross-fibre tension model."));
+      matrix_free_options(discretization, params, points, dynamics);
     CellScratch        w(discretization,
                   loads.cavities.size(),
                   points.tension_model != nullptr

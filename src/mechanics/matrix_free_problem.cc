@@ -9,6 +9,7 @@ namespace systole::Mechanics
   std::unique_ptr<MatrixFreeTangent>
   Problem::matrix_free_tangent(const double active_tension, const bool single)
   {
+    impl->check_matrix_free_tangent(); // (before MatrixFree's own checks)
     const Discretization &d       = impl->discretization;
     auto                  tangent = std::make_unique<MatrixFreeTangent>(
       d.mapping,

@@ -464,11 +464,16 @@ namespace systole::Mechanics
     /// mapping, DoFs and constraints) with dP/dF of the bulk term at the
     /// current u under @p active_tension (and the per-point tensions, the
     /// tension model): evaluate_point() and first_elasticity_tangent(), the
-    /// kernel of assemble(). Throws where the formulation has terms it
-    /// cannot hold (assembly.cc) and ExcInvertedElement collectively.
+    /// kernel of assemble() (with a tension model it sets each point's
+    /// model_tension, as an assembly at this u does). Throws where the
+    /// formulation has terms it cannot hold (assembly.cc) and
+    /// ExcInvertedElement collectively.
     void
     update_matrix_free_tangent(MatrixFreeTangent &tangent,
                                const double       active_tension);
+    /// Throws unless the formulation suits update_matrix_free_tangent().
+    void
+    check_matrix_free_tangent() const;
 
     /// @p pressure on every pressure part.
     dealii::Vector<double>

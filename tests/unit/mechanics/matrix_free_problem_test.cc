@@ -1,6 +1,9 @@
 // The mechanics' own matrix-free tangent (Problem::matrix_free_tangent(),
 // issue 40) against the Problem's assembled tangent.
+#include "mechanics/matrix_free_tangent.h"
+#include "mechanics/problem.h"
 #include "support/matrix_free_problem.h"
+#include "support/mechanics_fixture.h"
 
 #include <catch2/catch.hpp>
 
@@ -22,4 +25,29 @@ TEST_CASE("The mechanics' matrix-free tangent is its assembled tangent: Land "
   // tension left out) and a tangent of another displacement.
   CHECK(d.other_tension > 1e-3);
   CHECK(d.stale > 1e-3);
+}
+
+TEST_CASE("The mechanics' matrix-free tangent refuses mixed, reduced, Q1",
+          "[mechanics][matrix-free]")
+{
+  using systole::Mechanics::Incompressibility;
+  {
+    test_support::VentricleMechanics v;
+    v.params.incompressibility = Incompressibility::nearly_incompressible;
+    CHECK_THROWS_WITH(v.problem(2)->matrix_free_tangent(10.0),
+                      Catch::Contains("needs the penalty formulation"));
+  }
+  {
+    test_support::VentricleMechanics v;
+    v.params.reduced_volumetric_integration = true;
+    CHECK_THROWS_WITH(v.problem(2)->matrix_free_tangent(10.0),
+                      Catch::Contains("full volumetric rule"));
+  }
+  {
+    test_support::VentricleMechanics v;
+    const auto                       problem = v.problem(2);
+    CHECK_NOTHROW(problem->matrix_free_tangent(10.0));
+    CHECK_THROWS_WITH(v.problem(1)->matrix_free_tangent(10.0),
+                      Catch::Contains("needs the penalty formulation on Q2"));
+  }
 }
