@@ -48,6 +48,13 @@ namespace systole::Mechanics
     void
     restart_if_indefinite();
 
+    /// After a later factorization of a volume-constrained solve: if the
+    /// tangent at the iterate is indefinite, move back along the last update
+    /// (halving it, at most three times) while it stays so; the residual,
+    /// tangent and factorization are then those of the point reached.
+    void
+    back_off_if_indefinite();
+
     /// Residual (with_matrix: and tangent and dV/du) at the current u, and
     /// for a bordered solve the volume errors against W(p); false if an
     /// element inverted or the residual is not finite (decided on all ranks

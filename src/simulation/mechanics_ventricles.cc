@@ -135,6 +135,7 @@ namespace systole
     const auto report = problem.solve_cavities(target, 0.0, p);
     solved_pressures  = p;
     linear_iterations += report.linear_iterations;
+    tangent_iterations += report.iterations;
     mechanics_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();

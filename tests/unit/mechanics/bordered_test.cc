@@ -215,3 +215,44 @@ TEST_CASE("A volume-constrained solve that starts where the tangent is "
         std::string::npos);
   CHECK(p_restarted == Approx(p_accepted).epsilon(1e-8));
 }
+
+TEST_CASE("A volume-constrained solve backs off from an iterate whose "
+          "tangent is indefinite",
+          "[mechanics][newton]")
+{
+  // Two accepted states (0.5 and 1 kPa), then a volume 60 % larger in one
+  // solve: the first Newton update overshoots to an iterate whose tangent
+  // has negative pivots. The solve must back off along that update to a
+  // point whose tangent is positive definite, and end at the equilibrium
+  // that four solves of 15 % each reach.
+  double      p_one = 1.0, p_steps = 1.0;
+  double      V_one = 0, V_steps = 0;
+  std::string log;
+  for (const bool in_one : {true, false})
+    {
+      Setup      s;
+      const auto problem = s.problem();
+      problem->solve(0.5, 0.0);
+      problem->save();
+      problem->solve(1.0, 0.0);
+      problem->save();
+      const double V0 = problem->cavity_volume();
+      double      &p  = in_one ? p_one : p_steps;
+      for (unsigned int i = 1; i <= (in_one ? 1 : 4); ++i)
+        {
+          problem->solve_volume(V0 * (1.0 + 0.6 * i / (in_one ? 1 : 4)),
+                                0.0,
+                                p);
+          problem->save();
+        }
+      (in_one ? V_one : V_steps) = problem->cavity_volume();
+      if (in_one)
+        log = s.sink.str();
+    }
+  INFO(log.substr(log.size() > 4000 ? log.size() - 4000 : 0));
+  const auto at = log.find("negative pivot(s): back to");
+  REQUIRE(at != std::string::npos);
+  CHECK(log.find(", 0 negative pivot(s) there)", at) != std::string::npos);
+  CHECK(V_one == Approx(V_steps).epsilon(1e-8));
+  CHECK(p_one == Approx(p_steps).epsilon(1e-6));
+}
