@@ -176,6 +176,19 @@ namespace
   private:
     const double a;
   };
+
+  /// @p s's problem after two accepted states, at 0.5 and 1 kPa (the
+  /// history a solve of the heartbeat starts from).
+  auto
+  two_accepted_states(Setup &s)
+  {
+    auto problem = s.problem();
+    problem->solve(0.5, 0.0);
+    problem->save();
+    problem->solve(1.0, 0.0);
+    problem->save();
+    return problem;
+  }
 } // namespace
 
 TEST_CASE("A volume-constrained solve that starts where the tangent is "
@@ -194,12 +207,8 @@ TEST_CASE("A volume-constrained solve that starts where the tangent is "
   for (const bool from_bad_start : {false, true})
     {
       Setup      s;
-      const auto problem = s.problem();
-      problem->solve(0.5, 0.0);
-      problem->save();
-      problem->solve(1.0, 0.0);
-      problem->save();
-      V_target = 1.01 * problem->cavity_volume();
+      const auto problem = two_accepted_states(s);
+      V_target           = 1.01 * problem->cavity_volume();
       if (from_bad_start)
         problem->set_displacement(AxialShortening(a));
       double    &p      = from_bad_start ? p_restarted : p_accepted;
@@ -230,14 +239,10 @@ TEST_CASE("A volume-constrained solve backs off from an iterate whose "
   std::string log;
   for (const bool in_one : {true, false})
     {
-      Setup      s;
-      const auto problem = s.problem();
-      problem->solve(0.5, 0.0);
-      problem->save();
-      problem->solve(1.0, 0.0);
-      problem->save();
-      const double V0 = problem->cavity_volume();
-      double      &p  = in_one ? p_one : p_steps;
+      Setup        s;
+      const auto   problem = two_accepted_states(s);
+      const double V0      = problem->cavity_volume();
+      double      &p       = in_one ? p_one : p_steps;
       for (unsigned int i = 1; i <= (in_one ? 1 : 4); ++i)
         {
           problem->solve_volume(V0 * (1.0 + 0.6 * i / (in_one ? 1 : 4)),
