@@ -356,13 +356,13 @@ namespace systole
       o << std::fixed << std::setprecision(2) << stats.n_beats << " beat(s)"
         << (stats.periodic ? ", periodic" : ", not yet periodic") << "; "
         << stats.n_steps << " steps, " << stats.n_solves << " coupled solves, "
-        << stats.n_newton_iterations << " Newton iterations ("
-        << ventricles.tangent_iterations
-        << " with a new tangent)\n  solves redone: " << stats.n_error_rejections
+        << stats.n_newton_iterations
+        << " Newton iterations\n  solves redone: " << stats.n_error_rejections
         << " for the error, " << stats.n_event_rejections
         << " to locate valve events; " << stats.n_failures << " failed\n  "
-        << ventricles.mechanics_seconds << " s in the mechanics of " << wall
-        << " s";
+        << ventricles.mechanics_seconds << " s in the mechanics ("
+        << ventricles.tangent_iterations
+        << " Newton iterations with a new tangent) of " << wall << " s";
       logger.line(o.str());
       if (checkpointer.count > 0)
         {

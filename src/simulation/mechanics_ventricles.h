@@ -99,8 +99,9 @@ namespace systole
     /// Krylov iterations of the mechanics solves (0 with the direct
     /// solver).
     unsigned long linear_iterations = 0;
-    /// Of the Newton iterations solve() returns, those with a new tangent
-    /// (and factorization); the others are chord iterations on a held one.
+    /// Of the Newton iterations solve() returns in this process (as the
+    /// wall times, not kept by a checkpoint), those with a new tangent (and
+    /// factorization); the others are chord iterations on a held one.
     unsigned long tangent_iterations = 0;
 
   private:
