@@ -67,10 +67,17 @@ systole_install_venv() {
     return 0
   fi
   say "creating the Python venv $SYSTOLE_VENV from scripts/requirements.txt and scripts/pyproject.toml"
-  python3 -m venv "$SYSTOLE_VENV"
-  "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check -r "$req"
-  "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check --no-build-isolation --no-deps \
-    -e "$SYSTOLE_ROOT/scripts"
+  # Every step checked: these functions run inside an && list, where set -e does not act, and a
+  # stamp written after a failed install would hide the failure from every later run.
+  rm -f "$stamp"
+  python3 -m venv "$SYSTOLE_VENV" &&
+    "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check -r "$req" &&
+    "$SYSTOLE_VENV/bin/pip" install -q --disable-pip-version-check --no-build-isolation \
+      --no-deps -e "$SYSTOLE_ROOT/scripts" || {
+    say "error: installing the Python packages of scripts/requirements.txt into $SYSTOLE_VENV" \
+      "failed (see pip's message above; behind a proxy, pip may need its certificate: PIP_CERT)"
+    return 1
+  }
   echo "$want" > "$stamp"
 }
 
@@ -140,7 +147,10 @@ systole_build() {
   fi
   say "building with $jobs jobs"
   local t0=$SECONDS
-  cmake --build "$SYSTOLE_BUILD" -j "$jobs"
+  cmake --build "$SYSTOLE_BUILD" -j "$jobs" || {
+    say "error: the build failed (the compiler's message is above)"
+    return 1
+  }
   say "build took $((SECONDS - t0)) s"
 }
 
