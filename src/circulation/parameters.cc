@@ -80,6 +80,17 @@ namespace systole::Circulation
         "converge within Mechanics / Maximum Newton iterations instead of "
         "failing and being halved. 0: the steps follow the 0D and pressure "
         "errors alone. Units: mm.");
+      prm.declare_entry(
+        "Newton iterations target",
+        "3",
+        Integer(0),
+        "Problem = heartbeat: the Newton iterations with a new tangent (a "
+        "chord iteration on an earlier factorization does not count) a "
+        "coupled step aims at. After a step whose solve needed N of them, N "
+        "above the target, the next step is at most sqrt(target / N) as long: "
+        "where the equilibrium path bends faster than the predictor sees "
+        "(Newton converges, but slowly), the steps shorten before a solve "
+        "fails. 0: not controlled. Units: -.");
       prm.declare_entry("Maximum time step",
                         "10",
                         Double(0.0),
@@ -211,10 +222,11 @@ namespace systole::Circulation
       Units::mL_to_mm3(prm.get_double(s, "Absolute volume tolerance"));
     p.absolute_pressure_tolerance =
       Units::mmHg_to_kPa(prm.get_double(s, "Absolute pressure tolerance"));
-    p.event_time_tolerance   = prm.get_double(s, "Event time tolerance");
-    p.displacement_tolerance = prm.get_double(s, "Displacement tolerance");
-    p.max_time_step          = prm.get_double(s, "Maximum time step");
-    p.initial_time_step      = prm.get_double(s, "Initial time step");
+    p.event_time_tolerance     = prm.get_double(s, "Event time tolerance");
+    p.displacement_tolerance   = prm.get_double(s, "Displacement tolerance");
+    p.newton_iterations_target = prm.get_integer(s, "Newton iterations target");
+    p.max_time_step            = prm.get_double(s, "Maximum time step");
+    p.initial_time_step        = prm.get_double(s, "Initial time step");
     p.validate();
     return p;
   }

@@ -43,6 +43,9 @@ namespace systole::Circulation
     /// How far the displacement predictor of the next coupled step may miss
     /// [mm] (heartbeat; 0: not controlled).
     double displacement_tolerance = 0.25;
+    /// The Newton iterations with a new tangent a coupled step aims at
+    /// (heartbeat; 0: not controlled).
+    unsigned int newton_iterations_target = 3;
     /// Largest step of the integrator [ms].
     double max_time_step = 10.0;
     /// First step, and the step after every valve event [ms].

@@ -258,11 +258,12 @@ namespace systole
         circulation.absolute_volume_tolerance;
       settings.absolute_pressure_tolerance =
         circulation.absolute_pressure_tolerance;
-      settings.max_step               = circulation.max_time_step;
-      settings.initial_step           = circulation.initial_time_step;
-      settings.event_time_tolerance   = circulation.event_time_tolerance;
-      settings.displacement_tolerance = circulation.displacement_tolerance;
-      settings.max_step_cuts          = circulation.max_step_cuts;
+      settings.max_step                 = circulation.max_time_step;
+      settings.initial_step             = circulation.initial_time_step;
+      settings.event_time_tolerance     = circulation.event_time_tolerance;
+      settings.displacement_tolerance   = circulation.displacement_tolerance;
+      settings.newton_iterations_target = circulation.newton_iterations_target;
+      settings.max_step_cuts            = circulation.max_step_cuts;
       return settings;
     }
 

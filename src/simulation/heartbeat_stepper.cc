@@ -107,6 +107,11 @@ namespace systole
     double
     displacement_ratio() const;
 
+    /// The factor the next step may have after the accepted one for the
+    /// Newton iterations it took (Settings::newton_iterations_target).
+    double
+    newton_ratio() const;
+
     /// Record the accepted step; report it (and its events, its beat end).
     void
     record(Observer &observer, const std::vector<unsigned int> &switched);
@@ -158,6 +163,8 @@ namespace systole
       /// The displacement predictor's error of the last converged solve
       /// [mm] (set by every solve before the accept() that uses it).
       double predictor_error = 0;
+      /// The Newton iterations with a new tangent of that solve.
+      unsigned int tangent_iterations = 0;
     } attempt;
     // The next step size, the known bracket of a crossing, the cap after a
     // failure, and the failures in a row.
@@ -207,8 +214,9 @@ namespace systole
     ++stats.n_solves;
     try
       {
-        const unsigned int its  = ventricles.solve(target, p);
-        attempt.predictor_error = ventricles.predictor_error();
+        const unsigned int its     = ventricles.solve(target, p);
+        attempt.predictor_error    = ventricles.predictor_error();
+        attempt.tangent_iterations = ventricles.last_tangent_iterations();
         attempt.step_iterations += its;
         stats.n_newton_iterations += its;
         // The 0D state of the converged pressures (the last target
@@ -338,7 +346,8 @@ namespace systole
              attempt.t_new < (beat + 1) * settings.period)
       h = settings.initial_step;
     else
-      h = std::clamp(std::min(attempt.ratio, displacement_ratio()) *
+      h = std::clamp(std::min(
+                       {attempt.ratio, displacement_ratio(), newton_ratio()}) *
                        attempt.h_try,
                      settings.min_step,
                      settings.max_step);
@@ -380,6 +389,19 @@ namespace systole
     if (!(tolerance > 0.0 && error > 0.0))
       return 2.0;
     return std::clamp(0.9 * std::sqrt(tolerance / error), 0.2, 2.0);
+  }
+
+
+  double
+  HeartbeatStepper::Impl::newton_ratio() const
+  {
+    // Newton's iterations grow as the start moves out of its quadratic
+    // range; sqrt as for the displacement predictor (its miss ~ h^2).
+    const unsigned int target = settings.newton_iterations_target;
+    const unsigned int n      = attempt.tangent_iterations;
+    if (target == 0 || n <= target)
+      return 2.0;
+    return std::sqrt(static_cast<double>(target) / n);
   }
 
 

@@ -66,6 +66,15 @@ namespace systole
     virtual unsigned int
     solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) = 0;
 
+    /// After a converged solve(): how many of its iterations assembled and
+    /// factorized a new tangent (0: not counted; then the step-size control
+    /// leaves it out).
+    virtual unsigned int
+    last_tangent_iterations() const
+    {
+      return 0;
+    }
+
     /// After a converged solve(): the largest nodal displacement [mm] by
     /// which its solution differs from its start, the predict()ion (0: not
     /// measured; then the step-size control leaves it out).
@@ -123,7 +132,10 @@ namespace systole
   /// the displacement predictor (Settings::displacement_tolerance: where the
   /// motion accelerates, as at the contraction onset, the next step is one
   /// whose secant predictor is expected to miss by at most that, so Newton
-  /// starts in its quadratic range), ending at every
+  /// starts in its quadratic range), the Newton iterations with a new
+  /// tangent of the last solve (Settings::newton_iterations_target: a solve
+  /// that needed N more shortens the next step to sqrt(target / N) of it),
+  /// ending at every
   /// beat's end, at the ventricles' breakpoints (the contraction onset) and
   /// at every valve event (located: the step that crosses a
   /// sign change of a valve's indicator is redone to end within
@@ -151,6 +163,10 @@ namespace systole
       /// The predictor error the next step may have [mm]
       /// (CoupledVentricles::predictor_error(); 0: not controlled).
       double displacement_tolerance = 0.0;
+      /// The iterations with a new tangent a solve aims at
+      /// (CoupledVentricles::last_tangent_iterations(); 0: not
+      /// controlled).
+      unsigned int newton_iterations_target = 0;
       /// Failed solves in a row before the run stops.
       unsigned int max_step_cuts = 10;
     };

@@ -136,10 +136,21 @@ namespace systole
     solved_pressures  = p;
     linear_iterations += report.linear_iterations;
     tangent_iterations += report.iterations;
+    n_last_tangent_iterations = report.iterations;
+    logger.detail() << "      (the prediction missed the solution by "
+                    << std::setprecision(3) << problem.predictor_error()
+                    << " mm at most)" << std::defaultfloat << std::endl;
     mechanics_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
         .count();
     return report.iterations + report.reused_iterations;
+  }
+
+
+  unsigned int
+  MechanicsVentricles::last_tangent_iterations() const
+  {
+    return n_last_tangent_iterations;
   }
 
 

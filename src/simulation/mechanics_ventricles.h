@@ -58,6 +58,9 @@ namespace systole
     unsigned int
     solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) override;
 
+    unsigned int
+    last_tangent_iterations() const override;
+
     double
     predictor_error() const override;
 
@@ -105,6 +108,9 @@ namespace systole
     unsigned long tangent_iterations = 0;
 
   private:
+    /// Those of the last solve().
+    unsigned int n_last_tangent_iterations = 0;
+
     /// The tension of a model driven by activation times alone at time.
     void
     set_activation_driven_tension();

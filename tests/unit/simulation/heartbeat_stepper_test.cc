@@ -168,6 +168,53 @@ namespace
     double       attempt = 0, accepted = 0;
   };
 
+  /// The elastance chambers whose solves take @p hard Newton iterations
+  /// with a new tangent for a step longer than @p easy ms ending in [from,
+  /// to] (one otherwise): a solve that converges, but slowly.
+  class StrugglingVentricles : public ElastanceVentricles
+  {
+  public:
+    StrugglingVentricles(std::vector<ChamberElastance> chambers,
+                         const double                  easy,
+                         const unsigned int            hard,
+                         const double                  from,
+                         const double                  to)
+      : ElastanceVentricles(std::move(chambers))
+      , easy(easy)
+      , hard(hard)
+      , from(from)
+      , to(to)
+    {}
+    void
+    set_time(const double t) override
+    {
+      ElastanceVentricles::set_time(t);
+      attempt = t;
+    }
+    unsigned int
+    last_tangent_iterations() const override
+    {
+      return attempt >= from && attempt <= to && attempt - accepted > easy
+               ? hard
+               : 1;
+    }
+    void
+    accept() override
+    {
+      steps.emplace_back(attempt - accepted, last_tangent_iterations());
+      accepted = attempt;
+    }
+
+    /// Every accepted step: its size and its iterations with a new tangent.
+    std::vector<std::pair<double, unsigned int>> steps;
+
+  private:
+    const double       easy;
+    const unsigned int hard;
+    const double       from, to;
+    double             attempt = 0, accepted = 0;
+  };
+
   /// Keeps the summary rows.
   struct Summaries : HeartbeatStepper::Observer
   {
@@ -512,5 +559,54 @@ TEST_CASE("The heartbeat stepper keeps the displacement predictor's error "
         }
       else
         CHECK(largest > 10.0);
+    }
+}
+
+
+TEST_CASE("The heartbeat stepper shortens the step after a solve that "
+          "needed more Newton iterations than its target",
+          "[simulation][stepper]")
+{
+  // In diastasis (500 to 700 ms) a step longer than 4 ms takes 6 Newton
+  // iterations with a new tangent. With the target 2 the step after such a
+  // solve is at most sqrt(2/6) of it; without the control the steps grow to
+  // the largest (20 ms) and stay there.
+  const CoupledLoop      loop(false);
+  constexpr double       easy = 4.0;
+  constexpr unsigned int hard = 6, target = 2;
+  for (const bool controlled : {false, true})
+    {
+      HeartbeatStepper::Settings settings;
+      settings.period                   = loop.T;
+      settings.n_max_beats              = 1;
+      settings.periodicity_tolerance    = 0;
+      settings.max_step                 = 20.0;
+      settings.newton_iterations_target = controlled ? target : 0;
+      StrugglingVentricles ventricles(loop.chambers, easy, hard, 500.0, 700.0);
+      HeartbeatStepper     stepper(loop.model,
+                               ventricles,
+                               settings,
+                               loop.y0,
+                               loop.p0);
+      Summaries            summaries;
+      CHECK(stepper.run(summaries).n_beats == 1);
+      const auto  &steps  = ventricles.steps;
+      unsigned int n_hard = 0, n_longer = 0;
+      for (unsigned int i = 0; i + 1 < steps.size(); ++i)
+        if (steps[i].second == hard)
+          {
+            ++n_hard;
+            if (steps[i + 1].first >
+                std::sqrt(double(target) / hard) * steps[i].first * (1 + 1e-12))
+              ++n_longer;
+          }
+      INFO((controlled ? "controlled" : "not controlled")
+           << ": " << n_hard << " slow solves, " << n_longer
+           << " followed by a step longer than the control allows");
+      REQUIRE(n_hard > 0);
+      if (controlled)
+        CHECK(n_longer == 0);
+      else
+        CHECK(n_longer > 0);
     }
 }
