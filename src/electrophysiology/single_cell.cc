@@ -3,6 +3,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include "base/parameter_table.h"
 #include "electrophysiology/arkode_adapter.h"
 #include "electrophysiology/time_steps.h"
 
@@ -11,49 +12,58 @@
 
 namespace systole::Electrophysiology
 {
+  namespace
+  {
+    /// The entries of subsection "Cell": one table for declare() and
+    /// parse().
+    const std::vector<RealEntry<SingleCell::Pacing>> &
+    pacing_entries()
+    {
+      using dealii::Patterns::Double;
+      using P                                      = SingleCell::Pacing;
+      static const std::vector<RealEntry<P>> table = {
+        {"Stimulus start",
+         &P::start,
+         Double(0.0),
+         "Problem = cell: onset of the first stimulus; beat k is [k P, (k + "
+         "1) P) with its stimulus at start + k P (P the Pacing cycle length). "
+         "Units: ms. Source: the ten Tusscher-Panfilov 2006 .ode file, 10 "
+         "ms."},
+        {"Stimulus duration",
+         &P::duration,
+         Double(0.0),
+         "Problem = cell: duration of each stimulus. Units: ms. Source: the "
+         "ten Tusscher-Panfilov 2006 .ode file, 1 ms."},
+        {"Stimulus amplitude",
+         &P::amplitude,
+         Double(0.0),
+         "Problem = cell: depolarising stimulus current per membrane "
+         "capacitance, dv/dt = -I_ion + amplitude (divided by the model's mV "
+         "per unit of potential). Units: µA/µF (= pA/pF = mV/ms). Source: the "
+         "ten Tusscher-Panfilov 2006 .ode file, 52 pA/pF (written there as "
+         "the inward current -52)."},
+        {"Pacing cycle length",
+         &P::period,
+         Double(0.0),
+         "Problem = cell: the stimulus repeats with this period (the beat); "
+         "0: one stimulus and one beat up to Time / End time. Units: ms. "
+         "Default: 1 Hz."},
+        {"Fibre stretch",
+         &P::stretch,
+         Double(0.5, 1.5),
+         "Problem = cell with a calcium-driven Active tension / Model "
+         "(Land): the fixed fibre stretch lambda of the isometric cell (its "
+         "rate is 0). Units: -."}};
+      return table;
+    }
+  } // namespace
+
+
   void
   SingleCell::Pacing::declare(dealii::ParameterHandler &prm)
   {
-    using namespace dealii::Patterns;
-    using Tools::to_string;
-    const Pacing d;
     prm.enter_subsection("Cell");
-    prm.declare_entry("Stimulus start",
-                      to_string(d.start),
-                      Double(0.0),
-                      "Problem = cell: onset of the first stimulus; beat k "
-                      "is [k P, (k + 1) P) with its stimulus at start + k P "
-                      "(P the Pacing cycle length). Units: ms. Source: the "
-                      "ten Tusscher-Panfilov 2006 .ode file, 10 ms.");
-    prm.declare_entry("Stimulus duration",
-                      to_string(d.duration),
-                      Double(0.0),
-                      "Problem = cell: duration of each stimulus. Units: ms. "
-                      "Source: the ten Tusscher-Panfilov 2006 .ode file, "
-                      "1 ms.");
-    prm.declare_entry(
-      "Stimulus amplitude",
-      to_string(d.amplitude),
-      Double(0.0),
-      "Problem = cell: depolarising stimulus current per membrane "
-      "capacitance, dv/dt = -I_ion + amplitude (divided by the model's mV "
-      "per unit of potential). Units: µA/µF (= pA/pF = mV/ms). Source: the "
-      "ten Tusscher-Panfilov 2006 .ode file, 52 pA/pF (written there as the "
-      "inward current -52).");
-    prm.declare_entry(
-      "Pacing cycle length",
-      to_string(d.period),
-      Double(0.0),
-      "Problem = cell: the stimulus repeats with this period (the beat); 0: "
-      "one stimulus and one beat up to Time / End time. Units: ms. Default: "
-      "1 Hz.");
-    prm.declare_entry(
-      "Fibre stretch",
-      to_string(d.stretch),
-      Double(0.5, 1.5),
-      "Problem = cell with a calcium-driven Active tension / Model (Land): "
-      "the fixed fibre stretch lambda of the isometric cell (its rate is "
-      "0). Units: -.");
+    declare_entries(prm, pacing_entries());
     prm.leave_subsection();
   }
 
@@ -61,13 +71,8 @@ namespace systole::Electrophysiology
   SingleCell::Pacing
   SingleCell::Pacing::parse(const dealii::ParameterHandler &prm)
   {
-    const std::vector<std::string> s = {"Cell"};
-    Pacing                         p;
-    p.start     = prm.get_double(s, "Stimulus start");
-    p.duration  = prm.get_double(s, "Stimulus duration");
-    p.amplitude = prm.get_double(s, "Stimulus amplitude");
-    p.period    = prm.get_double(s, "Pacing cycle length");
-    p.stretch   = prm.get_double(s, "Fibre stretch");
+    Pacing p;
+    parse_entries(prm, {"Cell"}, pacing_entries(), p);
     AssertThrow(p.duration > 0,
                 dealii::ExcMessage("Cell / Stimulus duration must be > 0."));
     AssertThrow(p.period == 0 || p.start + p.duration < p.period,

@@ -21,15 +21,11 @@ namespace systole::Fibres
     : params(params)
     , shape(shape)
   {
-    for (const std::string part : {"endocardium", "epicardium"})
-      {
-        AssertThrow(names.has(part),
-                    dealii::ExcMessage(
-                      "Fibres / Generator = arostica needs the boundary parts "
-                      "endocardium and epicardium; " +
-                      names.source() + " has no part '" + part + "'."));
-        Geometry::require_boundary(tria, names, part);
-      }
+    Geometry::require_boundaries(tria,
+                                 names,
+                                 {"endocardium", "epicardium"},
+                                 "Fibres / Generator = arostica needs the "
+                                 "boundary parts endocardium and epicardium");
     const auto start = std::chrono::steady_clock::now();
     // Zero flux on every other part (the base).
     fields = std::make_unique<LaplaceFields>(tria,

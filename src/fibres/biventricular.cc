@@ -332,24 +332,12 @@ namespace systole::Fibres
                                Logger                            *logger)
     : params(params)
   {
-    for (const std::string part :
-         {"lv_endocardium", "rv_endocardium", "epicardium", "base"})
-      {
-        AssertThrow(names.has(part),
-                    dealii::ExcMessage(
-                      "Fibres / Generator = biventricular needs the boundary "
-                      "parts lv_endocardium, rv_endocardium, epicardium and "
-                      "base; " +
-                      names.source() + " has no part '" + part + "' (it has: " +
-                      [&names] {
-                        std::string known;
-                        for (const auto &n : names.names())
-                          known += (known.empty() ? "" : ", ") + n;
-                        return known;
-                      }() +
-                      ")."));
-        Geometry::require_boundary(tria, names, part);
-      }
+    Geometry::require_boundaries(
+      tria,
+      names,
+      {"lv_endocardium", "rv_endocardium", "epicardium", "base"},
+      "Fibres / Generator = biventricular needs the boundary parts "
+      "lv_endocardium, rv_endocardium, epicardium and base");
     const auto lv_endo    = names.id("lv_endocardium"),
                rv_endo    = names.id("rv_endocardium"),
                epicardium = names.id("epicardium"), base = names.id("base");

@@ -133,15 +133,12 @@ namespace systole::Fibres
     : impl(std::make_unique<Impl>(tria))
   {
     Impl &m = *impl;
-    for (const std::string part : {"endocardium", "epicardium", "base"})
-      {
-        AssertThrow(names.has(part),
-                    dealii::ExcMessage(
-                      "Fibres / Generator = rule-based needs the boundary "
-                      "parts endocardium, epicardium and base; " +
-                      names.source() + " has no part '" + part + "'."));
-        Geometry::require_boundary(tria, names, part);
-      }
+    Geometry::require_boundaries(tria,
+                                 names,
+                                 {"endocardium", "epicardium", "base"},
+                                 "Fibres / Generator = rule-based needs the "
+                                 "boundary parts endocardium, epicardium and "
+                                 "base");
     const auto endo = names.id("endocardium"), epi = names.id("epicardium"),
                base = names.id("base");
 

@@ -27,19 +27,12 @@ namespace systole::Geometry
   BoundaryNames::id(const std::string &name) const
   {
     const auto it = ids.find(name);
-    if (it == ids.end())
-      {
-        std::string known;
-        for (const auto &entry : ids)
-          known += (known.empty() ? "" : ", ") + entry.first;
-        AssertThrow(
-          false,
-          dealii::ExcMessage(
-            source_description + " has no boundary part named '" + name +
-            "' (it has: " + (known.empty() ? "none" : known) +
-            "). Tag that surface, e.g. with a gmsh Physical Surface(\"" + name +
-            "\")."));
-      }
+    AssertThrow(it != ids.end(),
+                dealii::ExcMessage(
+                  source_description + " has no boundary part named '" + name +
+                  "' (it has: " + listed() +
+                  "). Tag that surface, e.g. with a gmsh Physical Surface(\"" +
+                  name + "\")."));
     return it->second;
   }
 
@@ -47,6 +40,15 @@ namespace systole::Geometry
   BoundaryNames::names() const
   {
     return first_members(ids);
+  }
+
+  std::string
+  BoundaryNames::listed() const
+  {
+    std::string result;
+    for (const auto &entry : ids)
+      result += (result.empty() ? "" : ", ") + entry.first;
+    return result.empty() ? "none" : result;
   }
 
   const std::string &

@@ -40,6 +40,10 @@ namespace systole::Geometry
     std::vector<std::string>
     names() const;
 
+    /// names() joined by ", " ("none" if there are none), for messages.
+    std::string
+    listed() const;
+
     const std::string &
     source() const;
 

@@ -651,14 +651,27 @@ namespace systole::Geometry
               break;
             }
     found = dealii::Utilities::MPI::max(found, tria.get_communicator());
-    std::string parts;
-    for (const auto &part : names.names())
-      parts += (parts.empty() ? "" : ", ") + part;
     AssertThrow(found > 0,
                 dealii::ExcMessage(names.source() + " names boundary part '" +
                                    name + "' (id " + std::to_string(id) +
                                    ") but no boundary face carries it (its "
                                    "parts: " +
-                                   parts + ")."));
+                                   names.listed() + ")."));
+  }
+
+  void
+  require_boundaries(const dealii::Triangulation<3, 3> &tria,
+                     const BoundaryNames               &names,
+                     const std::vector<std::string>    &parts,
+                     const std::string                 &needs)
+  {
+    for (const std::string &part : parts)
+      {
+        AssertThrow(names.has(part),
+                    dealii::ExcMessage(needs + "; " + names.source() +
+                                       " has no part '" + part +
+                                       "' (it has: " + names.listed() + ")."));
+        require_boundary(tria, names, part);
+      }
   }
 } // namespace systole::Geometry

@@ -141,4 +141,15 @@ namespace systole::Geometry
   require_boundary(const dealii::Triangulation<3, 3> &tria,
                    const BoundaryNames               &names,
                    const std::string                 &name);
+
+  /// require_boundary() for each of @p parts, after checking that @p names
+  /// has it; a part it lacks throws "<needs>; <mesh> has no part '<part>' (it
+  /// has: <its parts>)." @p needs says who needs which parts, e.g. "Fibres /
+  /// Generator = arostica needs the boundary parts endocardium and
+  /// epicardium".
+  void
+  require_boundaries(const dealii::Triangulation<3, 3> &tria,
+                     const BoundaryNames               &names,
+                     const std::vector<std::string>    &parts,
+                     const std::string                 &needs);
 } // namespace systole::Geometry

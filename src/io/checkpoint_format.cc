@@ -70,38 +70,43 @@ namespace systole::IO
   } // namespace
 
 
-  StateWriter::StateWriter()
+  template <class Stream, class Archive>
+  TextState<Stream, Archive>::~TextState() = default;
+
+
+  template <class Stream, class Archive>
+  void
+  TextState<Stream, Archive>::open_archive()
   {
     stream.imbue(portable_locale());
-    stream << magic << ' ' << checkpoint_format << ' ' << byte_order() << ' '
-           << code_version() << '\n';
-    out = std::make_unique<boost::archive::text_oarchive>(
-      stream,
-      boost::archive::no_codecvt);
+    text_archive =
+      std::make_unique<Archive>(stream, boost::archive::no_codecvt);
   }
 
 
-  StateWriter::~StateWriter() = default;
+  template class TextState<std::ostringstream, boost::archive::text_oarchive>;
+  template class TextState<std::istringstream, boost::archive::text_iarchive>;
 
 
-  boost::archive::text_oarchive &
-  StateWriter::archive()
+  StateWriter::StateWriter()
   {
-    return *out;
+    stream << magic << ' ' << checkpoint_format << ' ' << byte_order() << ' '
+           << code_version() << '\n';
+    open_archive();
   }
 
 
   std::string
   StateWriter::finish()
   {
-    out.reset();
+    text_archive.reset();
     return stream.str();
   }
 
 
   StateReader::StateReader(const std::string &text, const std::string &folder)
-    : stream(text)
   {
+    stream.str(text);
     std::string line;
     std::getline(stream, line);
     const Header h = parse_header(line);
@@ -109,20 +114,7 @@ namespace systole::IO
                 dealii::ExcMessage("The state of the checkpoint " + folder +
                                    " is not in checkpoint format " +
                                    std::to_string(checkpoint_format) + "."));
-    stream.imbue(portable_locale());
-    in = std::make_unique<boost::archive::text_iarchive>(
-      stream,
-      boost::archive::no_codecvt);
-  }
-
-
-  StateReader::~StateReader() = default;
-
-
-  boost::archive::text_iarchive &
-  StateReader::archive()
-  {
-    return *in;
+    open_archive();
   }
 
 

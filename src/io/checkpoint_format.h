@@ -24,45 +24,62 @@ namespace systole::IO
   /// The file of a checkpoint folder that holds the small state.
   constexpr const char *checkpoint_state_file = "state.txt";
 
+  /// What StateWriter and StateReader share: a boost text archive of type
+  /// @p Archive on the string stream @p Stream, opened after the header line
+  /// with the stream in the classic locale plus boost::math's non-finite
+  /// facets (the standard streams fail to read inf and nan back).
+  template <class Stream, class Archive>
+  class TextState
+  {
+  public:
+    Archive &
+    archive()
+    {
+      return *text_archive;
+    }
+
+  protected:
+    ~TextState();
+
+    /// Puts the locale on the stream and opens the archive on it.
+    void
+    open_archive();
+
+    Stream                   stream;
+    std::unique_ptr<Archive> text_archive;
+  };
+
+  // Instantiated in checkpoint_format.cc, where the archives are complete.
+  extern template class TextState<std::ostringstream,
+                                  boost::archive::text_oarchive>;
+  extern template class TextState<std::istringstream,
+                                  boost::archive::text_iarchive>;
+
   /// The small state of a checkpoint being written: the header line
   /// `systole-checkpoint <format> <byte order> <code version>`, then a boost
   /// text archive. Doubles are written with 17 significant digits (they read
   /// back bit for bit), infinities and NaN as `inf` and `nan` (boost::math's
   /// non-finite facets), so the text is the same on every machine.
   class StateWriter
+    : public TextState<std::ostringstream, boost::archive::text_oarchive>
   {
   public:
     StateWriter();
-    ~StateWriter();
-
-    boost::archive::text_oarchive &
-    archive();
 
     /// Close the archive and return the whole text.
     std::string
     finish();
-
-  private:
-    std::ostringstream                             stream;
-    std::unique_ptr<boost::archive::text_oarchive> out;
   };
 
   /// The small state of a checkpoint being read, from the text a
   /// StateWriter wrote (the header is checked: see checkpoint_format_fault).
   class StateReader
+    : public TextState<std::istringstream, boost::archive::text_iarchive>
   {
   public:
     /// @param[in] text the content of the state file
     /// @param[in] folder the checkpoint, named in error messages
     StateReader(const std::string &text, const std::string &folder);
-    ~StateReader();
-
-    boost::archive::text_iarchive &
-    archive();
-
-  private:
-    std::istringstream                             stream;
-    std::unique_ptr<boost::archive::text_iarchive> in;
   };
 
   /// Why the checkpoint @p folder cannot be read by this build ("" if it

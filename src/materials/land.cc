@@ -3,6 +3,8 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
+#include "base/parameter_table.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,88 +14,102 @@ namespace systole::Materials
 {
   namespace
   {
-    /// The entries of "Active tension / Land": name, member, help.
-    struct Entry
-    {
-      const char *name;
-      double Land::Parameters::*member;
-      const char               *help;
-    };
-
-    const std::vector<Entry> &
+    /// The entries of "Active tension / Land": name, member, pattern
+    /// (beta_1 may be negative), help.
+    const std::vector<RealEntry<Land::Parameters>> &
     entries()
     {
-      using P                                 = Land::Parameters;
-      static const std::vector<Entry> entries = {
+      using P = Land::Parameters;
+      using dealii::Patterns::Double;
+      const auto table1 = [](const char *help) {
+        return std::string(help) +
+               " (Land et al. 2017, J. Mol. Cell. Cardiol. 106:68, Table 1.)";
+      };
+      static const std::vector<RealEntry<P>> entries = {
         {"Reference tension",
          &P::T_ref,
-         "T_ref: the tension of a fully activated, isometric cell at "
-         "stretch 1. Units: kPa."},
+         Double(0.0),
+         table1("T_ref: the tension of a fully activated, isometric cell at "
+                "stretch 1. Units: kPa.")},
         {"TRPN50",
          &P::TRPN_50,
-         "TRPN_50: troponin occupancy of half "
-         "activation of the tropomyosin. Units: -."},
+         Double(0.0),
+         table1("TRPN_50: troponin occupancy of half activation of the "
+                "tropomyosin. Units: -.")},
         {"nTRPN",
          &P::n_TRPN,
-         "n_TRPN: Hill coefficient of calcium binding "
-         "to troponin C. Units: -."},
+         Double(0.0),
+         table1("n_TRPN: Hill coefficient of calcium binding to troponin C. "
+                "Units: -.")},
         {"kTRPN",
          &P::k_TRPN,
-         "k_TRPN: rate of calcium binding to troponin "
-         "C. Units: 1/ms."},
+         Double(0.0),
+         table1("k_TRPN: rate of calcium binding to troponin C. Units: 1/ms.")},
         {"nTM",
          &P::n_TM,
-         "n_TM: cooperativity of the tropomyosin "
-         "unblocking. Units: -."},
+         Double(0.0),
+         table1(
+           "n_TM: cooperativity of the tropomyosin unblocking. Units: -.")},
         {"ku",
          &P::k_u,
-         "k_u: rate of the tropomyosin unblocking. Units: "
-         "1/ms."},
+         Double(0.0),
+         table1("k_u: rate of the tropomyosin unblocking. Units: 1/ms.")},
         {"kuw",
          &P::k_uw,
-         "k_uw: rate of the unbound-to-weak cross-bridge "
-         "transition. Units: 1/ms."},
+         Double(0.0),
+         table1("k_uw: rate of the unbound-to-weak cross-bridge transition. "
+                "Units: 1/ms.")},
         {"kws",
          &P::k_ws,
-         "k_ws: rate of the weak-to-strong cross-bridge "
-         "transition. Units: 1/ms."},
+         Double(0.0),
+         table1("k_ws: rate of the weak-to-strong cross-bridge transition. "
+                "Units: 1/ms.")},
         {"rw",
          &P::r_w,
-         "r_w: steady-state fraction of weakly bound "
-         "cross-bridges (of the unblocked ones), in (0, 1). "
-         "Units: -."},
+         Double(0.0),
+         table1("r_w: steady-state fraction of weakly bound cross-bridges (of "
+                "the unblocked ones), in (0, 1). Units: -.")},
         {"rs",
          &P::r_s,
-         "r_s: steady-state fraction of strongly bound "
-         "cross-bridges, in (0, 1). Units: -."},
+         Double(0.0),
+         table1(
+           "r_s: steady-state fraction of strongly bound cross-bridges, in "
+           "(0, 1). Units: -.")},
         {"gammas",
          &P::gamma_s,
-         "gamma_s: detachment of distorted strong "
-         "cross-bridges. Units: -."},
+         Double(0.0),
+         table1("gamma_s: detachment of distorted strong cross-bridges. Units: "
+                "-.")},
         {"gammaw",
          &P::gamma_w,
-         "gamma_w: detachment of distorted weak "
-         "cross-bridges. Units: -."},
+         Double(0.0),
+         table1(
+           "gamma_w: detachment of distorted weak cross-bridges. Units: -.")},
         {"phi",
          &P::phi,
-         "phi: scale of the distortion decay rates c_s, "
-         "c_w. Units: -."},
+         Double(0.0),
+         table1(
+           "phi: scale of the distortion decay rates c_s, c_w. Units: -.")},
         {"Aeff",
          &P::A_eff,
-         "A_eff: distortion per unit stretch (the "
-         "velocity dependence). Units: -."},
+         Double(0.0),
+         table1("A_eff: distortion per unit stretch (the velocity dependence). "
+                "Units: -.")},
         {"beta0",
          &P::beta_0,
-         "beta_0: length dependence of the maximal "
-         "tension, h(lambda). Units: -."},
+         Double(0.0),
+         table1("beta_0: length dependence of the maximal tension, h(lambda). "
+                "Units: -.")},
         {"beta1",
          &P::beta_1,
-         "beta_1: length dependence of the calcium sensitivity, Ca50 = "
-         "Ca50ref + beta_1 (min(lambda, 1.2) - 1). Units: µM."},
+         Double(),
+         table1("beta_1: length dependence of the calcium sensitivity, Ca50 = "
+                "Ca50ref + beta_1 (min(lambda, 1.2) - 1). Units: µM.")},
         {"Ca50ref",
          &P::Ca50_ref,
-         "Ca50ref: calcium of half troponin occupancy at stretch 1. "
-         "Units: µM."}};
+         Double(0.0),
+         table1("Ca50ref: calcium of half troponin occupancy at stretch 1. "
+                "Units: µM.")}};
       return entries;
     }
 
@@ -124,18 +140,9 @@ namespace systole::Materials
   void
   Land::Parameters::declare(dealii::ParameterHandler &prm)
   {
-    const Parameters d;
     prm.enter_subsection("Active tension");
     prm.enter_subsection("Land");
-    for (const Entry &e : entries())
-      prm.declare_entry(e.name,
-                        dealii::Utilities::to_string(d.*(e.member)),
-                        e.member == &Land::Parameters::beta_1
-                          ? dealii::Patterns::Double()
-                          : dealii::Patterns::Double(0.0),
-                        std::string(e.help) +
-                          " (Land et al. 2017, J. Mol. Cell. Cardiol. "
-                          "106:68, Table 1.)");
+    declare_entries(prm, entries());
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -143,10 +150,8 @@ namespace systole::Materials
   Land::Parameters
   Land::Parameters::parse(const dealii::ParameterHandler &prm)
   {
-    const std::vector<std::string> path = {"Active tension", "Land"};
-    Parameters                     p;
-    for (const Entry &e : entries())
-      p.*(e.member) = prm.get_double(path, e.name);
+    Parameters p;
+    parse_entries(prm, {"Active tension", "Land"}, entries(), p);
     const auto in_unit_interval = [](const double v, const char *name) {
       AssertThrow(v > 0.0 && v < 1.0,
                   dealii::ExcMessage(std::string("Active tension / Land / ") +

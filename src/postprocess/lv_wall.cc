@@ -92,19 +92,14 @@ namespace systole::Postprocess
                                    "epicardium",
                                    "base"}
         : std::vector<std::string>{"endocardium", "epicardium", "base"};
-    for (const auto &part : parts)
-      {
-        AssertThrow(names.has(part),
-                    dealii::ExcMessage(
-                      "Postprocess / List of postprocessors: strain, AHA "
-                      "segments, clinical kinematics and ventricle function "
-                      "need a " +
-                      std::string(m.two_ventricles ? "biventricular mesh"
-                                                   : "left ventricle") +
-                      ", but " + names.source() +
-                      " has no boundary part named '" + part + "'."));
-        Geometry::require_boundary(tria, names, part);
-      }
+    Geometry::require_boundaries(
+      tria,
+      names,
+      parts,
+      "Postprocess / List of postprocessors: strain, AHA segments, clinical "
+      "kinematics and ventricle function need a " +
+        std::string(m.two_ventricles ? "biventricular mesh"
+                                     : "left ventricle"));
     m.endo  = parts[0];
     m.outer = m.two_ventricles
                 ? std::vector<std::string>{"epicardium", "rv_endocardium"}
