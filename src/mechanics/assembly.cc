@@ -12,6 +12,7 @@
 #include "materials/volumetric_law.h"
 #include "mechanics/hyperelastic_kernel.h"
 #include "mechanics/matrix_free_tangent.h"
+#include "mechanics/petsc_tools.h"
 #include "mechanics/problem_impl.h"
 #include "mechanics/surface_terms.h"
 
@@ -1291,7 +1292,8 @@ namespace systole::Mechanics
         dealii::ExcMessage(
           "Mechanics: the matrix-free tangent needs the penalty formulation "
           "on Q2 with the full volumetric rule, quasi-static, and no "
-          "cross-fibre tension model."));
+          "cross-fibre tension model (otherwise use Linear solver = "
+          "iterative or direct)."));
       return options;
     }
 
@@ -1319,6 +1321,23 @@ namespace systole::Mechanics
                           const bool                    with_matrix,
                           const bool                    with_volume_derivative)
   {
+    if (with_matrix && system.linear_solver != nullptr)
+      if (MatrixFreeTangent *tangent =
+            system.linear_solver->matrix_free_tangent())
+        {
+          // The matrix-free solver: the residual, then the tangent's point
+          // data (the kernel again) instead of a sparse matrix.
+          AssertThrow(!with_volume_derivative,
+                      dealii::ExcMessage(
+                        "The matrix-free linear solver does not solve "
+                        "cavity-volume constraints; use Mechanics / Linear "
+                        "solver = iterative or direct."));
+          const double norm = assemble(pressures, active_tension, false);
+          dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
+          factorized.held = false;
+          update_matrix_free_tangent(*tangent, pressures, active_tension);
+          return norm;
+        }
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
     points.last_active_tension = active_tension;
     check_loads(pressures, loads, with_volume_derivative);
@@ -1425,12 +1444,37 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::Impl::update_matrix_free_tangent(MatrixFreeTangent &tangent,
-                                            const double       active_tension)
+  Problem::Impl::update_matrix_free_tangent(
+    MatrixFreeTangent            &tangent,
+    const dealii::Vector<double> &pressures,
+    const double                  active_tension)
   {
-    // (Not timed: the solves do not use it.)
     const AssemblyOptions options =
       matrix_free_options(discretization, params, points, dynamics);
+    check_loads(pressures, loads, false);
+    AssertThrow(boundaries.robin_supports.empty(),
+                dealii::ExcMessage(
+                  "Mechanics: the matrix-free tangent has no spring-dashpot "
+                  "(Robin) supports; use Linear solver = direct or "
+                  "iterative."));
+    std::map<dealii::types::boundary_id, double> face_pressures;
+    for (unsigned int i = 0; i < pressures.size(); ++i)
+      if (pressures[i] != 0.0)
+        {
+          AssertThrow(i >= loads.cavities.size() || !lid_loaded(i),
+                      dealii::ExcMessage(
+                        "Mechanics: the matrix-free tangent has no loaded "
+                        "lid (Lid pressure with a moving rim); use Linear "
+                        "solver = direct or iterative."));
+          face_pressures[loads.pressure_ids[i]] = pressures[i];
+        }
+    {
+      // The displacement in the operator's layout (the same DoF numbering).
+      MatrixFreeTangent::Vector u_mf;
+      tangent.initialize_dof_vector(u_mf);
+      copy_owned(u_owned, u_mf);
+      tangent.set_follower_pressure(u_mf, face_pressures);
+    }
     CellScratch        w(discretization,
                   loads.cavities.size(),
                   points.tension_model != nullptr

@@ -20,6 +20,7 @@
 namespace systole::Mechanics
 {
   class FieldLayout;
+  class MatrixFreeTangent;
 
   /// A PETSc matrix on the pressure DoFs alone (block 1 of a FieldLayout,
   /// numbered in the order of the global DoFs): the approximation
@@ -134,6 +135,15 @@ namespace systole::Mechanics
     needs_pressure_matrix() const
     {
       return false;
+    }
+
+    /// The matrix-free solver's tangent, which the Problem refills instead
+    /// of assembling a matrix (MatrixFreeSolver); nullptr for the
+    /// matrix-based solvers.
+    virtual MatrixFreeTangent *
+    matrix_free_tangent()
+    {
+      return nullptr;
     }
 
     virtual std::string

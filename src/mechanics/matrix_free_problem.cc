@@ -16,8 +16,11 @@ namespace systole::Mechanics
       d.dof_handler,
       d.constraints,
       single ? MatrixFreeTangent::Variant::cached_single
-                              : MatrixFreeTangent::Variant::cached);
-    impl->update_matrix_free_tangent(*tangent, active_tension);
+                              : MatrixFreeTangent::Variant::cached,
+      MatrixFreeTangent::Options{true, nullptr, nullptr});
+    impl->update_matrix_free_tangent(*tangent,
+                                     impl->uniform_pressures(0.0),
+                                     active_tension);
     return tangent;
   }
 
@@ -29,13 +32,32 @@ namespace systole::Mechanics
     AssertThrow(tangent.m() == impl->discretization.dof_handler.n_dofs(),
                 dealii::ExcMessage("Problem::update_matrix_free_tangent: the "
                                    "tangent is not one of this problem."));
-    impl->update_matrix_free_tangent(tangent, active_tension);
+    impl->update_matrix_free_tangent(tangent,
+                                     impl->uniform_pressures(0.0),
+                                     active_tension);
+  }
+
+
+  void
+  Problem::update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                                      const double       pressure,
+                                      const double       active_tension)
+  {
+    AssertThrow(tangent.m() == impl->discretization.dof_handler.n_dofs(),
+                dealii::ExcMessage("Problem::update_matrix_free_tangent: the "
+                                   "tangent is not one of this problem."));
+    impl->update_matrix_free_tangent(tangent,
+                                     impl->uniform_pressures(pressure),
+                                     active_tension);
   }
 
 
   const dealii::PETScWrappers::MPI::SparseMatrix &
   Problem::assembled_tangent(const double pressure, const double active_tension)
   {
+    AssertThrow(impl->system.linear_solver->matrix_free_tangent() == nullptr,
+                dealii::ExcMessage("Problem::assembled_tangent: the "
+                                   "matrix-free solver assembles no tangent."));
     impl->assemble(impl->uniform_pressures(pressure), active_tension, true);
     return impl->system.tangent;
   }

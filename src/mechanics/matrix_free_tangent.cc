@@ -6,17 +6,6 @@
 
 namespace systole::Mechanics
 {
-  struct MatrixFreeTangent::Impl
-    : public internal::TangentOperator<dealii::VectorizedArray<double>>
-  {
-    using internal::TangentOperator<
-      dealii::VectorizedArray<double>>::TangentOperator;
-
-    /// Built without a law: the point tangents come from the caller.
-    bool general = false;
-  };
-
-
   MatrixFreeTangent::MatrixFreeTangent(
     const dealii::Mapping<3>                &mapping,
     const dealii::DoFHandler<3>             &dof_handler,
@@ -32,12 +21,15 @@ namespace systole::Mechanics
     const dealii::Mapping<3>                &mapping,
     const dealii::DoFHandler<3>             &dof_handler,
     const dealii::AffineConstraints<double> &constraints,
-    const Variant                            variant)
+    const Variant                            variant,
+    const Options                           &options)
     : impl(std::make_unique<Impl>(mapping,
                                   dof_handler,
                                   constraints,
                                   NeoHookeanPenalty(),
-                                  variant))
+                                  variant,
+                                  dealii::numbers::invalid_unsigned_int,
+                                  &options))
   {
     AssertThrow(variant != Variant::recompute,
                 dealii::ExcMessage("MatrixFreeTangent: the general tangent "
@@ -45,6 +37,15 @@ namespace systole::Mechanics
                                    "cached_single, not recompute."));
     impl->general = true;
   }
+
+
+  MatrixFreeTangent::MatrixFreeTangent(
+    const dealii::Mapping<3>                &mapping,
+    const dealii::DoFHandler<3>             &dof_handler,
+    const dealii::AffineConstraints<double> &constraints,
+    const Variant                            variant)
+    : MatrixFreeTangent(mapping, dof_handler, constraints, variant, Options())
+  {}
 
 
   MatrixFreeTangent::~MatrixFreeTangent() = default;
@@ -74,6 +75,22 @@ namespace systole::Mechanics
                 dealii::ExcMessage("MatrixFreeTangent: a tangent built with a "
                                    "law is updated from a displacement."));
     impl->update_from(tangents);
+  }
+
+
+  void
+  MatrixFreeTangent::set_follower_pressure(
+    const Vector                                       &u,
+    const std::map<dealii::types::boundary_id, double> &pressures)
+  {
+    impl->set_follower_pressure(u, pressures);
+  }
+
+
+  bool
+  MatrixFreeTangent::has_follower_pressure() const
+  {
+    return !impl->face_pressures.empty();
   }
 
 

@@ -9,6 +9,7 @@
 #include "mechanics/hyperelastic_kernel.h"
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -85,9 +86,30 @@ namespace systole::Mechanics
       std::function<void(const dealii::DoFHandler<3>::cell_iterator &cell,
                          std::vector<dealii::Tensor<4, 3>>          &A)>;
 
+    /// What the general tangent's MatrixFree holds besides the cells.
+    struct Options
+    {
+      /// The boundary faces: the follower pressure's stiffness
+      /// (set_follower_pressure()).
+      bool boundary_faces = false;
+      /// A Q1^3 DoFHandler on the same mesh and its (homogeneous)
+      /// constraints: the coarse level of a p-multigrid, whose matrix the
+      /// stored tangent gives at the same quadrature points
+      /// (MatrixFreePMultigrid). Both must outlive the tangent.
+      const dealii::DoFHandler<3>             *q1             = nullptr;
+      const dealii::AffineConstraints<double> *q1_constraints = nullptr;
+    };
+
     /// The general tangent: no law of its own, the point tangents come from
     /// update(const CellTangents &). @p variant: cached or cached_single
     /// (throws for recompute). The arguments as in the other constructor.
+    MatrixFreeTangent(const dealii::Mapping<3>                &mapping,
+                      const dealii::DoFHandler<3>             &dof_handler,
+                      const dealii::AffineConstraints<double> &constraints,
+                      const Variant                            variant,
+                      const Options                           &options);
+
+    /// The general tangent without boundary faces or Q1 level.
     MatrixFreeTangent(const dealii::Mapping<3>                &mapping,
                       const dealii::DoFHandler<3>             &dof_handler,
                       const dealii::AffineConstraints<double> &constraints,
@@ -111,6 +133,23 @@ namespace systole::Mechanics
     /// built with a law. Collective only in what @p tangents does.
     void
     update(const CellTangents &tangents);
+
+    /// The follower pressure on boundary faces (Options::boundary_faces):
+    /// vmult() then adds its stiffness
+    /// @f$p\int \varphi_a\cdot(\partial_F\mathrm{cof}(F)[\nabla_0
+    /// \varphi_b])N\,dA@f$ on the faces of each boundary id of @p pressures
+    /// [kPa] at the displacement @p u (not symmetric: the load follows the
+    /// wall). Replaces the last call's pressures; an empty map removes the
+    /// term. Collective.
+    void
+    set_follower_pressure(
+      const Vector                                       &u,
+      const std::map<dealii::types::boundary_id, double> &pressures);
+
+    /// Whether vmult() has a follower-pressure term (then K is not
+    /// symmetric).
+    bool
+    has_follower_pressure() const;
 
     /// dst = K src with K the tangent at the last update() (collective).
     void
@@ -149,8 +188,16 @@ namespace systole::Mechanics
     std::size_t
     n_geometry_numbers() const;
 
-  private:
+    /// The operator (defined in matrix_free_tangent_impl.h: for the
+    /// multigrid built on it).
     struct Impl;
+    Impl &
+    implementation() const
+    {
+      return *impl;
+    }
+
+  private:
     std::unique_ptr<Impl> impl;
   };
 } // namespace systole::Mechanics

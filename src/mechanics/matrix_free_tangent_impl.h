@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <functional>
+#include <map>
 #include <string>
 
 namespace systole::Mechanics::internal
@@ -34,12 +35,16 @@ namespace systole::Mechanics::internal
     static constexpr unsigned int n_q_1d = 3;  ///< Gauss points per direction
     static constexpr unsigned int n_sym  = 45; ///< upper triangle of 9 x 9
 
-    using Vector  = dealii::LinearAlgebra::distributed::Vector<double>;
-    using MF      = dealii::MatrixFree<3, double, VA>;
-    using Eval    = dealii::FEEvaluation<3, degree, n_q_1d, 3, double, VA>;
-    using Grad    = dealii::Tensor<2, 3, VA>;
-    using Range   = std::pair<unsigned int, unsigned int>;
-    using Variant = MatrixFreeTangent::Variant;
+    using Vector = dealii::LinearAlgebra::distributed::Vector<double>;
+    using MF     = dealii::MatrixFree<3, double, VA>;
+    using Eval   = dealii::FEEvaluation<3, degree, n_q_1d, 3, double, VA>;
+    /// The Q1 displacement of the coarse DoFHandler (DoF handler 1 of the
+    /// MatrixFree, when given), at the same quadrature points.
+    using Eval1    = dealii::FEEvaluation<3, 1, n_q_1d, 3, double, VA>;
+    using FaceEval = dealii::FEFaceEvaluation<3, degree, n_q_1d, 3, double, VA>;
+    using Grad     = dealii::Tensor<2, 3, VA>;
+    using Range    = std::pair<unsigned int, unsigned int>;
+    using Variant  = MatrixFreeTangent::Variant;
     /// The single-precision storage type of Variant::cached_single.
     using VAf = dealii::VectorizedArray<float, VA::size()>;
 
@@ -49,7 +54,8 @@ namespace systole::Mechanics::internal
       const dealii::AffineConstraints<double> &constraints,
       const NeoHookeanPenalty                 &law,
       const Variant                            variant,
-      const unsigned int mg_level = dealii::numbers::invalid_unsigned_int)
+      const unsigned int mg_level = dealii::numbers::invalid_unsigned_int,
+      const MatrixFreeTangent::Options *options = nullptr)
       : law(law)
       , variant(variant)
     {
@@ -66,12 +72,31 @@ namespace systole::Mechanics::internal
       data.mapping_update_flags =
         dealii::update_gradients | dealii::update_JxW_values;
       data.mg_level = mg_level;
+      std::vector<const dealii::DoFHandler<3> *>             dofs{&dof_handler};
+      std::vector<const dealii::AffineConstraints<double> *> all_constraints{
+        &constraints};
+      if (options != nullptr && options->boundary_faces)
+        data.mapping_update_flags_boundary_faces =
+          dealii::update_values | dealii::update_gradients |
+          dealii::update_JxW_values | dealii::update_normal_vectors;
+      if (options != nullptr && options->q1 != nullptr)
+        {
+          AssertThrow(options->q1->get_fe().degree == 1 &&
+                        options->q1->get_fe().n_components() == 3 &&
+                        options->q1_constraints != nullptr,
+                      dealii::ExcMessage("MatrixFreeTangent: the coarse "
+                                         "level is Q1^3 with constraints."));
+          dofs.push_back(options->q1);
+          all_constraints.push_back(options->q1_constraints);
+          coarse_constraints = options->q1_constraints;
+        }
       matrix_free.reinit(mapping,
-                         dof_handler,
-                         constraints,
+                         dofs,
+                         all_constraints,
                          dealii::QGauss<1>(n_q_1d),
                          data);
       matrix_free.initialize_dof_vector(u);
+      with_faces = options != nullptr && options->boundary_faces;
     }
 
     void
@@ -175,6 +200,40 @@ namespace systole::Mechanics::internal
     const Variant           variant;
     MF                      matrix_free;
     Vector                  u; ///< ghosted
+    /// Whether the MatrixFree has its boundary faces (follower pressure).
+    bool with_faces = false;
+    /// The constraints of the Q1 level (DoF handler 1), if any.
+    const dealii::AffineConstraints<double> *coarse_constraints = nullptr;
+    /// The follower pressure [kPa] per boundary id (set_follower_pressure();
+    /// at the displacement u).
+    std::map<dealii::types::boundary_id, double> face_pressures;
+
+    /// MatrixFreeTangent::set_follower_pressure().
+    void
+    set_follower_pressure(
+      const Vector                                       &u_in,
+      const std::map<dealii::types::boundary_id, double> &pressures)
+    {
+      face_pressures.clear();
+      for (const auto &[id, p] : pressures)
+        if (p != 0.0)
+          face_pressures[id] = p;
+      AssertThrow(face_pressures.empty() || with_faces,
+                  dealii::ExcMessage(
+                    "MatrixFreeTangent: this tangent was built without its "
+                    "boundary faces (no follower pressure)."));
+      u.copy_locally_owned_data_from(u_in);
+      u.update_ghost_values();
+    }
+
+    /// The Q1 stiffness of the stored tangent (the same points, the Q1
+    /// shape functions of DoF handler 1): the Galerkin projection of the
+    /// bulk term onto Q1, added to @p matrix (a PETSc matrix in the
+    /// numbering of the coarse DoFHandler; constrained rows as
+    /// AffineConstraints leaves them: the caller adds their diagonal).
+    template <typename Matrix>
+    void
+    add_coarse_matrix(Matrix &matrix) const;
     /// Per cell batch and point: the 45 tangent entries (cached) or the
     /// law's state (recompute).
     dealii::AlignedVector<VA> storage;
@@ -282,12 +341,22 @@ namespace systole::Mechanics::internal
     void
     apply(Vector &dst, const Vector &src, const bool add) const
     {
-      matrix_free.cell_loop(
-        &TangentOperator::loop_cells<&TangentOperator::apply_batch>,
-        this,
-        dst,
-        src,
-        /*zero_dst_vector=*/!add);
+      if (face_pressures.empty())
+        matrix_free.cell_loop(
+          &TangentOperator::loop_cells<&TangentOperator::apply_batch>,
+          this,
+          dst,
+          src,
+          /*zero_dst_vector=*/!add);
+      else
+        matrix_free.loop(
+          &TangentOperator::loop_cells<&TangentOperator::apply_batch>,
+          &TangentOperator::no_inner_faces,
+          &TangentOperator::apply_boundary_faces,
+          this,
+          dst,
+          src,
+          /*zero_dst_vector=*/!add);
       for (const unsigned int i : matrix_free.get_constrained_dofs())
         if (add)
           dst.local_element(i) += src.local_element(i);
@@ -312,6 +381,56 @@ namespace systole::Mechanics::internal
           phi.reinit(cell);
           (this->*batch)(phi, src, cells);
           phi.integrate_scatter(dealii::EvaluationFlags::gradients, dst);
+        }
+    }
+
+    void
+    no_inner_faces(const MF &, Vector &, const Vector &, const Range &) const
+    {}
+
+    /// The follower pressure's stiffness on the boundary faces @p faces:
+    /// p int phi_a . (dcof(F)[grad phi_b]) N dA (the assembly's
+    /// add_volume_flux() with the scale p; cof F quadratic in F:
+    /// (dcof(F)[G] N)_i = eps_ijk eps_JKL G_jK F_kL N_J).
+    void
+    apply_boundary_faces(const MF &,
+                         Vector       &dst,
+                         const Vector &src,
+                         const Range  &faces) const
+    {
+      // The Levi-Civita symbol as the six signed permutations.
+      static constexpr int perm[6][4] = {{0, 1, 2, 1},
+                                         {1, 2, 0, 1},
+                                         {2, 0, 1, 1},
+                                         {0, 2, 1, -1},
+                                         {2, 1, 0, -1},
+                                         {1, 0, 2, -1}};
+      FaceEval             phi(matrix_free, true), phi_u(matrix_free, true);
+      for (unsigned int face = faces.first; face < faces.second; ++face)
+        {
+          const auto p = face_pressures.find(matrix_free.get_boundary_id(face));
+          if (p == face_pressures.end())
+            continue;
+          phi_u.reinit(face);
+          phi_u.read_dof_values_plain(u);
+          phi_u.evaluate(dealii::EvaluationFlags::gradients);
+          phi.reinit(face);
+          phi.gather_evaluate(src, dealii::EvaluationFlags::gradients);
+          for (unsigned int q = 0; q < phi.n_q_points; ++q)
+            {
+              Grad F = phi_u.get_gradient(q);
+              for (unsigned int d = 0; d < 3; ++d)
+                F[d][d] += 1.0;
+              const auto               N = phi.get_normal_vector(q);
+              const Grad               G = phi.get_gradient(q);
+              dealii::Tensor<1, 3, VA> value;
+              for (const auto &a : perm)
+                for (const auto &b : perm)
+                  value[a[0]] += (a[3] * b[3] * p->second) * G[a[1]][b[1]] *
+                                 F[a[2]][b[2]] * N[b[0]];
+              phi.submit_value(value, q);
+            }
+          phi.integrate_scatter(dealii::EvaluationFlags::values, dst);
         }
     }
 
@@ -347,11 +466,13 @@ namespace systole::Mechanics::internal
     /// The cached operator at the points of the batch @p cell, on the
     /// gradients of @p phi in unit-cell coordinates (in place: what
     /// integrate() takes), so that no geometry is read.
+    template <typename Evaluation = Eval>
     void
-    apply_cached(Eval &phi, const unsigned int cell) const
+    apply_cached(Evaluation &phi, const unsigned int cell) const
     {
-      constexpr unsigned int n_q = Eval::static_n_q_points;
-      VA                    *g   = phi.begin_gradients();
+      constexpr unsigned int n_q = Evaluation::static_n_q_points;
+      static_assert(n_q == Eval::static_n_q_points);
+      VA *g = phi.begin_gradients();
       for (unsigned int q = 0; q < n_q; ++q)
         {
           // Entry 3 i + alpha: component i, unit direction alpha.
@@ -577,6 +698,53 @@ namespace systole::Mechanics::internal
 
 
   template <typename VA>
+  template <typename Matrix>
+  void
+  TangentOperator<VA>::add_coarse_matrix(Matrix &matrix) const
+  {
+    AssertThrow(cached() && coarse_constraints != nullptr,
+                dealii::ExcInternalError());
+    // As deal.II's MatrixFreeTools::compute_matrix(), into a PETSc matrix.
+    Eval1              phi(matrix_free, 1);
+    const unsigned int n = phi.dofs_per_cell;
+    const auto        &lexicographic =
+      matrix_free.get_shape_info(1).lexicographic_numbering;
+    const dealii::AffineConstraints<double> &constraints = *coarse_constraints;
+    std::array<dealii::FullMatrix<double>, VA::size()> cell_matrices;
+    for (auto &m : cell_matrices)
+      m.reinit(n, n);
+    std::vector<dealii::types::global_dof_index> dofs(n), dofs_mf(n);
+    for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
+      {
+        phi.reinit(cell);
+        const unsigned int lanes =
+          matrix_free.n_active_entries_per_cell_batch(cell);
+        for (unsigned int j = 0; j < n; ++j)
+          {
+            for (unsigned int i = 0; i < n; ++i)
+              phi.begin_dof_values()[i] = static_cast<double>(i == j);
+            phi.evaluate(dealii::EvaluationFlags::gradients);
+            apply_cached(phi, cell);
+            phi.integrate(dealii::EvaluationFlags::gradients);
+            for (unsigned int i = 0; i < n; ++i)
+              for (unsigned int l = 0; l < lanes; ++l)
+                cell_matrices[l](i, j) = phi.begin_dof_values()[i][l];
+          }
+        for (unsigned int l = 0; l < lanes; ++l)
+          {
+            matrix_free.get_cell_iterator(cell, l, 1)->get_dof_indices(dofs);
+            for (unsigned int j = 0; j < n; ++j)
+              dofs_mf[j] = dofs[lexicographic[j]];
+            constraints.distribute_local_to_global(cell_matrices[l],
+                                                   dofs_mf,
+                                                   matrix);
+          }
+      }
+    matrix.compress(dealii::VectorOperation::add);
+  }
+
+
+  template <typename VA>
   void
   TangentOperator<VA>::apply_batch(Eval         &phi,
                                    const Vector &src,
@@ -623,3 +791,17 @@ namespace systole::Mechanics::internal
       }
   }
 } // namespace systole::Mechanics::internal
+
+namespace systole::Mechanics
+{
+  /// The operator of MatrixFreeTangent on the default vectorization.
+  struct MatrixFreeTangent::Impl
+    : public internal::TangentOperator<dealii::VectorizedArray<double>>
+  {
+    using internal::TangentOperator<
+      dealii::VectorizedArray<double>>::TangentOperator;
+
+    /// Built without a law: the point tangents come from the caller.
+    bool general = false;
+  };
+} // namespace systole::Mechanics

@@ -438,7 +438,7 @@ namespace systole::Mechanics
       prm.declare_entry(
         "Linear solver",
         "auto",
-        Selection("auto|direct|iterative"),
+        Selection("auto|direct|iterative|matrix-free"),
         "direct: MUMPS (LDL^T when the tangent is symmetric, else LU); "
         "iterative: for the penalty formulation FGMRES with the "
         "p-multigrid or GMRES with PETSc GAMG (algebraic multigrid "
@@ -447,8 +447,17 @@ namespace systole::Mechanics
         "preconditioner (that V-cycle on the displacement block, "
         "the pressure mass matrix scaled by 1/mu + 1/kappa for "
         "the Schur complement; PETSc options with the prefix "
-        "-mechanics_ override it); auto: direct up to 'Direct "
-        "solver limit' DOFs. Units: -.");
+        "-mechanics_ override it); matrix-free: no sparse tangent, the "
+        "tangent applied matrix-free (sum factorization on the cached "
+        "dP/dF of every quadrature point, the follower pressure on its "
+        "faces) with CG (GMRES if not symmetric) and a p-multigrid V-cycle: "
+        "Chebyshev smoothing with the matrix-free diagonal on Q2, the Q1 "
+        "matrix of the same cached tangent solved by MUMPS (PETSc prefix "
+        "-mechanics_mf_coarse_); only the penalty formulation on Q2 "
+        "hexahedra, quasi-static, without volume constraints, loaded lids "
+        "or spring supports (else an error naming iterative and direct); "
+        "auto: direct up to 'Direct solver limit' DOFs, else iterative "
+        "(never matrix-free). Units: -.");
       prm.declare_entry(
         "Direct solver limit",
         "200000",

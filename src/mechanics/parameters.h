@@ -138,7 +138,8 @@ namespace systole::Mechanics
   /// The linear solver of the mechanics and its preconditioners.
   struct LinearSolverSettings
   {
-    /// "auto", "direct" (MUMPS) or "iterative" (FGMRES + p-multigrid, or
+    /// "auto", "direct" (MUMPS), "matrix-free" (MatrixFreeSolver) or
+    /// "iterative" (FGMRES + p-multigrid, or
     /// GMRES + GAMG with rigid-body modes; for the mixed formulations FGMRES
     /// with a block preconditioner: that V-cycle on the displacement block, the
     /// scaled pressure mass matrix for the Schur complement).

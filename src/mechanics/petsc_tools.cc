@@ -8,6 +8,7 @@
 
 #include <petscsys.h>
 
+#include <algorithm>
 #include <string>
 
 namespace systole::Mechanics
@@ -20,6 +21,34 @@ namespace systole::Mechanics
                                    " (error code " + std::to_string(code) +
                                    ")."));
   }
+
+  void
+  copy_owned(const LA::MPI::Vector                              &from,
+             dealii::LinearAlgebra::distributed::Vector<double> &to)
+  {
+    AssertThrow(static_cast<std::size_t>(from.locally_owned_size()) ==
+                  to.locally_owned_size(),
+                dealii::ExcInternalError());
+    const PetscScalar *x;
+    check_petsc(VecGetArrayRead(from, &x), "VecGetArrayRead");
+    std::copy(x, x + to.locally_owned_size(), to.begin());
+    check_petsc(VecRestoreArrayRead(from, &x), "VecRestoreArrayRead");
+  }
+
+
+  void
+  copy_owned(const dealii::LinearAlgebra::distributed::Vector<double> &from,
+             LA::MPI::Vector                                          &to)
+  {
+    AssertThrow(static_cast<std::size_t>(to.locally_owned_size()) ==
+                  from.locally_owned_size(),
+                dealii::ExcInternalError());
+    PetscScalar *x;
+    check_petsc(VecGetArray(to, &x), "VecGetArray");
+    std::copy(from.begin(), from.begin() + from.locally_owned_size(), x);
+    check_petsc(VecRestoreArray(to, &x), "VecRestoreArray");
+  }
+
 
   std::array<LA::MPI::Vector, 6>
   rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,

@@ -3,6 +3,7 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/lac/la_parallel_vector.h>
 
 #include "base/linear_algebra.h"
 
@@ -24,6 +25,16 @@ namespace systole::Mechanics
   std::array<LA::MPI::Vector, 6>
   rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
                    const dealii::DoFHandler<3, 3> &dof_handler);
+
+  /// The locally owned entries of @p from into @p to (the same owned
+  /// indices, e.g. a PETSc vector and a MatrixFree vector of one
+  /// DoFHandler); ghosts of @p to are left alone.
+  void
+  copy_owned(const LA::MPI::Vector                              &from,
+             dealii::LinearAlgebra::distributed::Vector<double> &to);
+  void
+  copy_owned(const dealii::LinearAlgebra::distributed::Vector<double> &from,
+             LA::MPI::Vector                                          &to);
 
   /// Throws naming @p what (the PETSc call) unless @p code is 0.
   void

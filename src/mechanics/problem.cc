@@ -15,6 +15,7 @@
 #include "geometry/mesh_checks.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
+#include "mechanics/matrix_free_solver.h"
 #include "mechanics/problem_impl.h"
 
 #include <algorithm>
@@ -407,32 +408,47 @@ namespace systole::Mechanics
   }
 
   void
+  Discretization::make_constraints(
+    const dealii::DoFHandler<3>       &dofs,
+    const BoundaryConditions          &boundaries,
+    dealii::AffineConstraints<double> &result) const
+  {
+    // Zero displacement on fixed parts, zero normal displacement on sliding
+    // ones (the Newton updates are homogeneous too); the displacement is
+    // components 0-2.
+    dealii::IndexSet dofs_relevant;
+    dealii::DoFTools::extract_locally_relevant_dofs(dofs, dofs_relevant);
+    result.clear();
+    result.reinit(dofs_relevant);
+    dealii::DoFTools::make_hanging_node_constraints(dofs, result);
+    const unsigned int n_components = dofs.get_fe().n_components();
+    const dealii::FEValuesExtractors::Vector displacement(0);
+    for (const auto id : boundaries.fixed_ids)
+      dealii::VectorTools::interpolate_boundary_values(
+        mapping,
+        dofs,
+        id,
+        dealii::Functions::ZeroFunction<3>(n_components),
+        result,
+        dofs.get_fe().component_mask(displacement));
+    if (!boundaries.sliding_ids.empty())
+      dealii::VectorTools::compute_no_normal_flux_constraints(
+        dofs,
+        0,
+        boundaries.sliding_ids,
+        result,
+        mapping);
+    result.close();
+  }
+
+  void
   Discretization::distribute_dofs(const BoundaryConditions &boundaries)
   {
-    // DoFs and constraints (zero displacement on fixed parts, zero normal
-    // displacement on sliding ones: the Newton updates are homogeneous too).
     dof_handler.distribute_dofs(*fe);
     layout.renumber(dof_handler);
     owned = dof_handler.locally_owned_dofs();
     dealii::DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    constraints.reinit(relevant);
-    dealii::DoFTools::make_hanging_node_constraints(dof_handler, constraints);
-    for (const auto id : boundaries.fixed_ids)
-      dealii::VectorTools::interpolate_boundary_values(
-        mapping,
-        dof_handler,
-        id,
-        dealii::Functions::ZeroFunction<3>(layout.n_components()),
-        constraints,
-        fe->component_mask(layout.displacement));
-    if (!boundaries.sliding_ids.empty())
-      dealii::VectorTools::compute_no_normal_flux_constraints(
-        dof_handler,
-        0,
-        boundaries.sliding_ids,
-        constraints,
-        mapping);
-    constraints.close();
+    make_constraints(dof_handler, boundaries, constraints);
   }
 
   void
@@ -530,6 +546,8 @@ namespace systole::Mechanics
     m.system.linear_solver_name = solver;
     m.create_linear_solver(
       symmetric_tangent(params, in.names, m.boundaries, m.loads));
+    if (m.system.linear_solver->matrix_free_tangent() != nullptr)
+      m.system.tangent.clear(); // (no sparse tangent at all)
     if (m.system.linear_solver->needs_pressure_matrix())
       m.system.pressure_matrix = std::make_unique<PressureMatrix>(
         m.discretization.layout,
@@ -675,6 +693,11 @@ namespace systole::Mechanics
                   "Mechanics::Problem::solve_cavities: " +
                   std::to_string(pressures.size()) + " pressures given for " +
                   std::to_string(impl->loads.cavities.size()) + " cavities."));
+    AssertThrow(impl->system.linear_solver->matrix_free_tangent() == nullptr,
+                dealii::ExcMessage(
+                  "The matrix-free linear solver does not solve cavity-volume "
+                  "constraints (the bordered Newton needs its factorization); "
+                  "use Mechanics / Linear solver = iterative or direct."));
     return impl->newton(pressures, active_tension, &target);
   }
 
@@ -735,6 +758,37 @@ namespace systole::Mechanics
   Problem::Impl::create_linear_solver(const bool symmetric)
   {
     system.symmetric_tangent = symmetric;
+    if (system.linear_solver_name == "matrix-free")
+      {
+        const std::string alternative =
+          " (Mechanics / Linear solver = matrix-free); use Linear solver = "
+          "iterative or direct.";
+        AssertThrow(!discretization.layout.mixed() &&
+                      discretization.fe->degree == 2 &&
+                      !discretization.layout.cell_kind().simplex(),
+                    dealii::ExcMessage(
+                      "The matrix-free linear solver needs the penalty "
+                      "formulation (no pressure field) with Q2 displacements "
+                      "on hexahedra" +
+                      alternative));
+        AssertThrow(boundaries.robin_supports.empty(),
+                    dealii::ExcMessage("The matrix-free linear solver has no "
+                                       "spring-dashpot (Robin) supports" +
+                                       alternative));
+        check_matrix_free_tangent();
+        system.linear_solver = std::make_unique<MatrixFreeSolver>(
+          discretization.mapping,
+          discretization.dof_handler,
+          discretization.constraints,
+          [this](const dealii::DoFHandler<3>       &dofs,
+                 dealii::AffineConstraints<double> &constraints) {
+            discretization.make_constraints(dofs, boundaries, constraints);
+          },
+          params.linear_tolerance,
+          symmetric);
+        factorized.held = false;
+        return;
+      }
     system.linear_solver =
       Mechanics::create_linear_solver({system.linear_solver_name,
                                        discretization.mapping,

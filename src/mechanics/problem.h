@@ -480,9 +480,10 @@ namespace systole::Mechanics
     /// penalty, the active tension) and first_elasticity_tangent(). The
     /// bulk term only: without follower pressure, Robin springs or loaded
     /// lids, it is the assembled tangent at zero cavity pressure without
-    /// supports. Penalty formulation, Q2 hexahedra, the full volumetric
-    /// rule, quasi-static (throws otherwise). Not used by the solves. The
-    /// problem must outlive it. Collective.
+    /// supports (the follower pressure: update_matrix_free_tangent() with a
+    /// pressure). Penalty formulation, Q2 hexahedra, the full volumetric
+    /// rule, quasi-static (throws otherwise). The Linear solver
+    /// "matrix-free" holds its own. The problem must outlive it. Collective.
     std::unique_ptr<MatrixFreeTangent>
     matrix_free_tangent(const double active_tension, const bool single = false);
 
@@ -490,6 +491,14 @@ namespace systole::Mechanics
     /// the current displacement and @p active_tension [kPa]. Collective.
     void
     update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                               const double       active_tension);
+
+    /// The same with the follower @p pressure [kPa] on every pressure part
+    /// (its face term, MatrixFreeTangent::set_follower_pressure(), as
+    /// assembled_tangent(pressure, active_tension) has it). Collective.
+    void
+    update_matrix_free_tangent(MatrixFreeTangent &tangent,
+                               const double       pressure,
                                const double       active_tension);
 
     /// Verification hook: assemble the residual and the tangent at the

@@ -184,6 +184,13 @@ namespace systole::Mechanics
     /// the fixed parts, zero normal displacement on the sliding ones).
     void
     distribute_dofs(const BoundaryConditions &boundaries);
+    /// The constraints of the displacement (components 0-2) of @p dofs (a
+    /// DoFHandler on this mesh, e.g. the Q1 level of the matrix-free
+    /// solver) as distribute_dofs() builds them.
+    void
+    make_constraints(const dealii::DoFHandler<3>       &dofs,
+                     const BoundaryConditions          &boundaries,
+                     dealii::AffineConstraints<double> &result) const;
     /// body_volume and n_pressure_dofs (collective).
     void
     measure(const MPI_Comm comm);
@@ -387,7 +394,8 @@ namespace systole::Mechanics
     double augmented_lagrangian = 0.0;
 
     std::unique_ptr<LinearSolver> linear_solver;
-    /// "direct" or "iterative" (auto resolved), and whether the tangent is
+    /// "direct", "iterative" or "matrix-free" (auto resolved), and whether
+    /// the tangent is
     /// symmetric (the direct solver's LDL^T, the iterative one's CG).
     std::string linear_solver_name;
     bool        symmetric_tangent = true;
@@ -468,9 +476,13 @@ namespace systole::Mechanics
     /// model_tension, as an assembly at this u does). Throws where the
     /// formulation has terms it cannot hold (assembly.cc) and
     /// ExcInvertedElement collectively.
+    /// With @p pressures (one per pressure part) the follower pressure on
+    /// the boundary faces (MatrixFreeTangent::set_follower_pressure(); not
+    /// for a loaded lid or Robin supports: throws).
     void
-    update_matrix_free_tangent(MatrixFreeTangent &tangent,
-                               const double       active_tension);
+    update_matrix_free_tangent(MatrixFreeTangent            &tangent,
+                               const dealii::Vector<double> &pressures,
+                               const double                  active_tension);
     /// Throws unless the formulation suits update_matrix_free_tangent().
     void
     check_matrix_free_tangent() const;

@@ -112,6 +112,13 @@ namespace test_support
     result.stale      = difference(*mf, K_new, comm);
     problem->update_matrix_free_tangent(*mf, active_tension);
     result.updated = difference(*mf, K_new, comm);
+
+    constexpr double pressure = 10.0; // [kPa] (Land problem 2)
+    const auto      &K_pressure =
+      problem->assembled_tangent(pressure, active_tension);
+    result.pressure_left_out = difference(*mf, K_pressure, comm);
+    problem->update_matrix_free_tangent(*mf, pressure, active_tension);
+    result.pressure = difference(*mf, K_pressure, comm);
     return result;
   }
 } // namespace test_support

@@ -25,13 +25,20 @@ namespace test_support
     double stale = 0;
     /// After update_matrix_free_tangent() at the new displacement.
     double updated = 0;
+    /// With the follower pressure of 10 kPa on the endocardium (its face
+    /// term) against the assembled tangent under that pressure.
+    double pressure = 0;
+    /// The bulk term alone against the assembled tangent under pressure:
+    /// what the check would see if the face term were lost.
+    double pressure_left_out = 0;
   };
 
   /// The Land ventricle (Geometry::Parameters' default, Q2 on MappingQ2) of
   /// the Guccione law of the tests with rule-based fibres, the Simo-Taylor
   /// penalty, base fixed, no cavity pressure (the assembled tangent is the
-  /// bulk term alone), a uniform active tension of 10 kPa plus a per-point
-  /// one varying in space, at the displacement Wobble; on @p comm.
+  /// bulk term alone; then 10 kPa on the endocardium), a uniform active tension
+  /// of 10 kPa plus a per-point one varying in space, at the displacement
+  /// Wobble; on @p comm.
   MatrixFreeProblemDifferences
   matrix_free_problem_differences(const MPI_Comm comm);
 } // namespace test_support

@@ -14,9 +14,12 @@ TEST_CASE("The mechanics' matrix-free tangent is its assembled tangent on 2 "
   const auto d = test_support::matrix_free_problem_differences(MPI_COMM_WORLD);
   INFO("cached " << d.cached << ", single " << d.single << ", other tension "
                  << d.other_tension << ", stale " << d.stale << ", updated "
-                 << d.updated);
+                 << d.updated << ", pressure " << d.pressure
+                 << ", pressure left out " << d.pressure_left_out);
   CHECK(d.cached < 1e-10);
   CHECK(d.updated < 1e-10);
+  CHECK(d.pressure < 1e-10);
+  CHECK(d.pressure_left_out > 1e-4);
   CHECK(d.other_tension > 1e-3);
   CHECK(d.stale > 1e-3);
 }

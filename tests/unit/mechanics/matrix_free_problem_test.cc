@@ -15,9 +15,13 @@ TEST_CASE("The mechanics' matrix-free tangent is its assembled tangent: Land "
   const auto d = test_support::matrix_free_problem_differences(MPI_COMM_WORLD);
   INFO("cached " << d.cached << ", single " << d.single << ", other tension "
                  << d.other_tension << ", stale " << d.stale << ", updated "
-                 << d.updated);
+                 << d.updated << ", pressure " << d.pressure
+                 << ", pressure left out " << d.pressure_left_out);
   CHECK(d.cached < 1e-10);
   CHECK(d.updated < 1e-10);
+  // The follower pressure's face term (FEFaceEvaluation) is the assembly's.
+  CHECK(d.pressure < 1e-10);
+  CHECK(d.pressure_left_out > 1e-4);
   // Single precision: about 1e-7 relative.
   CHECK(d.single < 1e-5);
   CHECK(d.single > 1e-10);
