@@ -226,20 +226,8 @@ namespace systole::Mechanics
       void
       setup_displacement(const LA::MPI::SparseMatrix &K) override
       {
-        Mat                A = K;
-        std::array<Vec, 6> vectors;
-        for (unsigned int i = 0; i < 6; ++i)
-          vectors[i] = modes[i];
-        MatNullSpace near_null_space;
-        check_petsc(MatNullSpaceCreate(K.get_mpi_communicator(),
-                                       PETSC_FALSE,
-                                       6,
-                                       vectors.data(),
-                                       &near_null_space),
-                    "MatNullSpaceCreate");
-        check_petsc(MatSetNearNullSpace(A, near_null_space),
-                    "MatSetNearNullSpace");
-        MatNullSpaceDestroy(&near_null_space);
+        Mat A = K;
+        set_near_null_space(A, modes);
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
       }
 

@@ -225,19 +225,7 @@ namespace systole::Mechanics
         check_petsc(PCSetType(pc, PCLU), "PCSetType");
         check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
                     "PCFactorSetMatSolverType");
-        std::array<Vec, 6> vectors;
-        for (unsigned int i = 0; i < 6; ++i)
-          vectors[i] = m.coarse_modes[i];
-        MatNullSpace near_null_space;
-        check_petsc(MatNullSpaceCreate(comm,
-                                       PETSC_FALSE,
-                                       6,
-                                       vectors.data(),
-                                       &near_null_space),
-                    "MatNullSpaceCreate");
-        check_petsc(MatSetNearNullSpace(A, near_null_space),
-                    "MatSetNearNullSpace");
-        MatNullSpaceDestroy(&near_null_space);
+        set_near_null_space(A, m.coarse_modes);
         check_petsc(KSPSetOptionsPrefix(m.coarse_ksp, "mechanics_mf_coarse_"),
                     "KSPSetOptionsPrefix");
         check_petsc(KSPSetFromOptions(m.coarse_ksp), "KSPSetFromOptions");

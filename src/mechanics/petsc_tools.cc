@@ -14,6 +14,23 @@
 namespace systole::Mechanics
 {
   void
+  set_near_null_space(Mat A, const std::array<LA::MPI::Vector, 6> &modes)
+  {
+    std::array<Vec, 6> vectors;
+    for (unsigned int i = 0; i < 6; ++i)
+      vectors[i] = modes[i];
+    MatNullSpace near_null_space;
+    check_petsc(MatNullSpaceCreate(modes[0].get_mpi_communicator(),
+                                   PETSC_FALSE,
+                                   6,
+                                   vectors.data(),
+                                   &near_null_space),
+                "MatNullSpaceCreate");
+    check_petsc(MatSetNearNullSpace(A, near_null_space), "MatSetNearNullSpace");
+    MatNullSpaceDestroy(&near_null_space);
+  }
+
+  void
   check_petsc(const PetscErrorCode code, const char *what)
   {
     AssertThrow(code == 0,

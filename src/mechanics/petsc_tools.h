@@ -7,6 +7,7 @@
 
 #include "base/linear_algebra.h"
 
+#include <petscmat.h>
 #include <petscsys.h>
 
 #include <array>
@@ -25,6 +26,11 @@ namespace systole::Mechanics
   std::array<LA::MPI::Vector, 6>
   rigid_body_modes(const dealii::Mapping<3, 3>    &mapping,
                    const dealii::DoFHandler<3, 3> &dof_handler);
+
+  /// Gives @p A the rigid-body @p modes (rigid_body_modes() of A's DoFs) as
+  /// its near-null space (what PETSc's GAMG builds its coarse spaces from).
+  void
+  set_near_null_space(Mat A, const std::array<LA::MPI::Vector, 6> &modes);
 
   /// The locally owned entries of @p from into @p to (the same owned
   /// indices, e.g. a PETSc vector and a MatrixFree vector of one

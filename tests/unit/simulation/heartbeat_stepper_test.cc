@@ -126,18 +126,16 @@ namespace
     double       attempt = 0, accepted = 0;
   };
 
-  /// The elastance chambers with a displacement whose secant predictor
-  /// misses by c h^2 (a motion of constant second derivative 2c) for the
-  /// steps ending in [from, to]: the predictor error the stepper controls.
-  class AcceleratingVentricles : public ElastanceVentricles
+  /// The elastance chambers with the end of the attempted step and of the
+  /// last accepted one, and a window [from, to] of step ends in which they
+  /// behave as a harder 3D model would.
+  class WindowVentricles : public ElastanceVentricles
   {
   public:
-    AcceleratingVentricles(std::vector<ChamberElastance> chambers,
-                           const double                  c,
-                           const double                  from,
-                           const double                  to)
+    WindowVentricles(std::vector<ChamberElastance> chambers,
+                     const double                  from,
+                     const double                  to)
       : ElastanceVentricles(std::move(chambers))
-      , c(c)
       , from(from)
       , to(to)
     {}
@@ -147,11 +145,37 @@ namespace
       ElastanceVentricles::set_time(t);
       attempt = t;
     }
+
+  protected:
+    /// Whether the attempted step ends in the window.
+    bool
+    in_window() const
+    {
+      return attempt >= from && attempt <= to;
+    }
+
+    const double from, to;
+    double       attempt = 0, accepted = 0;
+  };
+
+  /// A displacement whose secant predictor misses by c h^2 (a motion of
+  /// constant second derivative 2c) for the steps ending in the window: the
+  /// predictor error the stepper controls.
+  class AcceleratingVentricles : public WindowVentricles
+  {
+  public:
+    AcceleratingVentricles(std::vector<ChamberElastance> chambers,
+                           const double                  c,
+                           const double                  from,
+                           const double                  to)
+      : WindowVentricles(std::move(chambers), from, to)
+      , c(c)
+    {}
     double
     predictor_error() const override
     {
       const double h = attempt - accepted;
-      return attempt >= from && attempt <= to ? c * h * h : 0.0;
+      return in_window() ? c * h * h : 0.0;
     }
     void
     accept() override
@@ -164,14 +188,13 @@ namespace
     std::vector<double> steps_inside;
 
   private:
-    const double c, from, to;
-    double       attempt = 0, accepted = 0;
+    const double c;
   };
 
-  /// The elastance chambers whose solves take @p hard Newton iterations
-  /// with a new tangent for a step longer than @p easy ms ending in [from,
-  /// to] (one otherwise): a solve that converges, but slowly.
-  class StrugglingVentricles : public ElastanceVentricles
+  /// Solves that take @p hard Newton iterations with a new tangent for a
+  /// step longer than @p easy ms ending in the window (one otherwise): they
+  /// converge, but slowly.
+  class StrugglingVentricles : public WindowVentricles
   {
   public:
     StrugglingVentricles(std::vector<ChamberElastance> chambers,
@@ -179,24 +202,14 @@ namespace
                          const unsigned int            hard,
                          const double                  from,
                          const double                  to)
-      : ElastanceVentricles(std::move(chambers))
+      : WindowVentricles(std::move(chambers), from, to)
       , easy(easy)
       , hard(hard)
-      , from(from)
-      , to(to)
     {}
-    void
-    set_time(const double t) override
-    {
-      ElastanceVentricles::set_time(t);
-      attempt = t;
-    }
     unsigned int
     last_tangent_iterations() const override
     {
-      return attempt >= from && attempt <= to && attempt - accepted > easy
-               ? hard
-               : 1;
+      return in_window() && attempt - accepted > easy ? hard : 1;
     }
     void
     accept() override
@@ -211,8 +224,6 @@ namespace
   private:
     const double       easy;
     const unsigned int hard;
-    const double       from, to;
-    double             attempt = 0, accepted = 0;
   };
 
   /// Keeps the summary rows.
