@@ -1324,20 +1324,10 @@ namespace systole::Mechanics
     if (with_matrix && system.linear_solver != nullptr)
       if (MatrixFreeTangent *tangent =
             system.linear_solver->matrix_free_tangent())
-        {
-          // The matrix-free solver: the residual, then the tangent's point
-          // data (the kernel again) instead of a sparse matrix.
-          AssertThrow(!with_volume_derivative,
-                      dealii::ExcMessage(
-                        "The matrix-free linear solver does not solve "
-                        "cavity-volume constraints; use Mechanics / Linear "
-                        "solver = iterative or direct."));
-          const double norm = assemble(pressures, active_tension, false);
-          dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
-          factorized.held = false;
-          update_matrix_free_tangent(*tangent, pressures, active_tension);
-          return norm;
-        }
+        return assemble_matrix_free(*tangent,
+                                    pressures,
+                                    active_tension,
+                                    with_volume_derivative);
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
     points.last_active_tension = active_tension;
     check_loads(pressures, loads, with_volume_derivative);
@@ -1435,6 +1425,24 @@ namespace systole::Mechanics
     AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
                 ExcInvertedElement());
     return system.residual.l2_norm();
+  }
+
+  double
+  Problem::Impl::assemble_matrix_free(MatrixFreeTangent            &tangent,
+                                      const dealii::Vector<double> &pressures,
+                                      const double active_tension,
+                                      const bool   with_volume_derivative)
+  {
+    AssertThrow(!with_volume_derivative,
+                dealii::ExcMessage(
+                  "The matrix-free linear solver does not solve "
+                  "cavity-volume constraints; use Mechanics / Linear "
+                  "solver = iterative or direct."));
+    const double norm = assemble(pressures, active_tension, false);
+    dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
+    factorized.held = false;
+    update_matrix_free_tangent(tangent, pressures, active_tension);
+    return norm;
   }
 
   void

@@ -468,6 +468,14 @@ namespace systole::Mechanics
              const bool                    with_matrix,
              const bool                    with_volume_derivative = false);
 
+    /// assemble() for the matrix-free linear solver: the residual, then
+    /// @p tangent's point data (the kernel again) instead of a sparse matrix.
+    double
+    assemble_matrix_free(MatrixFreeTangent            &tangent,
+                         const dealii::Vector<double> &pressures,
+                         const double                  active_tension,
+                         const bool                    with_volume_derivative);
+
     /// Refill the general matrix-free @p tangent (on this problem's
     /// mapping, DoFs and constraints) with dP/dF of the bulk term at the
     /// current u under @p active_tension (and the per-point tensions, the
