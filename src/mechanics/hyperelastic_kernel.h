@@ -15,6 +15,16 @@
 
 namespace systole::Mechanics
 {
+  /// The Levi-Civita symbol as its six signed permutations (i, j, k, sign):
+  /// the derivative of the area vector cof(F) N of a face (follower
+  /// pressure) in the assembly and in the matrix-free tangent.
+  inline constexpr int levi_civita[6][4] = {{0, 1, 2, 1},
+                                            {1, 2, 0, 1},
+                                            {2, 0, 1, 1},
+                                            {0, 2, 1, -1},
+                                            {2, 1, 0, -1},
+                                            {1, 0, 2, -1}};
+
   /// The first elasticity tangent @f$\mathbb{A} = \partial P/\partial F@f$
   /// of a point from the deformation gradient @p F, the second
   /// Piola-Kirchhoff stress @p S [kPa] and its tangent @p dS_dE [kPa]:

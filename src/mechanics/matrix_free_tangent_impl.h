@@ -398,14 +398,8 @@ namespace systole::Mechanics::internal
                          const Vector &src,
                          const Range  &faces) const
     {
-      // The Levi-Civita symbol as the six signed permutations.
-      static constexpr int perm[6][4] = {{0, 1, 2, 1},
-                                         {1, 2, 0, 1},
-                                         {2, 0, 1, 1},
-                                         {0, 2, 1, -1},
-                                         {2, 1, 0, -1},
-                                         {1, 0, 2, -1}};
-      FaceEval             phi(matrix_free, true), phi_u(matrix_free, true);
+      const auto &perm = levi_civita;
+      FaceEval    phi(matrix_free, true), phi_u(matrix_free, true);
       for (unsigned int face = faces.first; face < faces.second; ++face)
         {
           const auto p = face_pressures.find(matrix_free.get_boundary_id(face));

@@ -3,6 +3,8 @@
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/fe_values.h>
 
+#include "mechanics/hyperelastic_kernel.h"
+
 #include <vector>
 
 namespace systole::Mechanics
@@ -21,13 +23,7 @@ namespace systole::Mechanics
                   const dealii::Tensor<1, 3> &N,
                   double (&A)[3][3][3])
   {
-    // Levi-Civita symbol as the six signed permutations.
-    static constexpr int perm[6][4] = {{0, 1, 2, 1},
-                                       {1, 2, 0, 1},
-                                       {2, 0, 1, 1},
-                                       {0, 2, 1, -1},
-                                       {2, 1, 0, -1},
-                                       {1, 0, 2, -1}};
+    const auto &perm = levi_civita;
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
         for (unsigned int K = 0; K < 3; ++K)
