@@ -137,8 +137,9 @@ namespace systole
     linear_iterations += report.linear_iterations;
     tangent_iterations += report.iterations;
     n_last_tangent_iterations = report.iterations;
+    last_predictor_error      = problem.predictor_error();
     logger.detail() << "      (the prediction missed the solution by "
-                    << std::setprecision(3) << problem.predictor_error()
+                    << std::setprecision(3) << last_predictor_error
                     << " mm at most)" << std::defaultfloat << std::endl;
     mechanics_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
@@ -157,7 +158,7 @@ namespace systole
   double
   MechanicsVentricles::predictor_error() const
   {
-    return problem.predictor_error();
+    return last_predictor_error;
   }
 
 

@@ -108,8 +108,10 @@ namespace systole
     unsigned long tangent_iterations = 0;
 
   private:
-    /// Those of the last solve().
+    /// Of the last solve(): its iterations with a new tangent, and its
+    /// predictor's miss [mm] (computed once: a reduction over the ranks).
     unsigned int n_last_tangent_iterations = 0;
+    double       last_predictor_error      = 0;
 
     /// The tension of a model driven by activation times alone at time.
     void
