@@ -1,8 +1,8 @@
 # Precompiled headers: the deal.II headers most translation units include, parsed once per
 # target instead of once per file. The cold build's time and what this saves are measured in
-# docs/verification.md ("Build and test time"). Only the header set is shared: each target compiles its
-# own precompiled header with its own flags (the library is position-independent, the test
-# executables are not).
+# docs/verification.md ("Build and test time"). Two precompiled headers of this set: the
+# library's (position-independent) and the test support's (with Catch2), which the unit and MPI
+# test executables reuse (tests/CMakeLists.txt).
 set(SYSTOLE_PCH_HEADERS
   <deal.II/base/mpi.h>
   <deal.II/base/parameter_handler.h>
