@@ -121,7 +121,7 @@ namespace systole::Mechanics
       bool                          accelerated          = false;
       /// The cut of |R_u| a chord must make to be followed by another.
       double chord_ratio = 0.25;
-      /// The cut of |R_u| (and the largest |R_u|/|R_u|max) after which a
+      /// The cut of |R_u| (and of |R_u| / the solve's reference) after which a
       /// Newton update is followed by a chord.
       double       newton_cut        = 0.1;
       unsigned int n_chord           = 0;
@@ -240,8 +240,9 @@ namespace systole::Mechanics
     /// relative volume errors (V_i(u) - W_i) / W_i.
     dealii::Vector<double>     target_volume, volume_error;
     dealii::FullMatrix<double> target_derivative;
-    /// Residual scale: the largest displacement residual seen in this solve,
-    /// and for a volume-constrained solve at least the cavity pressure load.
+    /// Residual scale of the relative tolerance: the displacement residual
+    /// where the chords or Newton started (not an iterate's), and for a
+    /// volume-constrained solve at least the cavity pressure load.
     double reference = 0;
     /// Timer totals at the start (the log's per-solve times).
     double assembly_start, solver_start;
