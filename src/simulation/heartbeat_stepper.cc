@@ -335,8 +335,11 @@ namespace systole
         const unsigned int first = bdf.external_cavities()[0];
         const bool filled = phases->phase(first) == Circulation::Phase::filling;
         phases->update(open);
-        if (filled && phases->phase(first) != Circulation::Phase::filling)
+        const bool fills = phases->phase(first) == Circulation::Phase::filling;
+        if (filled && !fills)
           ventricles.end_diastole();
+        if (!filled && fills)
+          ventricles.start_filling();
         bdf.restart();
         stats.n_events += switched.size();
         h     = settings.initial_step;

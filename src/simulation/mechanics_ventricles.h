@@ -70,10 +70,15 @@ namespace systole
     void
     reject() override;
 
-    /// The supports referred to end-diastole take the accepted displacement
-    /// (Mechanics::Problem::refer_supports_to_end_diastole()).
+    /// The accepted displacement is the end-diastolic one of the supports
+    /// referred to end-diastole (Mechanics::Problem::record_end_diastole()).
     void
     end_diastole() override;
+
+    /// Those supports take it as their rest position
+    /// (Mechanics::Problem::refer_supports_to_end_diastole()).
+    void
+    start_filling() override;
 
     /// The accepted time (checkpoints).
     template <class Archive>
