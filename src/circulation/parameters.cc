@@ -214,19 +214,20 @@ namespace systole::Circulation
       Units::mmHg_to_kPa(prm.get_double(s, "Atrial pressure"));
     p.initial_arterial_pressure =
       Units::mmHg_to_kPa(prm.get_double(s, "Initial aortic pressure"));
-    p.period                = prm.get_double(s, "Period");
-    p.n_max_beats           = prm.get_integer(s, "Number of beats");
-    p.periodicity_tolerance = prm.get_double(s, "Periodicity tolerance");
-    p.relative_tolerance    = prm.get_double(s, "Relative tolerance");
-    p.absolute_volume_tolerance =
+    StepControl &t          = p.steps;
+    t.period                = prm.get_double(s, "Period");
+    t.n_max_beats           = prm.get_integer(s, "Number of beats");
+    t.periodicity_tolerance = prm.get_double(s, "Periodicity tolerance");
+    t.relative_tolerance    = prm.get_double(s, "Relative tolerance");
+    t.absolute_volume_tolerance =
       Units::mL_to_mm3(prm.get_double(s, "Absolute volume tolerance"));
-    p.absolute_pressure_tolerance =
+    t.absolute_pressure_tolerance =
       Units::mmHg_to_kPa(prm.get_double(s, "Absolute pressure tolerance"));
-    p.event_time_tolerance     = prm.get_double(s, "Event time tolerance");
-    p.displacement_tolerance   = prm.get_double(s, "Displacement tolerance");
-    p.newton_iterations_target = prm.get_integer(s, "Newton iterations target");
-    p.max_time_step            = prm.get_double(s, "Maximum time step");
-    p.initial_time_step        = prm.get_double(s, "Initial time step");
+    t.event_time_tolerance     = prm.get_double(s, "Event time tolerance");
+    t.displacement_tolerance   = prm.get_double(s, "Displacement tolerance");
+    t.newton_iterations_target = prm.get_integer(s, "Newton iterations target");
+    t.max_step                 = prm.get_double(s, "Maximum time step");
+    t.initial_step             = prm.get_double(s, "Initial time step");
     p.validate();
     return p;
   }
@@ -268,43 +269,44 @@ namespace systole::Circulation
                   "Circulation / Initial aortic pressure = " +
                   format_number(Units::kPa_to_mmHg(initial_arterial_pressure)) +
                   " mmHg: must not be negative."));
-    require_positive({period, period, "Period", "ms"});
-    AssertThrow(n_max_beats >= 1,
+    const StepControl &t = steps;
+    require_positive({t.period, t.period, "Period", "ms"});
+    AssertThrow(t.n_max_beats >= 1,
                 dealii::ExcMessage(
                   "Circulation / Number of beats must be at least 1."));
-    AssertThrow(periodicity_tolerance >= 0 && periodicity_tolerance < 1,
+    AssertThrow(t.periodicity_tolerance >= 0 && t.periodicity_tolerance < 1,
                 dealii::ExcMessage("Circulation / Periodicity tolerance = " +
-                                   format_number(periodicity_tolerance) +
+                                   format_number(t.periodicity_tolerance) +
                                    ": must be in [0, 1)."));
-    AssertThrow(relative_tolerance > 0 && relative_tolerance < 1,
+    AssertThrow(t.relative_tolerance > 0 && t.relative_tolerance < 1,
                 dealii::ExcMessage("Circulation / Relative tolerance = " +
-                                   format_number(relative_tolerance) +
+                                   format_number(t.relative_tolerance) +
                                    ": must be in (0, 1)."));
     for (const Positive &e :
-         {Positive{absolute_volume_tolerance,
-                   Units::mm3_to_mL(absolute_volume_tolerance),
+         {Positive{t.absolute_volume_tolerance,
+                   Units::mm3_to_mL(t.absolute_volume_tolerance),
                    "Absolute volume tolerance",
                    "mL"},
-          {absolute_pressure_tolerance,
-           Units::kPa_to_mmHg(absolute_pressure_tolerance),
+          {t.absolute_pressure_tolerance,
+           Units::kPa_to_mmHg(t.absolute_pressure_tolerance),
            "Absolute pressure tolerance",
            "mmHg"},
-          {event_time_tolerance,
-           event_time_tolerance,
+          {t.event_time_tolerance,
+           t.event_time_tolerance,
            "Event time tolerance",
            "ms"},
-          {max_time_step, max_time_step, "Maximum time step", "ms"},
-          {initial_time_step, initial_time_step, "Initial time step", "ms"}})
+          {t.max_step, t.max_step, "Maximum time step", "ms"},
+          {t.initial_step, t.initial_step, "Initial time step", "ms"}})
       require_positive(e);
-    AssertThrow(initial_time_step <= max_time_step,
+    AssertThrow(t.initial_step <= t.max_step,
                 dealii::ExcMessage("Circulation / Initial time step (" +
-                                   format_number(initial_time_step) +
+                                   format_number(t.initial_step) +
                                    " ms) must not exceed Maximum time step (" +
-                                   format_number(max_time_step) + " ms)."));
-    AssertThrow(max_time_step <= period,
+                                   format_number(t.max_step) + " ms)."));
+    AssertThrow(t.max_step <= t.period,
                 dealii::ExcMessage("Circulation / Maximum time step (" +
-                                   format_number(max_time_step) +
+                                   format_number(t.max_step) +
                                    " ms) must not exceed the Period (" +
-                                   format_number(period) + " ms)."));
+                                   format_number(t.period) + " ms)."));
   }
 } // namespace systole::Circulation

@@ -141,13 +141,6 @@ namespace systole::Mechanics
 
   void
   Problem::start_dynamics(const dealii::Vector<double> &pressures,
-                          const double                  active_tension)
-  {
-    start_dynamics(pressures, active_tension, 0.0);
-  }
-
-  void
-  Problem::start_dynamics(const dealii::Vector<double> &pressures,
                           const double                  active_tension,
                           const double                  elapsed)
   {

@@ -21,13 +21,8 @@
 
 namespace systole::Mechanics
 {
-  namespace
-  {
-    using Operator = internal::TangentOperator<dealii::VectorizedArray<double>>;
-    using Vector   = MatrixFreeMultigrid::Vector;
-    using Smoother = dealii::
-      PreconditionChebyshev<Operator, Vector, dealii::DiagonalMatrix<Vector>>;
-  } // namespace
+  using internal::Operator;
+  using internal::Smoother;
 
 
   struct MatrixFreeMultigrid::Impl

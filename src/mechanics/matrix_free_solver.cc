@@ -26,13 +26,12 @@
 
 namespace systole::Mechanics
 {
+  using internal::Operator;
+  using internal::Smoother;
+  using Vector = MatrixFreeTangent::Vector;
+
   namespace
   {
-    using Operator = internal::TangentOperator<dealii::VectorizedArray<double>>;
-    using Vector   = MatrixFreeTangent::Vector;
-    using Smoother = dealii::
-      PreconditionChebyshev<Operator, Vector, dealii::DiagonalMatrix<Vector>>;
-
     /// Chebyshev degree of the smoother (before and after the coarse
     /// correction) and the range of the spectrum it smooths.
     constexpr unsigned int smoothing_degree = 4;
@@ -42,12 +41,16 @@ namespace systole::Mechanics
 
   struct MatrixFreeSolver::Impl
   {
-    Impl(const dealii::Mapping<3>                &mapping,
-         const dealii::DoFHandler<3>             &dof_handler,
-         const dealii::AffineConstraints<double> &constraints,
-         const MakeConstraints                   &make_constraints,
-         const double                             tolerance,
-         const bool                               symmetric);
+    /// The Q1 element and its DoFHandler on @p triangulation; the
+    /// constructor of MatrixFreeSolver sets up the rest.
+    Impl(const dealii::Triangulation<3> &triangulation,
+         const double                    tolerance,
+         const bool                      symmetric)
+      : tolerance(tolerance)
+      , symmetric(symmetric)
+      , fe_q1(dealii::FE_Q<3>(1), 3)
+      , q1(triangulation)
+    {}
 
     ~Impl()
     {
@@ -77,68 +80,6 @@ namespace systole::Mechanics
   };
 
 
-  MatrixFreeSolver::Impl::Impl(
-    const dealii::Mapping<3>                &mapping,
-    const dealii::DoFHandler<3>             &dof_handler,
-    const dealii::AffineConstraints<double> &constraints,
-    const MakeConstraints                   &make_constraints,
-    const double                             tolerance,
-    const bool                               symmetric)
-    : tolerance(tolerance)
-    , symmetric(symmetric)
-    , fe_q1(dealii::FE_Q<3>(1), 3)
-    , q1(dof_handler.get_triangulation())
-  {
-    const auto &fe = dof_handler.get_fe();
-    AssertThrow(fe.n_components() == 3 && fe.degree == 2 &&
-                  fe.reference_cell() == dealii::ReferenceCells::Hexahedron,
-                dealii::ExcMessage(
-                  "Mechanics / Linear solver = matrix-free needs the penalty "
-                  "formulation (displacement only) with Q2 (Polynomial "
-                  "degree = 2) on hexahedra; got " +
-                  fe.get_name() +
-                  ". Use Linear solver = iterative (or direct)."));
-    q1.distribute_dofs(fe_q1);
-    make_constraints(q1, q1_constraints);
-    MatrixFreeTangent::Options options;
-    options.boundary_faces = true;
-    options.q1             = &q1;
-    options.q1_constraints = &q1_constraints;
-    tangent =
-      std::make_unique<MatrixFreeTangent>(mapping,
-                                          dof_handler,
-                                          constraints,
-                                          MatrixFreeTangent::Variant::cached,
-                                          options);
-    transfer.reinit_polynomial_transfer(dof_handler,
-                                        q1,
-                                        constraints,
-                                        q1_constraints);
-
-    const MPI_Comm          comm  = q1.get_communicator();
-    const dealii::IndexSet &owned = q1.locally_owned_dofs();
-    dealii::IndexSet        relevant;
-    dealii::DoFTools::extract_locally_relevant_dofs(q1, relevant);
-    dealii::DynamicSparsityPattern dsp(relevant);
-    dealii::DoFTools::make_sparsity_pattern(q1, dsp, q1_constraints, false);
-    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                       owned,
-                                                       comm,
-                                                       relevant);
-    coarse_matrix.reinit(owned, owned, dsp, comm);
-    coarse_modes = rigid_body_modes(mapping, q1);
-    coarse_b.reinit(owned, comm);
-    coarse_x.reinit(owned, comm);
-
-    Operator &op = tangent->implementation();
-    op.initialize_dof_vector(residual);
-    op.initialize_dof_vector(x_mf);
-    op.initialize_dof_vector(b_mf);
-    op.matrix_free.initialize_dof_vector(coarse_rhs, 1);
-    op.matrix_free.initialize_dof_vector(coarse_solution, 1);
-  }
-
-
   void
   MatrixFreeSolver::Impl::vmult(Vector &dst, const Vector &src) const
   {
@@ -166,13 +107,59 @@ namespace systole::Mechanics
     const MakeConstraints                   &make_constraints,
     const double                             tolerance,
     const bool                               symmetric)
-    : impl(std::make_unique<Impl>(mapping,
-                                  dof_handler,
-                                  constraints,
-                                  make_constraints,
+    : impl(std::make_unique<Impl>(dof_handler.get_triangulation(),
                                   tolerance,
                                   symmetric))
-  {}
+  {
+    Impl       &m  = *impl;
+    const auto &fe = dof_handler.get_fe();
+    AssertThrow(fe.n_components() == 3 && fe.degree == 2 &&
+                  fe.reference_cell() == dealii::ReferenceCells::Hexahedron,
+                dealii::ExcMessage(
+                  "Mechanics / Linear solver = matrix-free needs the penalty "
+                  "formulation (displacement only) with Q2 (Polynomial "
+                  "degree = 2) on hexahedra; got " +
+                  fe.get_name() +
+                  ". Use Linear solver = iterative (or direct)."));
+    m.q1.distribute_dofs(m.fe_q1);
+    make_constraints(m.q1, m.q1_constraints);
+    MatrixFreeTangent::Options options;
+    options.boundary_faces = true;
+    options.q1             = &m.q1;
+    options.q1_constraints = &m.q1_constraints;
+    m.tangent =
+      std::make_unique<MatrixFreeTangent>(mapping,
+                                          dof_handler,
+                                          constraints,
+                                          MatrixFreeTangent::Variant::cached,
+                                          options);
+    m.transfer.reinit_polynomial_transfer(dof_handler,
+                                          m.q1,
+                                          constraints,
+                                          m.q1_constraints);
+
+    const MPI_Comm          comm  = m.q1.get_communicator();
+    const dealii::IndexSet &owned = m.q1.locally_owned_dofs();
+    dealii::IndexSet        relevant;
+    dealii::DoFTools::extract_locally_relevant_dofs(m.q1, relevant);
+    dealii::DynamicSparsityPattern dsp(relevant);
+    dealii::DoFTools::make_sparsity_pattern(m.q1, dsp, m.q1_constraints, false);
+    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                       owned,
+                                                       comm,
+                                                       relevant);
+    m.coarse_matrix.reinit(owned, owned, dsp, comm);
+    m.coarse_modes = rigid_body_modes(mapping, m.q1);
+    m.coarse_b.reinit(owned, comm);
+    m.coarse_x.reinit(owned, comm);
+
+    Operator &op = m.tangent->implementation();
+    op.initialize_dof_vector(m.residual);
+    op.initialize_dof_vector(m.x_mf);
+    op.initialize_dof_vector(m.b_mf);
+    op.matrix_free.initialize_dof_vector(m.coarse_rhs, 1);
+    op.matrix_free.initialize_dof_vector(m.coarse_solution, 1);
+  }
 
 
   MatrixFreeSolver::~MatrixFreeSolver() = default;

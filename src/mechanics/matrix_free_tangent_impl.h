@@ -11,6 +11,8 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/subscriptor.h>
 #include <deal.II/fe/fe.h>
+#include <deal.II/lac/diagonal_matrix.h>
+#include <deal.II/lac/precondition.h>
 #include <deal.II/matrix_free/fe_evaluation.h>
 #include <deal.II/matrix_free/matrix_free.h>
 #include <deal.II/matrix_free/tools.h>
@@ -784,16 +786,23 @@ namespace systole::Mechanics::internal
         phi.submit_gradient(P, q);
       }
   }
+
+  /// The operator on the default vectorization (MatrixFreeTangent's) and
+  /// the Chebyshev smoother on its inverse diagonal: the levels of
+  /// MatrixFreeMultigrid, the Q2 level of MatrixFreeSolver.
+  using Operator = TangentOperator<dealii::VectorizedArray<double>>;
+  using Smoother =
+    dealii::PreconditionChebyshev<Operator,
+                                  Operator::Vector,
+                                  dealii::DiagonalMatrix<Operator::Vector>>;
 } // namespace systole::Mechanics::internal
 
 namespace systole::Mechanics
 {
   /// The operator of MatrixFreeTangent on the default vectorization.
-  struct MatrixFreeTangent::Impl
-    : public internal::TangentOperator<dealii::VectorizedArray<double>>
+  struct MatrixFreeTangent::Impl : public internal::Operator
   {
-    using internal::TangentOperator<
-      dealii::VectorizedArray<double>>::TangentOperator;
+    using internal::Operator::TangentOperator;
 
     /// Built without a law: the point tangents come from the caller.
     bool general = false;

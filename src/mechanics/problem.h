@@ -267,14 +267,8 @@ namespace systole::Mechanics
     /// accept_time_step(). A failed or rejected solve is repeated from the
     /// accepted state (restore() the displacement; the accepted state
     /// changes only in accept_time_step()). Penalty formulation only.
-    /// Checkpoints carry the dynamic state. Collective.
-    void
-    start_dynamics(const dealii::Vector<double> &pressures,
-                   const double                  active_tension);
-    void
-    start_dynamics(const double pressure, const double active_tension);
-
-    /// start_dynamics() in motion: with the velocity v_0 = (u - u_s) /
+    /// Checkpoints carry the dynamic state.
+    /// In motion (@p elapsed > 0): with the velocity v_0 = (u - u_s) /
     /// @p elapsed [ms] of the motion from the last save() u_s to the current
     /// displacement u (e.g. a first quasi-static step, whose velocity is then
     /// consistent with the flow into the cavities), and the acceleration of
@@ -283,7 +277,10 @@ namespace systole::Mechanics
     void
     start_dynamics(const dealii::Vector<double> &pressures,
                    const double                  active_tension,
-                   const double                  elapsed);
+                   const double                  elapsed = 0.0);
+    /// At rest, with the pressure @p pressure on every pressure part.
+    void
+    start_dynamics(const double pressure, const double active_tension);
 
     /// Part 2: the solves until the next call are time steps of
     /// @p time_step [ms] from the accepted state (0: quasi-static solves

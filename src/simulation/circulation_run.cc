@@ -30,11 +30,11 @@ namespace systole
     integrator_settings(const Circulation::Parameters &circulation)
     {
       Integrator::Settings settings;
-      settings.relative_tolerance = circulation.relative_tolerance;
+      settings.relative_tolerance = circulation.steps.relative_tolerance;
       settings.absolute_volume_tolerance =
-        circulation.absolute_volume_tolerance;
-      settings.max_step     = circulation.max_time_step;
-      settings.initial_step = circulation.initial_time_step;
+        circulation.steps.absolute_volume_tolerance;
+      settings.max_step     = circulation.steps.max_step;
+      settings.initial_step = circulation.steps.initial_step;
       return settings;
     }
 
@@ -51,9 +51,9 @@ namespace systole
         << model.n_cavities() << " cavities (";
       for (unsigned int c = 0; c < model.n_cavities(); ++c)
         o << (c > 0 ? ", " : "") << model.cavities()[c].name;
-      o << "), up to " << circulation.n_max_beats << " beats of "
-        << circulation.period << " ms\n  output every " << run.time_step
-        << " ms, relative tolerance " << circulation.relative_tolerance;
+      o << "), up to " << circulation.steps.n_max_beats << " beats of "
+        << circulation.steps.period << " ms\n  output every " << run.time_step
+        << " ms, relative tolerance " << circulation.steps.relative_tolerance;
       logger.line(o.str());
     }
 
@@ -138,7 +138,7 @@ namespace systole
       , progress(logger,
                  Progress::parse_mode(run.progress),
                  0.0,
-                 circulation.period * circulation.n_max_beats)
+                 circulation.steps.period * circulation.steps.n_max_beats)
       , total_volume_0(model.total_blood_volume(y0))
       , p_ext(model.n_cavities())
       , start(std::chrono::steady_clock::now())
@@ -190,7 +190,7 @@ namespace systole
     CirculationRun::integrate_beat(const unsigned int this_beat)
     {
       beat                  = this_beat;
-      const double period   = circulation.period;
+      const double period   = circulation.steps.period;
       const double interval = run.time_step;
       const double beat_end = (beat + 1) * period;
       if (beat > 0)
@@ -232,8 +232,8 @@ namespace systole
         row.push_back({c.name, c.unit, c.value});
       results.append_summary(row);
       logger.line(beat_log_line(model, this_beat, summary));
-      return this_beat >= 1 && circulation.periodicity_tolerance > 0 &&
-             recorder.periodicity() < circulation.periodicity_tolerance;
+      return this_beat >= 1 && circulation.steps.periodicity_tolerance > 0 &&
+             recorder.periodicity() < circulation.steps.periodicity_tolerance;
     }
 
     void
@@ -280,12 +280,12 @@ namespace systole
     CirculationRun r(circulation, *model, in);
     unsigned int   n_beats  = 0;
     bool           periodic = false;
-    for (unsigned int beat = 0; beat < circulation.n_max_beats; ++beat)
+    for (unsigned int beat = 0; beat < circulation.steps.n_max_beats; ++beat)
       {
         if (!r.integrate_beat(beat))
           break;
         ++n_beats;
-        if (r.finish_beat(beat, (beat + 1) * circulation.period))
+        if (r.finish_beat(beat, (beat + 1) * circulation.steps.period))
           {
             periodic = true;
             break;

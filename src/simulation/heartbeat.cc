@@ -246,27 +246,6 @@ namespace systole
       zero_d.cavity_pressures({0.0, y0, no_pressures}, p0);
     }
 
-    HeartbeatStepper::Settings
-    stepper_settings(const Circulation::Parameters &circulation)
-    {
-      HeartbeatStepper::Settings settings;
-      settings.period                = circulation.period;
-      settings.n_max_beats           = circulation.n_max_beats;
-      settings.periodicity_tolerance = circulation.periodicity_tolerance;
-      settings.relative_tolerance    = circulation.relative_tolerance;
-      settings.absolute_volume_tolerance =
-        circulation.absolute_volume_tolerance;
-      settings.absolute_pressure_tolerance =
-        circulation.absolute_pressure_tolerance;
-      settings.max_step                 = circulation.max_time_step;
-      settings.initial_step             = circulation.initial_time_step;
-      settings.event_time_tolerance     = circulation.event_time_tolerance;
-      settings.displacement_tolerance   = circulation.displacement_tolerance;
-      settings.newton_iterations_target = circulation.newton_iterations_target;
-      settings.max_step_cuts            = circulation.max_step_cuts;
-      return settings;
-    }
-
     /// The parts of a running heartbeat whose state a checkpoint holds, in
     /// the order of the state file (after the rows of the results file and the
     /// step).
@@ -470,7 +449,7 @@ namespace systole
                      Logger                         &logger,
                      const MPI_Comm                  comm)
         : circulation(Circulation::Parameters::parse(prm))
-        , tension_model(checked_tension_model(prm, circulation.period))
+        , tension_model(checked_tension_model(prm, circulation.steps.period))
         , inertia(prm.get_bool({"Mechanics"}, "Inertia"))
         , all_entries(checkpoint_entries(prm))
         , store(run.output_directory, comm)
@@ -493,7 +472,7 @@ namespace systole
                                        run,
                                        model,
                                        calcium_driven,
-                                       circulation.period,
+                                       circulation.steps.period,
                                        checkpoint,
                                        logger,
                                        comm);
@@ -586,7 +565,7 @@ namespace systole
     // model's onset delay, taken within the beat.
     const double onset =
       std::fmod(activation.earliest + set_up.tension_model->onset_delay(),
-                circulation.period);
+                circulation.steps.period);
     MechanicsVentricles ventricles(problem,
                                    *set_up.tension_model,
                                    activation.times,
@@ -606,7 +585,7 @@ namespace systole
     Progress             progress(in.logger,
                       Progress::parse_mode(in.run.progress),
                       0.0,
-                      circulation.period * circulation.n_max_beats);
+                      circulation.steps.period * circulation.steps.n_max_beats);
     HeartbeatWriter      writer({zero_d,
                                  results,
                                  ventricles,
@@ -616,11 +595,11 @@ namespace systole
                                  in.logger,
                                  progress,
                                  postprocess,
-                                 circulation.period,
+                                 circulation.steps.period,
                                  in.comm});
     HeartbeatStepper     stepper(zero_d,
                              ventricles,
-                             stepper_settings(circulation),
+                             HeartbeatStepper::Settings(circulation.steps),
                              y0,
                              p0);
     writer.inertia = inertia;

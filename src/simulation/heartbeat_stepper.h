@@ -6,6 +6,7 @@
 #include "base/archive_fwd.h"
 #include "circulation/model.h"
 #include "circulation/model_summary.h"
+#include "circulation/parameters.h"
 #include "circulation/phase.h"
 
 #include <functional>
@@ -154,27 +155,15 @@ namespace systole
   class HeartbeatStepper
   {
   public:
-    struct Settings
+    /// The step control of subsection Circulation and the shortest step.
+    struct Settings : Circulation::StepControl
     {
-      double       period                      = 800.0; ///< [ms]
-      unsigned int n_max_beats                 = 4;
-      double       periodicity_tolerance       = 0.01; ///< 0: run all beats
-      double       relative_tolerance          = 1e-3;
-      double       absolute_volume_tolerance   = 1.0;  ///< [mm^3]
-      double       absolute_pressure_tolerance = 0.01; ///< [kPa]
-      double       max_step                    = 20.0; ///< [ms]
-      double       initial_step                = 0.5;  ///< [ms]
-      double       min_step                    = 1e-3; ///< [ms]
-      double       event_time_tolerance        = 0.1;  ///< [ms]
-      /// The predictor error the next step may have [mm]
-      /// (CoupledVentricles::predictor_error(); 0: not controlled).
-      double displacement_tolerance = 0.0;
-      /// The iterations with a new tangent a solve aims at
-      /// (CoupledVentricles::last_tangent_iterations(); 0: not
-      /// controlled).
-      unsigned int newton_iterations_target = 0;
-      /// Failed solves in a row before the run stops.
-      unsigned int max_step_cuts = 10;
+      Settings() = default;
+      explicit Settings(const Circulation::StepControl &steps)
+        : StepControl(steps)
+      {}
+
+      double min_step = 1e-3; ///< [ms]
     };
 
     /// One accepted step.

@@ -64,8 +64,8 @@ TEST_CASE("Windkessel units convert from mmHg, mL and s to kPa, mm^3 and ms",
   CHECK(p.atrial_pressure == Approx(7.5 * 0.133322387415).epsilon(1e-14));
   CHECK(p.initial_arterial_pressure ==
         Approx(80 * 0.133322387415).epsilon(1e-14));
-  CHECK(p.absolute_volume_tolerance == Approx(10.0));
-  CHECK(p.period == 800.0);
+  CHECK(p.steps.absolute_volume_tolerance == Approx(10.0));
+  CHECK(p.steps.period == 800.0);
 
   SECTION("the defaults of the parameter file equal the struct defaults")
   {
@@ -81,11 +81,12 @@ TEST_CASE("Windkessel units convert from mmHg, mL and s to kPa, mm^3 and ms",
     CHECK(parsed.mitral_valve_resistance == built.mitral_valve_resistance);
     CHECK(parsed.atrial_pressure == built.atrial_pressure);
     CHECK(parsed.initial_arterial_pressure == built.initial_arterial_pressure);
-    CHECK(parsed.n_max_beats == built.n_max_beats);
-    CHECK(parsed.relative_tolerance == built.relative_tolerance);
-    CHECK(parsed.absolute_volume_tolerance == built.absolute_volume_tolerance);
-    CHECK(parsed.max_time_step == built.max_time_step);
-    CHECK(parsed.initial_time_step == built.initial_time_step);
+    CHECK(parsed.steps.n_max_beats == built.steps.n_max_beats);
+    CHECK(parsed.steps.relative_tolerance == built.steps.relative_tolerance);
+    CHECK(parsed.steps.absolute_volume_tolerance ==
+          built.steps.absolute_volume_tolerance);
+    CHECK(parsed.steps.max_step == built.steps.max_step);
+    CHECK(parsed.steps.initial_step == built.steps.initial_step);
   }
 }
 

@@ -19,6 +19,23 @@ namespace
 {
   using Vector = dealii::Vector<double>;
 
+  /// The step control these tests were written with (its own defaults
+  /// before the stepper took those of subsection Circulation): relative
+  /// tolerance 1e-3, 1 mm^3, 0.01 kPa, steps up to 20 ms, neither the
+  /// displacement predictor nor the Newton iterations controlled.
+  HeartbeatStepper::Settings
+  test_settings()
+  {
+    HeartbeatStepper::Settings settings;
+    settings.relative_tolerance          = 1e-3;
+    settings.absolute_volume_tolerance   = 1.0;
+    settings.absolute_pressure_tolerance = 0.01;
+    settings.max_step                    = 20.0;
+    settings.displacement_tolerance      = 0.0;
+    settings.newton_iterations_target    = 0;
+    return settings;
+  }
+
   /// 0D elastance chambers in place of the 3D ventricles: at time t the
   /// pressures solve p = E(t) (W(p) - V_0) by Newton's method (an
   /// independent path to the closed loop with elastance ventricles).
@@ -366,7 +383,7 @@ TEST_CASE("The heartbeat stepper with elastance chambers in place of the 3D "
   ElastanceVentricles ventricles(loop.chambers);
   INFO((both ? "both ventricles coupled" : "the left ventricle coupled"));
 
-  HeartbeatStepper::Settings settings;
+  HeartbeatStepper::Settings settings  = test_settings();
   settings.period                      = T;
   settings.n_max_beats                 = 2;
   settings.periodicity_tolerance       = 0;
@@ -429,12 +446,12 @@ TEST_CASE("A step redone after a failure is shorter than the failed one, also "
   const CoupledLoop          loop(false);
   const double               T = loop.T;
   FailingVentricles          ventricles(loop.chambers, T - 2.0, 0.3);
-  HeartbeatStepper::Settings settings;
-  settings.period                = T;
-  settings.n_max_beats           = 1;
-  settings.periodicity_tolerance = 0;
-  settings.min_step              = 0.25;
-  settings.max_step_cuts         = 4;
+  HeartbeatStepper::Settings settings = test_settings();
+  settings.period                     = T;
+  settings.n_max_beats                = 1;
+  settings.periodicity_tolerance      = 0;
+  settings.min_step                   = 0.25;
+  settings.max_step_cuts              = 4;
   HeartbeatStepper stepper(loop.model, ventricles, settings, loop.y0, loop.p0);
   Summaries        summaries;
   HeartbeatStepper::Statistics stats;
@@ -485,10 +502,10 @@ TEST_CASE("With both ventricles coupled the heartbeat stepper's periodic stop "
   const auto run = [&](const bool both) {
     const CoupledLoop          loop(both, y0);
     ElastanceVentricles        ventricles(loop.chambers);
-    HeartbeatStepper::Settings settings;
-    settings.period                = T;
-    settings.n_max_beats           = 10;
-    settings.periodicity_tolerance = tolerance;
+    HeartbeatStepper::Settings settings = test_settings();
+    settings.period                     = T;
+    settings.n_max_beats                = 10;
+    settings.periodicity_tolerance      = tolerance;
     HeartbeatStepper stepper(loop.model,
                              ventricles,
                              settings,
@@ -550,12 +567,12 @@ TEST_CASE("The heartbeat stepper keeps the displacement predictor's error "
   constexpr double  c = 0.025, tolerance = 0.1; // mm/ms^2, mm
   for (const bool controlled : {false, true})
     {
-      HeartbeatStepper::Settings settings;
-      settings.period                 = T;
-      settings.n_max_beats            = 1;
-      settings.periodicity_tolerance  = 0;
-      settings.max_step               = 20.0;
-      settings.displacement_tolerance = controlled ? tolerance : 0.0;
+      HeartbeatStepper::Settings settings = test_settings();
+      settings.period                     = T;
+      settings.n_max_beats                = 1;
+      settings.periodicity_tolerance      = 0;
+      settings.max_step                   = 20.0;
+      settings.displacement_tolerance     = controlled ? tolerance : 0.0;
       AcceleratingVentricles ventricles(loop.chambers, c, 500.0, 700.0);
       HeartbeatStepper       stepper(loop.model,
                                ventricles,
@@ -596,12 +613,12 @@ TEST_CASE("The heartbeat stepper shortens the step after a solve that "
   constexpr unsigned int hard = 6, target = 2;
   for (const bool controlled : {false, true})
     {
-      HeartbeatStepper::Settings settings;
-      settings.period                   = loop.T;
-      settings.n_max_beats              = 1;
-      settings.periodicity_tolerance    = 0;
-      settings.max_step                 = 20.0;
-      settings.newton_iterations_target = controlled ? target : 0;
+      HeartbeatStepper::Settings settings = test_settings();
+      settings.period                     = loop.T;
+      settings.n_max_beats                = 1;
+      settings.periodicity_tolerance      = 0;
+      settings.max_step                   = 20.0;
+      settings.newton_iterations_target   = controlled ? target : 0;
       StrugglingVentricles ventricles(loop.chambers, easy, hard, 500.0, 700.0);
       HeartbeatStepper     stepper(loop.model,
                                ventricles,
