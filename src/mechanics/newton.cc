@@ -319,8 +319,9 @@ namespace systole::Mechanics
     const bool reuse = m.params.reuse_factorization && m.factorized.held &&
                        m.factorized.last_solve_converged;
     m.factorized.last_solve_converged = false;
+    ChordStart chords;
     if (bordered && reuse && m.factorized.volume_derivatives.size() == k &&
-        bordered_chords())
+        bordered_chords(chords))
       return converged_now();
 
     const bool start_assembled = !bordered && reuse && euler_predictor();
@@ -333,7 +334,16 @@ namespace systole::Mechanics
                                             1.0));
         report.initial_residual = residual[0];
       }
-    return iterate(start_assembled);
+    if (!chords.newton_from_there)
+      return iterate(start_assembled);
+    try
+      {
+        return iterate(start_assembled);
+      }
+    catch (const ExcNewtonDidNotConverge &e)
+      {
+        return retry_from_chord_start(chords, e);
+      }
   }
 
   bool
@@ -353,8 +363,36 @@ namespace systole::Mechanics
            std::log(target / residual[0]) / std::log(rate) <= 3.0;
   }
 
+  NewtonReport
+  NewtonSolver::retry_from_chord_start(const ChordStart            &start,
+                                       const dealii::ExceptionBase &failure)
+  {
+    // The chords' iterate can lie along a mode the old tangent holds too
+    // softly (in the refined default heartbeat's late filling Newton from
+    // it raised |R_u| 1e22-fold at once, along the torsion): the predicted
+    // state is the better start then.
+    out << "      (Newton from the chords' iterate failed: "
+        << one_line_message(failure) << "; Newton again from their start)"
+        << std::endl;
+    const unsigned int first_attempt = report.iterations;
+    m.u_owned                        = start.u;
+    m.u                              = m.u_owned;
+    pressures                        = start.pressures;
+    reference                        = 0;
+    tangent_ready                    = false;
+    first_factorization              = true;
+    AssertThrow(assemble(residual, false),
+                ExcNewtonDidNotConverge("an element is inverted at the "
+                                        "start of the load step",
+                                        0,
+                                        1.0));
+    NewtonReport second = iterate(false);
+    second.iterations += first_attempt;
+    return second;
+  }
+
   bool
-  NewtonSolver::bordered_chords()
+  NewtonSolver::bordered_chords(ChordStart &start)
   {
     // Chord iterations on the factorization of an earlier solve: residual
     // only, one back substitution per iteration, the bordered system of that
@@ -429,6 +467,8 @@ namespace systole::Mechanics
         m.u       = m.u_owned;
         pressures = pressure_begin;
       }
+    else
+      start = {u_begin, pressure_begin, true};
     reference = 0;
     out << "      (" << report.reused_iterations
         << " chord iterations on the old factorization; Newton from "
@@ -669,6 +709,8 @@ namespace systole::Mechanics
         const auto   u_norm   = block_norms(m.discretization.layout, m.u_owned);
         if (it > 0)
           log_iteration(it, s.n_chord, s.last_was_chord, relative, u_norm);
+        // (So far: a failure's retry counts them, retry_from_chord_start().)
+        report.iterations = it - s.n_chord;
         // Converged: the residual fell by the relative tolerance, or is at
         // the absolute floor, or the last update was at round-off level; and
         // every cavity volume is on its target.

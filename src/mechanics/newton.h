@@ -27,9 +27,10 @@ namespace systole::Mechanics
   ///   contracts fast (update()), each followed by a safeguarded step that
   ///   halves while an element inverts (step());
   /// - convergence on the per-block residual norms (|R_u| against the
-  ///   largest residual of the solve, |R_p| against the body volume) and
+  ///   residual where Newton started, |R_p| against the body volume) and
   ///   the cavity volume errors.
-  /// Failures throw ExcNewtonDidNotConverge.
+  /// Failures throw ExcNewtonDidNotConverge; Newton that continued from the
+  /// chords' iterate and failed is first repeated from their start.
   class NewtonSolver
   {
   public:
@@ -67,10 +68,25 @@ namespace systole::Mechanics
     bool
     chord_solve();
 
+    /// Where the chord iterations of a bordered solve started (the
+    /// predicted state), and whether Newton continues from their iterate.
+    struct ChordStart
+    {
+      LA::MPI::Vector        u;
+      dealii::Vector<double> pressures;
+      bool                   newton_from_there = false;
+    };
+
     /// Chord iterations of a bordered solve on the factorization of the last
     /// one, while they contract fast; true if they converged the solve.
     bool
-    bordered_chords();
+    bordered_chords(ChordStart &start);
+
+    /// Newton from the chords' start after Newton from their iterate failed
+    /// with @p failure (logged); the iterations of both attempts counted.
+    NewtonReport
+    retry_from_chord_start(const ChordStart            &start,
+                           const dealii::ExceptionBase &failure);
 
     /// Whether chord iterations converging at @p rate (|R_u| over the last
     /// one's) should go on: a rate below 0.3 that reaches the tolerance in at
