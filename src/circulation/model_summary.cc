@@ -82,7 +82,7 @@ namespace systole::Circulation
     const dealii::Vector<double> &cavity_pressures)
   {
     if (!opens)
-      closures.push_back({valve, {time, y, cavity_pressures, {}, {}}});
+      closures.push_back({valve, {time, y, cavity_pressures, {}}});
     accumulate_phase_durations(time);
     valves_open[valve] = opens;
     phases.update(valves_open);
@@ -142,19 +142,17 @@ namespace systole::Circulation
               {
                 // The clinical indices: dp/dt max while the cavity
                 // contracts (isovolumetric contraction, ejection), dp/dt
-                // min while it ejects or relaxes (isovolumetric
-                // relaxation); a sample's phase is that of the interval up
-                // to it: its events come after it. So a drop of the load
-                // right after the inlet valve's opening (the supports
-                // referred to end-diastole released: up to 1.5 mmHg at
+                // min while it relaxes or fills (a sample's phase is that
+                // of the interval up to it: its events come after it). So
+                // a jump of the load right after the inlet valve's closure
+                // (the supports re-referred to end-diastole: 1.5 mmHg at
                 // once) is neither.
                 const double dpdt  = (p - q.cavity_pressures[c]) / dt;
                 const int    phase = s.phases[c];
                 if (phase == code(Phase::isovolumetric_contraction) ||
                     phase == code(Phase::ejection))
                   dpdt_max = std::max(dpdt_max, dpdt);
-                if (phase == code(Phase::ejection) ||
-                    phase == code(Phase::isovolumetric_relaxation))
+                else
                   dpdt_min = std::min(dpdt_min, dpdt);
               }
           }

@@ -67,7 +67,7 @@ namespace systole::Circulation
   ///   c_stroke_work_mmHg_mL (-oint p dV, trapezoidal), c_dpdt_max and
   ///   c_dpdt_min (mmHg/s: the largest difference quotient of the cavity
   ///   pressure between consecutive samples in isovolumetric contraction and
-  ///   ejection, the smallest in ejection and isovolumetric relaxation; NaN
+  ///   ejection, the smallest in isovolumetric relaxation and filling; NaN
   ///   in a beat without such an interval), and the time spent
   ///   in each phase of CavityPhases within the beat (ms):
   ///   c_filling_duration, c_isovolumetric_contraction_duration,

@@ -141,9 +141,7 @@ namespace systole::Mechanics
                       &d.factorized_v_n,
                       &d.factorized_a_n});
     if (m.boundaries.any_from_end_diastole())
-      sources.insert(sources.end(),
-                     {&m.boundaries.support_reference,
-                      &m.boundaries.end_diastole});
+      sources.push_back(&m.boundaries.support_reference);
     m.pending_checkpoint.vectors.attach(m.discretization.dof_handler,
                                         m.discretization.relevant,
                                         sources);
@@ -374,7 +372,7 @@ namespace systole::Mechanics
     const std::vector<LA::MPI::Vector> out =
       read_attached_vectors(m.discretization.dof_handler,
                             m.discretization.owned,
-                            (dynamic ? 10 : 3) + (referred ? 2 : 0));
+                            (dynamic ? 10 : 3) + (referred ? 1 : 0));
     m.history.u_saved    = out[0];
     m.history.u_previous = out[1];
     m.factorized.u       = out[2];
@@ -392,10 +390,7 @@ namespace systole::Mechanics
         d.factorized_a_n       = out[9];
       }
     if (referred)
-      {
-        m.boundaries.support_reference = out[out.size() - 2];
-        m.boundaries.end_diastole      = out.back();
-      }
+      m.boundaries.support_reference = out.back();
     unpack_cell_data(m.tria, m.points, m.factorized);
     if (m.factorized.held)
       m.rebuild_factorization(bordered);

@@ -323,19 +323,11 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::record_end_diastole()
-  {
-    Impl &m = *impl;
-    if (m.boundaries.any_from_end_diastole())
-      m.boundaries.end_diastole = m.u_owned;
-  }
-
-  void
   Problem::refer_supports_to_end_diastole()
   {
     Impl &m = *impl;
     if (m.boundaries.any_from_end_diastole())
-      m.boundaries.support_reference = m.boundaries.end_diastole;
+      m.boundaries.support_reference = m.u_owned;
   }
 
   namespace

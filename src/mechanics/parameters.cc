@@ -220,9 +220,8 @@ namespace systole::Mechanics
         "base's best-fit plane, over the apex's distance; needs a part "
         "'base'). The option 'end-diastole' refers the springs to the "
         "displacement at the last end-diastole instead of the unloaded state "
-        "(a heartbeat: recorded when the first ventricle's inlet valve "
-        "closes, in effect from its next opening, the start of filling, on; "
-        "the unloaded state before): they hold the base where the filled "
+        "(a heartbeat; from the first ventricle's inlet valve closure on, the "
+        "unloaded state before it): they hold the base where the filled "
         "ventricle put it and do not oppose its filling. A part may not be "
         "in Robin boundaries as well. Units: kPa/mm, kPa ms/mm.");
     }

@@ -522,10 +522,7 @@ namespace systole::Mechanics
     factorized.u.reinit(d.owned, comm);
     u.reinit(d.owned, d.relevant, comm);
     if (boundaries.any_from_end_diastole())
-      {
-        boundaries.support_reference.reinit(d.owned, d.relevant, comm);
-        boundaries.end_diastole.reinit(d.owned, comm);
-      }
+      boundaries.support_reference.reinit(d.owned, d.relevant, comm);
   }
 
   Problem::Problem(const Inputs &in)

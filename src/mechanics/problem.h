@@ -312,20 +312,10 @@ namespace systole::Mechanics
     double
     support_energy() const;
 
-    /// Remember the current displacement as the end-diastolic one of the
-    /// supports referred to end-diastole (Robin supports, option
-    /// end-diastole); their rest position stays. The heartbeat calls it at
-    /// every end-diastole, after the step is accepted. Nothing without such
-    /// a support. Collective.
-    void
-    record_end_diastole();
-
-    /// The supports referred to end-diastole take the displacement of the
-    /// last record_end_diastole() (zero before one) as their rest position.
-    /// The heartbeat calls it when filling starts (the inlet valve opens),
-    /// where the drop of the cavity pressure it brings agrees with the
-    /// valve's opening: called at the closure, the drop at fixed volume
-    /// reopens the valve. Nothing without such a support. Collective.
+    /// The supports referred to end-diastole (Robin supports, option
+    /// end-diastole) take the current displacement as their rest position:
+    /// the heartbeat calls it at every end-diastole, after the step is
+    /// accepted. Nothing without such a support. Collective.
     void
     refer_supports_to_end_diastole();
 

@@ -293,10 +293,6 @@ namespace systole::Mechanics
     /// Problem::refer_supports_to_end_diastole(); empty without such a
     /// support.
     LA::MPI::Vector support_reference;
-    /// The displacement of the last Problem::record_end_diastole() (zero
-    /// before), which the next refer_supports_to_end_diastole() makes the
-    /// reference; empty without a support referred to end-diastole.
-    LA::MPI::Vector end_diastole;
 
     /// Whether a support is referred to end-diastole.
     bool

@@ -335,11 +335,8 @@ namespace systole
         const unsigned int first = bdf.external_cavities()[0];
         const bool filled = phases->phase(first) == Circulation::Phase::filling;
         phases->update(open);
-        const bool fills = phases->phase(first) == Circulation::Phase::filling;
-        if (filled && !fills)
+        if (filled && phases->phase(first) != Circulation::Phase::filling)
           ventricles.end_diastole();
-        if (!filled && fills)
-          ventricles.start_filling();
         bdf.restart();
         stats.n_events += switched.size();
         h     = settings.initial_step;

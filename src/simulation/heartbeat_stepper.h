@@ -99,12 +99,6 @@ namespace systole
     end_diastole()
     {}
 
-    /// The accepted step started the filling of the first external cavity
-    /// (its inlet valve opened). Called after accept().
-    virtual void
-    start_filling()
-    {}
-
     /// Times within a beat [ms from its start] where the loads change
     /// abruptly (the onset of the active tension): steps end there and
     /// continue with Settings::initial_step, as after a valve event.

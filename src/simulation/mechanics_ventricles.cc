@@ -207,14 +207,6 @@ namespace systole
   MechanicsVentricles::end_diastole()
   {
     const auto timed = timer_section(timer, "Heartbeat / accept");
-    problem.record_end_diastole();
-  }
-
-
-  void
-  MechanicsVentricles::start_filling()
-  {
-    const auto timed = timer_section(timer, "Heartbeat / accept");
     problem.refer_supports_to_end_diastole();
   }
 

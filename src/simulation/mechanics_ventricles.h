@@ -70,15 +70,10 @@ namespace systole
     void
     reject() override;
 
-    /// The accepted displacement is the end-diastolic one of the supports
-    /// referred to end-diastole (Mechanics::Problem::record_end_diastole()).
-    void
-    end_diastole() override;
-
-    /// Those supports take it as their rest position
+    /// The supports referred to end-diastole take the accepted displacement
     /// (Mechanics::Problem::refer_supports_to_end_diastole()).
     void
-    start_filling() override;
+    end_diastole() override;
 
     /// The accepted time (checkpoints).
     template <class Archive>
