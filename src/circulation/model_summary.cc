@@ -82,7 +82,7 @@ namespace systole::Circulation
     const dealii::Vector<double> &cavity_pressures)
   {
     if (!opens)
-      closures.push_back({valve, {time, y, cavity_pressures, {}}});
+      closures.push_back({valve, {time, y, cavity_pressures, {}, {}}});
     accumulate_phase_durations(time);
     valves_open[valve] = opens;
     phases.update(valves_open);
