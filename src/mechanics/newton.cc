@@ -368,9 +368,10 @@ namespace systole::Mechanics
                                        const dealii::ExceptionBase &failure)
   {
     // The chords' iterate can lie along a mode the old tangent holds too
-    // softly (in the refined default heartbeat's late filling Newton from
-    // it raised |R_u| 1e22-fold at once, along the torsion): the predicted
-    // state is the better start then.
+    // softly (in the late filling of a variant of the refined default
+    // heartbeat, docs/verification.md, Newton from it raised |R_u| 1e22-fold
+    // at once, along the torsion): the predicted state is the better start
+    // then.
     out << "      (Newton from the chords' iterate failed: "
         << one_line_message(failure) << "; Newton again from their start)"
         << std::endl;
@@ -697,9 +698,9 @@ namespace systole::Mechanics
       {
         // The relative tolerance refers to the residual where Newton starts
         // (and to the pressure load), never to an iterate's: an update that
-        // overshot (|R_u| 6.6e3 -> 3.0e10 in a refined heartbeat's
-        // isovolumetric contraction, before a back-off) would make a
-        // residual 1e5-fold above the tolerance look converged.
+        // overshot (|R_u| 1.1e3 -> 3.0e10 in the isovolumetric contraction
+        // of a variant of the refined heartbeat, before a back-off) would
+        // make a residual 1e5-fold above the tolerance look converged.
         if (it == 0)
           reference = std::max(reference, residual[0]);
         else
