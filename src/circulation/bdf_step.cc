@@ -273,6 +273,12 @@ namespace systole::Circulation
   void
   BdfStep::restart()
   {
+    // The point before the event goes too: the pressure error estimate
+    // (error_norms()) extrapolated the pressures through it, across the kink
+    // of the valve switch (and, at a mitral closure that re-refers the base
+    // springs, a jump), and rejected the first step after the event down to
+    // the minimum step.
     first_order = true;
+    history.erase(history.begin(), history.end() - 1);
   }
 } // namespace systole::Circulation
