@@ -325,7 +325,7 @@ namespace systole::Mechanics
     assemble(factorized.pressures,
              factorized.active_tension,
              true,
-             /*with_volume_derivative=*/!loads.cavities.empty());
+             /*with_volume_derivative=*/bordered);
     swap_model_inputs(tria, points, factorized);
     swap_dynamic_state(dynamics);
     system.linear_solver->setup(system.tangent,
