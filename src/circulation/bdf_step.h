@@ -92,9 +92,9 @@ namespace systole::Circulation
     /// The predicted state at the end of the step (extrapolated from the
     /// history, exact for a solution polynomial of the step's order), and
     /// the predicted pressures of the external cavities (linear
-    /// extrapolation of the last two accepted pressures, also right after a
-    /// restart: the error estimate of the pressures uses it), in the layout
-    /// of solve()'s @p p.
+    /// extrapolation of the last two accepted pressures; the last accepted
+    /// ones after the start and a restart(), which forgets the point before
+    /// the event), in the layout of solve()'s @p p.
     const dealii::Vector<double> &
     predicted_state() const
     {
@@ -151,8 +151,9 @@ namespace systole::Circulation
     /// (Milne's device with the error constants of the step's order and step
     /// ratio). Pressures of the external cavities: |p - p_pred| / 8 over
     /// (atol_p + rtol |p|), p_pred the linear extrapolation of the last two
-    /// accepted pressures (0 when there is only one), which is h^2 |p''|/8,
-    /// the error of linear interpolation over the step.
+    /// accepted pressures (0 when there is only one: the first step after
+    /// the start and after a restart()), which is h^2 |p''|/8, the error of
+    /// linear interpolation over the step.
     std::array<double, 2>
     error_norms() const;
 
