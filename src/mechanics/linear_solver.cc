@@ -214,8 +214,7 @@ namespace systole::Mechanics
           this->p_multigrid->attach(pc);
         else
           check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
-        check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 2000),
-                    "KSPSetTolerances");
+        IterativeSolver::set_tolerance(tolerance);
       }
 
       ~IterativeSolver() override
@@ -229,6 +228,13 @@ namespace systole::Mechanics
         Mat A = K;
         set_near_null_space(A, modes);
         check_petsc(KSPSetOperators(ksp, A, A), "KSPSetOperators");
+      }
+
+      void
+      set_tolerance(const double tolerance) override
+      {
+        check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 2000),
+                    "KSPSetTolerances");
       }
 
       unsigned int
@@ -345,8 +351,7 @@ namespace systole::Mechanics
                     "KSPSetOptionsPrefix");
         check_petsc(KSPSetType(ksp, KSPFGMRES), "KSPSetType");
         check_petsc(KSPGMRESSetRestart(ksp, 100), "KSPGMRESSetRestart");
-        check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 1000),
-                    "KSPSetTolerances");
+        BlockSolver::set_tolerance(tolerance);
         PC pc;
         check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
         check_petsc(PCSetType(pc, PCFIELDSPLIT), "PCSetType");
@@ -417,6 +422,13 @@ namespace systole::Mechanics
         else
           check_petsc(KSPSolve(ksp, b, x), "KSPSolve");
         return checked_iterations(ksp, "FGMRES + block preconditioner");
+      }
+
+      void
+      set_tolerance(const double tolerance) override
+      {
+        check_petsc(KSPSetTolerances(ksp, tolerance, 1e-300, 1e10, 1000),
+                    "KSPSetTolerances");
       }
 
       bool

@@ -110,6 +110,13 @@ namespace systole::Mechanics
     virtual unsigned int
     solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) = 0;
 
+    /// The relative residual reduction of the next solves (the iterative
+    /// solvers; the direct one ignores it). Newton's forcing terms set it
+    /// per update (ForcingTerm).
+    virtual void
+    set_tolerance(const double)
+    {}
+
     /// Number of negative pivots of the last LDL^T factorization (MUMPS
     /// INFOG(12)), the number of negative eigenvalues of K (Sylvester's law
     /// of inertia); -1 when unknown (LU, iterative solvers). A stable

@@ -61,7 +61,7 @@ namespace systole::Mechanics
     void
     vmult(Vector &dst, const Vector &src) const;
 
-    const double                             tolerance;
+    double                                   tolerance;
     const bool                               symmetric;
     dealii::FESystem<3>                      fe_q1;
     dealii::DoFHandler<3>                    q1;
@@ -261,6 +261,13 @@ namespace systole::Mechanics
     copy_owned(m.x_mf, x);
     x.compress(dealii::VectorOperation::insert);
     return control.last_step();
+  }
+
+
+  void
+  MatrixFreeSolver::set_tolerance(const double tolerance)
+  {
+    impl->tolerance = tolerance;
   }
 
 

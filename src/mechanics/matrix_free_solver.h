@@ -79,6 +79,9 @@ namespace systole::Mechanics
     unsigned int
     solve(LA::MPI::Vector &x, const LA::MPI::Vector &b) override;
 
+    void
+    set_tolerance(const double tolerance) override;
+
     MatrixFreeTangent *
     matrix_free_tangent() override;
 

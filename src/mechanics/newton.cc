@@ -279,14 +279,14 @@ namespace systole::Mechanics
   }
 
   bool
-  NewtonSolver::chord_solve()
+  NewtonSolver::chord_solve(const double tolerance)
   {
     try
       {
         dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
         m.system.residual *= -1.0;
         report.linear_iterations +=
-          m.linear_solve(du, m.system.residual, 0, 0.0);
+          m.linear_solve(du, m.system.residual, 0, 0.0, tolerance);
         return true;
       }
     catch (const dealii::ExceptionBase &)
@@ -347,6 +347,20 @@ namespace systole::Mechanics
   }
 
   bool
+  NewtonSolver::inexact() const
+  {
+    return m.params.inexact_newton && !bordered &&
+           !m.system.linear_solver->direct();
+  }
+
+  double
+  NewtonSolver::target_residual() const
+  {
+    return std::max(m.params.newton_absolute_tolerance,
+                    m.params.newton_relative_tolerance * reference);
+  }
+
+  bool
   NewtonSolver::chords_worth_going_on(const double rate) const
   {
     // At a rate of 0.3 or worse, or where more than three more chords would
@@ -356,9 +370,7 @@ namespace systole::Mechanics
     // nine iterations at rates of 0.2-0.3.
     if (!(rate < 0.3))
       return false;
-    const double target =
-      std::max(m.params.newton_absolute_tolerance,
-               m.params.newton_relative_tolerance * reference);
+    const double target = target_residual();
     return residual[0] <= target ||
            std::log(target / residual[0]) / std::log(rate) <= 3.0;
   }
@@ -489,7 +501,7 @@ namespace systole::Mechanics
     const LA::MPI::Vector u_begin = m.u_owned;
     bool                  ok      = assemble(residual, false);
     report.initial_residual       = residual[0];
-    ok                            = ok && chord_solve();
+    ok = ok && chord_solve(inexact() ? ForcingTerm::eta_max : 0.0);
     if (ok)
       {
         // (The first update of the accelerated chord iterations that may
@@ -574,6 +586,8 @@ namespace systole::Mechanics
     s.chord_ratio      = s.accelerated ? 0.5 : 0.25;
     s.newton_cut       = s.accelerated ? 0.4 : 0.1;
     s.predictor_chords = start_assembled && s.accelerated;
+    s.inexact          = inexact();
+    s.forcing          = ForcingTerm(m.params.linear_tolerance);
     return s;
   }
 
@@ -743,7 +757,12 @@ namespace systole::Mechanics
         s.previous_residual = residual[0];
         tangent_ready       = false;
         dealii::Vector<double> dp(pressures.size());
-        update(chord, it, relative, dp);
+        update(chord,
+               it,
+               relative,
+               dp,
+               s.inexact ? s.forcing.next(residual[0], target_residual())
+                         : 0.0);
         if (s.accelerated)
           chord = accelerate(chord, it, relative, dp, s.chord_ratio);
         s.undo_chord = chord && s.direct;
@@ -755,7 +774,8 @@ namespace systole::Mechanics
   NewtonSolver::update(const bool              chord,
                        const unsigned int      it,
                        const double            relative,
-                       dealii::Vector<double> &dp)
+                       dealii::Vector<double> &dp,
+                       const double            tolerance)
   {
     // K du = -R; bordered by the volume constraints g = V(u) - W(p):
     // [K -B; B^T -W'] [du; dp] = -[R; g] with B = [dV_i/du]. k + 1 solves
@@ -766,7 +786,7 @@ namespace systole::Mechanics
     if (chord)
       {
         report.linear_iterations +=
-          m.linear_solve(du, m.system.residual, it, relative);
+          m.linear_solve(du, m.system.residual, it, relative, tolerance);
         if (bordered)
           bordered_correction(m.factorized.volume_rows,
                               m.factorized.w,
@@ -801,7 +821,7 @@ namespace systole::Mechanics
         throw_linear_solver_failure(e, it, relative);
       }
     report.linear_iterations +=
-      m.linear_solve(du, m.system.residual, it, relative);
+      m.linear_solve(du, m.system.residual, it, relative, tolerance);
     if (bordered)
       {
         for (unsigned int j = 0; j < k; ++j)

@@ -6,6 +6,7 @@
 // included outside src/mechanics.
 
 #include "mechanics/anderson.h"
+#include "mechanics/forcing_term.h"
 #include "mechanics/problem_impl.h"
 
 #include <array>
@@ -63,10 +64,20 @@ namespace systole::Mechanics
     bool
     assemble(std::array<double, 2> &norms, const bool with_matrix);
 
-    /// du = -K^-1 R on the held factorization (a chord update); false if
-    /// the linear solver fails.
+    /// du = -K^-1 R on the held factorization (a chord update), an iterative
+    /// solver to the relative residual @p tolerance if > 0; false if the
+    /// linear solver fails.
     bool
-    chord_solve();
+    chord_solve(const double tolerance = 0.0);
+
+    /// Whether the updates are solved inexactly (ForcingTerm): Inexact
+    /// Newton with an iterative solver, fixed cavity pressures.
+    bool
+    inexact() const;
+
+    /// The |R_u| at which the solve has converged.
+    double
+    target_residual() const;
 
     /// Where the chord iterations of a bordered solve started (the
     /// predicted state), and whether Newton continues from their iterate.
@@ -151,6 +162,9 @@ namespace systole::Mechanics
       /// A Newton update (new tangent) was made in this solve: the first
       /// one is guarded (step()).
       bool newton_done = false;
+      /// The linear tolerances of an inexact solve (inexact()).
+      bool        inexact = false;
+      ForcingTerm forcing{0.0};
     };
     /// The rules of a solve that starts with an assembled residual (@p
     /// start_assembled: after a chord of the Euler predictor) or not.
@@ -179,12 +193,15 @@ namespace systole::Mechanics
               const dealii::Vector<double> &dp);
 
     /// The update du (and dp) of iteration @p it: on the held factorization
-    /// (@p chord) or on a new one of the tangent assembled at the iterate.
+    /// (@p chord) or on a new one of the tangent assembled at the iterate;
+    /// an iterative solver solves for du to the relative residual @p
+    /// tolerance if > 0 (the forcing term).
     void
     update(const bool              chord,
            const unsigned int      it,
            const double            relative,
-           dealii::Vector<double> &dp);
+           dealii::Vector<double> &dp,
+           const double            tolerance = 0.0);
 
     /// u += alpha du, p += alpha dp from the iterate, alpha halved while an
     /// element inverts (at most six times) and, if @p guarded (the first

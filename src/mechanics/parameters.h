@@ -146,8 +146,12 @@ namespace systole::Mechanics
     std::string linear_solver = "auto";
     /// Above this many DOFs "auto" picks the iterative solver.
     unsigned int direct_solver_limit = 200000;
-    /// Relative tolerance of the iterative linear solver.
+    /// Relative tolerance of the iterative linear solver (with
+    /// inexact_newton: the tightest of its solves).
     double linear_tolerance = 1e-8;
+    /// The iterative and matrix-free solvers solve each Newton update only
+    /// as accurately as Newton's convergence needs (ForcingTerm).
+    bool inexact_newton = true;
     /// Preconditioner of the displacement (block) of the iterative solver.
     DisplacementPreconditioner displacement_preconditioner =
       DisplacementPreconditioner::p_multigrid;

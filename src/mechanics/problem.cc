@@ -611,12 +611,16 @@ namespace systole::Mechanics
   Problem::Impl::linear_solve(LA::MPI::Vector       &x,
                               const LA::MPI::Vector &b,
                               const unsigned int     iteration,
-                              const double           relative)
+                              const double           relative,
+                              const double           tolerance)
   {
     try
       {
-        x                      = 0;
+        x = 0;
+        if (tolerance > 0.0)
+          system.linear_solver->set_tolerance(tolerance);
         const unsigned int its = system.linear_solver->solve(x, b);
+        system.linear_solver->set_tolerance(params.linear_tolerance);
         discretization.constraints.distribute(x);
         // (K + U V^T)^-1 b = x - Z (I + V^T Z)^-1 V^T x (Woodbury).
         const unsigned int r = factorized.low_rank_v.size();
@@ -633,6 +637,7 @@ namespace systole::Mechanics
       }
     catch (const dealii::ExceptionBase &e)
       {
+        system.linear_solver->set_tolerance(params.linear_tolerance);
         throw_linear_solver_failure(e, iteration, relative);
       }
     return 0;

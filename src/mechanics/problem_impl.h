@@ -517,11 +517,14 @@ namespace systole::Mechanics
 
     /// Solve tangent x = b (the tangent as last assembled) and distribute
     /// the constraints; wraps linear solver failures as Newton failures.
+    /// An iterative solver stops at the relative residual @p tolerance if
+    /// it is > 0 (Newton's forcing term), else at Linear solver tolerance.
     unsigned int
     linear_solve(LA::MPI::Vector       &x,
                  const LA::MPI::Vector &b,
                  const unsigned int     iteration,
-                 const double           relative);
+                 const double           relative,
+                 const double           tolerance = 0.0);
 
     Parameters                                            params;
     dealii::parallel::DistributedTriangulationBase<3, 3> &tria;

@@ -1,0 +1,126 @@
+// Eisenstat-Walker forcing terms (src/mechanics/forcing_term.h) on an
+// inexact Newton iteration whose linear solves err by exactly the tolerance
+// asked: it must still reach the nonlinear tolerance in about as many
+// iterations as exact Newton, with far fewer digits of linear accuracy.
+#include "mechanics/forcing_term.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+namespace
+{
+  using systole::Mechanics::ForcingTerm;
+
+  /// F_i(x) = x_i + x_i^3 / 2 - b_i: n uncoupled cubic equations.
+  struct Cubic
+  {
+    std::vector<double> b;
+
+    std::vector<double>
+    residual(const std::vector<double> &x) const
+    {
+      std::vector<double> r(x.size());
+      for (unsigned int i = 0; i < x.size(); ++i)
+        r[i] = x[i] + 0.5 * x[i] * x[i] * x[i] - b[i];
+      return r;
+    }
+  };
+
+  double
+  norm(const std::vector<double> &v)
+  {
+    double s = 0.0;
+    for (const double x : v)
+      s += x * x;
+    return std::sqrt(s);
+  }
+
+  struct Outcome
+  {
+    unsigned int iterations = 0;
+    /// Sum of log10(1 / eta): the digits the linear solves gained, which a
+    /// Krylov solver with a fixed contraction pays for in proportion.
+    double digits    = 0.0;
+    bool   converged = false;
+  };
+
+  /// Inexact Newton to |F| <= tolerance |F_0|: each update solves J du = -F
+  /// only to |J du + F| = eta |F| (the error along the worst direction: the
+  /// first component's, the slowest to converge), eta from @p forcing, or
+  /// @p fixed_eta if > 0.
+  Outcome
+  solve(const double fixed_eta)
+  {
+    Cubic               problem{{3.0, -2.0, 0.5, 8.0, -6.0}};
+    std::vector<double> x(problem.b.size(), 0.0);
+    auto                r      = problem.residual(x);
+    const double        target = 1e-10 * norm(r);
+    ForcingTerm         forcing(1e-12);
+    Outcome             outcome;
+    for (; outcome.iterations < 30; ++outcome.iterations)
+      {
+        const double r_norm = norm(r);
+        if (r_norm <= target)
+          {
+            outcome.converged = true;
+            break;
+          }
+        const double eta =
+          fixed_eta > 0.0 ? fixed_eta : forcing.next(r_norm, target);
+        outcome.digits += std::log10(1.0 / eta);
+        for (unsigned int i = 0; i < x.size(); ++i)
+          {
+            const double jacobian = 1.0 + 1.5 * x[i] * x[i];
+            // The linear residual J du + F = e, |e| = eta |F|, along x_0.
+            const double error = i == 0 ? eta * r_norm : 0.0;
+            x[i] += (-r[i] + error) / jacobian;
+          }
+        r = problem.residual(x);
+      }
+    return outcome;
+  }
+} // namespace
+
+TEST_CASE("Forcing terms: the safeguards", "[forcing_term]")
+{
+  ForcingTerm forcing(1e-8);
+  // The first solve: eta_max.
+  CHECK(forcing.next(100.0, 1e-6) == ForcingTerm::eta_max);
+  // A residual cut 100-fold: 0.9 * 1e-4 (0.9 * 0.1^2 = 9e-3 < 0.1, so the
+  // previous eta does not hold it up).
+  CHECK(forcing.next(1.0, 1e-6) == Approx(0.9e-4).epsilon(1e-12));
+  // Quadratic convergence would ask 0.9 * (1e-4)^2 = 9e-9; the nonlinear
+  // tolerance 1e-8 needs only 0.5 * 1e-8 / 1e-4 = 5e-5.
+  CHECK(forcing.next(1e-4, 1e-8) == Approx(5e-5).epsilon(1e-12));
+  // A slow step (residual cut twofold) relaxes it to eta_max: 0.9 * 0.25
+  // is above it.
+  CHECK(forcing.next(5e-5, 1e-16) == ForcingTerm::eta_max);
+  // After eta_max, a 1000-fold cut asks 0.9 * 1e-6 at once.
+  CHECK(forcing.next(5e-8, 1e-16) == Approx(0.9e-6).epsilon(1e-12));
+
+  // The floor: never below the solver's own tolerance.
+  ForcingTerm floored(1e-3);
+  floored.next(1.0, 1e-12);
+  CHECK(floored.next(1e-6, 1e-12) == 1e-3);
+  // A floor above eta_max wins.
+  ForcingTerm loose(0.5);
+  CHECK(loose.next(1.0, 1e-12) == 0.5);
+}
+
+TEST_CASE("Forcing terms: inexact Newton converges with fewer linear digits",
+          "[forcing_term]")
+{
+  const Outcome exact   = solve(1e-12);
+  const Outcome inexact = solve(0.0);
+  REQUIRE(exact.converged);
+  REQUIRE(inexact.converged);
+  // At most two more Newton iterations than (nearly) exact solves ...
+  CHECK(inexact.iterations <= exact.iterations + 2);
+  // ... for less than half the linear accuracy in all.
+  CHECK(inexact.digits < 0.5 * exact.digits);
+  // A fixed loose tolerance converges only linearly: more iterations.
+  const Outcome loose = solve(0.1);
+  CHECK(loose.iterations > inexact.iterations);
+}
