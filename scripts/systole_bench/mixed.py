@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .core import BUSY_NOTE, Case, run
+from .core import BUSY_NOTE, LAND2_PENALTY, Case, run
 
 
 #: Land problem 1 (C = 2 kPa) with the formulations and solvers of the 'mixed' group.
@@ -125,11 +125,11 @@ def kappa_sweep(series: dict[str, list], build: Path, workdir: Path) -> tuple[li
 
 def p2_runs(build: Path, workdir: Path, quick: bool) -> list[tuple[str, dict]]:
     """Land problem 2, penalty and incompressible, refined 0 (and 1) times."""
-    # Land problem 2 on the shipped 16 x 5 ventricle and refined once: the shipped penalty file
+    # Land problem 2 on the 16 x 5 ventricle and refined once: the penalty formulation
     # and the incompressible mixed formulation in 10 equal load steps.
     p2_rows = []
     for label, changes in (
-            ("penalty (shipped file)", {}),
+            ("penalty (the file until 2026-12-07)", {}),
             ("incompressible, 10 equal load steps",
              {"Material/Incompressibility": "incompressible", "Load steps": "10",
               "Mechanics/Adaptive load steps": "false"}),
@@ -139,7 +139,7 @@ def p2_runs(build: Path, workdir: Path, quick: bool) -> list[tuple[str, dict]]:
               "Mechanics/Reuse factorization": "false"})):
         for r in [0] + ([] if quick else [1]):
             case = Case("mixed", "land_problem2.prm", f"{label}, {r} refinement(s)",
-                        {"Global refinements": str(r), **changes})
+                        {**LAND2_PENALTY, "Global refinements": str(r), **changes})
             print(f"running Land problem 2, {case.label} on {case.ranks} rank(s) ...", flush=True)
             p2_rows.append((f"{label}, {r}", run(case, build, workdir)))
     return p2_rows
@@ -179,8 +179,8 @@ def mixed_section(build: Path, workdir: Path, quick: bool) -> str:
         "(Q2-P1disc, energy -p (J - 1) - p^2 / (2 kappa)) with the iterative solver, and the "
         "incompressible one (1/kappa = 0; the run of the table above).\n\n"
         + mixed_table(sweep, "kappa [kPa] | kappa / C") + "\n\n"
-        "Land problem 2 (`parameters/land_problem2.prm`, the 16 x 5 ventricle, Q2, direct "
-        "solver), refined 0 (and 1) times: the shipped penalty file and the incompressible mixed "
+        "Land problem 2 (`parameters/land_problem2.prm` as shipped until 2026-12-07: the 16 x 5 "
+        "ventricle, Q2, direct solver), refined 0 (and 1) times: the penalty file and the incompressible mixed "
         "formulation (isochoric part of the Guccione law) in 10 equal load steps, with the "
         "default modified Newton and with pure Newton (Reuse factorization = false). Reference: "
         "endocardial apex -26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm (-28.5 ... "
