@@ -26,7 +26,7 @@ TITLE = "Mechanics on tetrahedra: Land problem 2, tetrahedra against hexahedra (
 BAND = {"endo": (-26.9, -26.4), "epi": (-28.5, -28.1)}
 #: The scaling group's problem (scaling.SCALING_PROBLEM): two load steps to 2 kPa, pure Newton.
 PER_NEWTON = {"Pressure": "2", "Load steps": "2", "Mechanics/Reuse factorization": "false",
-              "Mechanics/Linear solver": "iterative"}
+              "Mechanics/Linear solver": "iterative", "Mechanics/Inexact Newton": "false"}
 HEX_TAYLOR_HOOD = {"Material/Incompressibility": "incompressible",
                    "Discretization/Pressure element": "continuous",
                    "Mechanics/Adaptive load steps": "false", "Load steps": "10",
