@@ -11,6 +11,7 @@
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
 #include "mechanics/hyperelastic_kernel.h"
+#include "mechanics/matrix_free_mixed_solver.h"
 #include "mechanics/matrix_free_tangent.h"
 #include "mechanics/petsc_tools.h"
 #include "mechanics/problem_impl.h"
@@ -1272,7 +1273,8 @@ namespace systole::Mechanics
     matrix_free_options(const Discretization   &discretization,
                         const Parameters       &params,
                         const QuadraturePoints &points,
-                        const Dynamics         &dynamics)
+                        const Dynamics         &dynamics,
+                        const bool              allow_mixed = false)
     {
       const AssemblyOptions options =
         assembly_options(true,
@@ -1286,14 +1288,16 @@ namespace systole::Mechanics
       // A major-symmetric dP/dF of the full rule, without the rate terms or
       // the inertia.
       AssertThrow(
-        !options.mixed && !options.reduced_volumetric && !options.dynamic &&
-          !options.with_rates && discretization.n_q_1d == 3 &&
+        (allow_mixed || !options.mixed) && !options.reduced_volumetric &&
+          !options.dynamic && !options.with_rates &&
+          discretization.n_q_1d == 3 &&
           !(points.tension_model != nullptr && params.active_cross_fibre.any()),
         dealii::ExcMessage(
-          "Mechanics: the matrix-free tangent needs the penalty formulation "
-          "on Q2 with the full volumetric rule, quasi-static, and no "
-          "cross-fibre tension model (otherwise use Linear solver = "
-          "iterative or direct)."));
+          std::string("Mechanics: the matrix-free tangent needs ") +
+          (allow_mixed ? "Q2 with " : "the penalty formulation on Q2 with ") +
+          "the full volumetric rule, quasi-static, and no cross-fibre "
+          "tension model (otherwise use Linear solver = iterative or "
+          "direct)."));
       return options;
     }
 
@@ -1446,10 +1450,126 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::Impl::check_matrix_free_tangent() const
+  Problem::Impl::check_matrix_free_tangent(const bool allow_mixed) const
   {
-    matrix_free_options(discretization, params, points, dynamics);
+    matrix_free_options(discretization, params, points, dynamics, allow_mixed);
   }
+
+  namespace
+  {
+    /// What the point kernel of the matrix-free tangents reads.
+    struct PointKernel
+    {
+      const Discretization  &discretization;
+      QuadraturePoints      &points;
+      const LA::MPI::Vector &u; ///< ghosted
+      const unsigned int     n_cavities;
+      const MPI_Comm         comm;
+
+      /// The work space of the kernel.
+      CellScratch
+      scratch(const double gamma) const
+      {
+        return CellScratch(discretization,
+                           n_cavities,
+                           points.tension_model != nullptr
+                             ? points.tension_model->n_states()
+                             : 0,
+                           gamma);
+      }
+    };
+
+    /// MatrixFreeTangent::update(const CellTangents &) from the point
+    /// kernel of @p m (the penalty formulation).
+    void
+    update_point_tangents(const PointKernel     &m,
+                          MatrixFreeTangent     &tangent,
+                          const BulkMaterial    &bulk,
+                          const AssemblyOptions &options)
+    {
+      CellScratch  w        = m.scratch(0.0);
+      unsigned int inverted = 0;
+      tangent.update([&](const dealii::DoFHandler<3>::cell_iterator &cell,
+                         std::vector<Tensor<4, 3>>                  &A) {
+        AssertThrow(A.size() == w.fe_values.n_quadrature_points,
+                    dealii::ExcInternalError());
+        w.fe_values.reinit(cell);
+        w.fe_values[m.discretization.layout.displacement]
+          .get_function_gradients(m.u, w.grad_u);
+        const auto data = m.points.point_data.get_data(cell);
+        for (const unsigned int q : w.fe_values.quadrature_point_indices())
+          {
+            PointStress point;
+            if (evaluate_point(bulk, options, q, *data[q], w, point))
+              A[q] = first_elasticity_tangent(point.in.F,
+                                              point.out.S,
+                                              point.out.dS_dE);
+            else
+              {
+                inverted = 1;
+                A[q]     = 0;
+              }
+          }
+      });
+      AssertThrow(dealii::Utilities::MPI::max(inverted, m.comm) == 0,
+                  ExcInvertedElement());
+    }
+
+    /// MatrixFreeTangent::update(const MixedCellTangents &, ...) from the
+    /// point kernel of @p m (the mixed formulations): dP/dF of the
+    /// displacement block (the pressure's -p J F^-T included), J F^-T and
+    /// the weights of the augmented Lagrangian and of the Schur
+    /// preconditioner, as add_pressure_point() has them.
+    void
+    update_mixed_tangent(const PointKernel     &m,
+                         MatrixFreeTangent     &tangent,
+                         const BulkMaterial    &bulk,
+                         const AssemblyOptions &options,
+                         const double           inverse_kappa)
+    {
+      CellScratch  w        = m.scratch(options.gamma);
+      unsigned int inverted = 0;
+      const auto  &dofs     = m.discretization.dof_handler;
+      const auto  &layout   = m.discretization.layout;
+      tangent.update(
+        [&](const dealii::DoFHandler<3>::cell_iterator    &d_cell,
+            std::vector<Tensor<4, 3>>                     &A,
+            std::vector<MatrixFreeTangent::PointPressure> &P) {
+          // The cell of the mixed DoFs (the tangent's are displacement-only).
+          const dealii::DoFHandler<3>::active_cell_iterator cell(
+            &dofs.get_triangulation(),
+            d_cell->level(),
+            d_cell->index(),
+            &dofs);
+          w.fe_values.reinit(cell);
+          w.fe_values[layout.displacement].get_function_gradients(m.u,
+                                                                  w.grad_u);
+          w.fe_values[layout.pressure].get_function_values(m.u, w.p_values);
+          const auto data = m.points.point_data.get_data(cell);
+          for (const unsigned int q : w.fe_values.quadrature_point_indices())
+            {
+              PointStress point;
+              if (!evaluate_point(bulk, options, q, *data[q], w, point))
+                {
+                  inverted = 1;
+                  A[q]     = 0;
+                  P[q]     = {dealii::unit_symmetric_tensor<3>(), 1.0, 1.0};
+                  continue;
+                }
+              const Tensor<2, 3> &F = point.in.F;
+              A[q] = first_elasticity_tangent(F, point.out.S, point.out.dS_dE);
+              P[q].cofactor =
+                dealii::determinant(F) * dealii::transpose(dealii::invert(F));
+              P[q].augmentation_weight = inverse_kappa + point.inverse_mu;
+              P[q].schur_weight =
+                schur_weight(inverse_kappa, point.inverse_mu, options.gamma);
+            }
+        },
+        {&m.discretization.fe->base_element(1), inverse_kappa, options.gamma});
+      AssertThrow(dealii::Utilities::MPI::max(inverted, m.comm) == 0,
+                  ExcInvertedElement());
+    }
+  } // namespace
 
   void
   Problem::Impl::update_matrix_free_tangent(
@@ -1457,8 +1577,14 @@ namespace systole::Mechanics
     const dealii::Vector<double> &pressures,
     const double                  active_tension)
   {
-    const AssemblyOptions options =
-      matrix_free_options(discretization, params, points, dynamics);
+    MatrixFreeMixedSolver *mixed   = system.linear_solver != nullptr
+                                       ? system.linear_solver->matrix_free_mixed()
+                                       : nullptr;
+    const AssemblyOptions  options = matrix_free_options(discretization,
+                                                        params,
+                                                        points,
+                                                        dynamics,
+                                                        mixed != nullptr);
     check_loads(pressures, loads, false);
     AssertThrow(boundaries.robin_supports.empty(),
                 dealii::ExcMessage(
@@ -1477,45 +1603,39 @@ namespace systole::Mechanics
           face_pressures[loads.pressure_ids[i]] = pressures[i];
         }
     {
-      // The displacement in the operator's layout (the same DoF numbering).
+      // The displacement in the operator's layout.
       MatrixFreeTangent::Vector u_mf;
       tangent.initialize_dof_vector(u_mf);
-      copy_owned(u_owned, u_mf);
+      if (mixed != nullptr)
+        mixed->displacement_of(u_owned, u_mf);
+      else
+        copy_owned(u_owned, u_mf);
       tangent.set_follower_pressure(u_mf, face_pressures);
     }
-    CellScratch        w(discretization,
-                  loads.cavities.size(),
-                  points.tension_model != nullptr
-                           ? points.tension_model->n_states()
-                           : 0,
-                  0.0);
     const BulkMaterial bulk =
       bulk_material(material, points, params, active_tension);
-    unsigned int inverted = 0;
-    tangent.update([&](const dealii::DoFHandler<3>::cell_iterator &cell,
-                       std::vector<Tensor<4, 3>>                  &A) {
-      AssertThrow(A.size() == w.fe_values.n_quadrature_points,
-                  dealii::ExcInternalError());
-      w.fe_values.reinit(cell);
-      w.fe_values[discretization.layout.displacement]
-        .get_function_gradients(u, w.grad_u);
-      const auto data = points.point_data.get_data(cell);
-      for (const unsigned int q : w.fe_values.quadrature_point_indices())
-        {
-          PointStress point;
-          if (evaluate_point(bulk, options, q, *data[q], w, point))
-            A[q] = first_elasticity_tangent(point.in.F,
-                                            point.out.S,
-                                            point.out.dS_dE);
-          else
-            {
-              inverted = 1;
-              A[q]     = 0;
-            }
-        }
-    });
-    AssertThrow(dealii::Utilities::MPI::max(inverted, comm) == 0,
-                ExcInvertedElement());
+    const PointKernel kernel{discretization,
+                             points,
+                             u,
+                             static_cast<unsigned int>(loads.cavities.size()),
+                             comm};
+    if (mixed == nullptr)
+      update_point_tangents(kernel, tangent, bulk, options);
+    else
+      // The assembly's switches with the Schur preconditioner and the
+      // augmented Lagrangian (evaluate_point() then gives 1/mu).
+      update_mixed_tangent(kernel,
+                           tangent,
+                           bulk,
+                           assembly_options(true,
+                                            false,
+                                            true,
+                                            true,
+                                            system.augmented_lagrangian,
+                                            false,
+                                            params.viscosity,
+                                            dynamics),
+                           material.inverse_bulk_modulus);
   }
 
   // The lids' force on their rims: -p (1/3) (int cof(F) N dA) / n_rim on

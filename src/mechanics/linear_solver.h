@@ -21,6 +21,7 @@ namespace systole::Mechanics
 {
   class FieldLayout;
   class MatrixFreeTangent;
+  class MatrixFreeMixedSolver;
 
   /// A PETSc matrix on the pressure DoFs alone (block 1 of a FieldLayout,
   /// numbered in the order of the global DoFs): the approximation
@@ -149,6 +150,14 @@ namespace systole::Mechanics
     /// matrix-based solvers.
     virtual MatrixFreeTangent *
     matrix_free_tangent()
+    {
+      return nullptr;
+    }
+
+    /// The matrix-free solver of the mixed formulations (whose tangent the
+    /// Problem fills with the pressure coupling); nullptr for the others.
+    virtual MatrixFreeMixedSolver *
+    matrix_free_mixed()
     {
       return nullptr;
     }

@@ -265,6 +265,14 @@ namespace systole::Mechanics
 
 
   void
+  MatrixFreeSolver::precondition(Vector &dst, const Vector &src) const
+  {
+    Assert(impl->ready, dealii::ExcMessage("setup() first"));
+    impl->vmult(dst, src);
+  }
+
+
+  void
   MatrixFreeSolver::set_tolerance(const double tolerance)
   {
     impl->tolerance = tolerance;

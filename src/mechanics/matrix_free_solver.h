@@ -3,6 +3,7 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/la_parallel_vector.h>
 
 #include "mechanics/linear_solver.h"
 
@@ -84,6 +85,14 @@ namespace systole::Mechanics
 
     MatrixFreeTangent *
     matrix_free_tangent() override;
+
+    /// One V-cycle of the preconditioner built by the last setup(): dst =
+    /// M^-1 src (in the tangent's layout; MatrixFreeMixedSolver's
+    /// displacement block).
+    void
+    precondition(
+      dealii::LinearAlgebra::distributed::Vector<double>       &dst,
+      const dealii::LinearAlgebra::distributed::Vector<double> &src) const;
 
     std::string
     name() const override;

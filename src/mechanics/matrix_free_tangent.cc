@@ -79,6 +79,18 @@ namespace systole::Mechanics
 
 
   void
+  MatrixFreeTangent::update(const MixedCellTangents &tangents,
+                            const MixedConstants    &constants)
+  {
+    AssertThrow(impl->general && constants.pressure_element != nullptr,
+                dealii::ExcMessage("MatrixFreeTangent: the pressure coupling "
+                                   "needs the general tangent and a pressure "
+                                   "element."));
+    impl->update_from(tangents, constants);
+  }
+
+
+  void
   MatrixFreeTangent::set_follower_pressure(
     const Vector                                       &u,
     const std::map<dealii::types::boundary_id, double> &pressures)
@@ -137,7 +149,8 @@ namespace systole::Mechanics
   MatrixFreeTangent::point_storage_bytes() const
   {
     return impl->storage.memory_consumption() +
-           impl->storage_single.memory_consumption();
+           impl->storage_single.memory_consumption() +
+           impl->pressure.storage.memory_consumption();
   }
 
 

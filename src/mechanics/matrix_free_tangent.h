@@ -134,6 +134,41 @@ namespace systole::Mechanics
     void
     update(const CellTangents &tangents);
 
+    /// The pressure coupling of the mixed Q2-P1disc formulation at one
+    /// point: J F^-T, and the weights of the augmented Lagrangian (1/kappa +
+    /// 1/mu) and of the Schur preconditioner (the assembly's).
+    struct PointPressure
+    {
+      dealii::Tensor<2, 3> cofactor;
+      double               augmentation_weight = 0.0;
+      double               schur_weight        = 0.0;
+    };
+
+    /// CellTangents with the pressure coupling of every point (vectors
+    /// arrive sized 27).
+    using MixedCellTangents =
+      std::function<void(const dealii::DoFHandler<3>::cell_iterator &cell,
+                         std::vector<dealii::Tensor<4, 3>>          &A,
+                         std::vector<PointPressure>                 &pressure)>;
+
+    /// What the pressure coupling needs besides the points.
+    struct MixedConstants
+    {
+      /// The pressure element (four shape functions, mapped: FE_DGP(1)).
+      const dealii::FiniteElement<3> *pressure_element = nullptr;
+      double                          inverse_kappa    = 0.0; ///< [1/kPa]
+      double                          gamma            = 0.0; ///< the AL's
+    };
+
+    /// The general tangent of a mixed formulation: as update(const
+    /// CellTangents &), and the pressure coupling of every cell (its rows
+    /// B, the 4 x 4 cell blocks). vmult() and the Q1 level then apply the
+    /// displacement block of the augmented system, A + B^T gamma W^-1 B
+    /// (the assembly's T K_0, docs: Augmented Lagrangian factor); the
+    /// pressure rows and columns are MatrixFreeMixedSolver's.
+    void
+    update(const MixedCellTangents &tangents, const MixedConstants &constants);
+
     /// The follower pressure on boundary faces (Options::boundary_faces):
     /// vmult() then adds its stiffness
     /// @f$p\int \varphi_a\cdot(\partial_F\mathrm{cof}(F)[\nabla_0

@@ -17,6 +17,7 @@
 #include <deal.II/matrix_free/matrix_free.h>
 #include <deal.II/matrix_free/tools.h>
 
+#include "mechanics/matrix_free_pressure_coupling.h"
 #include "mechanics/matrix_free_tangent.h"
 
 #include <algorithm>
@@ -99,6 +100,8 @@ namespace systole::Mechanics::internal
                          data);
       matrix_free.initialize_dof_vector(u);
       with_faces = options != nullptr && options->boundary_faces;
+      for (const auto &line : constraints.get_lines())
+        coupled_constraints = coupled_constraints || !line.entries.empty();
     }
 
     void
@@ -108,6 +111,12 @@ namespace systole::Mechanics::internal
     /// from the caller's dP/dF (a cached variant).
     void
     update_from(const MatrixFreeTangent::CellTangents &tangents);
+
+    /// MatrixFreeTangent::update(const MixedCellTangents &, ...): the point
+    /// storage and the pressure coupling.
+    void
+    update_from(const MatrixFreeTangent::MixedCellTangents &tangents,
+                const MatrixFreeTangent::MixedConstants    &constants);
 
     void
     vmult(Vector &dst, const Vector &src) const
@@ -159,6 +168,11 @@ namespace systole::Mechanics::internal
     void
     compute_inverse_diagonal(Vector &inverse) const;
 
+    /// Add the cell terms' diagonal to @p diagonal from the stored points
+    /// (without constraints that couple DoFs).
+    void
+    add_point_diagonal(Vector &diagonal) const;
+
     void
     residual(Vector &dst) const
     {
@@ -204,6 +218,9 @@ namespace systole::Mechanics::internal
     Vector                  u; ///< ghosted
     /// Whether the MatrixFree has its boundary faces (follower pressure).
     bool with_faces = false;
+    /// Whether a constraint couples DoFs (hanging nodes, sliding
+    /// boundaries), not only zeros them.
+    bool coupled_constraints = false;
     /// The constraints of the Q1 level (DoF handler 1), if any.
     const dealii::AffineConstraints<double> *coarse_constraints = nullptr;
     /// The follower pressure [kPa] per boundary id (set_follower_pressure();
@@ -236,6 +253,10 @@ namespace systole::Mechanics::internal
     template <typename Matrix>
     void
     add_coarse_matrix(Matrix &matrix) const;
+    /// The pressure rows of a mixed formulation (update_from() with the
+    /// pressure coupling; inactive otherwise): apply_cached() adds the
+    /// augmented Lagrangian's B^T gamma W^-1 B.
+    PressureCoupling<VA, Eval::static_n_q_points> pressure;
     /// Per cell batch and point: the 45 tangent entries (cached) or the
     /// law's state (recompute).
     dealii::AlignedVector<VA> storage;
@@ -469,6 +490,9 @@ namespace systole::Mechanics::internal
       constexpr unsigned int n_q = Evaluation::static_n_q_points;
       static_assert(n_q == Eval::static_n_q_points);
       VA *g = phi.begin_gradients();
+      // (The augmented Lagrangian reads B u before g is overwritten.)
+      const auto b = pressure.active() ? pressure.rows(cell, g)
+                                       : decltype(pressure.rows(cell, g))();
       for (unsigned int q = 0; q < n_q; ++q)
         {
           // Entry 3 i + alpha: component i, unit direction alpha.
@@ -482,6 +506,8 @@ namespace systole::Mechanics::internal
           for (unsigned int a = 0; a < 9; ++a)
             g[a * n_q + q] = out[a];
         }
+      if (pressure.active())
+        pressure.add_augmentation(cell, b, g);
     }
 
     /// The cached tangent at one point, pulled back to the unit cell: the
@@ -535,6 +561,11 @@ namespace systole::Mechanics::internal
         JxW,
         A);
     }
+
+    /// The pressure coupling's shape values (of @p element at the points)
+    /// and its storage.
+    void
+    pressure_shape_values(const dealii::FiniteElement<3> &element);
 
     /// Size the point storage for update() and update_from().
     void
@@ -624,23 +655,46 @@ namespace systole::Mechanics::internal
   TangentOperator<VA>::update_from(
     const MatrixFreeTangent::CellTangents &tangents)
   {
+    update_from(
+      [&tangents](const dealii::DoFHandler<3>::cell_iterator &cell,
+                  std::vector<dealii::Tensor<4, 3>>          &A,
+                  std::vector<MatrixFreeTangent::PointPressure> &) {
+        tangents(cell, A);
+      },
+      MatrixFreeTangent::MixedConstants());
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::update_from(
+    const MatrixFreeTangent::MixedCellTangents &tangents,
+    const MatrixFreeTangent::MixedConstants    &constants)
+  {
     AssertThrow(cached(), dealii::ExcInternalError());
     resize_storage();
-    constexpr unsigned int n_q = Eval::static_n_q_points;
-    using Tangent              = dealii::Tensor<4, 3, VA>;
-    std::vector<dealii::Tensor<4, 3>> lane(n_q);
-    std::vector<Tangent>              batch(n_q);
-    Eval                              phi(matrix_free);
+    constexpr unsigned int n_q   = Eval::static_n_q_points;
+    const bool             mixed = constants.pressure_element != nullptr;
+    if (mixed)
+      pressure_shape_values(*constants.pressure_element);
+    using Tangent = dealii::Tensor<4, 3, VA>;
+    std::vector<dealii::Tensor<4, 3>>             lane(n_q);
+    std::vector<MatrixFreeTangent::PointPressure> lane_p(n_q);
+    std::vector<Tangent>                          batch(n_q);
+    std::vector<Grad>                             cofactor(n_q);
+    std::vector<double> JxW(n_q), weight(n_q), schur(n_q);
+    Eval                phi(matrix_free);
     for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
       {
         phi.reinit(cell);
         // The lanes of the batch; the empty ones keep a zero tangent.
         std::fill(batch.begin(), batch.end(), Tangent());
+        std::fill(cofactor.begin(), cofactor.end(), Grad());
         for (unsigned int l = 0;
              l < matrix_free.n_active_entries_per_cell_batch(cell);
              ++l)
           {
-            tangents(matrix_free.get_cell_iterator(cell, l), lane);
+            tangents(matrix_free.get_cell_iterator(cell, l), lane, lane_p);
             AssertThrow(lane.size() == n_q, dealii::ExcInternalError());
             for (unsigned int q = 0; q < n_q; ++q)
               for (unsigned int e = 0; e < 81; ++e)
@@ -648,6 +702,24 @@ namespace systole::Mechanics::internal
                   const auto index = Tangent::unrolled_to_component_indices(e);
                   batch[q][index][l] = lane[q][index];
                 }
+            if (!mixed)
+              continue;
+            for (unsigned int q = 0; q < n_q; ++q)
+              {
+                for (unsigned int e = 0; e < 9; ++e)
+                  cofactor[q][e / 3][e % 3][l] =
+                    lane_p[q].cofactor[e / 3][e % 3];
+                JxW[q]    = phi.JxW(q)[l];
+                weight[q] = lane_p[q].augmentation_weight;
+                schur[q]  = lane_p[q].schur_weight;
+              }
+            pressure.set_matrices(cell,
+                                  l,
+                                  JxW,
+                                  weight,
+                                  schur,
+                                  constants.inverse_kappa,
+                                  constants.gamma);
           }
         for (unsigned int q = 0; q < n_q; ++q)
           {
@@ -660,8 +732,36 @@ namespace systole::Mechanics::internal
               phi.JxW(q),
               tangent_destination(cell, q));
             store_tangent(cell, q);
+            if (mixed)
+              pressure.set_d(cell,
+                             q,
+                             cofactor[q],
+                             phi.inverse_jacobian(q),
+                             phi.JxW(q));
           }
       }
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::pressure_shape_values(
+    const dealii::FiniteElement<3> &element)
+  {
+    AssertThrow(element.n_dofs_per_cell() == decltype(pressure)::n_p &&
+                  element.n_components() == 1,
+                dealii::ExcMessage(
+                  "The matrix-free mixed tangent needs a discontinuous P1 "
+                  "pressure (four DoFs per hexahedron); got " +
+                  element.get_name() + "."));
+    const dealii::QGauss<3> rule(n_q_1d);
+    pressure.psi.resize(decltype(pressure)::n_p);
+    for (unsigned int k = 0; k < pressure.psi.size(); ++k)
+      for (unsigned int q = 0; q < rule.size(); ++q)
+        pressure.psi[k][q] = element.shape_value(k, rule.point(q));
+    pressure.storage.resize(
+      static_cast<std::size_t>(matrix_free.n_cell_batches()) *
+      decltype(pressure)::per_batch);
   }
 
 
@@ -671,14 +771,18 @@ namespace systole::Mechanics::internal
   {
     AssertThrow(cached(), dealii::ExcNotImplemented());
     matrix_free.initialize_dof_vector(inverse);
-    dealii::MatrixFreeTools::compute_diagonal(
-      matrix_free,
-      inverse,
-      std::function<void(Eval &)>([this](Eval &phi) {
-        phi.evaluate(dealii::EvaluationFlags::gradients);
-        apply_cached(phi, phi.get_current_cell_index());
-        phi.integrate(dealii::EvaluationFlags::gradients);
-      }));
+    if (coupled_constraints)
+      // (The condensed diagonal: deal.II's, column by column.)
+      dealii::MatrixFreeTools::compute_diagonal(
+        matrix_free,
+        inverse,
+        std::function<void(Eval &)>([this](Eval &phi) {
+          phi.evaluate(dealii::EvaluationFlags::gradients);
+          apply_cached(phi, phi.get_current_cell_index());
+          phi.integrate(dealii::EvaluationFlags::gradients);
+        }));
+    else
+      add_point_diagonal(inverse);
     for (const unsigned int i : matrix_free.get_constrained_dofs())
       inverse.local_element(i) = 1.0;
     for (unsigned int i = 0; i < inverse.locally_owned_size(); ++i)
@@ -690,6 +794,93 @@ namespace systole::Mechanics::internal
                                        std::to_string(d) + ")."));
         inverse.local_element(i) = 1.0 / d;
       }
+  }
+
+
+  template <typename VA>
+  void
+  TangentOperator<VA>::add_point_diagonal(Vector &diagonal) const
+  {
+    // K_ii of the shape function i = (component c, node A) straight from the
+    // stored points: sum_q g_A(q)^T Ahat_q[c c] g_A(q) (+ b^T Gamma b, b = B
+    // e_i, with the pressure coupling), g_A the unit-cell gradient of node
+    // A: a few numbers per point, where deal.II's compute_diagonal() applies
+    // the cell operator to each of the 81 unit vectors of a cell.
+    constexpr unsigned int n_q   = Eval::static_n_q_points;
+    constexpr unsigned int n_1d  = degree + 1;
+    constexpr unsigned int nodes = n_1d * n_1d * n_1d;
+    const auto            &shape = matrix_free.get_shape_info(0).data[0];
+    std::vector<std::array<std::array<double, 3>, n_q>> grad(nodes);
+    for (unsigned int A = 0; A < nodes; ++A)
+      for (unsigned int q = 0; q < n_q; ++q)
+        {
+          const unsigned int a[3] = {A % n_1d,
+                                     (A / n_1d) % n_1d,
+                                     A / (n_1d * n_1d)};
+          const unsigned int p[3] = {q % n_q_1d,
+                                     (q / n_q_1d) % n_q_1d,
+                                     q / (n_q_1d * n_q_1d)};
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              double g = 1.0;
+              for (unsigned int e = 0; e < 3; ++e)
+                g *= e == d ? shape.shape_gradients[a[e] * n_q_1d + p[e]][0]
+                            : shape.shape_values[a[e] * n_q_1d + p[e]][0];
+              grad[A][q][d] = g;
+            }
+        }
+    // Index of entry (a, b), a <= b, in the stored upper triangle.
+    const auto entry = [](const unsigned int a, const unsigned int b) {
+      return 9 * a - a * (a - 1) / 2 + (b - a);
+    };
+    Eval phi(matrix_free);
+    for (unsigned int cell = 0; cell < matrix_free.n_cell_batches(); ++cell)
+      {
+        phi.reinit(cell);
+        for (unsigned int c = 0; c < 3; ++c)
+          for (unsigned int A = 0; A < nodes; ++A)
+            {
+              VA                                      D = 0.0;
+              std::array<VA, decltype(pressure)::n_p> b;
+              for (auto &x : b)
+                x = 0.0;
+              for (unsigned int q = 0; q < n_q; ++q)
+                {
+                  const auto &h = grad[A][q];
+                  for (unsigned int al = 0; al < 3; ++al)
+                    for (unsigned int be = 0; be < 3; ++be)
+                      {
+                        const unsigned int i = 3 * c + std::min(al, be);
+                        const unsigned int j = 3 * c + std::max(al, be);
+                        const VA           Aq =
+                          variant == Variant::cached_single
+                                      ? to_double(point_single(cell, q)[entry(i, j)])
+                                      : point(cell, q)[entry(i, j)];
+                        D += (h[al] * h[be]) * Aq;
+                      }
+                  if (pressure.active())
+                    {
+                      const VA *dq  = pressure.d(cell, q);
+                      const VA  dot = dq[3 * c] * h[0] + dq[3 * c + 1] * h[1] +
+                                     dq[3 * c + 2] * h[2];
+                      for (unsigned int k = 0; k < b.size(); ++k)
+                        b[k] -= pressure.psi[k][q] * dot;
+                    }
+                }
+              if (pressure.active())
+                {
+                  const auto Gb =
+                    pressure.multiply(cell,
+                                      decltype(pressure)::gamma_inverse_weight,
+                                      b);
+                  for (unsigned int k = 0; k < b.size(); ++k)
+                    D += b[k] * Gb[k];
+                }
+              phi.begin_dof_values()[c * nodes + A] = D;
+            }
+        phi.distribute_local_to_global(diagonal);
+      }
+    diagonal.compress(dealii::VectorOperation::add);
   }
 
 

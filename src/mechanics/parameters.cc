@@ -453,8 +453,11 @@ namespace systole::Mechanics
         "faces) with CG (GMRES if not symmetric) and a p-multigrid V-cycle: "
         "Chebyshev smoothing with the matrix-free diagonal on Q2, the Q1 "
         "matrix of the same cached tangent solved by MUMPS (PETSc prefix "
-        "-mechanics_mf_coarse_); only the penalty formulation on Q2 "
-        "hexahedra, quasi-static, without volume constraints, loaded lids "
+        "-mechanics_mf_coarse_); for the mixed formulations (Q2-P1disc) "
+        "FGMRES on the augmented system applied cell by cell (the pressure "
+        "rows and the Augmented Lagrangian factor's term at the points) with "
+        "the iterative solver's block preconditioner on that V-cycle; only "
+        "Q2 hexahedra, quasi-static, without volume constraints, loaded lids "
         "or spring supports (else an error naming iterative and direct); "
         "auto: direct up to 'Direct solver limit' DOFs, else iterative "
         "(never matrix-free). Units: -.");

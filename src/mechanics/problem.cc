@@ -15,6 +15,7 @@
 #include "geometry/mesh_checks.h"
 #include "materials/passive_law.h"
 #include "materials/volumetric_law.h"
+#include "mechanics/matrix_free_mixed_solver.h"
 #include "mechanics/matrix_free_solver.h"
 #include "mechanics/problem_impl.h"
 
@@ -223,12 +224,11 @@ namespace systole::Mechanics
     /// The augmented Lagrangian (Mechanics / Augmented Lagrangian factor):
     /// checks the factor and sets up the pattern of G, which couples the
     /// displacement DoFs of a cell to its (discontinuous) pressure DoFs.
+    /// Throws unless the Augmented Lagrangian factor gamma is below (kappa
+    /// + mu) / mu.
     void
-    setup_augmentation(const Parameters     &params,
-                       const MaterialLaws   &material,
-                       const Discretization &discretization,
-                       const MPI_Comm        comm,
-                       LinearSystem         &system)
+    check_augmented_lagrangian(const Parameters   &params,
+                               const MaterialLaws &material)
     {
       const double mu = 10.0 * material.reference_shear_stiffness;
       AssertThrow(
@@ -242,6 +242,16 @@ namespace systole::Mechanics
             1.0 / (material.inverse_bulk_modulus * mu) + 1.0) +
           " (Material / Volumetric / Bulk modulus against the law's shear "
           "stiffness): lower it, or set it to 0."));
+    }
+
+    void
+    setup_augmentation(const Parameters     &params,
+                       const MaterialLaws   &material,
+                       const Discretization &discretization,
+                       const MPI_Comm        comm,
+                       LinearSystem         &system)
+    {
+      check_augmented_lagrangian(params, material);
       system.augmented_lagrangian = params.augmented_lagrangian;
       dealii::DynamicSparsityPattern coupling_pattern(discretization.relevant);
       const auto                    &fe = *discretization.fe;
@@ -499,19 +509,22 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::Impl::reinit_system()
+  Problem::Impl::reinit_system(const bool sparse_tangent)
   {
-    const Discretization          &d = discretization;
-    dealii::DynamicSparsityPattern dsp(d.relevant);
-    dealii::DoFTools::make_sparsity_pattern(d.dof_handler,
-                                            dsp,
-                                            d.constraints,
-                                            false);
-    dealii::SparsityTools::distribute_sparsity_pattern(dsp,
-                                                       d.owned,
-                                                       comm,
-                                                       d.relevant);
-    system.tangent.reinit(d.owned, d.owned, dsp, comm);
+    const Discretization &d = discretization;
+    if (sparse_tangent)
+      {
+        dealii::DynamicSparsityPattern dsp(d.relevant);
+        dealii::DoFTools::make_sparsity_pattern(d.dof_handler,
+                                                dsp,
+                                                d.constraints,
+                                                false);
+        dealii::SparsityTools::distribute_sparsity_pattern(dsp,
+                                                           d.owned,
+                                                           comm,
+                                                           d.relevant);
+        system.tangent.reinit(d.owned, d.owned, dsp, comm);
+      }
     system.residual.reinit(d.owned, comm);
     loads.volume_derivatives.resize(loads.cavities.size());
     for (auto &b : loads.volume_derivatives)
@@ -531,12 +544,13 @@ namespace systole::Mechanics
     const Parameters &params = in.params;
     Impl             &m      = *impl;
     m.discretization.distribute_dofs(m.boundaries);
-    m.reinit_system();
+    const auto        n_dofs = m.discretization.dof_handler.n_dofs();
+    const std::string solver = resolve_linear_solver(params, n_dofs);
+    // (The matrix-free solvers have no sparse tangent at all.)
+    m.reinit_system(solver != "matrix-free");
     m.points.initialize(m.discretization, in.fibres);
     m.discretization.measure(m.comm);
 
-    const auto        n_dofs = m.discretization.dof_handler.n_dofs();
-    const std::string solver = resolve_linear_solver(params, n_dofs);
     // Accelerated chords pay where factorizations dominate the cost.
     if (params.chord_acceleration_auto)
       m.params.chord_acceleration_depth =
@@ -546,8 +560,6 @@ namespace systole::Mechanics
     m.system.linear_solver_name = solver;
     m.create_linear_solver(
       symmetric_tangent(params, in.names, m.boundaries, m.loads));
-    if (m.system.linear_solver->matrix_free_tangent() != nullptr)
-      m.system.tangent.clear(); // (no sparse tangent at all)
     if (m.system.linear_solver->needs_pressure_matrix())
       m.system.pressure_matrix = std::make_unique<PressureMatrix>(
         m.discretization.layout,
@@ -768,29 +780,46 @@ namespace systole::Mechanics
         const std::string alternative =
           " (Mechanics / Linear solver = matrix-free); use Linear solver = "
           "iterative or direct.";
-        AssertThrow(!discretization.layout.mixed() &&
-                      discretization.fe->degree == 2 &&
-                      !discretization.layout.cell_kind().simplex(),
+        const bool mixed = discretization.layout.mixed();
+        AssertThrow(discretization.fe->degree == 2 &&
+                      !discretization.layout.cell_kind().simplex() &&
+                      (!mixed || params.pressure_element ==
+                                   PressureElement::discontinuous),
                     dealii::ExcMessage(
-                      "The matrix-free linear solver needs the penalty "
-                      "formulation (no pressure field) with Q2 displacements "
-                      "on hexahedra" +
+                      "The matrix-free linear solver needs Q2 displacements "
+                      "on hexahedra, with no pressure field (the penalty "
+                      "formulation) or a discontinuous P1 one (Pressure "
+                      "element = discontinuous)" +
                       alternative));
         AssertThrow(boundaries.robin_supports.empty(),
                     dealii::ExcMessage("The matrix-free linear solver has no "
                                        "spring-dashpot (Robin) supports" +
                                        alternative));
-        check_matrix_free_tangent();
-        system.linear_solver = std::make_unique<MatrixFreeSolver>(
-          discretization.mapping,
-          discretization.dof_handler,
-          discretization.constraints,
+        check_matrix_free_tangent(mixed);
+        const MatrixFreeSolver::MakeConstraints make_constraints =
           [this](const dealii::DoFHandler<3>       &dofs,
                  dealii::AffineConstraints<double> &constraints) {
             discretization.make_constraints(dofs, boundaries, constraints);
-          },
-          params.linear_tolerance,
-          symmetric);
+          };
+        if (mixed)
+          {
+            check_augmented_lagrangian(params, material);
+            system.augmented_lagrangian = params.augmented_lagrangian;
+            system.linear_solver = std::make_unique<MatrixFreeMixedSolver>(
+              discretization.mapping,
+              discretization.dof_handler,
+              discretization.layout,
+              make_constraints,
+              params.linear_tolerance);
+          }
+        else
+          system.linear_solver =
+            std::make_unique<MatrixFreeSolver>(discretization.mapping,
+                                               discretization.dof_handler,
+                                               discretization.constraints,
+                                               make_constraints,
+                                               params.linear_tolerance,
+                                               symmetric);
         factorized.held = false;
         return;
       }

@@ -491,9 +491,11 @@ namespace systole::Mechanics
     update_matrix_free_tangent(MatrixFreeTangent            &tangent,
                                const dealii::Vector<double> &pressures,
                                const double                  active_tension);
-    /// Throws unless the formulation suits update_matrix_free_tangent().
+    /// Throws unless the formulation suits update_matrix_free_tangent()
+    /// (the penalty formulation; @p allow_mixed: or a mixed one, for
+    /// MatrixFreeMixedSolver).
     void
-    check_matrix_free_tangent() const;
+    check_matrix_free_tangent(const bool allow_mixed = false) const;
 
     /// @p pressure on every pressure part.
     dealii::Vector<double>
@@ -538,10 +540,11 @@ namespace systole::Mechanics
     QuadraturePoints   points;
     LinearSystem       system;
 
-    /// The sparsity of the tangent and the vectors of the solution and the
-    /// system (after Discretization::distribute_dofs()).
+    /// The sparse tangent (@p sparse_tangent: not for the matrix-free
+    /// solvers) and the vectors of the solution and the system (after
+    /// Discretization::distribute_dofs()).
     void
-    reinit_system();
+    reinit_system(const bool sparse_tangent);
 
     /// dst = K src with the tangent as last assembled (T K when augmented:
     /// then K src = T^-1 (T K src) = (T K src) - G (T K src)).
