@@ -9,7 +9,7 @@ from .mixed import mixed_table
 
 
 #: The "large" group: the shipped files of Land problems 1 and 3 (incompressible, Q2-P1disc)
-#: on meshes above 500k DOFs, with the `auto` linear solver (iterative there). The beam: 30 x 3
+#: on meshes above 500k DOFs, with the `auto` linear solver (matrix-free there). The beam: 30 x 3
 #: x 3 coarse cells refined twice (120 x 12 x 12 cells, 521k DOFs); the ventricle: 32 x 10
 #: coarse cells refined twice, without the file's local refinement at the apex (511k DOFs).
 LARGE_TITLE = "Land problems 1 and 3 above 500k DOFs (2 ranks)"
@@ -53,7 +53,7 @@ def large_text(rows: list[tuple[str, dict]]) -> str:
         "Newton settings) on the finest meshes of the refinement studies: the beam of 30 x 3 x 3 "
         "coarse cells refined twice (120 x 12 x 12 cells) and the ventricle of 32 x 10 coarse "
         "cells refined twice without the file's local refinement at the apex, 2 ranks, the "
-        "`auto` linear solver (iterative above 200 000 DOFs). Problem 1: the deformed z of the "
+        "`auto` linear solver (above 200 000 DOFs matrix-free since 2026-12-07, iterative before). Problem 1: the deformed z of the "
         "beam tip (10, 0.5, 1); problem 3: the deformed z of the endocardial and epicardial "
         "apex, whose values depend on the level of the cells at the apex points (sections "
         "\"Land problem 3: refined at each apex\" and \"Land problem 3: the fibre field on the "

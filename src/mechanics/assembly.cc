@@ -1266,15 +1266,17 @@ namespace systole::Mechanics
               material.reference_shear_stiffness};
     }
 
-    /// The switches of the matrix-free tangent's point kernel (the
-    /// assembly's with the matrix, no pressure matrix). Throws where the
-    /// formulation has terms the stored 9 x 9 of a point cannot hold.
-    AssemblyOptions
-    matrix_free_options(const Discretization   &discretization,
-                        const Parameters       &params,
-                        const QuadraturePoints &points,
-                        const Dynamics         &dynamics,
-                        const bool              allow_mixed = false)
+    /// Why the matrix-free tangent's point kernel cannot hold the terms of
+    /// the formulation (the stored 9 x 9 of a point is a major-symmetric
+    /// dP/dF of the full rule, without the rate terms or the inertia);
+    /// empty if it can. @p allow_mixed: a pressure field is allowed
+    /// (MatrixFreeMixedSolver).
+    std::string
+    matrix_free_obstacle(const Discretization   &discretization,
+                         const Parameters       &params,
+                         const QuadraturePoints &points,
+                         const Dynamics         &dynamics,
+                         const bool              allow_mixed)
     {
       const AssemblyOptions options =
         assembly_options(true,
@@ -1285,20 +1287,43 @@ namespace systole::Mechanics
                          discretization.reduced_volumetric,
                          params.viscosity,
                          dynamics);
-      // A major-symmetric dP/dF of the full rule, without the rate terms or
-      // the inertia.
-      AssertThrow(
-        (allow_mixed || !options.mixed) && !options.reduced_volumetric &&
+      if ((allow_mixed || !options.mixed) && !options.reduced_volumetric &&
           !options.dynamic && !options.with_rates &&
           discretization.n_q_1d == 3 &&
-          !(points.tension_model != nullptr && params.active_cross_fibre.any()),
-        dealii::ExcMessage(
-          std::string("Mechanics: the matrix-free tangent needs ") +
-          (allow_mixed ? "Q2 with " : "the penalty formulation on Q2 with ") +
-          "the full volumetric rule, quasi-static, and no cross-fibre "
-          "tension model (otherwise use Linear solver = iterative or "
-          "direct)."));
-      return options;
+          !(points.tension_model != nullptr && params.active_cross_fibre.any()))
+        return "";
+      return std::string("Mechanics: the matrix-free tangent needs ") +
+             (allow_mixed ? "Q2 with "
+                          : "the penalty formulation on Q2 with ") +
+             "the full volumetric rule, quasi-static, and no cross-fibre "
+             "tension model (otherwise use Linear solver = iterative or "
+             "direct).";
+    }
+
+    /// The switches of the matrix-free tangent's point kernel (the
+    /// assembly's with the matrix, no pressure matrix). Throws where the
+    /// formulation has terms the stored 9 x 9 of a point cannot hold.
+    AssemblyOptions
+    matrix_free_options(const Discretization   &discretization,
+                        const Parameters       &params,
+                        const QuadraturePoints &points,
+                        const Dynamics         &dynamics,
+                        const bool              allow_mixed = false)
+    {
+      const std::string obstacle = matrix_free_obstacle(discretization,
+                                                        params,
+                                                        points,
+                                                        dynamics,
+                                                        allow_mixed);
+      AssertThrow(obstacle.empty(), dealii::ExcMessage(obstacle));
+      return assembly_options(true,
+                              false,
+                              discretization.layout.mixed(),
+                              false,
+                              0.0,
+                              discretization.reduced_volumetric,
+                              params.viscosity,
+                              dynamics);
     }
 
     /// Throws unless there is one pressure per pressure part of @p loads,
@@ -1453,6 +1478,22 @@ namespace systole::Mechanics
   Problem::Impl::check_matrix_free_tangent(const bool allow_mixed) const
   {
     matrix_free_options(discretization, params, points, dynamics, allow_mixed);
+  }
+
+  bool
+  Problem::Impl::matrix_free_applies() const
+  {
+    const bool mixed = discretization.layout.mixed();
+    bool       lids  = false;
+    for (const bool moving : loads.moving_lid)
+      lids = lids || (moving && params.lid_pressure);
+    return discretization.fe->degree == 2 &&
+           !discretization.layout.cell_kind().simplex() &&
+           (!mixed ||
+            params.pressure_element == PressureElement::discontinuous) &&
+           boundaries.robin_supports.empty() && !lids &&
+           matrix_free_obstacle(discretization, params, points, dynamics, true)
+             .empty();
   }
 
   namespace

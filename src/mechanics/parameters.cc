@@ -459,8 +459,9 @@ namespace systole::Mechanics
         "the iterative solver's block preconditioner on that V-cycle; only "
         "Q2 hexahedra, quasi-static, without volume constraints, loaded lids "
         "or spring supports (else an error naming iterative and direct); "
-        "auto: direct up to 'Direct solver limit' DOFs, else iterative "
-        "(never matrix-free). Units: -.");
+        "auto: direct up to 'Direct solver limit' DOFs, above it "
+        "matrix-free where it applies and the problem solves at given "
+        "pressures (Problem = mechanics), else iterative. Units: -.");
       prm.declare_entry(
         "Direct solver limit",
         "200000",

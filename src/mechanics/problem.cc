@@ -180,11 +180,14 @@ namespace systole::Mechanics
     /// solver = auto resolved).
     std::string
     resolve_linear_solver(const Parameters                     &params,
-                          const dealii::types::global_dof_index n_dofs)
+                          const dealii::types::global_dof_index n_dofs,
+                          const bool                            matrix_free)
     {
       if (params.linear_solver != "auto")
         return params.linear_solver;
-      return n_dofs <= params.direct_solver_limit ? "direct" : "iterative";
+      if (n_dofs <= params.direct_solver_limit)
+        return "direct";
+      return matrix_free ? "matrix-free" : "iterative";
     }
 
     /// Whether the tangent is symmetric: when every load derives from a
@@ -545,7 +548,10 @@ namespace systole::Mechanics
     Impl             &m      = *impl;
     m.discretization.distribute_dofs(m.boundaries);
     const auto        n_dofs = m.discretization.dof_handler.n_dofs();
-    const std::string solver = resolve_linear_solver(params, n_dofs);
+    const std::string solver =
+      resolve_linear_solver(params,
+                            n_dofs,
+                            in.fixed_pressures && m.matrix_free_applies());
     // (The matrix-free solvers have no sparse tangent at all.)
     m.reinit_system(solver != "matrix-free");
     m.points.initialize(m.discretization, in.fibres);

@@ -191,6 +191,10 @@ namespace systole::Mechanics
       /// cell
       const FibreFunction &fibres;
       Logger              &logger;
+      /// Whether the caller solves at given pressures only (solve(), no
+      /// solve_volume(); Problem = mechanics): Linear solver = auto may then
+      /// pick the matrix-free solver where it applies.
+      bool fixed_pressures = false;
     };
 
     explicit Problem(const Inputs &in);

@@ -496,6 +496,11 @@ namespace systole::Mechanics
     /// MatrixFreeMixedSolver).
     void
     check_matrix_free_tangent(const bool allow_mixed = false) const;
+    /// Whether Linear solver = matrix-free covers this problem at fixed
+    /// cavity pressures (Q2 hexahedra, no pressure or a discontinuous one,
+    /// quasi-static, no springs, no loaded lid, ...): what `auto` asks.
+    bool
+    matrix_free_applies() const;
 
     /// @p pressure on every pressure part.
     dealii::Vector<double>

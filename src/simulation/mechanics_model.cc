@@ -113,7 +113,8 @@ namespace systole
         tria,
         names,
         &logger),
-      logger});
+      logger,
+      run.problem == "mechanics"});
   }
 
   std::vector<IO::Column>

@@ -157,7 +157,8 @@ namespace test_support
                                           law,
                                           volumetric,
                                           fibres,
-                                          logger});
+                                          logger,
+                                          fixed_pressures});
   }
 
   systole::Mechanics::Problem::VolumeTarget

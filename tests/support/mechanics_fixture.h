@@ -103,6 +103,9 @@ namespace test_support
     std::unique_ptr<systole::Mechanics::Problem>
     problem(const unsigned int degree = 2);
 
+    /// Problem::Inputs::fixed_pressures of problem().
+    bool fixed_pressures = false;
+
     std::ostringstream                              sink;
     systole::Logger                                 logger;
     systole::Materials::Guccione                    law;

@@ -158,6 +158,33 @@ TEST_CASE("Linear solver = matrix-free solves the mixed formulations as the "
     }
 }
 
+TEST_CASE("Linear solver = auto picks the matrix-free solver above the direct "
+          "solver limit for a caller at given pressures",
+          "[mpi][mechanics][matrix-free]")
+{
+  using systole::Mechanics::Incompressibility;
+  const auto name = [](const bool              fixed_pressures,
+                       const unsigned int      limit,
+                       const Incompressibility formulation) {
+    test_support::VentricleMechanics v;
+    v.params.linear_solver       = "auto";
+    v.params.direct_solver_limit = limit;
+    v.params.incompressibility   = formulation;
+    v.fixed_pressures            = fixed_pressures;
+    return v.problem(2)->linear_solver_name();
+  };
+  for (const auto formulation :
+       {Incompressibility::penalty, Incompressibility::incompressible})
+    {
+      CHECK_THAT(name(true, 100, formulation), Catch::Contains("matrix-free"));
+      // A caller with cavity-volume constraints (the heartbeat), or a
+      // problem below the limit: not matrix-free.
+      CHECK_THAT(name(false, 100, formulation),
+                 !Catch::Contains("matrix-free"));
+      CHECK_THAT(name(true, 1000000, formulation), Catch::Contains("direct"));
+    }
+}
+
 TEST_CASE("Linear solver = matrix-free refuses what it does not cover",
           "[mpi][mechanics][matrix-free]")
 {
