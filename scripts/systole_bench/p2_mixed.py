@@ -17,7 +17,9 @@ NOTE = ("Incompressible (mixed Q2-P1disc, the isochoric part of the Guccione law
         "depth 5, 'plain chords': depth 0. The rows 'Q2-Q1' are the same study with the "
         "continuous pressure (Taylor-Hood, `Discretization / Pressure element = "
         "continuous`; at 467k DOFs the iterative solver without the augmented "
-        "Lagrangian, which is Q2-P1disc's only). Reference: "
+        "Lagrangian, which is Q2-P1disc's only). The rows 'iterative' and 'matrix-free' "
+        "set the linear solver: the assembled block solver against MatrixFreeMixedSolver. "
+        "Reference: "
         "endocardial apex "
         "-26.6 mm (-26.9 ... -26.4), epicardial apex -28.3 mm (-28.5 ... -28.1).")
 #: 10 equal load steps, incompressible.
@@ -56,6 +58,13 @@ def cases(quick: bool) -> list[Case]:
     p2i += [Case("p2-mixed", "land_problem2.prm", f"{a}x{b}x1 cells, {r} refinement(s), Q2-Q1",
                  {**ventricle(a, b, r), **MIXED10, "Discretization/Pressure element": "continuous"})
             for a, b, r in th_levels]
+    # Matrix-based against matrix-free side by side (the assembled block solver and
+    # MatrixFreeMixedSolver, both with inexact Newton), from 16k DOFs to 511k.
+    solver_levels = [(16, 5, 1), (32, 10, 1)] + ([] if quick else [(16, 5, 2), (32, 10, 2)])
+    p2i += [Case("p2-mixed", "land_problem2.prm",
+                 f"{a}x{b}x1 cells, {r} refinement(s), Q2-P1disc, {solver}",
+                 {**ventricle(a, b, r), **MIXED10, "Mechanics/Linear solver": solver})
+            for a, b, r in solver_levels for solver in ("iterative", "matrix-free")]
     # Accelerated below the default's threshold, plain above, on the 16 x 5 levels the direct
     # solver takes.
     p2i += chords("5", "accelerated chords", [(16, 5, 0), (16, 5, 1)])
