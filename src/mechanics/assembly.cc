@@ -1266,6 +1266,23 @@ namespace systole::Mechanics
               material.reference_shear_stiffness};
     }
 
+    /// The assembly's switches with the matrix (no pressure matrix): those
+    /// of the matrix-free tangent's point kernel.
+    AssemblyOptions
+    point_kernel_options(const Discretization &discretization,
+                         const Parameters     &params,
+                         const Dynamics       &dynamics)
+    {
+      return assembly_options(true,
+                              false,
+                              discretization.layout.mixed(),
+                              false,
+                              0.0,
+                              discretization.reduced_volumetric,
+                              params.viscosity,
+                              dynamics);
+    }
+
     /// Why the matrix-free tangent's point kernel cannot hold the terms of
     /// the formulation (the stored 9 x 9 of a point is a major-symmetric
     /// dP/dF of the full rule, without the rate terms or the inertia);
@@ -1279,14 +1296,7 @@ namespace systole::Mechanics
                          const bool              allow_mixed)
     {
       const AssemblyOptions options =
-        assembly_options(true,
-                         false,
-                         discretization.layout.mixed(),
-                         false,
-                         0.0,
-                         discretization.reduced_volumetric,
-                         params.viscosity,
-                         dynamics);
+        point_kernel_options(discretization, params, dynamics);
       if ((allow_mixed || !options.mixed) && !options.reduced_volumetric &&
           !options.dynamic && !options.with_rates &&
           discretization.n_q_1d == 3 &&
@@ -1316,14 +1326,7 @@ namespace systole::Mechanics
                                                         dynamics,
                                                         allow_mixed);
       AssertThrow(obstacle.empty(), dealii::ExcMessage(obstacle));
-      return assembly_options(true,
-                              false,
-                              discretization.layout.mixed(),
-                              false,
-                              0.0,
-                              discretization.reduced_volumetric,
-                              params.viscosity,
-                              dynamics);
+      return point_kernel_options(discretization, params, dynamics);
     }
 
     /// Throws unless there is one pressure per pressure part of @p loads,

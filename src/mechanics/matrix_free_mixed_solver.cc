@@ -409,13 +409,7 @@ namespace systole::Mechanics
       }
     catch (const dealii::SolverControl::NoConvergence &e)
       {
-        AssertThrow(false,
-                    dealii::ExcMessage(
-                      "The matrix-free mixed linear solver did not converge (" +
-                      std::to_string(e.last_step) + " iterations, residual " +
-                      std::to_string(e.last_residual) +
-                      "). Try Mechanics / Linear solver = iterative or "
-                      "direct."));
+        throw_no_convergence("matrix-free mixed", e.last_step, e.last_residual);
       }
     m.from_block(solution, x);
     return control.last_step();

@@ -23,6 +23,7 @@
 #include <petscksp.h>
 
 #include <array>
+#include <cstdlib>
 
 namespace systole::Mechanics
 {
@@ -97,6 +98,21 @@ namespace systole::Mechanics
     transfer.prolongate_and_add(dst, coarse_solution);
     // Post-smoothing.
     smoother.step(dst, src);
+  }
+
+
+  void
+  throw_no_convergence(const std::string &what,
+                       const unsigned int iterations,
+                       const double       residual)
+  {
+    AssertThrow(false,
+                dealii::ExcMessage(
+                  "The " + what + " linear solver did not converge (" +
+                  std::to_string(iterations) + " iterations, residual " +
+                  std::to_string(residual) +
+                  "). Try Mechanics / Linear solver = iterative or direct."));
+    std::abort(); // (not reached)
   }
 
 
@@ -250,13 +266,7 @@ namespace systole::Mechanics
       }
     catch (const dealii::SolverControl::NoConvergence &e)
       {
-        AssertThrow(false,
-                    dealii::ExcMessage(
-                      "The matrix-free linear solver did not converge (" +
-                      std::to_string(e.last_step) + " iterations, residual " +
-                      std::to_string(e.last_residual) +
-                      "). Try Mechanics / Linear solver = iterative or "
-                      "direct."));
+        throw_no_convergence("matrix-free", e.last_step, e.last_residual);
       }
     copy_owned(m.x_mf, x);
     x.compress(dealii::VectorOperation::insert);

@@ -42,6 +42,14 @@ namespace systole::Mechanics
   /// tangent as last updated and ignores its matrix argument; solve() uses
   /// the tangent as it is then (a Newton chord reuses the preconditioner, as
   /// the matrix-based iterative solver does).
+  /// Throws the matrix-free solvers' error for a Krylov solve (@p what)
+  /// that did not converge in @p iterations to @p residual, naming the
+  /// alternatives.
+  [[noreturn]] void
+  throw_no_convergence(const std::string &what,
+                       const unsigned int iterations,
+                       const double       residual);
+
   class MatrixFreeSolver : public LinearSolver
   {
   public:
