@@ -417,6 +417,36 @@ namespace systole::Mechanics
 
 
   void
+  MatrixFreeMixedSolver::vmult(LA::MPI::Vector       &dst,
+                               const LA::MPI::Vector &src) const
+  {
+    const Impl &m = *impl;
+    BlockVector x(2), y(2);
+    for (BlockVector *v : {&x, &y})
+      {
+        m.op().initialize_dof_vector(v->block(0));
+        v->block(1).reinit(m.owned_p, m.mixed.get_communicator());
+        v->collect_sizes();
+      }
+    m.to_block(src, x);
+    m.vmult(y, x); // T K_0 x
+    // K_0 x: less G (K_0 x)_p = B^T Gamma y_p.
+    using Coupling = decltype(m.op().pressure);
+    m.gather(y.block(1), m.p_cells);
+    for (unsigned int batch = 0; batch < m.p_cells.size(); ++batch)
+      {
+        m.y[batch] = m.op().pressure.multiply(batch,
+                                              Coupling::gamma_inverse_weight,
+                                              m.p_cells[batch]);
+        for (auto &value : m.y[batch])
+          value = -value;
+      }
+    m.pressure_pass(y.block(0), m.y, nullptr, nullptr);
+    m.from_block(y, dst);
+  }
+
+
+  void
   MatrixFreeMixedSolver::set_tolerance(const double tolerance)
   {
     impl->tolerance = tolerance;

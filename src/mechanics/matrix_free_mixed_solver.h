@@ -77,6 +77,12 @@ namespace systole::Mechanics
       return this;
     }
 
+    /// dst = K_0 src, the tangent itself (not T K_0), in the Problem's
+    /// numbering (the finite-difference check Problem::tangent_error()).
+    /// After setup(). Collective.
+    void
+    vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;
+
     /// The displacement DoFHandler of the tangent.
     const dealii::DoFHandler<3> &
     displacement_dof_handler() const;

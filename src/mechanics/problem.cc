@@ -17,6 +17,7 @@
 #include "materials/volumetric_law.h"
 #include "mechanics/matrix_free_mixed_solver.h"
 #include "mechanics/matrix_free_solver.h"
+#include "mechanics/matrix_free_tangent.h"
 #include "mechanics/problem_impl.h"
 
 #include <algorithm>
@@ -587,7 +588,22 @@ namespace systole::Mechanics
   Problem::Impl::tangent_vmult(LA::MPI::Vector       &dst,
                                const LA::MPI::Vector &src) const
   {
-    system.tangent.vmult(dst, src);
+    if (MatrixFreeMixedSolver *mixed =
+          system.linear_solver->matrix_free_mixed())
+      mixed->vmult(dst, src);
+    else if (MatrixFreeTangent *tangent =
+               system.linear_solver->matrix_free_tangent())
+      {
+        MatrixFreeTangent::Vector x, y;
+        tangent->initialize_dof_vector(x);
+        tangent->initialize_dof_vector(y);
+        copy_owned(src, x);
+        tangent->vmult(y, x);
+        copy_owned(y, dst);
+        dst.compress(dealii::VectorOperation::insert);
+      }
+    else
+      system.tangent.vmult(dst, src);
     if (system.augmentation != nullptr)
       {
         LA::MPI::Vector correction(discretization.owned, comm);

@@ -552,7 +552,8 @@ namespace systole::Mechanics
     reinit_system(const bool sparse_tangent);
 
     /// dst = K src with the tangent as last assembled (T K when augmented:
-    /// then K src = T^-1 (T K src) = (T K src) - G (T K src)).
+    /// then K src = T^-1 (T K src) = (T K src) - G (T K src)); with a
+    /// matrix-free solver its operator's product.
     void
     tangent_vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;
     /// Whether cavity @p i's pressure loads its lid (Parameters::

@@ -91,6 +91,37 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     CHECK(observed_order(problem, 3.0, 20.0, 1e-3) == Approx(2.0).margin(0.2));
   }
 
+  SECTION("Land ventricle, Q2 (penalty) and Q2-P1disc (nearly incompressible, "
+          "incompressible), follower pressure, active tension: the products "
+          "of the matrix-free back ends")
+  {
+    Geometry::Parameters geometry; // the Land ventricle
+    dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+    const auto names = Geometry::create_mesh(geometry, tria);
+    for (const auto incompressibility :
+         {Mechanics::Incompressibility::penalty,
+          Mechanics::Incompressibility::nearly_incompressible,
+          Mechanics::Incompressibility::incompressible})
+      {
+        Mechanics::Parameters params;
+        params.incompressibility = incompressibility;
+        params.fixed_boundaries  = {"base"};
+        params.pressure_boundary = "endocardium";
+        params.linear_solver     = "matrix-free";
+        Mechanics::Problem problem(
+          {params, tria, names, 2, 2, law, volumetric, fibres, logger});
+        problem.set_displacement(Wobble(0.8));
+        if (params.mixed())
+          problem.set_pressure_field(2.0);
+        INFO(problem.discretization_name()
+             << ", " << problem.linear_solver_name());
+        CHECK_THAT(problem.linear_solver_name(),
+                   Catch::Contains("matrix-free"));
+        CHECK(observed_order(problem, 3.0, 20.0, 1e-3) ==
+              Approx(2.0).margin(0.2));
+      }
+  }
+
   SECTION("Land ventricle split into tetrahedra, P2 (penalty) and P2-P1 "
           "(Taylor-Hood, incompressible), follower pressure, active tension, "
           "Robin springs")
