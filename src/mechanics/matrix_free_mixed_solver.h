@@ -31,7 +31,7 @@ namespace systole::Mechanics
   ///   scaled pressure mass matrix, inverted cell by cell (a discontinuous
   ///   pressure), and for A_gamma one V-cycle of MatrixFreeSolver's
   ///   p-multigrid (Chebyshev with the matrix-free diagonal of A_gamma, the
-  ///   Q1 Galerkin matrix of A_gamma by MUMPS).
+  ///   Q1 Galerkin matrix of A_gamma by MUMPS LDL^T).
   /// The Problem refills the tangent with the pressure coupling where the
   /// matrix-based solvers assemble their matrix (assembly.cc). Vectors of
   /// solve() are in the Problem's numbering (FieldLayout); the displacement

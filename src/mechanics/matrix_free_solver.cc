@@ -225,7 +225,9 @@ namespace systole::Mechanics
         check_petsc(KSPSetType(m.coarse_ksp, KSPPREONLY), "KSPSetType");
         PC pc;
         check_petsc(KSPGetPC(m.coarse_ksp, &pc), "KSPGetPC");
-        check_petsc(PCSetType(pc, PCLU), "PCSetType");
+        // LDL^T: the Q1 matrix is symmetric (the stored tangents are, the
+        // face term is left out); half the work and memory of LU.
+        check_petsc(PCSetType(pc, PCCHOLESKY), "PCSetType");
         check_petsc(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS),
                     "PCFactorSetMatSolverType");
         set_near_null_space(A, m.coarse_modes);
@@ -296,7 +298,7 @@ namespace systole::Mechanics
            " + p-multigrid Q2 -> Q1: Chebyshev(" +
            std::to_string(smoothing_degree) +
            ") with the matrix-free diagonal, Q1 from the cached tangent by "
-           "MUMPS)";
+           "MUMPS LDL^T)";
   }
 
 

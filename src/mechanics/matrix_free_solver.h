@@ -28,15 +28,15 @@ namespace systole::Mechanics
   /// - preconditioner: one two-level p-multigrid V-cycle Q2 -> Q1 on the
   ///   same mesh: Chebyshev smoothing (degree 4, deal.II's
   ///   PreconditionChebyshev) with the inverse diagonal of the matrix-free
-  ///   tangent (its bulk term: MatrixFreeTools::compute_diagonal()), before
+  ///   tangent (its bulk term, summed from the stored points), before
   ///   and after the coarse correction; the transfer MGTwoLevelTransfer
   ///   (polynomial); the coarse matrix on FE_Q(1)^3 assembled from the same
   ///   cached dP/dF at the same Q2 quadrature points (MatrixFree with both
   ///   DoFHandlers: the Galerkin projection P^T K P of the bulk term, the
-  ///   follower pressure left out), solved by MUMPS LU through PETSc (PETSc
-  ///   options prefix -mechanics_mf_coarse_, e.g. -mechanics_mf_coarse_pc_type
-  ///   gamg: the six rigid-body modes of the Q1 space are its near-null
-  ///   space).
+  ///   follower pressure left out: symmetric), solved by MUMPS LDL^T
+  ///   through PETSc (PETSc options prefix -mechanics_mf_coarse_, e.g.
+  ///   -mechanics_mf_coarse_pc_type gamg: the six rigid-body modes of the Q1
+  ///   space are its near-null space).
   /// setup() builds the preconditioner (the diagonal, the Chebyshev
   /// eigenvalue estimate, the coarse matrix and its factorization) from the
   /// tangent as last updated and ignores its matrix argument; solve() uses
