@@ -84,6 +84,22 @@ namespace systole::Mechanics
       vmult(BlockVector &dst, const BlockVector &src) const;
     };
 
+    /// Size @p v: the displacement in the tangent's layout, the owned
+    /// pressures.
+    void
+    initialize(BlockVector &v) const
+    {
+      v.reinit(2);
+      op().initialize_dof_vector(v.block(0));
+      v.block(1).reinit(owned_p, mixed.get_communicator());
+      v.collect_sizes();
+    }
+
+    /// v_u += @p sign B^T Gamma v_p (T = [I, G; 0, I] applied: G = B^T
+    /// Gamma).
+    void
+    add_gamma_columns(BlockVector &v, const double sign) const;
+
     void
     to_block(const LA::MPI::Vector &x, BlockVector &v) const;
     void
@@ -302,6 +318,24 @@ namespace systole::Mechanics
 
 
   void
+  MatrixFreeMixedSolver::Impl::add_gamma_columns(BlockVector &v,
+                                                 const double sign) const
+  {
+    using Coupling = decltype(op().pressure);
+    gather(v.block(1), p_cells);
+    for (unsigned int batch = 0; batch < p_cells.size(); ++batch)
+      {
+        y[batch] = op().pressure.multiply(batch,
+                                          Coupling::gamma_inverse_weight,
+                                          p_cells[batch]);
+        for (auto &value : y[batch])
+          value *= sign;
+      }
+    pressure_pass(v.block(0), y, nullptr, nullptr);
+  }
+
+
+  void
   MatrixFreeMixedSolver::Impl::to_block(const LA::MPI::Vector &x,
                                         BlockVector           &v) const
   {
@@ -381,22 +415,11 @@ namespace systole::Mechanics
   MatrixFreeMixedSolver::solve(LA::MPI::Vector &x, const LA::MPI::Vector &b)
   {
     Impl       &m = *impl;
-    BlockVector rhs(2), solution(2);
-    for (BlockVector *v : {&rhs, &solution})
-      {
-        m.op().initialize_dof_vector(v->block(0));
-        v->block(1).reinit(m.owned_p, m.mixed.get_communicator());
-        v->collect_sizes();
-      }
+    BlockVector rhs, solution;
+    m.initialize(rhs);
+    m.initialize(solution);
     m.to_block(b, rhs);
-    // T b: b_u += B^T Gamma b_p.
-    using Coupling = decltype(m.op().pressure);
-    m.gather(rhs.block(1), m.p_cells);
-    for (unsigned int batch = 0; batch < m.p_cells.size(); ++batch)
-      m.y[batch] = m.op().pressure.multiply(batch,
-                                            Coupling::gamma_inverse_weight,
-                                            m.p_cells[batch]);
-    m.pressure_pass(rhs.block(0), m.y, nullptr, nullptr);
+    m.add_gamma_columns(rhs, 1.0); // T b
 
     dealii::SolverControl control(1000, m.tolerance * rhs.l2_norm());
     dealii::SolverFGMRES<BlockVector> fgmres(
@@ -421,27 +444,12 @@ namespace systole::Mechanics
                                const LA::MPI::Vector &src) const
   {
     const Impl &m = *impl;
-    BlockVector x(2), y(2);
-    for (BlockVector *v : {&x, &y})
-      {
-        m.op().initialize_dof_vector(v->block(0));
-        v->block(1).reinit(m.owned_p, m.mixed.get_communicator());
-        v->collect_sizes();
-      }
+    BlockVector x, y;
+    m.initialize(x);
+    m.initialize(y);
     m.to_block(src, x);
-    m.vmult(y, x); // T K_0 x
-    // K_0 x: less G (K_0 x)_p = B^T Gamma y_p.
-    using Coupling = decltype(m.op().pressure);
-    m.gather(y.block(1), m.p_cells);
-    for (unsigned int batch = 0; batch < m.p_cells.size(); ++batch)
-      {
-        m.y[batch] = m.op().pressure.multiply(batch,
-                                              Coupling::gamma_inverse_weight,
-                                              m.p_cells[batch]);
-        for (auto &value : m.y[batch])
-          value = -value;
-      }
-    m.pressure_pass(y.block(0), m.y, nullptr, nullptr);
+    m.vmult(y, x);                // T K_0 x
+    m.add_gamma_columns(y, -1.0); // K_0 x = T K_0 x - G (K_0 x)_p
     m.from_block(y, dst);
   }
 
