@@ -1472,6 +1472,9 @@ namespace systole::Mechanics
                   "solver = iterative or direct."));
     const double norm = assemble(pressures, active_tension, false);
     dealii::TimerOutput::Scope scope(timer, "Mechanics / assembly");
+    dealii::TimerOutput::Scope point_tangents(
+      timer,
+      "Mechanics / matrix-free tangent update");
     factorized.held = false;
     update_matrix_free_tangent(tangent, pressures, active_tension);
     return norm;

@@ -28,7 +28,7 @@ namespace systole::Mechanics
 
   namespace
   {
-    using VA = dealii::VectorizedArray<double>;
+    using VA = internal::Lanes;
     constexpr unsigned int n_p =
       decltype(std::declval<Operator>().pressure)::n_p;
     constexpr unsigned int invalid = std::numeric_limits<unsigned int>::max();

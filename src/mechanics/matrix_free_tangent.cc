@@ -1,5 +1,5 @@
-// The matrix-free tangent on the installed deal.II's default vectorization
-// (the operator itself is in matrix_free_tangent_impl.h).
+// The matrix-free tangent on the matrix-free mechanics' vectorization
+// (internal::Lanes; the operator itself is in matrix_free_tangent_impl.h).
 #include "mechanics/matrix_free_tangent.h"
 
 #include "mechanics/matrix_free_tangent_impl.h"
@@ -169,4 +169,4 @@ namespace systole::Mechanics
 } // namespace systole::Mechanics
 
 template class systole::Mechanics::internal::TangentOperator<
-  dealii::VectorizedArray<double>>;
+  systole::Mechanics::internal::Lanes>;

@@ -2,9 +2,12 @@
 
 // Internal to MatrixFreeTangent: the operator as a template on deal.II's
 // vectorization type. src/mechanics/matrix_free_tangent.cc instantiates it
-// for the default VectorizedArray<double> of the installed deal.II; the
+// for internal::Lanes: the build machine's SIMD width (matrix_free_simd.h)
+// or the installed deal.II's one lane; the
 // benchmark also for 8 lanes (tests/bench/matrix_free_bench_simd.cc).
-// Includes the MatrixFree headers: include it only in .cc files.
+// Includes the MatrixFree headers: include it only in .cc files, and only
+// in the units CMake compiles on the matrix-free width
+// (cmake/SystoleSimd.cmake).
 
 #include <deal.II/base/aligned_vector.h>
 #include <deal.II/base/mpi.h>
@@ -19,6 +22,15 @@
 
 #include "mechanics/matrix_free_pressure_coupling.h"
 #include "mechanics/matrix_free_tangent.h"
+
+#ifndef SYSTOLE_MATRIX_FREE_LANES
+#  error "SYSTOLE_MATRIX_FREE_LANES: set by the systole target (CMake)."
+#endif
+#if SYSTOLE_MATRIX_FREE_LANES > 1 && \
+  DEAL_II_VECTORIZATION_WIDTH_IN_BITS < 64 * SYSTOLE_MATRIX_FREE_LANES
+#  error \
+    "Compile this unit with the matrix-free SIMD options (cmake/SystoleSimd.cmake)."
+#endif
 
 #include <algorithm>
 #include <array>
@@ -978,10 +990,15 @@ namespace systole::Mechanics::internal
       }
   }
 
-  /// The operator on the default vectorization (MatrixFreeTangent's) and
-  /// the Chebyshev smoother on its inverse diagonal: the levels of
-  /// MatrixFreeMultigrid, the Q2 level of MatrixFreeSolver.
-  using Operator = TangentOperator<dealii::VectorizedArray<double>>;
+  /// The vectorization of the matrix-free mechanics: cell batches of
+  /// SYSTOLE_MATRIX_FREE_LANES cells (matrix_free_simd.h; 1 on the
+  /// installed deal.II's own width).
+  using Lanes = dealii::VectorizedArray<double, SYSTOLE_MATRIX_FREE_LANES>;
+
+  /// The operator on those lanes (MatrixFreeTangent's) and the Chebyshev
+  /// smoother on its inverse diagonal: the levels of MatrixFreeMultigrid,
+  /// the Q2 level of MatrixFreeSolver.
+  using Operator = TangentOperator<Lanes>;
   using Smoother =
     dealii::PreconditionChebyshev<Operator,
                                   Operator::Vector,
@@ -990,7 +1007,7 @@ namespace systole::Mechanics::internal
 
 namespace systole::Mechanics
 {
-  /// The operator of MatrixFreeTangent on the default vectorization.
+  /// The operator of MatrixFreeTangent on the matrix-free mechanics' width.
   struct MatrixFreeTangent::Impl : public internal::Operator
   {
     using internal::Operator::TangentOperator;

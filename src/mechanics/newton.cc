@@ -797,9 +797,13 @@ namespace systole::Mechanics
       }
     try
       {
-        m.system.linear_solver->setup(m.system.tangent,
-                                      m.system.pressure_matrix.get(),
-                                      m.system.augmentation.get());
+        {
+          dealii::TimerOutput::Scope setup(m.timer,
+                                           "Mechanics / linear solver set-up");
+          m.system.linear_solver->setup(m.system.tangent,
+                                        m.system.pressure_matrix.get(),
+                                        m.system.augmentation.get());
+        }
         if (first_factorization)
           restart_if_indefinite();
         else

@@ -571,8 +571,10 @@ namespace systole::Mechanics
 
     /// Total wall times [s] of the mechanics' timer sections so far
     /// ("Mechanics / Newton", and inside it "Mechanics / assembly",
-    /// "Mechanics / linear solver", "Mechanics / cavity volume"), on this
-    /// rank.
+    /// "Mechanics / linear solver", "Mechanics / cavity volume"; inside the
+    /// linear solver's, "Mechanics / linear solver set-up": factorizations
+    /// or preconditioner set-ups of the Newton updates; inside the
+    /// assembly's, "Mechanics / matrix-free tangent update"), on this rank.
     std::map<std::string, double>
     timings() const;
 

@@ -616,7 +616,10 @@ namespace systole::Mechanics
     /// ..."), summed over the run.
     /// Sections: "Mechanics / Newton" (whole solves), "Mechanics /
     /// assembly", "Mechanics / linear solver", "Mechanics / cavity volume"
-    /// (the latter three inside the first).
+    /// (the latter three inside the first), and inside "Mechanics / linear
+    /// solver" the preconditioner's or factorization's "Mechanics / linear
+    /// solver set-up" of the Newton updates, inside "Mechanics / assembly"
+    /// the matrix-free solvers' "Mechanics / matrix-free tangent update".
     std::ostringstream          timer_sink;
     mutable dealii::TimerOutput timer;
 

@@ -231,7 +231,8 @@ namespace
   };
 
   /// One matrix-free variant on @p box linearized at @p u: the library's
-  /// (@p simd false) or the 8-lane build.
+  /// (@p simd false; SYSTOLE_MATRIX_FREE_LANES lanes) or the benchmark's
+  /// own 8-lane build.
   Row
   matrix_free_row(const test_support::BoxMechanics      &box,
                   const test_support::DistributedVector &u,
@@ -271,7 +272,8 @@ namespace
       std::string(variant == Variant::cached          ? "MF cached"
                   : variant == Variant::cached_single ? "MF single"
                                                       : "MF recompute") +
-      (simd ? " 8 lanes" : " 1 lane");
+      (simd ? std::string(" 8 lanes")
+            : " " + std::to_string(SYSTOLE_MATRIX_FREE_LANES) + " lane(s)");
     // Memory: the operator's own data and its two vectors.
     row.bytes_memory = sum(op.memory_consumption() + x.memory_consumption() +
                            y.memory_consumption());
@@ -495,11 +497,11 @@ main(int argc, char *argv[])
     }
   const double bandwidth = triad_bandwidth();
   if (root)
-    std::printf("ranks %u  triad %.1f GB/s  vectorization lanes %u\n",
+    std::printf("ranks %u  triad %.1f GB/s  the library's matrix-free "
+                "lanes %u\n",
                 dealii::Utilities::MPI::n_mpi_processes(comm),
                 1e-9 * bandwidth,
-                static_cast<unsigned int>(
-                  dealii::VectorizedArray<double>::size()));
+                static_cast<unsigned int>(SYSTOLE_MATRIX_FREE_LANES));
   if (with_problem)
     {
       for (const unsigned int n : sizes)
