@@ -78,7 +78,7 @@ namespace systole::Mechanics
     }
 
     /// dst = K_0 src, the tangent itself (not T K_0), in the Problem's
-    /// numbering (the finite-difference check Problem::tangent_error()).
+    /// numbering (the finite-difference check ProblemChecks::tangent_error()).
     /// After setup(). Collective.
     void
     vmult(LA::MPI::Vector &dst, const LA::MPI::Vector &src) const;

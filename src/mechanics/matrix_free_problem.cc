@@ -50,15 +50,4 @@ namespace systole::Mechanics
                                      impl->uniform_pressures(pressure),
                                      active_tension);
   }
-
-
-  const dealii::PETScWrappers::MPI::SparseMatrix &
-  Problem::assembled_tangent(const double pressure, const double active_tension)
-  {
-    AssertThrow(impl->system.linear_solver->matrix_free_tangent() == nullptr,
-                dealii::ExcMessage("Problem::assembled_tangent: the "
-                                   "matrix-free solver assembles no tangent."));
-    impl->assemble(impl->uniform_pressures(pressure), active_tension, true);
-    return impl->system.tangent;
-  }
 } // namespace systole::Mechanics

@@ -1,6 +1,7 @@
 #include "mechanics/newton.h"
 
 #include "base/errors.h"
+#include "mechanics/problem_impl.h"
 
 #include <algorithm>
 #include <cmath>
@@ -110,6 +111,7 @@ namespace systole::Mechanics
     }
   } // namespace
 
+  // (The one place that sees both: the solver works on the NewtonSystem.)
   NewtonReport
   Problem::Impl::newton(dealii::Vector<double>      &pressures,
                         const double                 active_tension,
@@ -118,7 +120,7 @@ namespace systole::Mechanics
     return NewtonSolver(*this, pressures, active_tension, target).solve();
   }
 
-  NewtonSolver::NewtonSolver(Problem::Impl               &problem,
+  NewtonSolver::NewtonSolver(NewtonSystem                &problem,
                              dealii::Vector<double>      &pressures,
                              const double                 active_tension,
                              const Problem::VolumeTarget *target)
@@ -127,10 +129,9 @@ namespace systole::Mechanics
     , active_tension(active_tension)
     , target(target)
     , bordered(target != nullptr)
-    , mixed(problem.discretization.layout.mixed())
-    , k(bordered ? problem.loads.cavities.size() : 0)
-    , out(problem.logger.detail())
-    , du(problem.discretization.owned, problem.comm)
+    , mixed(problem.layout().mixed())
+    , k(bordered ? problem.n_cavities() : 0)
+    , out(problem.log())
     , w_volume(k)
     , target_volume(k)
     , volume_error(k)
@@ -143,10 +144,11 @@ namespace systole::Mechanics
     // start and at every trial point, unless the quadratic rate says the
     // trial point will be converged.
     , tangent_ready(!bordered)
-    , anderson(problem.params.chord_acceleration_depth)
+    , anderson(problem.parameters().chord_acceleration_depth)
   {
+    problem.reinit_vector(du);
     for (auto &w : w_volume)
-      w.reinit(m.discretization.owned, m.comm);
+      problem.reinit_vector(w);
   }
 
   std::string
@@ -155,7 +157,7 @@ namespace systole::Mechanics
     return with_block_residuals(what,
                                 residual,
                                 mixed,
-                                m.discretization.body_volume,
+                                m.body_volume(),
                                 bordered,
                                 largest_volume_error());
   }
@@ -202,23 +204,23 @@ namespace systole::Mechanics
   {
     // The pressure rows are volumes: held to the relative tolerance times
     // the volume of the body.
-    return !mixed || residual[1] <= m.params.newton_relative_tolerance *
-                                      m.discretization.body_volume;
+    return !mixed || residual[1] <= m.parameters().newton_relative_tolerance *
+                                      m.body_volume();
   }
 
   bool
   NewtonSolver::converged(const double reference) const
   {
     const bool u_ok =
-      residual[0] <= m.params.newton_absolute_tolerance ||
-      residual[0] <= m.params.newton_relative_tolerance * reference;
+      residual[0] <= m.parameters().newton_absolute_tolerance ||
+      residual[0] <= m.parameters().newton_relative_tolerance * reference;
     return u_ok && pressure_converged();
   }
 
   NewtonReport &
   NewtonSolver::converged_now()
   {
-    m.factorized.last_solve_converged = true;
+    m.factorization().last_solve_converged = true;
     return report;
   }
 
@@ -231,12 +233,12 @@ namespace systole::Mechanics
                    active_tension,
                    with_matrix,
                    with_matrix && bordered);
-        norms = block_norms(m.discretization.layout, m.system.residual);
+        norms = block_norms(m.layout(), m.residual());
         if (bordered)
           {
             dealii::Vector<double> volumes;
             {
-              dealii::TimerOutput::Scope scope(m.timer,
+              dealii::TimerOutput::Scope scope(m.timers(),
                                                "Mechanics / cavity volume");
               volumes = m.cavity_volumes_now();
             }
@@ -256,7 +258,7 @@ namespace systole::Mechanics
                 AssertThrow(target_volume[i] != 0.0,
                             dealii::ExcMessage(
                               "Mechanics: the volume target of the cavity '" +
-                              m.loads.pressure_names[i] +
+                              m.pressure_names()[i] +
                               "' is 0 mm^3 (the volume tolerance is "
                               "relative to it)."));
                 volume_error[i] =
@@ -283,10 +285,11 @@ namespace systole::Mechanics
   {
     try
       {
-        dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
-        m.system.residual *= -1.0;
+        dealii::TimerOutput::Scope scope(m.timers(),
+                                         "Mechanics / linear solver");
+        m.residual() *= -1.0;
         report.linear_iterations +=
-          m.linear_solve(du, m.system.residual, 0, 0.0, tolerance);
+          m.linear_solve(du, m.residual(), 0, 0.0, tolerance);
         return true;
       }
     catch (const dealii::ExceptionBase &)
@@ -313,14 +316,15 @@ namespace systole::Mechanics
   NewtonReport
   NewtonSolver::solve()
   {
-    dealii::TimerOutput::Scope scope(m.timer, "Mechanics / Newton");
+    dealii::TimerOutput::Scope scope(m.timers(), "Mechanics / Newton");
     // The factorization of the last solve is worth reusing only if that
     // solve converged (its tangent is that of an iterate near its solution).
-    const bool reuse = m.params.reuse_factorization && m.factorized.held &&
-                       m.factorized.last_solve_converged;
-    m.factorized.last_solve_converged = false;
+    const bool reuse = m.parameters().reuse_factorization &&
+                       m.factorization().held &&
+                       m.factorization().last_solve_converged;
+    m.factorization().last_solve_converged = false;
     ChordStart chords;
-    if (bordered && reuse && m.factorized.volume_derivatives.size() == k &&
+    if (bordered && reuse && m.factorization().volume_derivatives.size() == k &&
         bordered_chords(chords))
       return converged_now();
 
@@ -349,15 +353,15 @@ namespace systole::Mechanics
   bool
   NewtonSolver::inexact() const
   {
-    return m.params.inexact_newton && !bordered &&
-           !m.system.linear_solver->direct();
+    return m.parameters().inexact_newton && !bordered &&
+           !m.linear_solver().direct();
   }
 
   double
   NewtonSolver::target_residual() const
   {
-    return std::max(m.params.newton_absolute_tolerance,
-                    m.params.newton_relative_tolerance * reference);
+    return std::max(m.parameters().newton_absolute_tolerance,
+                    m.parameters().newton_relative_tolerance * reference);
   }
 
   bool
@@ -388,12 +392,11 @@ namespace systole::Mechanics
         << one_line_message(failure) << "; Newton again from their start)"
         << std::endl;
     const unsigned int first_attempt = report.iterations;
-    m.u_owned                        = start.u;
-    m.u                              = m.u_owned;
-    pressures                        = start.pressures;
-    reference                        = 0;
-    tangent_ready                    = false;
-    first_factorization              = true;
+    m.set_iterate(start.u);
+    pressures           = start.pressures;
+    reference           = 0;
+    tangent_ready       = false;
+    first_factorization = true;
     AssertThrow(assemble(residual, false),
                 ExcNewtonDidNotConverge("an element is inverted at the "
                                         "start of the load step",
@@ -411,7 +414,7 @@ namespace systole::Mechanics
     // only, one back substitution per iteration, the bordered system of that
     // tangent (its B0 and W0 = K^-1 B0; W and W' of the current pressures);
     // left as soon as they stop converging fast.
-    const LA::MPI::Vector        u_begin        = m.u_owned;
+    const LA::MPI::Vector        u_begin        = m.iterate();
     const dealii::Vector<double> pressure_begin = pressures;
     bool                         ok             = assemble(residual, false);
     const double                 start_residual = residual[0];
@@ -421,10 +424,11 @@ namespace systole::Mechanics
       {
         // The residual where the chords start, not that of a chord that
         // raised it: see iterate().
-        reference = std::max({reference,
-                              start_residual,
-                              pressure_load(m.factorized.volume_derivatives)});
-        if (largest_volume_error() <= Problem::Impl::volume_tolerance &&
+        reference =
+          std::max({reference,
+                    start_residual,
+                    pressure_load(m.factorization().volume_derivatives)});
+        if (largest_volume_error() <= NewtonSystem::volume_tolerance &&
             converged(reference))
           {
             report.final_residual   = residual[0];
@@ -439,8 +443,8 @@ namespace systole::Mechanics
             break;
           }
         dealii::Vector<double> dp;
-        if (!bordered_update(m.factorized.volume_rows,
-                             m.factorized.w,
+        if (!bordered_update(m.factorization().volume_rows,
+                             m.factorization().w,
                              volume_residual(),
                              target_derivative,
                              du,
@@ -449,8 +453,7 @@ namespace systole::Mechanics
             ok = false;
             break;
           }
-        m.u_owned.add(1.0, du);
-        m.u = m.u_owned;
+        m.add_to_iterate(1.0, du);
         pressures += dp;
         ++report.reused_iterations;
         const double previous = residual[0];
@@ -476,8 +479,7 @@ namespace systole::Mechanics
     if (wasted)
       {
         // Failed or no better: full Newton from the start.
-        m.u_owned = u_begin;
-        m.u       = m.u_owned;
+        m.set_iterate(u_begin);
         pressures = pressure_begin;
       }
     else
@@ -498,7 +500,7 @@ namespace systole::Mechanics
     // residual and a back substitution instead of a tangent and a
     // factorization. Newton continues from it unless it inverts an element
     // or the residual is not finite.
-    const LA::MPI::Vector u_begin = m.u_owned;
+    const LA::MPI::Vector u_begin = m.iterate();
     bool                  ok      = assemble(residual, false);
     report.initial_residual       = residual[0];
     ok = ok && chord_solve(inexact() ? ForcingTerm::eta_max : 0.0);
@@ -509,33 +511,30 @@ namespace systole::Mechanics
         anderson.reset();
         anderson.accelerate(du);
         anderson.record_step(du);
-        if (m.params.chord_acceleration_depth > 0)
+        if (m.parameters().chord_acceleration_depth > 0)
           last_update_length = du.l2_norm();
-        m.u_owned.add(1.0, du);
-        m.u                         = m.u_owned;
+        m.add_to_iterate(1.0, du);
         const double start_residual = residual[0];
         // (With the direct solver the residual only: the next update is a
         // chord iteration too if this one cut |R| fast, see iterate().)
-        const bool with_tangent = !m.system.linear_solver->direct();
+        const bool with_tangent = !m.linear_solver().direct();
         ok                      = assemble(residual, with_tangent);
         if (ok)
           {
             reference = start_residual;
-            du_norm   = block_norms(m.discretization.layout, du);
+            du_norm   = block_norms(m.layout(), du);
             ++report.reused_iterations;
             tangent_ready = with_tangent;
             out << "      chord 1: |R_u| = " << std::scientific
                 << std::setprecision(3) << residual[0];
             if (mixed)
-              out << "  |R_p|/|V_body| = "
-                  << residual[1] / m.discretization.body_volume;
+              out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume();
             out << std::defaultfloat
                 << "  (Euler predictor on the last factorization)" << std::endl;
             return true;
           }
       }
-    m.u_owned = u_begin;
-    m.u       = m.u_owned;
+    m.set_iterate(u_begin);
     return false;
   }
 
@@ -553,8 +552,7 @@ namespace systole::Mechanics
     out << ": |R_u| = " << std::scientific << std::setprecision(3)
         << residual[0] << "  |R_u|/ref = " << relative;
     if (mixed)
-      out << "  |R_p|/|V_body| = "
-          << residual[1] / m.discretization.body_volume;
+      out << "  |R_p|/|V_body| = " << residual[1] / m.body_volume();
     out << "  |du|/|u| = " << du_norm[0] / std::max(u_norm[0], 1e-300);
     if (mixed)
       out << "  |dp|/|p| = " << du_norm[1] / std::max(u_norm[1], 1e-300);
@@ -568,7 +566,7 @@ namespace systole::Mechanics
         << " s, solver "
         << m.seconds_in("Mechanics / linear solver") - solver_start << " s, "
         << report.linear_iterations << " linear its";
-    const long negative = m.system.linear_solver->negative_pivots();
+    const long negative = m.linear_solver().negative_pivots();
     if (negative >= 0)
       out << ", " << negative << " negative pivots";
     out << ")" << std::endl;
@@ -578,16 +576,16 @@ namespace systole::Mechanics
   NewtonSolver::chord_rules(const bool start_assembled) const
   {
     ChordRules s;
-    s.direct            = m.system.linear_solver->direct();
+    s.direct            = m.linear_solver().direct();
     s.last_was_chord    = start_assembled;
     s.previous_residual = start_assembled ? report.initial_residual : 0.0;
     s.accelerated =
-      s.direct && !bordered && m.params.chord_acceleration_depth > 0;
+      s.direct && !bordered && m.parameters().chord_acceleration_depth > 0;
     s.chord_ratio      = s.accelerated ? 0.5 : 0.25;
     s.newton_cut       = s.accelerated ? 0.4 : 0.1;
     s.predictor_chords = start_assembled && s.accelerated;
     s.inexact          = inexact();
-    s.forcing          = ForcingTerm(m.params.linear_tolerance);
+    s.forcing          = ForcingTerm(m.parameters().linear_tolerance);
     return s;
   }
 
@@ -605,8 +603,7 @@ namespace systole::Mechanics
       residual[0] > (s.accelerated ? s.chord_ratio : 1.0) * s.previous_residual;
     if (rejected)
       {
-        m.u_owned     = u_start;
-        m.u           = m.u_owned;
+        m.set_iterate(u_start);
         pressures     = pressure_start;
         tangent_ready = false;
         out << "      (chord iteration undone: |R_u| "
@@ -616,8 +613,8 @@ namespace systole::Mechanics
     if (rejected || (it > 0 && !s.last_was_chord))
       s.predictor_chords = false;
     s.undo_chord = false;
-    return !rejected && m.params.reuse_factorization && m.factorized.held &&
-           s.previous_residual > 0.0 &&
+    return !rejected && m.parameters().reuse_factorization &&
+           m.factorization().held && s.previous_residual > 0.0 &&
            (s.direct
               ? s.n_chord < ChordRules::max_chord_iterations &&
                   (s.last_was_chord
@@ -677,9 +674,10 @@ namespace systole::Mechanics
     // waits for the trial point's residual, which says whether the next
     // update needs it.
     const bool trial_tangent =
-      !bordered && !chord && !(m.params.reuse_factorization && s.direct) &&
+      !bordered && !chord &&
+      !(m.parameters().reuse_factorization && s.direct) &&
       !(relative * relative <=
-        std::max(m.params.newton_relative_tolerance, 1e-3));
+        std::max(m.parameters().newton_relative_tolerance, 1e-3));
     const double alpha =
       step(dp, trial_tangent, it, relative, !s.newton_done && !chord);
     if (alpha < 1.0)
@@ -692,7 +690,7 @@ namespace systole::Mechanics
         taken *= alpha;
         anderson.record_step(taken);
       }
-    du_norm = block_norms(m.discretization.layout, du);
+    du_norm = block_norms(m.layout(), du);
     du_norm[0] *= alpha;
     du_norm[1] *= alpha;
     if (chord)
@@ -719,9 +717,9 @@ namespace systole::Mechanics
           reference = std::max(reference, residual[0]);
         else
           reference =
-            std::max(reference, pressure_load(m.loads.volume_derivatives));
+            std::max(reference, pressure_load(m.volume_derivatives()));
         const double relative = residual[0] / std::max(reference, 1e-300);
-        const auto   u_norm   = block_norms(m.discretization.layout, m.u_owned);
+        const auto   u_norm   = block_norms(m.layout(), m.iterate());
         if (it > 0)
           log_iteration(it, s.n_chord, s.last_was_chord, relative, u_norm);
         // (So far: a failure's retry counts them, retry_from_chord_start().)
@@ -730,11 +728,12 @@ namespace systole::Mechanics
         // the absolute floor, or the last update was at round-off level; and
         // every cavity volume is on its target.
         const bool volume_ok =
-          largest_volume_error() <= Problem::Impl::volume_tolerance;
-        if (volume_ok && ((residual[0] <= m.params.newton_absolute_tolerance &&
-                           pressure_converged()) ||
-                          (it > 0 && (converged(reference) ||
-                                      du_norm[0] <= 1e-12 * u_norm[0]))))
+          largest_volume_error() <= NewtonSystem::volume_tolerance;
+        if (volume_ok &&
+            ((residual[0] <= m.parameters().newton_absolute_tolerance &&
+              pressure_converged()) ||
+             (it > 0 &&
+              (converged(reference) || du_norm[0] <= 1e-12 * u_norm[0]))))
           {
             report.iterations = it - s.n_chord;
             report.reused_iterations += s.n_chord;
@@ -743,7 +742,7 @@ namespace systole::Mechanics
           }
         // The final message names the residual of every block.
         AssertThrow(
-          it - s.n_chord < m.params.max_newton_iterations,
+          it - s.n_chord < m.parameters().max_newton_iterations,
           ExcNewtonDidNotConverge(failure(bordered ? "volume-constrained step"
                                                    : "load step"),
                                   it,
@@ -781,15 +780,15 @@ namespace systole::Mechanics
     // [K -B; B^T -W'] [du; dp] = -[R; g] with B = [dV_i/du]. k + 1 solves
     // with one factorization: K w_R = -R, K w_j = b_j; then the k x k Schur
     // complement (bordered_update).
-    dealii::TimerOutput::Scope scope(m.timer, "Mechanics / linear solver");
-    m.system.residual *= -1.0;
+    dealii::TimerOutput::Scope scope(m.timers(), "Mechanics / linear solver");
+    m.residual() *= -1.0;
     if (chord)
       {
         report.linear_iterations +=
-          m.linear_solve(du, m.system.residual, it, relative, tolerance);
+          m.linear_solve(du, m.residual(), it, relative, tolerance);
         if (bordered)
-          bordered_correction(m.factorized.volume_rows,
-                              m.factorized.w,
+          bordered_correction(m.factorization().volume_rows,
+                              m.factorization().w,
                               dp,
                               it,
                               relative);
@@ -798,11 +797,9 @@ namespace systole::Mechanics
     try
       {
         {
-          dealii::TimerOutput::Scope setup(m.timer,
+          dealii::TimerOutput::Scope setup(m.timers(),
                                            "Mechanics / linear solver set-up");
-          m.system.linear_solver->setup(m.system.tangent,
-                                        m.system.pressure_matrix.get(),
-                                        m.system.augmentation.get());
+          m.setup_linear_solver();
         }
         if (first_factorization)
           restart_if_indefinite();
@@ -811,13 +808,13 @@ namespace systole::Mechanics
         first_factorization = false;
         m.factorize_low_rank();
         // (Of K alone until the bordered update below stores B0, W0.)
-        m.factorized.held = true;
-        m.factorized.volume_derivatives.clear();
-        m.factorized.volume_rows.clear();
-        m.factorized.w.clear();
-        m.factorized.u              = m.u_owned;
-        m.factorized.pressures      = pressures;
-        m.factorized.active_tension = active_tension;
+        m.factorization().held = true;
+        m.factorization().volume_derivatives.clear();
+        m.factorization().volume_rows.clear();
+        m.factorization().w.clear();
+        m.factorization().u              = m.iterate();
+        m.factorization().pressures      = pressures;
+        m.factorization().active_tension = active_tension;
         m.remember_factorized_tension();
       }
     catch (const dealii::ExceptionBase &e)
@@ -825,20 +822,20 @@ namespace systole::Mechanics
         throw_linear_solver_failure(e, it, relative);
       }
     report.linear_iterations +=
-      m.linear_solve(du, m.system.residual, it, relative, tolerance);
+      m.linear_solve(du, m.residual(), it, relative, tolerance);
     if (bordered)
       {
         for (unsigned int j = 0; j < k; ++j)
-          report.linear_iterations +=
-            m.linear_solve(w_volume[j],
-                           m.loads.volume_derivatives[j],
-                           it,
-                           relative);
-        bordered_correction(m.loads.volume_rows, w_volume, dp, it, relative);
-        m.factorized.volume_derivatives = m.loads.volume_derivatives;
-        m.factorized.volume_rows        = m.loads.volume_rows;
-        m.factorized.w                  = w_volume;
-        m.factorized.held               = true;
+          report.linear_iterations += m.linear_solve(w_volume[j],
+                                                     m.volume_derivatives()[j],
+                                                     it,
+                                                     relative,
+                                                     0.0);
+        bordered_correction(m.volume_rows(), w_volume, dp, it, relative);
+        m.factorization().volume_derivatives = m.volume_derivatives();
+        m.factorization().volume_rows        = m.volume_rows();
+        m.factorization().w                  = w_volume;
+        m.factorization().held               = true;
       }
   }
 
@@ -852,20 +849,17 @@ namespace systole::Mechanics
     // 0.46 |u| long and the iteration failed (docs/verification.md). Start
     // from the last accepted state instead, whose tangent is that of an
     // equilibrium.
-    const long negative = m.system.linear_solver->negative_pivots();
-    if (!bordered || mixed || negative <= 0 || m.history.n_saves < 2)
+    const long negative = m.linear_solver().negative_pivots();
+    if (!bordered || mixed || negative <= 0 || m.solution_history().n_saves < 2)
       return;
     out << "      (the predicted start's tangent has " << negative
         << " negative pivot(s): Newton from the last accepted state)"
         << std::endl;
-    m.u_owned = m.history.u_saved;
-    m.u       = m.u_owned;
+    m.set_iterate(m.solution_history().u_saved);
     assemble(residual, true);
     reference = std::max(reference, residual[0]);
-    m.system.residual *= -1.0;
-    m.system.linear_solver->setup(m.system.tangent,
-                                  m.system.pressure_matrix.get(),
-                                  m.system.augmentation.get());
+    m.residual() *= -1.0;
+    m.setup_linear_solver();
   }
 
   void
@@ -881,10 +875,10 @@ namespace systole::Mechanics
     // tangent stays indefinite (at most three times; if none is definite, on
     // from the full update). As restart_if_indefinite(): within a sequence
     // of solves (two accepted states).
-    const long before = m.system.linear_solver->negative_pivots();
-    if (!bordered || mixed || before <= 0 || m.history.n_saves < 2)
+    const long before = m.linear_solver().negative_pivots();
+    if (!bordered || mixed || before <= 0 || m.solution_history().n_saves < 2)
       return;
-    const LA::MPI::Vector        u_end = m.u_owned;
+    const LA::MPI::Vector        u_end = m.iterate();
     const dealii::Vector<double> p_end = pressures;
     LA::MPI::Vector              last  = u_end;
     last.add(-1.0, u_start);
@@ -894,23 +888,23 @@ namespace systole::Mechanics
     // as update() expects) and its tangent factorized; false where an
     // element inverts.
     const auto move_to = [&](const double theta) {
-      m.u_owned = u_start;
-      m.u_owned.add(theta, last);
       pressures = pressure_start;
       pressures.add(theta, p_end);
       pressures.add(-theta, pressure_start);
       if (theta == 1.0)
         {
-          m.u_owned = u_end;
+          m.set_iterate(u_end);
           pressures = p_end;
         }
-      m.u = m.u_owned;
+      else
+        {
+          m.set_iterate(u_start);
+          m.add_to_iterate(theta, last);
+        }
       if (!assemble(residual, true))
         return false;
-      m.system.residual *= -1.0;
-      m.system.linear_solver->setup(m.system.tangent,
-                                    m.system.pressure_matrix.get(),
-                                    m.system.augmentation.get());
+      m.residual() *= -1.0;
+      m.setup_linear_solver();
       return true;
     };
     long   negative = before;
@@ -920,7 +914,7 @@ namespace systole::Mechanics
         theta *= 0.5;
         if (!move_to(theta))
           break;
-        negative = m.system.linear_solver->negative_pivots();
+        negative = m.linear_solver().negative_pivots();
       }
     if (negative > 0)
       {
@@ -958,7 +952,7 @@ namespace systole::Mechanics
     constexpr double       growth_limit   = 10.0;
     constexpr unsigned int max_backtracks = 3;
     const double           start          = residual[0];
-    u_start                               = m.u_owned;
+    u_start                               = m.iterate();
     pressure_start                        = pressures;
     double       alpha                    = 1.0;
     unsigned int backtracks               = 0;
@@ -966,9 +960,8 @@ namespace systole::Mechanics
     double       growth                   = 0.0;
     for (unsigned int cut = 0;;)
       {
-        m.u_owned = u_start;
-        m.u_owned.add(alpha, du);
-        m.u       = m.u_owned;
+        m.set_iterate(u_start);
+        m.add_to_iterate(alpha, du);
         pressures = pressure_start;
         pressures.add(alpha, dp);
         std::array<double, 2> trial;

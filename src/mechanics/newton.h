@@ -1,13 +1,15 @@
 #pragma once
 
 // Internal to src/mechanics: Newton's method for the mechanics problem, the
-// nonlinear solver of Problem::Impl::newton(), separate from the assembly
+// nonlinear solver of Problem::Impl::newton(), on the problem's
+// NewtonSystem interface (newton_system.h): separate from the assembly
 // (assembly.cc) and the linear solvers (linear_solver.cc) it drives. Not
 // included outside src/mechanics.
 
 #include "mechanics/anderson.h"
 #include "mechanics/forcing_term.h"
-#include "mechanics/problem_impl.h"
+#include "mechanics/newton_system.h"
+#include "mechanics/problem.h"
 
 #include <array>
 #include <vector>
@@ -35,7 +37,7 @@ namespace systole::Mechanics
   class NewtonSolver
   {
   public:
-    NewtonSolver(Problem::Impl               &problem,
+    NewtonSolver(NewtonSystem                &problem,
                  dealii::Vector<double>      &pressures,
                  const double                 active_tension,
                  const Problem::VolumeTarget *target);
@@ -253,7 +255,7 @@ namespace systole::Mechanics
     void
     print_pressures() const;
 
-    Problem::Impl               &m;
+    NewtonSystem                &m;
     dealii::Vector<double>      &pressures;
     const double                 active_tension;
     const Problem::VolumeTarget *target;

@@ -153,8 +153,8 @@ namespace systole::Mechanics
   /// solve_cavities(), which puts b_i in both its load column and its volume
   /// row, has an inexact volume row: it converges to the right (u, p), as
   /// the residuals are exact, but linearly instead of quadratically.
-  class NewtonSolver;
   class MatrixFreeTangent;
+  class ProblemChecks;
 
   class Problem
   {
@@ -387,23 +387,6 @@ namespace systole::Mechanics
     dealii::Tensor<1, 3>
     net_pressure_force(const dealii::Vector<double> &pressures);
 
-    /// Verification hook: relative errors of the bordered Jacobian against
-    /// central differences in a fixed pseudo-random direction (d, dp) at the
-    /// current u and the cavity pressures @p pressures [kPa] (size
-    /// n_cavities()): {first block row (K d - B dp vs dR), second row (B^T d
-    /// vs dV, Euclidean over the cavities)}. Both fall like h^2 when
-    /// consistent. Leaves u unchanged.
-    std::array<double, 2>
-    bordered_jacobian_error(const dealii::Vector<double> &pressures,
-                            const double                  active_tension,
-                            const double                  h);
-
-    /// The same with @p pressure [kPa] in every cavity.
-    std::array<double, 2>
-    bordered_jacobian_error(const double pressure,
-                            const double active_tension,
-                            const double h);
-
     /// Remember the current displacement (a converged state); the one saved
     /// before becomes the previous state for predict().
     void
@@ -461,16 +444,6 @@ namespace systole::Mechanics
     void
     finish_checkpoint();
 
-    /// Verification hook: the relative difference between the assembled
-    /// tangent applied to a fixed pseudo-random direction d (zero on
-    /// constrained DoFs) and the central difference (R(u + h d) - R(u - h d)) /
-    /// 2h of the residual, at the current displacement. It falls like h^2
-    /// when the tangent is consistent. Leaves u unchanged.
-    double
-    tangent_error(const double pressure,
-                  const double active_tension,
-                  const double h);
-
     /// Matrix-free (issue 40): a new MatrixFreeTangent of the bulk term at
     /// the current displacement under the uniform @p active_tension [kPa]
     /// (plus the per-point tensions and the tension model's step, as the
@@ -501,15 +474,6 @@ namespace systole::Mechanics
     update_matrix_free_tangent(MatrixFreeTangent &tangent,
                                const double       pressure,
                                const double       active_tension);
-
-    /// Verification hook: assemble the residual and the tangent at the
-    /// current displacement under @p pressure [kPa] on every pressure part
-    /// and @p active_tension [kPa], and return the sparse tangent (condensed:
-    /// a constrained row or column holds its diagonal entry alone; without
-    /// the low-rank coupling of loaded lids), valid until the next
-    /// assembly. Collective.
-    const dealii::PETScWrappers::MPI::SparseMatrix &
-    assembled_tangent(const double pressure, const double active_tension);
 
     /// Verification hook: set the displacement to the interpolant of
     /// @p displacement (3 components, mm), then apply the constraints.
@@ -612,15 +576,10 @@ namespace systole::Mechanics
     const Geometry::CellKind &
     cell_kind() const;
 
-    /// Verification hook (mixed formulations): set every pressure DoF i to
-    /// amplitude sin(1 + 0.7 i) [kPa], a non-trivial pressure field.
-    void
-    set_pressure_field(const double amplitude);
-
   private:
     struct Impl;
     std::unique_ptr<Impl> impl;
-    /// The nonlinear solver (newton.h) works on the Impl.
-    friend class NewtonSolver;
+    /// The verification hooks (problem_checks.h) work on the Impl.
+    friend class ProblemChecks;
   };
 } // namespace systole::Mechanics

@@ -27,6 +27,7 @@
 #include "mechanics/cavity_volume.h"
 #include "mechanics/field_layout.h"
 #include "mechanics/linear_solver.h"
+#include "mechanics/newton_system.h"
 #include "mechanics/problem.h"
 
 #include <functional>
@@ -134,19 +135,6 @@ namespace systole::Mechanics
     dT_dstretch = out.dtension_dstretch;
     return out.tension;
   }
-
-  /// A linear solve or factorization that threw @p e at Newton iteration
-  /// @p iteration (relative residual @p relative): throws
-  /// ExcNewtonDidNotConverge with the solver's message in one line.
-  void
-  throw_linear_solver_failure(const dealii::ExceptionBase &e,
-                              const unsigned int           iteration,
-                              const double                 relative);
-
-  /// Euclidean norms of the two blocks (u, p) of a vector in the layout of
-  /// @p layout (collective).
-  std::array<double, 2>
-  block_norms(const FieldLayout &layout, const LA::MPI::Vector &v);
 
   /// The material laws as the assembly sees them, and the constants derived
   /// from them once.
@@ -401,48 +389,6 @@ namespace systole::Mechanics
     bool        symmetric_tangent = true;
   };
 
-  /// The displacements saved for a retry and the predictor (save(),
-  /// restore(), predict()).
-  struct SolutionHistory
-  {
-    LA::MPI::Vector u_saved;     ///< owned
-    LA::MPI::Vector u_previous;  ///< owned, the save() before u_saved
-    LA::MPI::Vector u_predicted; ///< owned, the last predict(ratio)
-    unsigned int    n_saves = 0;
-  };
-
-  /// The linear solver holds a factorization (or preconditioner) of the
-  /// tangent of an earlier Newton iteration: where it was assembled, so that
-  /// chord iterations can reuse it and a checkpoint can rebuild it.
-  struct Factorization
-  {
-    /// Whether there is one; for a bordered solve B0 = [dV_i/du] and W0 =
-    /// K^-1 B0 of that iterate (for the chord iterations that start a
-    /// solve).
-    bool                         held = false;
-    std::vector<LA::MPI::Vector> volume_derivatives, w;
-    /// The volume_rows of that iterate.
-    std::vector<LA::MPI::Vector> volume_rows;
-    /// The last solve converged: the factorization is that of an iterate
-    /// near its solution (not of a diverged one).
-    bool last_solve_converged = false;
-    /// Where that tangent was assembled: the iterate (owned), its pressures,
-    /// the uniform and the per-point active tension (by active cell index).
-    LA::MPI::Vector                  u;
-    dealii::Vector<double>           pressures;
-    double                           active_tension = 0;
-    std::vector<std::vector<double>> tension;
-    /// With a tension model: its inputs at the factorized iterate, per
-    /// point its accepted state, stretch and calcium (flat per cell), and
-    /// the step.
-    std::vector<std::vector<double>> model_inputs;
-    double                           tension_time = 0, tension_time_step = 0;
-    /// Of the low-rank part of the tangent (Woodbury): v_j, z_j = tangent^-1
-    /// u_j and (I + V^T Z)^-1, applied by linear_solve().
-    std::vector<LA::MPI::Vector> low_rank_v, low_rank_z;
-    dealii::FullMatrix<double>   low_rank_inverse;
-  };
-
   /// A checkpoint being written: the attached vectors (alive until the
   /// triangulation's save()), and the packed cell data, by active cell index.
   struct CheckpointBuffers
@@ -451,7 +397,7 @@ namespace systole::Mechanics
     std::vector<std::vector<char>> cell_data;
   };
 
-  struct Problem::Impl
+  struct Problem::Impl : public NewtonSystem
   {
     /// (Problem's constructor then sets up the fibres and the solver.)
     explicit Impl(const Inputs &in);
@@ -466,7 +412,7 @@ namespace systole::Mechanics
     assemble(const dealii::Vector<double> &pressures,
              const double                  active_tension,
              const bool                    with_matrix,
-             const bool                    with_volume_derivative = false);
+             const bool with_volume_derivative = false) override;
 
     /// assemble() for the matrix-free linear solver: the residual, then
     /// @p tangent's point data (the kernel again) instead of a sparse matrix.
@@ -517,10 +463,7 @@ namespace systole::Mechanics
 
     /// Cavity volumes at the current u (collective; not timed).
     dealii::Vector<double>
-    cavity_volumes_now() const;
-
-    /// Relative tolerance on the cavity volume of a volume-constrained solve.
-    static constexpr double volume_tolerance = 2e-9;
+    cavity_volumes_now() const override;
 
     /// Solve tangent x = b (the tangent as last assembled) and distribute
     /// the constraints; wraps linear solver failures as Newton failures.
@@ -531,7 +474,7 @@ namespace systole::Mechanics
                  const LA::MPI::Vector &b,
                  const unsigned int     iteration,
                  const double           relative,
-                 const double           tolerance = 0.0);
+                 const double           tolerance = 0.0) override;
 
     Parameters                                            params;
     dealii::parallel::DistributedTriangulationBase<3, 3> &tria;
@@ -580,7 +523,7 @@ namespace systole::Mechanics
     /// After linear_solver->setup(): the factorized low-rank data
     /// (collective; nothing without a low-rank part).
     void
-    factorize_low_rank();
+    factorize_low_rank() override;
 
     LA::MPI::Vector u_owned; ///< owned
     LA::MPI::Vector u;       ///< ghosted copy of u_owned
@@ -626,7 +569,7 @@ namespace systole::Mechanics
     /// Total wall time of a timer section so far [s] (0 before its first
     /// use).
     double
-    seconds_in(const std::string &section) const;
+    seconds_in(const std::string &section) const override;
 
     /// The factorization the linear solver holds.
     Factorization factorized;
@@ -636,7 +579,7 @@ namespace systole::Mechanics
     /// integration the accepted dynamic state and the time step into
     /// Dynamics::factorized_*.
     void
-    remember_factorized_tension();
+    remember_factorized_tension() override;
 
     /// The coefficients of the generalized-alpha method from the parameters
     /// and, on the first call, the mass matrix and the vectors of the
@@ -661,5 +604,101 @@ namespace systole::Mechanics
     std::vector<std::vector<double>>
     checkpoint_data_of(
       const dealii::Triangulation<3, 3>::cell_iterator &cell) const;
+
+    // The rest of NewtonSystem (newton_system.h): views of the members.
+    const Parameters &
+    parameters() const override
+    {
+      return params;
+    }
+    const FieldLayout &
+    layout() const override
+    {
+      return discretization.layout;
+    }
+    double
+    body_volume() const override
+    {
+      return discretization.body_volume;
+    }
+    unsigned int
+    n_cavities() const override
+    {
+      return loads.cavities.size();
+    }
+    const std::vector<std::string> &
+    pressure_names() const override
+    {
+      return loads.pressure_names;
+    }
+    void
+    reinit_vector(LA::MPI::Vector &v) const override
+    {
+      v.reinit(discretization.owned, comm);
+    }
+    dealii::ConditionalOStream &
+    log() const override
+    {
+      return logger.detail();
+    }
+    dealii::TimerOutput &
+    timers() const override
+    {
+      return timer;
+    }
+    const LA::MPI::Vector &
+    iterate() const override
+    {
+      return u_owned;
+    }
+    void
+    set_iterate(const LA::MPI::Vector &v) override
+    {
+      u_owned = v;
+      u       = u_owned;
+    }
+    void
+    add_to_iterate(const double a, const LA::MPI::Vector &du) override
+    {
+      u_owned.add(a, du);
+      u = u_owned;
+    }
+    const SolutionHistory &
+    solution_history() const override
+    {
+      return history;
+    }
+    LA::MPI::Vector &
+    residual() override
+    {
+      return system.residual;
+    }
+    const std::vector<LA::MPI::Vector> &
+    volume_derivatives() const override
+    {
+      return loads.volume_derivatives;
+    }
+    const std::vector<LA::MPI::Vector> &
+    volume_rows() const override
+    {
+      return loads.volume_rows;
+    }
+    const LinearSolver &
+    linear_solver() const override
+    {
+      return *system.linear_solver;
+    }
+    void
+    setup_linear_solver() override
+    {
+      system.linear_solver->setup(system.tangent,
+                                  system.pressure_matrix.get(),
+                                  system.augmentation.get());
+    }
+    Factorization &
+    factorization() override
+    {
+      return factorized;
+    }
   };
 } // namespace systole::Mechanics

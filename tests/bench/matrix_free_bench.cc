@@ -15,7 +15,7 @@
 // of n^3 Q2 cells on its MappingQCache, the Guccione law of the tests with a
 // fibre frame rotating along z, Simo-Taylor penalty, x = 0 fixed, 10 kPa of
 // active tension, at a smooth displacement): the assembled PETSc matrix
-// (Problem::assembled_tangent()) against the general cached matrix-free
+// (ProblemChecks::assembled_tangent()) against the general cached matrix-free
 // tangent filled by the Problem's point kernel
 // (Problem::matrix_free_tangent()), in double and single precision.
 //
@@ -39,6 +39,7 @@
 #include "mechanics/matrix_free_multigrid.h"
 #include "mechanics/matrix_free_tangent.h"
 #include "mechanics/problem.h"
+#include "mechanics/problem_checks.h"
 #include "support/mechanics_fixture.h"
 #include "support/penalty_tangent.h"
 
@@ -423,8 +424,13 @@ namespace
     Row sparse;
     sparse.name                                       = "Problem sparse matrix";
     const dealii::PETScWrappers::MPI::SparseMatrix *K = nullptr;
-    sparse.setup_update =
-      best_time([&]() { K = &problem.assembled_tangent(0.0, tension); }, 0.0);
+    sparse.setup_update                               = best_time(
+      [&]() {
+        K = &systole::Mechanics::ProblemChecks::assembled_tangent(problem,
+                                                                  0.0,
+                                                                  tension);
+      },
+      0.0);
     dealii::PETScWrappers::MPI::Vector x_sparse(owned, comm),
       y_sparse(owned, comm);
     for (unsigned int i = 0; i < direction.locally_owned_size(); ++i)

@@ -7,6 +7,7 @@
 #include "fibres/fibre_field.h"
 #include "geometry/ellipsoid.h"
 #include "mechanics/matrix_free_tangent.h"
+#include "mechanics/problem_checks.h"
 #include "support/mechanics_fixture.h"
 
 #include <algorithm>
@@ -99,23 +100,31 @@ namespace test_support
 
     constexpr double             active_tension = 10.0;
     MatrixFreeProblemDifferences result;
-    const auto &K  = problem->assembled_tangent(0.0, active_tension);
-    const auto  mf = problem->matrix_free_tangent(active_tension);
-    result.cached  = difference(*mf, K, comm);
+    const auto                  &K =
+      systole::Mechanics::ProblemChecks::assembled_tangent(*problem,
+                                                           0.0,
+                                                           active_tension);
+    const auto mf = problem->matrix_free_tangent(active_tension);
+    result.cached = difference(*mf, K, comm);
     result.single =
       difference(*problem->matrix_free_tangent(active_tension, true), K, comm);
     result.other_tension =
       difference(*problem->matrix_free_tangent(0.0), K, comm);
 
     problem->set_displacement(Twist());
-    const auto &K_new = problem->assembled_tangent(0.0, active_tension);
-    result.stale      = difference(*mf, K_new, comm);
+    const auto &K_new =
+      systole::Mechanics::ProblemChecks::assembled_tangent(*problem,
+                                                           0.0,
+                                                           active_tension);
+    result.stale = difference(*mf, K_new, comm);
     problem->update_matrix_free_tangent(*mf, active_tension);
     result.updated = difference(*mf, K_new, comm);
 
     constexpr double pressure = 10.0; // [kPa] (Land problem 2)
     const auto      &K_pressure =
-      problem->assembled_tangent(pressure, active_tension);
+      systole::Mechanics::ProblemChecks::assembled_tangent(*problem,
+                                                           pressure,
+                                                           active_tension);
     result.pressure_left_out = difference(*mf, K_pressure, comm);
     problem->update_matrix_free_tangent(*mf, pressure, active_tension);
     result.pressure = difference(*mf, K_pressure, comm);

@@ -2,6 +2,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/mesh_file.h"
+#include "mechanics/problem_checks.h"
 
 #include <cmath>
 
@@ -181,8 +182,15 @@ namespace test_support
   bordered_jacobian_errors(systole::Mechanics::Problem  &problem,
                            const dealii::Vector<double> &pressures)
   {
-    return {{problem.bordered_jacobian_error(pressures, 10.0, 1e-3),
-             problem.bordered_jacobian_error(pressures, 10.0, 5e-4)}};
+    return {
+      {systole::Mechanics::ProblemChecks::bordered_jacobian_error(problem,
+                                                                  pressures,
+                                                                  10.0,
+                                                                  1e-3),
+       systole::Mechanics::ProblemChecks::bordered_jacobian_error(problem,
+                                                                  pressures,
+                                                                  10.0,
+                                                                  5e-4)}};
   }
 
   std::array<std::array<double, 2>, 2>

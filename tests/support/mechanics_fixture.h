@@ -123,7 +123,7 @@ namespace test_support
                     const std::vector<double>    &dV,
                     const std::vector<double>    &c);
 
-  /// Problem::bordered_jacobian_error at @p pressures [kPa] and an active
+  /// ProblemChecks::bordered_jacobian_error at @p pressures [kPa] and an active
   /// tension of 10 kPa, at the steps h = 1e-3 and h/2.
   std::array<std::array<double, 2>, 2>
   bordered_jacobian_errors(systole::Mechanics::Problem  &problem,
