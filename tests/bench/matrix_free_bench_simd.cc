@@ -4,23 +4,14 @@
 // raises the vectorization width after deal.II's config.h (which makes the
 // 8-lane VectorizedArray<double, 8> available, while the default width stays
 // 1), is compiled with -mavx512f, and instantiates MatrixFree for
-// VectorizedArray<double, 8> itself. Benchmark only: the library keeps the
-// installed configuration.
+// VectorizedArray<double, 8> itself (matrix_free_instantiation.h). The
+// library's own width is the build machine's (cmake/SystoleSimd.cmake); this
+// unit gives the benchmark 8 lanes whatever the library's.
 #include <deal.II/base/config.h>
 #undef DEAL_II_VECTORIZATION_WIDTH_IN_BITS
 #define DEAL_II_VECTORIZATION_WIDTH_IN_BITS 512
 
-// Only the degrees up to 2 in the run-time factories (the operator is Q2).
-#define FE_EVAL_FACTORY_DEGREE_MAX 2
-#include <deal.II/matrix_free/evaluation_template_factory.templates.h>
-// deal.II 9.4's face factory reuses the include guard of the cell factory.
-#undef dealii_matrix_free_evaluation_template_factory_templates_h
-#include <deal.II/matrix_free/evaluation_template_face_factory.templates.h>
-#include <deal.II/matrix_free/evaluation_template_factory_hanging_nodes.templates.h>
-#include <deal.II/matrix_free/mapping_info.templates.h>
-#include <deal.II/matrix_free/matrix_free.templates.h>
-#include <deal.II/matrix_free/shape_info.templates.h>
-
+#include "mechanics/matrix_free_instantiation.h"
 #include "mechanics/matrix_free_tangent_impl.h"
 
 #include "matrix_free_bench_simd.h"
@@ -28,14 +19,7 @@
 using VA8 = dealii::VectorizedArray<double, 8>;
 static_assert(VA8::size() == 8, "compile this file with -mavx512f");
 
-template class dealii::MatrixFree<3, double, VA8>;
-template struct dealii::internal::MatrixFreeFunctions::ShapeInfo<VA8>;
-template struct dealii::internal::MatrixFreeFunctions::
-  MappingInfo<3, double, VA8>;
-template struct dealii::internal::FEEvaluationFactory<3, VA8>;
-template struct dealii::internal::FEFaceEvaluationFactory<3, VA8>;
-template struct dealii::internal::
-  FEEvaluationHangingNodesFactory<3, double, VA8>;
+SYSTOLE_INSTANTIATE_MATRIX_FREE(VA8);
 
 namespace bench
 {
