@@ -14,7 +14,8 @@
 #include <deal.II/base/config.h>
 
 #if !defined(SYSTOLE_MATRIX_FREE_LANES) || SYSTOLE_MATRIX_FREE_LANES < 2
-#  error "matrix_free_simd.h is for the SIMD units only (CMakeLists.txt)."
+#  error \
+    "matrix_free_simd.h is for the SIMD units only (cmake/SystoleSimd.cmake)."
 #endif
 
 #undef DEAL_II_VECTORIZATION_WIDTH_IN_BITS

@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -20,6 +21,12 @@ using namespace systole;
 
 namespace
 {
+  /// The three formulations (the checks that run on all of them).
+  constexpr std::array<Mechanics::Incompressibility, 3> all_formulations{
+    {Mechanics::Incompressibility::penalty,
+     Mechanics::Incompressibility::nearly_incompressible,
+     Mechanics::Incompressibility::incompressible}};
+
   /// A smooth displacement of moderate size (strains of about 10 %).
   class Wobble : public dealii::Function<3>
   {
@@ -105,10 +112,7 @@ TEST_CASE("The mechanics tangent is the derivative of the residual",
     Geometry::Parameters geometry; // the Land ventricle
     dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
     const auto names = Geometry::create_mesh(geometry, tria);
-    for (const auto incompressibility :
-         {Mechanics::Incompressibility::penalty,
-          Mechanics::Incompressibility::nearly_incompressible,
-          Mechanics::Incompressibility::incompressible})
+    for (const auto incompressibility : all_formulations)
       {
         Mechanics::Parameters params;
         params.incompressibility = incompressibility;
@@ -282,10 +286,7 @@ TEST_CASE("The mechanics tangent is the derivative of the residual with "
       const bool steep = !c.tension_switches.empty() ||
                          c.label.find("logistic") != std::string::npos;
       const double h = steep ? 1e-4 : 1e-3;
-      for (const auto incompressibility :
-           {Mechanics::Incompressibility::penalty,
-            Mechanics::Incompressibility::nearly_incompressible,
-            Mechanics::Incompressibility::incompressible})
+      for (const auto incompressibility : all_formulations)
         {
           Mechanics::Parameters params;
           params.incompressibility  = incompressibility;
