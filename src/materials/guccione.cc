@@ -1,5 +1,7 @@
 #include "materials/guccione.h"
 
+#include "materials/symmetric_tensor_ops.h"
+
 #include <array>
 #include <cmath>
 
@@ -71,14 +73,17 @@ namespace systole::Materials
           Q += w * E_ab * E_ab;
           H += (w * E_ab) * M;
           if (in.with_tangent)
-            dH += w * dealii::outer_product(M, M);
+            SymmetricOps::add_outer(dH, w, M, M);
         }
 
     const double exp_Q = std::exp(Q);
     out.psi            = 0.5 * params.C * std::expm1(Q);
     out.S              = (params.C * exp_Q) * H;
     if (in.with_tangent)
-      out.dS_dE = (params.C * exp_Q) * (2.0 * dealii::outer_product(H, H) + dH);
+      {
+        SymmetricOps::add_outer(dH, 2.0, H, H);
+        out.dS_dE = (params.C * exp_Q) * dH;
+      }
   }
 
 

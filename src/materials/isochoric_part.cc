@@ -1,7 +1,6 @@
 #include "materials/isochoric_part.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
+#include "materials/symmetric_tensor_ops.h"
 #include "materials/volumetric_law.h"
 
 #include <cmath>
@@ -35,19 +34,23 @@ namespace systole::Materials
     out.S                         = S;
     if (!in.with_tangent)
       return;
-    const SymmetricTensor<4, 3> identity = dealii::identity_tensor<3>();
-    const SymmetricTensor<4, 3> P =
-      identity - (1.0 / 3.0) * dealii::outer_product(C_inv, C);
-    const SymmetricTensor<4, 3> P_T =
-      identity - (1.0 / 3.0) * dealii::outer_product(C, C_inv);
-    // C^-1 (.) C^-1 = -dC^-1/dC (deal.II's dC_inv_dC).
-    const SymmetricTensor<4, 3> P_tilde =
-      -dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F) -
-      (1.0 / 3.0) * dealii::outer_product(C_inv, C_inv);
-    out.dS_dE = (J_m23 * J_m23) * (P * law_out.dS_dE * P_T) +
-                (2.0 / 3.0) * trace * P_tilde -
-                (2.0 / 3.0) * (dealii::outer_product(C_inv, S) +
-                               dealii::outer_product(S, C_inv));
+    // P : D : P^T = D - (C^-1 x (C : D) + (D : C) x C^-1) / 3
+    //   + (C : D : C) C^-1 x C^-1 / 9, D = dS_bar/dE_bar (P = I - C^-1 x
+    // C / 3 is a rank-one update of the identity).
+    namespace ops                      = SymmetricOps;
+    const SymmetricTensor<4, 3> &D     = law_out.dS_dE;
+    const SymmetricTensor<2, 3>  C_D   = ops::contract(C, D);
+    const SymmetricTensor<2, 3>  D_C   = ops::contract(D, C);
+    const double                 J_m43 = J_m23 * J_m23;
+    out.dS_dE                          = J_m43 * D;
+    ops::add_outer(out.dS_dE, -J_m43 / 3.0, C_inv, C_D);
+    ops::add_outer(out.dS_dE, -J_m43 / 3.0, D_C, C_inv);
+    ops::add_outer(out.dS_dE, J_m43 * (C_D * C) / 9.0, C_inv, C_inv);
+    // + 2/3 tr P_tilde, P_tilde = C^-1 (.) C^-1 - C^-1 x C^-1 / 3
+    // (C^-1 (.) C^-1 = -dC^-1/dC); - 2/3 (C^-1 x S + S x C^-1).
+    ops::add_symmetric_product(out.dS_dE, (2.0 / 3.0) * trace, C_inv);
+    ops::add_outer(out.dS_dE, -(2.0 / 9.0) * trace, C_inv, C_inv);
+    ops::add_symmetric_outer(out.dS_dE, -2.0 / 3.0, C_inv, S);
   }
 
   std::string

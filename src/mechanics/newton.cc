@@ -760,7 +760,7 @@ namespace systole::Mechanics
                it,
                relative,
                dp,
-               s.inexact ? s.forcing.next(residual[0], target_residual())
+               s.inexact ? s.forcing.next(residual[0], target_residual(), chord)
                          : 0.0);
         if (s.accelerated)
           chord = accelerate(chord, it, relative, dp, s.chord_ratio);
