@@ -44,8 +44,8 @@ namespace systole::Mechanics
   /// The general tangent (the constructor without a law): update(
   /// CellTangents) takes the first elasticity tangent dP/dF of every point
   /// from the caller, cell by cell (e.g. from the mechanics' own point kernel,
-  /// Problem::matrix_free_tangent(): any passive law with its fibre frame,
-  /// the volumetric penalty, the active tension), and stores it like
+  /// ProblemChecks::matrix_free_tangent(): any passive law with its fibre
+  /// frame, the volumetric penalty, the active tension), and stores it like
   /// Variant::cached (or cached_single); vmult() is then the same code.
   /// Constrained DoFs: the constraints (homogeneous for the tangent) are
   /// applied to the input and the output; on the constrained rows vmult()

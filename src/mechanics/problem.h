@@ -153,7 +153,6 @@ namespace systole::Mechanics
   /// solve_cavities(), which puts b_i in both its load column and its volume
   /// row, has an inexact volume row: it converges to the right (u, p), as
   /// the residuals are exact, but linearly instead of quadratically.
-  class MatrixFreeTangent;
   class ProblemChecks;
 
   class Problem
@@ -444,39 +443,9 @@ namespace systole::Mechanics
     void
     finish_checkpoint();
 
-    /// Matrix-free (issue 40): a new MatrixFreeTangent of the bulk term at
-    /// the current displacement under the uniform @p active_tension [kPa]
-    /// (plus the per-point tensions and the tension model's step, as the
-    /// assembly): the general cached tangent (Variant::cached, or
-    /// cached_single with @p single) on this problem's mapping, DoFs and
-    /// constraints, whose dP/dF at every point comes from the assembly's own
-    /// point kernel (the passive law with the fibre frame, the volumetric
-    /// penalty, the active tension) and first_elasticity_tangent(). The
-    /// bulk term only: without follower pressure, Robin springs or loaded
-    /// lids, it is the assembled tangent at zero cavity pressure without
-    /// supports (the follower pressure: update_matrix_free_tangent() with a
-    /// pressure). Penalty formulation, Q2 hexahedra, the full volumetric
-    /// rule, quasi-static (throws otherwise). The Linear solver
-    /// "matrix-free" holds its own. The problem must outlive it. Collective.
-    std::unique_ptr<MatrixFreeTangent>
-    matrix_free_tangent(const double active_tension, const bool single = false);
-
-    /// Refill @p tangent (made by matrix_free_tangent() of this problem) at
-    /// the current displacement and @p active_tension [kPa]. Collective.
-    void
-    update_matrix_free_tangent(MatrixFreeTangent &tangent,
-                               const double       active_tension);
-
-    /// The same with the follower @p pressure [kPa] on every pressure part
-    /// (its face term, MatrixFreeTangent::set_follower_pressure(), as
-    /// assembled_tangent(pressure, active_tension) has it). Collective.
-    void
-    update_matrix_free_tangent(MatrixFreeTangent &tangent,
-                               const double       pressure,
-                               const double       active_tension);
-
-    /// Verification hook: set the displacement to the interpolant of
-    /// @p displacement (3 components, mm), then apply the constraints.
+    /// Set the displacement to the interpolant of @p displacement (3
+    /// components, mm), then apply the constraints (a mixed formulation's
+    /// pressure becomes zero).
     void
     set_displacement(const dealii::Function<3> &displacement);
 

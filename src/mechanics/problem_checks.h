@@ -6,12 +6,16 @@
 #include "mechanics/problem.h"
 
 #include <array>
+#include <memory>
 
 namespace systole::Mechanics
 {
   /// The verification hooks of Problem, for the tests and the benchmarks
   /// (not for a simulation): finite-difference checks of the tangents, the
-  /// assembled matrix, a pressure field. Each takes the problem it checks.
+  /// assembled matrix, a pressure field, a matrix-free tangent of its own. Each
+  /// takes the problem it checks.
+  class MatrixFreeTangent;
+
   class ProblemChecks
   {
   public:
@@ -61,5 +65,41 @@ namespace systole::Mechanics
     /// i) [kPa], a non-trivial pressure field.
     static void
     set_pressure_field(Problem &problem, const double amplitude);
+
+    /// A new MatrixFreeTangent of the bulk term of @p problem at its current
+    /// displacement under the uniform @p active_tension [kPa] (plus the
+    /// per-point tensions and the tension model's step, as the assembly):
+    /// the general cached tangent (Variant::cached, or cached_single with @p
+    /// single) on the problem's mapping, DoFs and constraints, whose dP/dF
+    /// at every point comes from the assembly's own point kernel (the
+    /// passive law with the fibre frame, the volumetric penalty, the active
+    /// tension) and first_elasticity_tangent(). The bulk term only: without
+    /// follower pressure, Robin springs or loaded lids, it is the assembled
+    /// tangent at zero cavity pressure without supports (the follower
+    /// pressure: update_matrix_free_tangent() with a pressure). Penalty
+    /// formulation, Q2 hexahedra, the full volumetric rule, quasi-static
+    /// (throws otherwise). The Linear solver "matrix-free" holds its own.
+    /// The problem must outlive it. Collective.
+    static std::unique_ptr<MatrixFreeTangent>
+    matrix_free_tangent(Problem     &problem,
+                        const double active_tension,
+                        const bool   single = false);
+
+    /// Refill @p tangent (made by matrix_free_tangent() of @p problem) at
+    /// the current displacement and @p active_tension [kPa]. Collective.
+    static void
+    update_matrix_free_tangent(Problem           &problem,
+                               MatrixFreeTangent &tangent,
+                               const double       active_tension);
+
+    /// The same with the follower @p pressure [kPa] on every pressure part
+    /// (its face term, MatrixFreeTangent::set_follower_pressure(), as
+    /// assembled_tangent(problem, pressure, active_tension) has it).
+    /// Collective.
+    static void
+    update_matrix_free_tangent(Problem           &problem,
+                               MatrixFreeTangent &tangent,
+                               const double       pressure,
+                               const double       active_tension);
   };
 } // namespace systole::Mechanics

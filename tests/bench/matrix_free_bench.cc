@@ -17,7 +17,7 @@
 // active tension, at a smooth displacement): the assembled PETSc matrix
 // (ProblemChecks::assembled_tangent()) against the general cached matrix-free
 // tangent filled by the Problem's point kernel
-// (Problem::matrix_free_tangent()), in double and single precision.
+// (ProblemChecks::matrix_free_tangent()), in double and single precision.
 //
 //   [mpirun -np 2] build/tests/systole-mf-bench [--no-sparse] n1 [n2 ...]
 //   [mpirun -np 2] build/tests/systole-mf-bench --multigrid r1 [r2 ...]
@@ -410,7 +410,7 @@ namespace
 
     // The direction: zero on the constrained DoFs.
     const std::unique_ptr<Mechanics::MatrixFreeTangent> first =
-      problem.matrix_free_tangent(tension);
+      Mechanics::ProblemChecks::matrix_free_tangent(problem, tension);
     bench::Vector direction, y;
     first->initialize_dof_vector(direction);
     y.reinit(direction);
@@ -450,12 +450,18 @@ namespace
         Row                                                 row;
         const double                                        t0 = now();
         const std::unique_ptr<Mechanics::MatrixFreeTangent> op =
-          problem.matrix_free_tangent(tension, single);
+          Mechanics::ProblemChecks::matrix_free_tangent(problem,
+                                                        tension,
+                                                        single);
         // (init: MatrixFree's initialization and the first fill)
-        row.setup_once = dealii::Utilities::MPI::max(now() - t0, comm);
-        row.setup_update =
-          best_time([&]() { problem.update_matrix_free_tangent(*op, tension); },
-                    0.0);
+        row.setup_once   = dealii::Utilities::MPI::max(now() - t0, comm);
+        row.setup_update = best_time(
+          [&]() {
+            Mechanics::ProblemChecks::update_matrix_free_tangent(problem,
+                                                                 *op,
+                                                                 tension);
+          },
+          0.0);
         row.apply = best_time([&]() { op->vmult(y, direction); });
         row.result.assign(y.begin(), y.begin() + y.locally_owned_size());
         row.name = single ? "Problem MF single" : "Problem MF cached";

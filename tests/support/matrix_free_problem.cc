@@ -104,12 +104,19 @@ namespace test_support
       systole::Mechanics::ProblemChecks::assembled_tangent(*problem,
                                                            0.0,
                                                            active_tension);
-    const auto mf = problem->matrix_free_tangent(active_tension);
+    const auto mf =
+      Mechanics::ProblemChecks::matrix_free_tangent(*problem, active_tension);
     result.cached = difference(*mf, K, comm);
     result.single =
-      difference(*problem->matrix_free_tangent(active_tension, true), K, comm);
+      difference(*Mechanics::ProblemChecks::matrix_free_tangent(*problem,
+                                                                active_tension,
+                                                                true),
+                 K,
+                 comm);
     result.other_tension =
-      difference(*problem->matrix_free_tangent(0.0), K, comm);
+      difference(*Mechanics::ProblemChecks::matrix_free_tangent(*problem, 0.0),
+                 K,
+                 comm);
 
     problem->set_displacement(Twist());
     const auto &K_new =
@@ -117,7 +124,9 @@ namespace test_support
                                                            0.0,
                                                            active_tension);
     result.stale = difference(*mf, K_new, comm);
-    problem->update_matrix_free_tangent(*mf, active_tension);
+    Mechanics::ProblemChecks::update_matrix_free_tangent(*problem,
+                                                         *mf,
+                                                         active_tension);
     result.updated = difference(*mf, K_new, comm);
 
     constexpr double pressure = 10.0; // [kPa] (Land problem 2)
@@ -126,7 +135,10 @@ namespace test_support
                                                            pressure,
                                                            active_tension);
     result.pressure_left_out = difference(*mf, K_pressure, comm);
-    problem->update_matrix_free_tangent(*mf, pressure, active_tension);
+    Mechanics::ProblemChecks::update_matrix_free_tangent(*problem,
+                                                         *mf,
+                                                         pressure,
+                                                         active_tension);
     result.pressure = difference(*mf, K_pressure, comm);
     return result;
   }

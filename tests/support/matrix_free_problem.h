@@ -23,7 +23,8 @@ namespace test_support
     /// The cached tangent after the displacement changed (update_matrix_
     /// free_tangent() brings it back: cached again), before the update.
     double stale = 0;
-    /// After update_matrix_free_tangent() at the new displacement.
+    /// After ProblemChecks::update_matrix_free_tangent() at the new
+    /// displacement.
     double updated = 0;
     /// With the follower pressure of 10 kPa on the endocardium (its face
     /// term) against the assembled tangent under that pressure.

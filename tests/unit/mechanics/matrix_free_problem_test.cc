@@ -2,6 +2,7 @@
 // issue 40) against the Problem's assembled tangent.
 #include "mechanics/matrix_free_tangent.h"
 #include "mechanics/problem.h"
+#include "mechanics/problem_checks.h"
 #include "support/matrix_free_problem.h"
 #include "support/mechanics_fixture.h"
 
@@ -35,23 +36,24 @@ TEST_CASE("The mechanics' matrix-free tangent refuses mixed, reduced, Q1",
           "[mechanics][matrix-free]")
 {
   using systole::Mechanics::Incompressibility;
+  using systole::Mechanics::ProblemChecks;
   {
     test_support::VentricleMechanics v;
     v.params.incompressibility = Incompressibility::nearly_incompressible;
-    CHECK_THROWS_WITH(v.problem(2)->matrix_free_tangent(10.0),
+    CHECK_THROWS_WITH(ProblemChecks::matrix_free_tangent(*v.problem(2), 10.0),
                       Catch::Contains("needs the penalty formulation"));
   }
   {
     test_support::VentricleMechanics v;
     v.params.reduced_volumetric_integration = true;
-    CHECK_THROWS_WITH(v.problem(2)->matrix_free_tangent(10.0),
+    CHECK_THROWS_WITH(ProblemChecks::matrix_free_tangent(*v.problem(2), 10.0),
                       Catch::Contains("full volumetric rule"));
   }
   {
     test_support::VentricleMechanics v;
     const auto                       problem = v.problem(2);
-    CHECK_NOTHROW(problem->matrix_free_tangent(10.0));
-    CHECK_THROWS_WITH(v.problem(1)->matrix_free_tangent(10.0),
+    CHECK_NOTHROW(ProblemChecks::matrix_free_tangent(*problem, 10.0));
+    CHECK_THROWS_WITH(ProblemChecks::matrix_free_tangent(*v.problem(1), 10.0),
                       Catch::Contains("needs the penalty formulation on Q2"));
   }
 }
