@@ -46,61 +46,40 @@ namespace
     bool   converged = false;
   };
 
-  /// Inexact Newton to |F| <= tolerance |F_0|: each update solves J du = -F
-  /// only to |J du + F| = eta |F| (the error along the worst direction: the
-  /// first component's, the slowest to converge), eta from @p forcing, or
-  /// @p fixed_eta if > 0.
-  Outcome
-  solve(const double fixed_eta)
+  /// How iterate() runs.
+  struct Run
   {
-    Cubic               problem{{3.0, -2.0, 0.5, 8.0, -6.0}};
-    std::vector<double> x(problem.b.size(), 0.0);
-    auto                r      = problem.residual(x);
-    const double        target = 1e-10 * norm(r);
-    ForcingTerm         forcing(1e-12);
-    Outcome             outcome;
-    for (; outcome.iterations < 30; ++outcome.iterations)
-      {
-        const double r_norm = norm(r);
-        if (r_norm <= target)
-          {
-            outcome.converged = true;
-            break;
-          }
-        const double eta =
-          fixed_eta > 0.0 ? fixed_eta : forcing.next(r_norm, target);
-        outcome.digits += std::log10(1.0 / eta);
-        for (unsigned int i = 0; i < x.size(); ++i)
-          {
-            const double jacobian = 1.0 + 1.5 * x[i] * x[i];
-            // The linear residual J du + F = e, |e| = eta |F|, along x_0.
-            const double error = i == 0 ? eta * r_norm : 0.0;
-            x[i] += (-r[i] + error) / jacobian;
-          }
-        r = problem.residual(x);
-      }
-    return outcome;
-  }
+    /// The start x = start * x* (x* the solution).
+    double start = 0.0;
+    /// Converged at |F| <= tolerance |F_0|.
+    double tolerance = 1e-10;
+    /// If > 0, every update to this eta instead of the forcing term's.
+    double fixed_eta = 0.0;
+    /// Chord iterations on the Jacobian at the start (else Newton).
+    bool chords = false;
+    /// Whether the forcing term is told the updates are chords.
+    bool told = false;
+  };
 
-  /// Chord iterations on the Jacobian at x = 0.99 x* (x* the solution) from
-  /// there to |F| <= 1e-12 |F_0|, each update solved to |J du + F| = eta |F|
-  /// as in solve(); @p chord: the forcing term knows the updates are chords.
+  /// Inexact Newton (or chord) iterations on the cubic: each update solves
+  /// J du = -F only to |J du + F| = eta |F| (the error along the worst
+  /// direction: the first component's, the slowest to converge).
   Outcome
-  chords(const bool chord)
+  iterate(const Run &run)
   {
     Cubic               problem{{3.0, -2.0, 0.5, 8.0, -6.0}};
-    std::vector<double> x(problem.b.size(), 0.0), jacobian(x.size());
+    std::vector<double> x(problem.b.size()), start_jacobian(x.size());
     for (unsigned int i = 0; i < x.size(); ++i)
       {
         double y = 0.0; // x* by Newton on the scalar equation
         for (unsigned int k = 0; k < 60; ++k)
           y -= (y + 0.5 * y * y * y - problem.b[i]) / (1.0 + 1.5 * y * y);
-        x[i]        = 0.99 * y;
-        jacobian[i] = 1.0 + 1.5 * x[i] * x[i];
+        x[i]              = run.start * y;
+        start_jacobian[i] = 1.0 + 1.5 * x[i] * x[i];
       }
     auto         r      = problem.residual(x);
-    const double target = 1e-12 * norm(r);
-    ForcingTerm  forcing(1e-14);
+    const double target = run.tolerance * norm(r);
+    ForcingTerm  forcing(1e-12);
     Outcome      outcome;
     for (; outcome.iterations < 60; ++outcome.iterations)
       {
@@ -110,13 +89,37 @@ namespace
             outcome.converged = true;
             break;
           }
-        const double eta = forcing.next(r_norm, target, chord);
+        const double eta = run.fixed_eta > 0.0
+                             ? run.fixed_eta
+                             : forcing.next(r_norm, target, run.told);
         outcome.digits += std::log10(1.0 / eta);
         for (unsigned int i = 0; i < x.size(); ++i)
-          x[i] += (-r[i] + (i == 0 ? eta * r_norm : 0.0)) / jacobian[i];
+          {
+            const double jacobian =
+              run.chords ? start_jacobian[i] : 1.0 + 1.5 * x[i] * x[i];
+            // The linear residual J du + F = e, |e| = eta |F|, along x_0.
+            const double error = i == 0 ? eta * r_norm : 0.0;
+            x[i] += (-r[i] + error) / jacobian;
+          }
         r = problem.residual(x);
       }
     return outcome;
+  }
+
+  /// Newton from x = 0 to 1e-10, each update to @p fixed_eta if > 0, else
+  /// to the forcing term's.
+  Outcome
+  solve(const double fixed_eta)
+  {
+    return iterate({0.0, 1e-10, fixed_eta, false, false});
+  }
+
+  /// Chord iterations on the Jacobian at x = 0.99 x* to 1e-12; @p told:
+  /// the forcing term knows the updates are chords.
+  Outcome
+  chords(const bool told)
+  {
+    return iterate({0.99, 1e-12, 0.0, true, told});
   }
 } // namespace
 
