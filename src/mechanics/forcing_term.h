@@ -24,13 +24,13 @@ namespace systole::Mechanics
   ///   eta_k >= floor (the solver's own tolerance),
   ///   eta_k >= chord_fraction r_k / r_{k-1} for a chord update (on the last
   ///   tangent): a chord contracts |R| linearly, r_{k+1} <= (rho + eta_k)
-  ///   r_k with rho the lag of its tangent (Kelley 1995, 5.3 and 6.2), so a
-  ///   solve tighter than a tenth of rho does not make it converge faster;
-  ///   rho is taken as the last contraction r_k / r_{k-1}, which after a
-  ///   Newton update predicts the chord's (both are about L |du|: Land
-  ///   problem 2 at 511k DOFs, 2.6e-3 and 2.5e-3). Choice 2 alone asked
-  ///   gamma rho^2, 6e-6 for that chord: 24 Krylov iterations where 1e-3
-  ///   needs about half.
+  ///   r_k with rho the lag of its tangent (Kelley 1995, chapters 5 and 6),
+  ///   so a solve tighter than a tenth of rho does not make it converge
+  ///   faster; rho is taken as the last contraction r_k / r_{k-1}, which
+  ///   after a Newton update predicts the chord's (both are about L |du|:
+  ///   Land problem 2 at 511k DOFs, 2.6e-3 and 2.5e-3). Choice 2 alone
+  ///   asked gamma rho^2, 6e-6, for the first chord of its last load step
+  ///   (24 Krylov iterations); a tenth of rho took 16.
   /// Far from the solution a few Krylov iterations then suffice; near it the
   /// solves tighten as fast as Newton converges, which keeps its rate.
   class ForcingTerm
