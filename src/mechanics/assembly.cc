@@ -959,7 +959,8 @@ namespace systole::Mechanics
 
     /// The inertia of one cell (w.fe_values reinitialized): int rho phi_i .
     /// A dV / (1 - alpha_f) and c int rho phi_i . phi_j dV / (1 - alpha_f)
-    /// (the same component), A the effective acceleration.
+    /// (the same displacement component; nothing in a pressure row), A the
+    /// effective acceleration.
     void
     add_inertia_cell(const dealii::FiniteElement<3>           &fe,
                      const double                              density,
@@ -978,8 +979,10 @@ namespace systole::Mechanics
           const double w_residual = w_q * options.inertia_weight;
           for (unsigned int i = 0; i < n; ++i)
             {
-              const unsigned int ci    = fe.system_to_component_index(i).first;
-              const double       phi_i = values.shape_value(i, q);
+              const unsigned int ci = fe.system_to_component_index(i).first;
+              if (ci == 3) // the pressure of a mixed formulation
+                continue;
+              const double phi_i = values.shape_value(i, q);
               w.cell_system.residual(i) +=
                 w_residual * phi_i * w.acceleration[q][ci];
               if (options.with_matrix)
@@ -1387,9 +1390,6 @@ namespace systole::Mechanics
       comm);
     if (options.dynamic)
       {
-        AssertThrow(!options.mixed,
-                    dealii::ExcMessage("Mechanics: the inertia is implemented "
-                                       "for the penalty formulation only."));
         update_dynamic_rates(u_owned,
                              discretization.owned,
                              comm,

@@ -34,6 +34,15 @@ namespace systole::Mechanics
     v = v_n;
     v.add(dt * (1.0 - gamma), a_n);
     v.add(dt * gamma, a);
+    // The pressure of a mixed formulation is a multiplier, not a state with
+    // rates: its differences would only feed the recursion above.
+    if (pressure_dofs.n_elements() > 0)
+      {
+        for (const auto i : pressure_dofs)
+          a(i) = v(i) = 0.0;
+        a.compress(dealii::VectorOperation::insert);
+        v.compress(dealii::VectorOperation::insert);
+      }
   }
 
   double
@@ -66,10 +75,6 @@ namespace systole::Mechanics
     AssertThrow(m.params.density > 0.0,
                 dealii::ExcMessage("Mechanics / Density must be positive for "
                                    "a time integration with inertia."));
-    AssertThrow(!m.discretization.layout.mixed(),
-                dealii::ExcMessage(
-                  "Mechanics: the inertia is implemented for Material / "
-                  "Incompressibility = penalty only."));
     const double rho = m.params.spectral_radius;
     d.alpha_m        = (2.0 * rho - 1.0) / (rho + 1.0);
     d.alpha_f        = rho / (rho + 1.0);
@@ -82,6 +87,8 @@ namespace systole::Mechanics
     // tangent (constant: the reference configuration does not move).
     if (d.u_n.size() == 0)
       {
+        if (m.discretization.layout.mixed())
+          d.pressure_dofs = m.discretization.layout.owned(1);
         dealii::DynamicSparsityPattern dsp(m.discretization.relevant);
         dealii::DoFTools::make_sparsity_pattern(m.discretization.dof_handler,
                                                 dsp,
@@ -110,6 +117,11 @@ namespace systole::Mechanics
                 {
                   const auto ci =
                     m.discretization.fe->system_to_component_index(i).first;
+                  if (ci == 3) // the pressure: a positive diagonal only
+                    {
+                      cell_mass(i, i) += density * fe_values.JxW(q);
+                      continue;
+                    }
                   const double wi =
                     density * fe_values.shape_value(i, q) * fe_values.JxW(q);
                   for (unsigned int j = 0; j < n; ++j)
@@ -189,6 +201,9 @@ namespace systole::Mechanics
         rhs.add(d.mass_damping, damping);
       }
     rhs *= -1.0;
+    for (const auto i : d.pressure_dofs)
+      rhs(i) = 0.0;
+    rhs.compress(dealii::VectorOperation::insert);
     d.a_n = 0;
     dealii::SolverControl                     control(1000,
                                   1e-12 * std::max(rhs.l2_norm(), 1e-300));
@@ -504,7 +519,7 @@ namespace systole::Mechanics
       Materials::PassiveOutput out;
       m.material.passive_law.evaluate(in, out);
       const double U =
-        m.discretization.reduced_volumetric
+        m.discretization.reduced_volumetric || m.discretization.layout.mixed()
           ? 0.0
           : m.material.volumetric_law.energy(dealii::determinant(in.F));
       energy += (out.psi + U) * JxW;
@@ -523,6 +538,40 @@ namespace systole::Mechanics
                         dealii::unit_symmetric_tensor<3>() + grad_u[q])) *
                       fe_values.JxW(q);
         });
+    if (m.discretization.layout.mixed())
+      energy += m.multiplier_energy();
     return dealii::Utilities::MPI::sum(energy, m.comm);
+  }
+
+  double
+  Problem::Impl::multiplier_energy() const
+  {
+    // The mixed formulations' volumetric energy, -p (J - 1) - p^2 / (2
+    // kappa): at a solution int p (J - 1) = -int p^2 / kappa (the pressure
+    // rows), so it is int p^2 / (2 kappa), 0 when incompressible, and it
+    // changes only by the power of p on the motion.
+    const Impl                       &m      = *this;
+    const auto                       &layout = m.discretization.layout;
+    std::vector<dealii::Tensor<2, 3>> grad_u;
+    std::vector<double>               p;
+    double                            energy = 0.0;
+    m.discretization.for_each_owned_cell(
+      m.discretization.n_q_1d,
+      cell_flags,
+      [&](const auto &, const auto &fe_values) {
+        grad_u.resize(fe_values.n_quadrature_points);
+        p.resize(fe_values.n_quadrature_points);
+        fe_values[layout.displacement].get_function_gradients(m.u, grad_u);
+        fe_values[layout.pressure].get_function_values(m.u, p);
+        for (const unsigned int q : fe_values.quadrature_point_indices())
+          {
+            const double J = dealii::determinant(
+              dealii::unit_symmetric_tensor<3>() + grad_u[q]);
+            energy += (-p[q] * (J - 1.0) -
+                       0.5 * m.material.inverse_bulk_modulus * p[q] * p[q]) *
+                      fe_values.JxW(q);
+          }
+      });
+    return energy;
   }
 } // namespace systole::Mechanics

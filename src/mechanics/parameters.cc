@@ -399,8 +399,10 @@ namespace systole::Mechanics
         "(Spectral radius) per heartbeat step, the cavity pressures the "
         "multipliers of the volume constraints as in the quasi-static beat; "
         "false: every step is a quasi-static equilibrium (the rates and the "
-        "density are ignored). Material / Incompressibility = penalty only. "
-        "Problem = elastodynamics always has inertia. Units: -.");
+        "density are ignored). Every Material / Incompressibility: the mixed "
+        "formulations' pressure is the multiplier of the volume, without "
+        "inertia or rates. Problem = elastodynamics always has inertia. "
+        "Units: -.");
       prm.declare_entry(
         "Spectral radius",
         "0.8",

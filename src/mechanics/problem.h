@@ -332,8 +332,10 @@ namespace systole::Mechanics
                     const double                  active_tension) const;
 
     /// Stored energy int (psi + U(J)) dV at the current displacement [µJ]:
-    /// the passive law and the volumetric penalty (the active tension and
-    /// the loads do no part of it; collective).
+    /// the passive law and the volumetric penalty; in a mixed formulation
+    /// int (psi(Fbar) - p (J - 1) - p^2 / (2 kappa)) dV, its value at
+    /// solutions (the active tension and the loads do no part of it;
+    /// collective).
     double
     strain_energy() const;
 

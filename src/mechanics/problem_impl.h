@@ -76,8 +76,13 @@ namespace systole::Mechanics
     double time_step = 0.0; ///< of the next solves [ms]; 0: quasi-static
     double alpha_m = 0, alpha_f = 0, beta = 0, gamma = 0;
     double mass_damping = 0.0; ///< c_M [1/ms]
-    /// The consistent mass matrix (condensed like the tangent) [mg].
+    /// The consistent mass matrix of the displacement (condensed like the
+    /// tangent) [mg]; a mixed formulation's pressure rows hold a positive
+    /// diagonal alone (M a = f leaves a = 0 there where f = 0).
     LA::MPI::SparseMatrix mass;
+    /// The owned pressure DoFs of a mixed formulation (empty for the
+    /// penalty): the pressure has no rates, rates() sets them to 0.
+    dealii::IndexSet pressure_dofs;
     /// The accepted state: displacement, velocity, acceleration, and the
     /// quasi-static residual R(u_n) (owned).
     LA::MPI::Vector u_n, v_n, a_n, residual_n;
@@ -96,7 +101,8 @@ namespace systole::Mechanics
     double          factorized_time_step = 0.0;
     LA::MPI::Vector factorized_u_n, factorized_v_n, factorized_a_n;
 
-    /// a_{n+1} and v_{n+1} of the displacement @p u (owned).
+    /// a_{n+1} and v_{n+1} of the displacement @p u (owned; 0 at the
+    /// pressure_dofs).
     void
     rates(const LA::MPI::Vector &u,
           LA::MPI::Vector       &a,
@@ -586,6 +592,11 @@ namespace systole::Mechanics
     /// dynamic state (zero). Collective.
     void
     setup_dynamics();
+
+    /// This rank's int (-p (J - 1) - p^2 / (2 kappa)) dV of a mixed
+    /// formulation [µJ] (strain_energy()'s volumetric part).
+    double
+    multiplier_energy() const;
 
     /// A checkpoint being written.
     CheckpointBuffers pending_checkpoint;

@@ -51,12 +51,6 @@ namespace systole
     LoadCurveParameters::create(prm, "Active stress");
     if (prm.get("Problem") != "elastodynamics")
       return;
-    AssertThrow(prm.get({"Material"}, "Incompressibility") == "penalty",
-                dealii::ExcMessage(
-                  "Problem = elastodynamics: the inertia is implemented for "
-                  "Material / Incompressibility = penalty only (set it to "
-                  "penalty; the bulk modulus of Material / Volumetric holds "
-                  "the volume)."));
     AssertThrow(prm.get_double({"Mechanics"}, "Density") > 0.0,
                 dealii::ExcMessage("Problem = elastodynamics needs Mechanics / "
                                    "Density > 0 (kg/m^3; 1000 for tissue)."));
@@ -375,18 +369,14 @@ namespace systole
                        postprocess,
                        results);
     }
-    /// The checks of the model a time integration needs (penalty
-    /// formulation, a density, a part for a pressure load).
+    /// The checks of the model a time integration needs (a density, a part
+    /// for a pressure load).
     void
     check_elastodynamics_model(const MechanicsModel           &model,
                                const dealii::ParameterHandler &prm,
                                const RunParameters            &run)
     {
       const auto &params = model.params;
-      AssertThrow(!params.mixed(),
-                  dealii::ExcMessage(
-                    "Problem = elastodynamics: the inertia is implemented for "
-                    "Material / Incompressibility = penalty only."));
       AssertThrow(params.density > 0.0,
                   dealii::ExcMessage("Problem = elastodynamics needs "
                                      "Mechanics / Density > 0 (kg/m^3)."));

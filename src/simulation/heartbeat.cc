@@ -110,16 +110,8 @@ namespace systole
                     "model, and Electrophysiology / Ionic model = " +
                     prm.get({"Electrophysiology"}, "Ionic model") +
                     " has none: set it to ten Tusscher-Panfilov."));
-      // Mechanics / Inertia: the dynamic mechanics (penalty formulation).
+      // Mechanics / Inertia: the dynamic mechanics.
       const bool inertia = prm.get_bool({"Mechanics"}, "Inertia");
-      AssertThrow(!inertia ||
-                    prm.get({"Material"}, "Incompressibility") == "penalty",
-                  dealii::ExcMessage(
-                    "Problem = heartbeat: Mechanics / Inertia = true is "
-                    "implemented for Material / Incompressibility = penalty "
-                    "only (it is " +
-                    prm.get({"Material"}, "Incompressibility") +
-                    "): set Incompressibility = penalty or Inertia = false."));
       AssertThrow(!inertia || prm.get_double({"Mechanics"}, "Density") > 0.0,
                   dealii::ExcMessage(
                     "Problem = heartbeat: Mechanics / Inertia = true needs a "

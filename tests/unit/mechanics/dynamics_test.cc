@@ -51,10 +51,15 @@ namespace
   }
 
   /// The pulled bar: 4 x 1 x 1 mm, clamped at x = 0, pressure on x = 4.
+  using Mechanics::Incompressibility;
+
   Mechanics::Parameters
-  bar_parameters(const double spectral_radius, const double damping)
+  bar_parameters(const double            spectral_radius,
+                 const double            damping,
+                 const Incompressibility incompressibility)
   {
     Mechanics::Parameters params;
+    params.incompressibility     = incompressibility;
     params.fixed_boundaries      = {"x_min"};
     params.pressure_boundary     = "x_max";
     params.linear_solver         = "direct";
@@ -66,10 +71,13 @@ namespace
 
   struct Bar
   {
-    explicit Bar(const double spectral_radius, const double damping = 0.0)
+    explicit Bar(
+      const double            spectral_radius,
+      const double            damping           = 0.0,
+      const Incompressibility incompressibility = Incompressibility::penalty)
       : box(dealii::Point<3>(4, 1, 1),
             {{4, 1, 1}},
-            bar_parameters(spectral_radius, damping),
+            bar_parameters(spectral_radius, damping, incompressibility),
             20.0)
       , problem(box.problem)
     {
@@ -96,6 +104,8 @@ namespace
           const double t = i * dt;
           problem->solve(pressure(t), 0.0);
           problem->accept_time_step(pressure(t), 0.0);
+          if (std::abs(t - 6.0) < 1e-12)
+            tip_at_6ms = tip_x();
           if (t >= pulse - 1e-12)
             energy.push_back(problem->kinetic_energy() +
                              problem->strain_energy());
@@ -105,6 +115,7 @@ namespace
 
     test_support::GuccioneBox            box;
     std::unique_ptr<Mechanics::Problem> &problem;
+    double tip_at_6ms = 0; ///< tip_x() at t = 6 ms of the last run()
   };
 
   /// max |E - E(pulse)| / E(pulse) after the pulse.
@@ -195,4 +206,61 @@ TEST_CASE("Rayleigh damping removes energy", "[mechanics][dynamics]")
   CHECK(decay < 0.6);
   CHECK(decay > std::exp(-2 * 0.2 * 8.0));
   CHECK(e_damped[0] < e_free[0]);
+}
+
+// The mixed formulations (Q2-P1disc): the pressure is the multiplier of the
+// volume, without inertia; the stored energy is psi(Fbar) - p (J - 1) -
+// p^2 / (2 kappa), whose value at solutions changes only by the power of the
+// loads, so the same checks hold.
+TEST_CASE("mixed dynamic step: consistent tangent", "[mechanics][dynamics]")
+{
+  for (const auto formulation : {Incompressibility::incompressible,
+                                 Incompressibility::nearly_incompressible})
+    {
+      Bar bar(0.8, 0.0, formulation);
+      bar.run(0.5, 2.0);
+      const double e1 =
+        systole::Mechanics::ProblemChecks::tangent_error(*bar.problem,
+                                                         pressure(2.5),
+                                                         0.0,
+                                                         1e-3);
+      const double e2 =
+        systole::Mechanics::ProblemChecks::tangent_error(*bar.problem,
+                                                         pressure(2.5),
+                                                         0.0,
+                                                         1e-4);
+      INFO("tangent errors " << e1 << ", " << e2);
+      CHECK(e2 < 1e-6);
+      CHECK(e2 < 0.05 * e1);
+    }
+}
+
+TEST_CASE("mixed dynamic pulse: energy conserved to second order, order 2",
+          "[mechanics][dynamics]")
+{
+  for (const auto formulation : {Incompressibility::incompressible,
+                                 Incompressibility::nearly_incompressible})
+    {
+      std::vector<double> drift, tip;
+      for (const double dt : {0.125, 0.0625, 0.03125})
+        {
+          Bar bar(1.0, 0.0, formulation);
+          drift.push_back(largest_drift(bar.run(dt, 12.0)));
+          tip.push_back(bar.tip_at_6ms);
+        }
+      const double order =
+        std::log2(std::abs(tip[0] - tip[1]) / std::abs(tip[1] - tip[2]));
+      INFO("largest relative energy drift after the pulse "
+           << drift[0] << ", " << drift[1] << ", " << drift[2]
+           << "; tip x at 6 ms " << tip[0] << ", " << tip[1] << ", " << tip[2]
+           << " mm, observed order " << order);
+      CHECK(std::abs(tip[2] - 4.0) > 0.05);
+      CHECK(drift[0] < 1e-2);
+      CHECK(drift[1] < 0.35 * drift[0]);
+      CHECK(drift[2] < 0.35 * drift[1]);
+      // At least second order. Not yet asymptotic at these steps (observed
+      // 3.6 incompressible and 3.1 nearly incompressible; 2.6 and 2.4 one
+      // halving later): no upper bound.
+      CHECK(order > 1.8);
+    }
 }
