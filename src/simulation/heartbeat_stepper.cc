@@ -204,7 +204,15 @@ namespace systole
   {
     bdf.begin(attempt.t_new);
     ventricles.set_time(attempt.t_new);
-    ventricles.predict(last_step > 0 ? attempt.h_try / last_step : 0);
+    // The displacement is extrapolated from the last two accepted states,
+    // but not across a valve event (BDF1 after bdf.restart()): the last
+    // step's motion belongs to the phase before it, and at a mitral closure
+    // that re-refers the base springs it holds their release (1.4 mm in the
+    // first beat of the incompressible BiV, doubled by the extrapolation to
+    // |R_u| = 2e24: three failed solves).
+    const bool across_event = bdf.order() == 1;
+    ventricles.predict(
+      last_step > 0 && !across_event ? attempt.h_try / last_step : 0);
     Vector                   p = bdf.start_pressures();
     const CavityVolumeTarget target =
       [this](const Vector &p, Vector &W, dealii::FullMatrix<double> &dW_dp) {

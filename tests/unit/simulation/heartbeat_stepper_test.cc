@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -206,6 +207,28 @@ namespace
 
   private:
     const double c;
+  };
+
+  /// The elastance chambers, recording the ratio of every predict() and
+  /// which of them came first after an end_diastole().
+  class PredictingVentricles : public ElastanceVentricles
+  {
+  public:
+    using ElastanceVentricles::ElastanceVentricles;
+    void
+    predict(const double ratio) override
+    {
+      ratios.push_back(ratio);
+    }
+    void
+    end_diastole() override
+    {
+      ElastanceVentricles::end_diastole();
+      after_end_diastole.push_back(ratios.size());
+    }
+
+    std::vector<double>       ratios;
+    std::vector<unsigned int> after_end_diastole; ///< indices into ratios
   };
 
   /// Solves that take @p hard Newton iterations with a new tangent for a
@@ -637,4 +660,42 @@ TEST_CASE("The heartbeat stepper shortens the step after a solve that "
       else
         CHECK(n_longer > 0);
     }
+}
+
+
+TEST_CASE("The heartbeat stepper does not extrapolate the displacement across "
+          "a valve event",
+          "[simulation][stepper]")
+{
+  // The last step's motion belongs to the phase before the event (and at a
+  // mitral closure holds the release of the base springs re-referred
+  // there): the first step after it starts from the accepted state (ratio
+  // 0); the others extrapolate (ratio h / h_last > 0).
+  const CoupledLoop    loop(false);
+  PredictingVentricles ventricles(loop.chambers);
+  auto                 settings  = test_settings();
+  settings.period                = loop.T;
+  settings.n_max_beats           = 2;
+  settings.periodicity_tolerance = 0;
+  HeartbeatStepper stepper(loop.model, ventricles, settings, loop.y0, loop.p0);
+  Summaries        summaries;
+  const auto       stats = stepper.run(summaries);
+  REQUIRE(stats.n_beats == 2);
+  REQUIRE(ventricles.after_end_diastole.size() == 2);
+  for (const unsigned int i : ventricles.after_end_diastole)
+    {
+      REQUIRE(i < ventricles.ratios.size());
+      CHECK(ventricles.ratios[i] == 0.0);
+    }
+  const auto extrapolated = std::count_if(ventricles.ratios.begin(),
+                                          ventricles.ratios.end(),
+                                          [](const double r) { return r > 0; });
+  const auto from_rest    = ventricles.ratios.size() - extrapolated;
+  INFO(ventricles.ratios.size()
+       << " predictions, " << from_rest << " from the accepted state; "
+       << stats.n_events << " events");
+  // From the accepted state: the first step, and the first after each event.
+  CHECK(from_rest >= stats.n_events + 1);
+  CHECK(from_rest <= stats.n_events + 1 + stats.n_error_rejections +
+                       stats.n_event_rejections + stats.n_failures);
 }
