@@ -1,6 +1,7 @@
 #include "materials/holzapfel_ogden.h"
 
 #include "materials/isochoric_invariants.h"
+#include "materials/symmetric_tensor_ops.h"
 
 #include <cmath>
 
@@ -214,9 +215,12 @@ namespace systole::Materials
       0.5 * params.a / params.b * std::expm1(params.b * (inv.I1_bar - 3.0));
     SymmetricTensor<2, 3> dpsi_dC = psi_1 * inv.dI1_bar;
     SymmetricTensor<4, 3> d2psi_dC2;
+    namespace ops = SymmetricOps;
     if (in.with_tangent)
-      d2psi_dC2 = (params.b * psi_1) * outer_product(inv.dI1_bar, inv.dI1_bar) +
-                  psi_1 * inv.d2I1_bar;
+      {
+        d2psi_dC2 = psi_1 * inv.d2I1_bar;
+        ops::add_outer(d2psi_dC2, params.b * psi_1, inv.dI1_bar, inv.dI1_bar);
+      }
 
     // Fibre and sheet terms on the full I4 = a0.C a0, dI4/dC = a0 x a0.
     const auto add_switched = [&](const dealii::Tensor<1, 3> &axis,
@@ -237,7 +241,7 @@ namespace systole::Materials
       psi += term.value;
       dpsi_dC += term.first * M;
       if (in.with_tangent)
-        d2psi_dC2 += term.second * outer_product(M, M);
+        ops::add_outer(d2psi_dC2, term.second, M, M);
     };
     add_switched(in.basis.f, params.a_f, params.b_f);
     add_switched(in.basis.s, params.a_s, params.b_s);
@@ -251,7 +255,7 @@ namespace systole::Materials
         psi += term.value;
         dpsi_dC += term.first * M;
         if (in.with_tangent)
-          d2psi_dC2 += term.second * outer_product(M, M);
+          ops::add_outer(d2psi_dC2, term.second, M, M);
       }
 
     // S = 2 dW/dC, dS/dE = 4 d2W/dC2.

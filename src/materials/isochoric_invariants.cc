@@ -1,7 +1,6 @@
 #include "materials/isochoric_invariants.h"
 
-#include <deal.II/physics/elasticity/standard_tensors.h>
-
+#include "materials/symmetric_tensor_ops.h"
 #include "materials/volumetric_law.h"
 
 #include <cmath>
@@ -11,7 +10,6 @@ namespace systole::Materials
   IsochoricInvariants
   isochoric_invariants(const PassiveInput &in, const InvariantSet which)
   {
-    using dealii::outer_product;
     using dealii::SymmetricTensor;
 
     IsochoricInvariants inv;
@@ -41,20 +39,24 @@ namespace systole::Materials
     if (!in.with_tangent)
       return inv;
 
-    const SymmetricTensor<4, 3> dC_inv_dC =
-      dealii::Physics::Elasticity::StandardTensors<3>::dC_inv_dC(in.F);
-    inv.d2I1_bar =
-      inv.J_m23 *
-      (-(1.0 / 3.0) * (outer_product(I, C_inv) + outer_product(C_inv, I)) +
-       (I1 / 9.0) * outer_product(C_inv, C_inv) - (I1 / 3.0) * dC_inv_dC);
-    // d2I2/dC2 = I x I - II.
+    // On the raw storage (SymmetricOps): dC^-1/dC = -C^-1 (.) C^-1.
+    namespace ops  = SymmetricOps;
+    const double a = inv.J_m23;
+    inv.d2I1_bar   = SymmetricTensor<4, 3>();
+    ops::add_symmetric_product(inv.d2I1_bar, a * I1 / 3.0, C_inv);
+    ops::add_symmetric_outer(inv.d2I1_bar, -a / 3.0, I, C_inv);
+    ops::add_outer(inv.d2I1_bar, a * I1 / 9.0, C_inv, C_inv);
+    // d2I2/dC2 = I x I - II (II = I (.) I).
     if (second)
-      inv.d2I2_bar =
-        inv.J_m43 *
-        (outer_product(I, I) - dealii::identity_tensor<3>() -
-         (2.0 / 3.0) * (outer_product(G, C_inv) + outer_product(C_inv, G)) +
-         (4.0 * inv.I2 / 9.0) * outer_product(C_inv, C_inv) -
-         (2.0 * inv.I2 / 3.0) * dC_inv_dC);
+      {
+        const double b = inv.J_m43;
+        inv.d2I2_bar   = SymmetricTensor<4, 3>();
+        ops::add_outer(inv.d2I2_bar, b, I, I);
+        ops::add_symmetric_product(inv.d2I2_bar, -b, I);
+        ops::add_symmetric_outer(inv.d2I2_bar, -2.0 * b / 3.0, G, C_inv);
+        ops::add_outer(inv.d2I2_bar, 4.0 * b * inv.I2 / 9.0, C_inv, C_inv);
+        ops::add_symmetric_product(inv.d2I2_bar, 2.0 * b * inv.I2 / 3.0, C_inv);
+      }
     return inv;
   }
 } // namespace systole::Materials
