@@ -39,7 +39,10 @@ namespace systole::Mechanics
     if (pressure_dofs.n_elements() > 0)
       {
         for (const auto i : pressure_dofs)
-          a(i) = v(i) = 0.0;
+          {
+            a(i) = 0.0;
+            v(i) = 0.0;
+          }
         a.compress(dealii::VectorOperation::insert);
         v.compress(dealii::VectorOperation::insert);
       }
@@ -548,8 +551,7 @@ namespace systole::Mechanics
   {
     // The mixed formulations' volumetric energy, -p (J - 1) - p^2 / (2
     // kappa): at a solution int p (J - 1) = -int p^2 / kappa (the pressure
-    // rows), so it is int p^2 / (2 kappa), 0 when incompressible, and it
-    // changes only by the power of p on the motion.
+    // rows), so it is int p^2 / (2 kappa), 0 when incompressible.
     const Impl                       &m      = *this;
     const auto                       &layout = m.discretization.layout;
     std::vector<dealii::Tensor<2, 3>> grad_u;
