@@ -36,7 +36,9 @@ namespace systole::Mechanics
     v.add(dt * gamma, a);
     // The pressure of a mixed formulation is a multiplier, not a state with
     // rates: its differences would only feed the recursion above.
-    if (pressure_dofs.n_elements() > 0)
+    // (size(): the global DoF count, the same on every rank, so that the
+    // collective compress() is called by all or none.)
+    if (pressure_dofs.size() > 0)
       {
         for (const auto i : pressure_dofs)
           {
