@@ -7,7 +7,10 @@
 
 #include "base/errors.h"
 
+#include <fcntl.h>
 #include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -40,6 +43,35 @@ namespace systole::IO
     {
       if (status < 0)
         throw WriteFailure(what);
+    }
+
+    /// Whether the file at @p path can grow by @p bytes (a full disk, a
+    /// quota or a file size limit says no, errno why): the space reserved
+    /// past its end (posix_fallocate) and given back. Parallel HDF5 does not
+    /// survive a write that fails on one rank only (the others wait at a
+    /// barrier inside it), so the writes are checked before they start.
+    bool
+    can_grow(const std::string &path, const std::uintmax_t bytes)
+    {
+      const int fd = ::open(path.c_str(), O_WRONLY);
+      if (fd < 0)
+        return false;
+      struct stat status;
+      bool        ok = ::fstat(fd, &status) == 0;
+      if (ok)
+        {
+          const int error =
+            ::posix_fallocate(fd, status.st_size, static_cast<off_t>(bytes));
+          ok = error == 0;
+          if (!ok)
+            errno = error;
+          if (::ftruncate(fd, status.st_size) != 0 && ok)
+            ok = false;
+        }
+      const int saved = errno;
+      ::close(fd);
+      errno = saved;
+      return ok;
     }
 
     hid_t
@@ -150,6 +182,12 @@ namespace systole::IO
                 const hid_t plist =
                   checked(H5Pcreate(H5P_DATASET_CREATE), "plist");
                 check(H5Pset_chunk(plist, 1, &chunk), "chunk");
+                // No fill values: parallel HDF5 would write them while
+                // extending the column (H5Dset_extent), and a failed write
+                // there leaves the other ranks at a barrier inside HDF5. The
+                // row's own write, agreed on by guarded(), fails instead.
+                check(H5Pset_fill_time(plist, H5D_FILL_TIME_NEVER),
+                      "fill time");
                 const hid_t dataset = create_dataset(group,
                                                      column.name,
                                                      H5T_NATIVE_DOUBLE,
@@ -169,6 +207,24 @@ namespace systole::IO
                       std::to_string(row.size()) + " columns, the first had " +
                       std::to_string(names.size()) + "."));
 
+        for (unsigned int c = 0; c < row.size(); ++c)
+          AssertThrow(row[c].name == names[c],
+                      dealii::ExcMessage("Internal error: column " +
+                                         row[c].name + " where " + names[c] +
+                                         " was expected."));
+        // Every rank makes the same collective calls even after one of
+        // them failed on it (a write past a full disk fails on the rank
+        // that writes only): the first failure is thrown at the end, and
+        // guarded() stops every rank with it.
+        std::string failure;
+        int         failure_errno = 0;
+        const auto  note = [&](const herr_t status, const std::string &what) {
+          if (status < 0 && failure.empty())
+            {
+              failure       = what;
+              failure_errno = errno;
+            }
+        };
         const hsize_t new_size = n_rows + 1;
         const hid_t   transfer =
           checked(H5Pcreate(H5P_DATASET_XFER), "transfer plist");
@@ -176,11 +232,7 @@ namespace systole::IO
               "collective transfer");
         for (unsigned int c = 0; c < row.size(); ++c)
           {
-            AssertThrow(row[c].name == names[c],
-                        dealii::ExcMessage("Internal error: column " +
-                                           row[c].name + " where " + names[c] +
-                                           " was expected."));
-            check(H5Dset_extent(datasets[c], &new_size), "extend " + names[c]);
+            note(H5Dset_extent(datasets[c], &new_size), "extend " + names[c]);
             const hid_t file_space =
               checked(H5Dget_space(datasets[c]), "space");
             const hsize_t offset = n_rows, count = root ? 1 : 0;
@@ -195,17 +247,22 @@ namespace systole::IO
               checked(H5Screate_simple(1, &count, nullptr), "space");
             if (!root)
               H5Sselect_none(memory_space);
-            check(H5Dwrite(datasets[c],
-                           H5T_NATIVE_DOUBLE,
-                           memory_space,
-                           file_space,
-                           transfer,
-                           &row[c].value),
-                  "write " + names[c]);
+            note(H5Dwrite(datasets[c],
+                          H5T_NATIVE_DOUBLE,
+                          memory_space,
+                          file_space,
+                          transfer,
+                          &row[c].value),
+                 "write " + names[c]);
             H5Sclose(memory_space);
             H5Sclose(file_space);
           }
         H5Pclose(transfer);
+        if (!failure.empty())
+          {
+            errno = failure_errno;
+            throw WriteFailure(failure);
+          }
         n_rows = new_size;
       }
 
@@ -441,32 +498,56 @@ namespace systole::IO
     /// Run @p write (one public write operation, ending in a flush) and
     /// agree on its success: a failure seen by one rank (rank 0 writes the
     /// HDF5 metadata) stops every rank with the same message, which names
-    /// the file, what failed, why, and the fix.
+    /// the file, what failed, why, and the fix. Before it, every rank
+    /// agrees that the file is there and, on more than one rank, that it
+    /// can grow by @p growth bytes: parallel HDF5 does not survive a write
+    /// that fails on one rank only (the others wait at a barrier in it).
     template <class Write>
     void
-    guarded(const Write &write)
+    guarded(const Write &write, const std::uintmax_t growth = 1 << 20)
     {
-      static const std::string removed = "removed during the run";
       AssertThrow(!failed,
                   dealii::ExcMessage("The results file '" + file_path +
                                      "' is not written any more: a write "
                                      "failed before."));
-      std::string error;
+      agree(attempt([&]() {
+        // A file removed (or moved) during the run would take every later
+        // row with it into an unlinked inode: stop instead.
+        if (root && !std::filesystem::exists(file_path))
+          throw WriteFailure(removed);
+        if (root && dealii::Utilities::MPI::n_mpi_processes(comm) > 1 &&
+            !can_grow(file_path, growth))
+          throw WriteFailure("no room for " + std::to_string(growth >> 10) +
+                             " KiB more");
+      }));
+      agree(attempt(write));
+    }
+
+    static inline const std::string removed = "removed during the run";
+
+    /// Run @p f; its error in one line ("" if none).
+    template <class F>
+    static std::string
+    attempt(const F &f)
+    {
       errno = 0;
       try
         {
-          // A file removed (or moved) during the run would take every later
-          // row with it into an unlinked inode: stop instead.
-          if (root && !std::filesystem::exists(file_path))
-            throw WriteFailure(removed);
-          write();
+          f();
         }
       catch (const std::exception &e)
         {
-          error = one_line_message(e);
-          if (error.empty())
-            error = "unknown error";
+          const std::string error = one_line_message(e);
+          return error.empty() ? "unknown error" : error;
         }
+      return "";
+    }
+
+    /// Every rank learns the first rank's @p error and stops with it (a
+    /// collective no-op when no rank has one).
+    void
+    agree(std::string error)
+    {
       const unsigned int rank  = dealii::Utilities::MPI::this_mpi_process(comm);
       const unsigned int first = dealii::Utilities::MPI::min(
         error.empty() ? dealii::Utilities::MPI::n_mpi_processes(comm) : rank,
@@ -1107,18 +1188,28 @@ namespace systole::IO
     data_out.write_filtered_data(filter);
     const FieldLayout layout = field_layout(filter, impl->comm, impl->root);
 
-    impl->guarded([&]() {
-      // The first output, or the first after a resume on another number of
-      // ranks (other patches): a mesh group of its own.
-      if (H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0 ||
-          layout.n_global_nodes != impl->n_global_nodes ||
-          layout.n_global_cells != impl->n_global_cells)
-        impl->write_mesh(filter, layout, step);
-      const FieldStep record =
-        impl->write_field_step(filter, layout, step, time);
-      impl->flush();
-      impl->field_steps.push_back(record);
-      impl->write_xdmf();
-    });
+    // What the step adds at most: a mesh (coordinates, cells) and every
+    // field's values at every node, in doubles, and the metadata.
+    std::uintmax_t values = 3;
+    for (unsigned int i = 0; i < filter.n_data_sets(); ++i)
+      values += filter.get_data_set_dim(i);
+    const std::uintmax_t growth =
+      8 * (values * layout.n_global_nodes + 8 * layout.n_global_cells) +
+      (1 << 20);
+    impl->guarded(
+      [&]() {
+        // The first output, or the first after a resume on another number of
+        // ranks (other patches): a mesh group of its own.
+        if (H5Lexists(impl->file, "mesh", H5P_DEFAULT) <= 0 ||
+            layout.n_global_nodes != impl->n_global_nodes ||
+            layout.n_global_cells != impl->n_global_cells)
+          impl->write_mesh(filter, layout, step);
+        const FieldStep record =
+          impl->write_field_step(filter, layout, step, time);
+        impl->flush();
+        impl->field_steps.push_back(record);
+        impl->write_xdmf();
+      },
+      growth);
   }
 } // namespace systole::IO
