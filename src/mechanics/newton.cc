@@ -428,7 +428,7 @@ namespace systole::Mechanics
           std::max({reference,
                     start_residual,
                     pressure_load(m.factorization().volume_derivatives)});
-        if (largest_volume_error() <= NewtonSystem::volume_tolerance &&
+        if (largest_volume_error() <= m.parameters().cavity_volume_tolerance &&
             converged(reference))
           {
             report.final_residual   = residual[0];
@@ -728,7 +728,7 @@ namespace systole::Mechanics
         // the absolute floor, or the last update was at round-off level; and
         // every cavity volume is on its target.
         const bool volume_ok =
-          largest_volume_error() <= NewtonSystem::volume_tolerance;
+          largest_volume_error() <= m.parameters().cavity_volume_tolerance;
         if (volume_ok &&
             ((residual[0] <= m.parameters().newton_absolute_tolerance &&
               pressure_converged()) ||

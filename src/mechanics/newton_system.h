@@ -40,7 +40,8 @@ namespace systole::Mechanics
   {
     LA::MPI::Vector u_saved;     ///< owned
     LA::MPI::Vector u_previous;  ///< owned, the save() before u_saved
-    LA::MPI::Vector u_predicted; ///< owned, the last predict(ratio)
+    LA::MPI::Vector u_before;    ///< owned, the save() before u_previous
+    LA::MPI::Vector u_predicted; ///< owned, the last predict()
     unsigned int    n_saves = 0;
   };
 
@@ -83,10 +84,6 @@ namespace systole::Mechanics
   {
   public:
     virtual ~NewtonSystem() = default;
-
-    /// Relative tolerance on the cavity volume of a volume-constrained
-    /// solve.
-    static constexpr double volume_tolerance = 2e-9;
 
     /// The parameters (tolerances, iteration limits, reuse of the
     /// factorization).

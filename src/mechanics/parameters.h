@@ -111,9 +111,12 @@ namespace systole::Mechanics
   {
     /// Newton converges when |R| <= this * (largest |R| of the load step),
     /// or |R| <= the absolute tolerance, or |du| <= 1e-12 |u|.
-    double       newton_relative_tolerance = 1e-9;
-    double       newton_absolute_tolerance = 1e-12;
-    unsigned int max_newton_iterations     = 12;
+    double newton_relative_tolerance = 1e-9;
+    double newton_absolute_tolerance = 1e-12;
+    /// A volume-constrained solve also needs every cavity volume within
+    /// this fraction of its target (the entry "Cavity volume tolerance").
+    double       cavity_volume_tolerance = 2e-9;
+    unsigned int max_newton_iterations   = 12;
     /// Chord iterations on the last factorized tangent where they are
     /// cheaper than a new one (the entry "Reuse factorization").
     bool reuse_factorization = true;
