@@ -18,8 +18,10 @@ namespace systole::IO
   /// History: 1: `state.bin`, a boost binary archive without a header (for
   /// the same build and machine type only); 2: `state.txt`, a header line
   /// and a boost text archive (portable, doubles exact); 3: the beat
-  /// recorder's samples hold the cavities' phases.
-  constexpr unsigned int checkpoint_format = 3;
+  /// recorder's samples hold the cavities' phases; 4: a third saved
+  /// displacement and the heartbeat's times of the saved states (the
+  /// quadratic predictor).
+  constexpr unsigned int checkpoint_format = 4;
 
   /// The file of a checkpoint folder that holds the small state.
   constexpr const char *checkpoint_state_file = "state.txt";

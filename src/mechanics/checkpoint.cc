@@ -130,6 +130,7 @@ namespace systole::Mechanics
     Dynamics                            &d       = m.dynamics;
     std::vector<const LA::MPI::Vector *> sources = {&m.history.u_saved,
                                                     &m.history.u_previous,
+                                                    &m.history.u_before,
                                                     &m.factorized.u};
     if (d.started)
       sources.insert(sources.end(),
@@ -372,22 +373,23 @@ namespace systole::Mechanics
     const std::vector<LA::MPI::Vector> out =
       read_attached_vectors(m.discretization.dof_handler,
                             m.discretization.owned,
-                            (dynamic ? 10 : 3) + (referred ? 1 : 0));
+                            (dynamic ? 11 : 4) + (referred ? 1 : 0));
     m.history.u_saved    = out[0];
     m.history.u_previous = out[1];
-    m.factorized.u       = out[2];
+    m.history.u_before   = out[2];
+    m.factorized.u       = out[3];
     if (dynamic)
       {
         d.started              = true;
         d.time_step            = time_step;
         d.factorized_time_step = factorized_time_step;
-        d.u_n                  = out[3];
-        d.v_n                  = out[4];
-        d.a_n                  = out[5];
-        d.residual_n           = out[6];
-        d.factorized_u_n       = out[7];
-        d.factorized_v_n       = out[8];
-        d.factorized_a_n       = out[9];
+        d.u_n                  = out[4];
+        d.v_n                  = out[5];
+        d.a_n                  = out[6];
+        d.residual_n           = out[7];
+        d.factorized_u_n       = out[8];
+        d.factorized_v_n       = out[9];
+        d.factorized_a_n       = out[10];
       }
     if (referred)
       m.boundaries.support_reference = out.back();

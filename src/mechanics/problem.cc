@@ -536,6 +536,7 @@ namespace systole::Mechanics
     u_owned.reinit(d.owned, comm);
     history.u_saved.reinit(d.owned, comm);
     history.u_previous.reinit(d.owned, comm);
+    history.u_before.reinit(d.owned, comm);
     factorized.u.reinit(d.owned, comm);
     u.reinit(d.owned, d.relevant, comm);
     if (boundaries.any_from_end_diastole())
@@ -999,21 +1000,38 @@ namespace systole::Mechanics
   void
   Problem::save()
   {
-    impl->history.u_previous = impl->history.u_saved;
-    impl->history.u_saved    = impl->u_owned;
-    ++impl->history.n_saves;
+    SolutionHistory &h = impl->history;
+    h.u_before         = h.u_previous;
+    h.u_previous       = h.u_saved;
+    h.u_saved          = impl->u_owned;
+    ++h.n_saves;
   }
 
   void
   Problem::predict(const double ratio)
   {
-    Impl &m   = *impl;
-    m.u_owned = m.history.u_saved;
-    if (m.history.n_saves >= 2)
-      {
-        m.u_owned.add(ratio, m.history.u_saved);
-        m.u_owned.add(-ratio, m.history.u_previous);
-      }
+    if (impl->history.n_saves >= 2)
+      predict({{1 + ratio, -ratio, 0}});
+    else
+      predict({{1, 0, 0}});
+  }
+
+  void
+  Problem::predict(const std::array<double, 3> &weights)
+  {
+    Impl                  &m         = *impl;
+    const SolutionHistory &h         = m.history;
+    const LA::MPI::Vector *states[3] = {&h.u_saved, &h.u_previous, &h.u_before};
+    m.u_owned                        = *states[0];
+    m.u_owned *= weights[0];
+    for (unsigned int i = 1; i < 3; ++i)
+      if (weights[i] != 0.0)
+        {
+          AssertThrow(h.n_saves > i,
+                      dealii::ExcInternalError("predict() from a state "
+                                               "that was not saved"));
+          m.u_owned.add(weights[i], *states[i]);
+        }
     m.u                   = m.u_owned;
     m.history.u_predicted = m.u_owned;
   }

@@ -388,16 +388,22 @@ namespace systole::Mechanics
     dealii::Tensor<1, 3>
     net_pressure_force(const dealii::Vector<double> &pressures);
 
-    /// Remember the current displacement (a converged state); the one saved
-    /// before becomes the previous state for predict().
+    /// Remember the current displacement (a converged state); the two saved
+    /// before become the earlier states for predict().
     void
     save();
 
     /// Extrapolate from the last two saved states: u = u_s + ratio (u_s -
     /// u_prev), the predictor of the next load step (ratio = next increment /
-    /// last increment). No-op before the second save().
+    /// last increment). Before the second save(): u_s.
     void
     predict(const double ratio);
+
+    /// u = w_0 u_s + w_1 u_prev + w_2 u_before, the last three saved states
+    /// (latest first; the weights of a polynomial extrapolation sum to 1).
+    /// A nonzero weight needs that many saves.
+    void
+    predict(const std::array<double, 3> &weights);
     /// The largest nodal displacement [mm] between the current state and
     /// the last predict(ratio): after a converged solve, how far its
     /// predictor missed (the heartbeat's step-size control keeps it small;

@@ -127,6 +127,7 @@ namespace systole
       archive &stats.n_error_rejections &stats.n_event_rejections;
       archive &stats.n_failures &stats.n_events           &stats.end_time;
       archive &beat &step_index &last_step &h &upper &cap &cuts;
+      archive                                             &state_times;
     }
 
     bool resumed = false;
@@ -146,6 +147,9 @@ namespace systole
     Statistics                      stats;
     unsigned int                    beat = 0, step_index = 0;
     double                          last_step = 0;
+    /// The times of the accepted states the predictor extrapolates from,
+    /// latest first: at most three, from the last valve event on.
+    std::vector<double> state_times;
     /// The step being attempted (not saved: checkpoints are written
     /// between steps).
     struct Attempt
@@ -204,15 +208,13 @@ namespace systole
   {
     bdf.begin(attempt.t_new);
     ventricles.set_time(attempt.t_new);
-    // The displacement is extrapolated from the last two accepted states,
-    // but not across a valve event (BDF1 after bdf.restart()): the last
+    // The displacement is extrapolated from the last accepted states, but
+    // not across a valve event (state_times restarts there): the last
     // step's motion belongs to the phase before it, and at a mitral closure
     // that re-refers the base springs it holds their release (1.4 mm in the
     // first beat of the incompressible BiV, doubled by the extrapolation to
     // |R_u| = 2e24: three failed solves).
-    const bool across_event = bdf.order() == 1;
-    ventricles.predict(
-      last_step > 0 && !across_event ? attempt.h_try / last_step : 0);
+    ventricles.predict(predictor_weights(attempt.t_new, state_times));
     Vector                   p = bdf.start_pressures();
     const CavityVolumeTarget target =
       [this](const Vector &p, Vector &W, dealii::FullMatrix<double> &dW_dp) {
@@ -338,8 +340,11 @@ namespace systole
           switched.push_back(v);
         }
     indicators = attempt.g;
+    state_times.insert(state_times.begin(), attempt.t_new);
+    state_times.resize(std::min<std::size_t>(state_times.size(), 3));
     if (!switched.empty())
       {
+        state_times.resize(1);
         const unsigned int first = bdf.external_cavities()[0];
         const bool filled = phases->phase(first) == Circulation::Phase::filling;
         phases->update(open);
@@ -391,7 +396,10 @@ namespace systole
   HeartbeatStepper::Impl::displacement_ratio() const
   {
     // The secant predictor misses by O(h^2): the step whose miss is
-    // expected at 0.9 of the tolerance, growing at most twofold.
+    // expected at 0.9 of the tolerance, growing at most twofold. (The
+    // quadratic predictor's miss is O(h^3), but its cube-root law grew the
+    // steps more slowly for no fewer iterations: 139 against 136 steps in
+    // the default's first beat, docs/verification.md.)
     const double tolerance = settings.displacement_tolerance;
     const double error     = attempt.predictor_error;
     if (!(tolerance > 0.0 && error > 0.0))
@@ -466,6 +474,38 @@ namespace systole
   }
 
 
+  std::array<double, 3>
+  predictor_weights(const double t_new, const std::vector<double> &times)
+  {
+    AssertThrow(!times.empty() && times.size() <= 3,
+                dealii::ExcInternalError("predictor_weights(): 1-3 states"));
+    const double h = t_new - times[0];
+    if (times.size() == 3)
+      {
+        // Lagrange's basis at t_new through the three times.
+        std::array<double, 3> w;
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            w[i] = 1;
+            for (unsigned int j = 0; j < 3; ++j)
+              if (j != i)
+                w[i] *= (t_new - times[j]) / (times[i] - times[j]);
+          }
+        if (std::abs(w[0]) <= 16 && std::abs(w[1]) <= 16 &&
+            std::abs(w[2]) <= 16)
+          return w;
+      }
+    if (times.size() == 1)
+      return {{1, 0, 0}};
+    const unsigned int j =
+      times[0] - times[1] >= 0.5 * h || times.size() == 2 ? 1 : 2;
+    const double          ratio = std::min(h / (times[0] - times[j]), 2.0);
+    std::array<double, 3> w{{1 + ratio, 0, 0}};
+    w[j] = -ratio;
+    return w;
+  }
+
+
   HeartbeatStepper::HeartbeatStepper(const Circulation::Model &model,
                                      CoupledVentricles        &ventricles,
                                      const Settings           &settings,
@@ -491,7 +531,8 @@ namespace systole
       {
         m.recorder.start(0, 0.0);
         m.record(observer, {});
-        m.h = s.initial_step;
+        m.state_times = {m.bdf.time()};
+        m.h           = s.initial_step;
       }
     m.stats.interrupted = false;
     for (;;)

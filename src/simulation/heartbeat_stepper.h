@@ -9,6 +9,7 @@
 #include "circulation/parameters.h"
 #include "circulation/phase.h"
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <stdexcept>
@@ -30,6 +31,20 @@ namespace systole
     /// Index of the last accepted step.
     unsigned int last_step;
   };
+
+  /// The weights w of the displacement predictor u(@p t_new) = w_0 u_0 +
+  /// w_1 u_1 + w_2 u_2 from the accepted states u_i at @p times[i] (latest
+  /// first, one to three of them, none before the last valve event):
+  /// - three: the quadratic through them (its miss is O(h^3)), unless a
+  ///   weight exceeds 16 in size (it would magnify the states' algebraic
+  ///   errors; equal steps give 3, -3, 1; a step twice the last, which
+  ///   was twice the one before, 7, -14, 8);
+  /// - else the secant from u_0 and u_1, or u_2 if the last step is shorter
+  ///   than half the new one (after an event-located sliver), extrapolated
+  ///   by at most twice its base;
+  /// - one: the state itself.
+  std::array<double, 3>
+  predictor_weights(const double t_new, const std::vector<double> &times);
 
   /// The volumes W(p) [mm^3] the cavities must hold at their pressures p
   /// [kPa], and dW/dp (the signature of Mechanics::Problem::VolumeTarget).
@@ -54,10 +69,11 @@ namespace systole
     virtual void
     set_time(const double t) = 0;
 
-    /// Start the next solve from the extrapolation of the last two accepted
-    /// states: ratio = (next step) / (last step).
+    /// Start the next solve from the extrapolation of the last accepted
+    /// states, u = w_0 u_0 + w_1 u_1 + w_2 u_2 (u_0 the latest; the weights
+    /// of predictor_weights(), 0 for the states it does not use).
     virtual void
-    predict(const double ratio) = 0;
+    predict(const std::array<double, 3> &weights) = 0;
 
     /// Equilibrium at the time of set_time() with the cavity volumes equal
     /// to @p target (p): the pressures @p p [kPa] are the guess on entry and

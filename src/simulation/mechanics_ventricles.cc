@@ -114,12 +114,10 @@ namespace systole
 
 
   void
-  MechanicsVentricles::predict(const double ratio)
+  MechanicsVentricles::predict(const std::array<double, 3> &weights)
   {
     const auto timed = timer_section(timer, "Heartbeat / mechanics");
-    // Extrapolate the displacement from the last two accepted states (the
-    // step may double at most).
-    problem.predict(std::clamp(ratio, 0.0, 2.0));
+    problem.predict(weights);
   }
 
 

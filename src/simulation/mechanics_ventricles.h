@@ -53,7 +53,7 @@ namespace systole
     set_time(const double t) override;
 
     void
-    predict(const double ratio) override;
+    predict(const std::array<double, 3> &weights) override;
 
     unsigned int
     solve(const CavityVolumeTarget &target, dealii::Vector<double> &p) override;

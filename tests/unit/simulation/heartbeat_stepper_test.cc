@@ -53,7 +53,7 @@ namespace
       time = t;
     }
     void
-    predict(const double) override
+    predict(const std::array<double, 3> &) override
     {}
     unsigned int
     solve(const CavityVolumeTarget &target, Vector &p) override
@@ -176,9 +176,9 @@ namespace
     double       attempt = 0, accepted = 0;
   };
 
-  /// A displacement whose secant predictor misses by c h^2 (a motion of
-  /// constant second derivative 2c) for the steps ending in the window: the
-  /// predictor error the stepper controls.
+  /// A displacement whose predictor misses by c h^2 (the secant's miss on a
+  /// motion of constant second derivative 2c) for the steps ending in the
+  /// window: the predictor error the stepper controls.
   class AcceleratingVentricles : public WindowVentricles
   {
   public:
@@ -216,19 +216,19 @@ namespace
   public:
     using ElastanceVentricles::ElastanceVentricles;
     void
-    predict(const double ratio) override
+    predict(const std::array<double, 3> &w) override
     {
-      ratios.push_back(ratio);
+      weights.push_back(w);
     }
     void
     end_diastole() override
     {
       ElastanceVentricles::end_diastole();
-      after_end_diastole.push_back(ratios.size());
+      after_end_diastole.push_back(weights.size());
     }
 
-    std::vector<double>       ratios;
-    std::vector<unsigned int> after_end_diastole; ///< indices into ratios
+    std::vector<std::array<double, 3>> weights;
+    std::vector<unsigned int> after_end_diastole; ///< indices into weights
   };
 
   /// Solves that take @p hard Newton iterations with a new tangent for a
@@ -669,8 +669,8 @@ TEST_CASE("The heartbeat stepper does not extrapolate the displacement across "
 {
   // The last step's motion belongs to the phase before the event (and at a
   // mitral closure holds the release of the base springs re-referred
-  // there): the first step after it starts from the accepted state (ratio
-  // 0); the others extrapolate (ratio h / h_last > 0).
+  // there): the first step after it starts from the accepted state
+  // (weights 1, 0, 0); the others extrapolate.
   const CoupledLoop    loop(false);
   PredictingVentricles ventricles(loop.chambers);
   auto                 settings  = test_settings();
@@ -682,20 +682,74 @@ TEST_CASE("The heartbeat stepper does not extrapolate the displacement across "
   const auto       stats = stepper.run(summaries);
   REQUIRE(stats.n_beats == 2);
   REQUIRE(ventricles.after_end_diastole.size() == 2);
+  const std::array<double, 3> rest{{1, 0, 0}};
   for (const unsigned int i : ventricles.after_end_diastole)
     {
-      REQUIRE(i < ventricles.ratios.size());
-      CHECK(ventricles.ratios[i] == 0.0);
+      REQUIRE(i < ventricles.weights.size());
+      CHECK(ventricles.weights[i] == rest);
     }
-  const auto extrapolated = std::count_if(ventricles.ratios.begin(),
-                                          ventricles.ratios.end(),
-                                          [](const double r) { return r > 0; });
-  const auto from_rest    = ventricles.ratios.size() - extrapolated;
-  INFO(ventricles.ratios.size()
-       << " predictions, " << from_rest << " from the accepted state; "
-       << stats.n_events << " events");
+  const std::size_t from_rest =
+    std::count(ventricles.weights.begin(), ventricles.weights.end(), rest);
+  const std::size_t quadratic =
+    std::count_if(ventricles.weights.begin(),
+                  ventricles.weights.end(),
+                  [](const auto &w) { return w[2] != 0; });
+  INFO(ventricles.weights.size()
+       << " predictions, " << from_rest << " from the accepted state, "
+       << quadratic << " quadratic; " << stats.n_events << " events");
+  // Every prediction is a polynomial extrapolation (weights summing to 1),
+  // and most steps are far enough from an event for the quadratic one.
+  for (const auto &w : ventricles.weights)
+    CHECK(w[0] + w[1] + w[2] == Approx(1.0).epsilon(1e-12));
+  CHECK(quadratic > 0.5 * ventricles.weights.size());
   // From the accepted state: the first step, and the first after each event.
   CHECK(from_rest >= stats.n_events + 1);
   CHECK(from_rest <= stats.n_events + 1 + stats.n_error_rejections +
                        stats.n_event_rejections + stats.n_failures);
+}
+
+
+TEST_CASE("The displacement predictor's weights extrapolate polynomials",
+          "[simulation][stepper]")
+{
+  // u(t) = 2 - 3 t + 0.7 t^2: the quadratic through three states is exact;
+  // the secant is exact for a line.
+  const auto quadratic = [](const double t) { return 2 - 3 * t + 0.7 * t * t; };
+  const auto line      = [](const double t) { return 2 - 3 * t; };
+  const auto apply     = [](const auto                  &u,
+                        const std::array<double, 3> &w,
+                        const std::vector<double>   &times) {
+    double value = 0;
+    for (unsigned int i = 0; i < times.size(); ++i)
+      value += w[i] * u(times[i]);
+    return value;
+  };
+  SECTION("three states of growing steps")
+  {
+    const std::vector<double> times{7.0, 5.0, 4.0}; // steps 1, 2, then 4
+    const auto                w = predictor_weights(11.0, times);
+    CHECK(w[0] == Approx(7.0));
+    CHECK(w[1] == Approx(-14.0));
+    CHECK(w[2] == Approx(8.0));
+    CHECK(apply(quadratic, w, times) == Approx(quadratic(11.0)));
+  }
+  SECTION("a sliver step: the secant over the two steps before")
+  {
+    // Lagrange's weights would be about -1 400: not taken.
+    const std::vector<double> times{10.015, 10.0, 7.0};
+    const auto                w = predictor_weights(16.665, times);
+    CHECK(w[1] == 0.0);
+    CHECK(w[2] == Approx(-2.0)); // 6.65 / 3.015, at most 2
+    CHECK(w[0] == Approx(3.0));
+    const auto exact = predictor_weights(13.015, times); // ratio 1
+    CHECK(apply(line, exact, times) == Approx(line(13.015)));
+  }
+  SECTION("two states, and one")
+  {
+    const std::vector<double> two{3.0, 2.0};
+    const auto                w = predictor_weights(4.5, two);
+    CHECK(w[2] == 0.0);
+    CHECK(apply(line, w, two) == Approx(line(4.5)));
+    CHECK(predictor_weights(4.5, {3.0}) == std::array<double, 3>{{1, 0, 0}});
+  }
 }
