@@ -1000,10 +1000,11 @@ namespace systole::Mechanics
   void
   Problem::save()
   {
+    // (The older states move by swapping their data, one copy in all.)
     SolutionHistory &h = impl->history;
-    h.u_before         = h.u_previous;
-    h.u_previous       = h.u_saved;
-    h.u_saved          = impl->u_owned;
+    h.u_before.swap(h.u_previous);
+    h.u_previous.swap(h.u_saved);
+    h.u_saved = impl->u_owned;
     ++h.n_saves;
   }
 
