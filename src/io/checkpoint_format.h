@@ -20,8 +20,11 @@ namespace systole::IO
   /// and a boost text archive (portable, doubles exact); 3: the beat
   /// recorder's samples hold the cavities' phases; 4: a third saved
   /// displacement and the heartbeat's times of the saved states (the
-  /// quadratic predictor).
-  constexpr unsigned int checkpoint_format = 4;
+  /// quadratic predictor); 5: the heartbeat's valve indicators of the
+  /// accepted state before the last and at the end of a crossing's bracket
+  /// (the event location), the release of the supports referred to
+  /// end-diastole (its start and end positions and time).
+  constexpr unsigned int checkpoint_format = 5;
 
   /// The file of a checkpoint folder that holds the small state.
   constexpr const char *checkpoint_state_file = "state.txt";

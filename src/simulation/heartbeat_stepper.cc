@@ -75,8 +75,9 @@ namespace systole
     cut_after_failure();
 
     /// Whether a valve indicator changed sign more than the event tolerance
-    /// before attempt.t_new: then the attempt is rejected and the next one aims
-    /// just after the crossing.
+    /// before attempt.t_new: then the attempt is rejected, its end and
+    /// indicators bracket the crossing, and the next attempts aim just after
+    /// it (next_end_time()).
     bool
     redo_for_valve_event();
 
@@ -97,10 +98,11 @@ namespace systole
     end_beat(Observer &observer);
 
     /// The earliest sign change of a valve indicator between the accepted
-    /// state and the last solve, as the fraction of the step (linear in the
-    /// indicators); 2 if none.
+    /// state and @p g_new at @p t_new, as the fraction of that step
+    /// (crossing_fraction(), quadratic through the accepted state before
+    /// where there is one in the phase); 2 if none.
     double
-    crossing(const Vector &g_new) const;
+    crossing(double t_new, const Vector &g_new) const;
 
     /// The factor by which the next step may grow after the accepted one
     /// for the displacement predictor (Settings::displacement_tolerance).
@@ -127,7 +129,7 @@ namespace systole
       archive &stats.n_error_rejections &stats.n_event_rejections;
       archive &stats.n_failures &stats.n_events           &stats.end_time;
       archive &beat &step_index &last_step &h &upper &cap &cuts;
-      archive                                             &state_times;
+      archive &state_times &previous_indicators           &upper_g;
     }
 
     bool resumed = false;
@@ -144,9 +146,11 @@ namespace systole
     std::vector<Circulation::Phase> phase_list;
     const std::vector<double>       breakpoints;
     Vector                          indicators; ///< at the accepted state
-    Statistics                      stats;
-    unsigned int                    beat = 0, step_index = 0;
-    double                          last_step = 0;
+    /// At the accepted state before it (state_times[1], if there is one).
+    Vector       previous_indicators;
+    Statistics   stats;
+    unsigned int beat = 0, step_index = 0;
+    double       last_step = 0;
     /// The times of the accepted states the predictor extrapolates from,
     /// latest first: at most three, from the last valve event on.
     std::vector<double> state_times;
@@ -174,8 +178,9 @@ namespace systole
     // failure, and the failures in a row.
     double       h     = 0;
     double       upper = std::numeric_limits<double>::infinity();
-    double       cap   = std::numeric_limits<double>::infinity();
-    unsigned int cuts  = 0;
+    Vector       upper_g; ///< the valve indicators at upper
+    double       cap  = std::numeric_limits<double>::infinity();
+    unsigned int cuts = 0;
   };
 
 
@@ -191,6 +196,13 @@ namespace systole
       if (beat * period + b > t + settings.min_step)
         attempt.breakpoint = std::min(attempt.breakpoint, beat * period + b);
     attempt.t_new = std::min({t + std::min(h, cap), attempt.breakpoint, upper});
+    // Inside a known bracket of a valve crossing, aim just after the
+    // crossing interpolated from the accepted state and the bracket's end
+    // (no solve at that end again).
+    if (upper < std::numeric_limits<double>::infinity() && upper > t)
+      attempt.t_new = std::min(attempt.t_new,
+                               t + crossing(upper, upper_g) * (upper - t) +
+                                 0.5 * settings.event_time_tolerance);
     if (attempt.breakpoint - attempt.t_new < settings.min_step)
       attempt.t_new = attempt.breakpoint; // no sliver before a breakpoint
     // A redo is shorter than the attempt it replaces. (The rule above, or
@@ -287,18 +299,17 @@ namespace systole
   bool
   HeartbeatStepper::Impl::redo_for_valve_event()
   {
-    const double theta = crossing(attempt.g);
+    const double theta = crossing(attempt.t_new, attempt.g);
     if (theta <= 1 &&
         (1 - theta) * attempt.h_try > settings.event_time_tolerance)
       {
         ventricles.reject();
         ++stats.n_event_rejections;
         ++attempt.step_rejected;
-        upper                = attempt.t_new;
+        upper                = attempt.t_new; // (next_end_time() aims)
+        upper_g              = attempt.g;
         attempt.rejected_end = attempt.t_new;
-        h =
-          std::max(theta * attempt.h_try + 0.5 * settings.event_time_tolerance,
-                   settings.min_step);
+        h                    = std::max(h, settings.min_step);
         return true;
       }
     return false;
@@ -339,7 +350,8 @@ namespace systole
           open[v] = attempt.g[v] > 0;
           switched.push_back(v);
         }
-    indicators = attempt.g;
+    previous_indicators = indicators;
+    indicators          = attempt.g;
     state_times.insert(state_times.begin(), attempt.t_new);
     state_times.resize(std::min<std::size_t>(state_times.size(), 3));
     if (!switched.empty())
@@ -422,18 +434,21 @@ namespace systole
 
 
   double
-  HeartbeatStepper::Impl::crossing(const Vector &g_new) const
+  HeartbeatStepper::Impl::crossing(const double  t_new,
+                                   const Vector &g_new) const
   {
+    const bool   before = state_times.size() >= 2;
+    const double t_before =
+      before ? state_times[1] : std::numeric_limits<double>::quiet_NaN();
     double theta = 2;
     for (unsigned int v = 0; v < g_new.size(); ++v)
       if ((g_new[v] > 0) != open[v])
-        {
-          const double g0 = indicators[v];
-          theta           = std::min(theta,
-                           g0 == g_new[v]
-                                       ? 1.0
-                                       : std::clamp(g0 / (g0 - g_new[v]), 0.0, 1.0));
-        }
+        theta =
+          std::min(theta,
+                   crossing_fraction({{t_before, state_times[0], t_new}},
+                                     {{before ? previous_indicators[v] : 0.0,
+                                       indicators[v],
+                                       g_new[v]}}));
     return theta;
   }
 
@@ -503,6 +518,41 @@ namespace systole
     std::array<double, 3> w{{1 + ratio, 0, 0}};
     w[j] = -ratio;
     return w;
+  }
+
+
+  double
+  crossing_fraction(const std::array<double, 3> &t,
+                    const std::array<double, 3> &g)
+  {
+    const double g0 = g[1], g1 = g[2];
+    if (g0 == g1)
+      return 1.0;
+    const double secant = std::clamp(g0 / (g0 - g1), 0.0, 1.0);
+    // q(x) = g0 + b x + c x^2 in x = (time - t1) / (t2 - t1), through the
+    // earlier point at x_0 < 0.
+    const double x0 = (t[0] - t[1]) / (t[2] - t[1]);
+    if (!(x0 < 0))
+      return secant; // no earlier point (NaN)
+    const double c = (g[0] - g0 - (g1 - g0) * x0) / (x0 * (x0 - 1));
+    const double b = g1 - g0 - c;
+    // A line, or a parabola that turns between the points (it would not
+    // describe an indicator that moves one way): the secant.
+    if (std::abs(c) <= 1e-12 * (std::abs(b) + std::abs(g0)))
+      return secant;
+    const double vertex = -b / (2 * c);
+    if (vertex > x0 && vertex < 1)
+      return secant;
+    // The root in [0, 1] (q(0) and q(1) differ in sign: there is one), by
+    // the cancellation-free pair of formulas.
+    const double disc = b * b - 4 * c * g0;
+    if (!(disc >= 0))
+      return secant;
+    const double r = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+    for (const double x : {r / c, r != 0 ? g0 / r : 2.0})
+      if (x >= 0 && x <= 1)
+        return x;
+    return secant;
   }
 
 

@@ -46,6 +46,18 @@ namespace systole
   std::array<double, 3>
   predictor_weights(const double t_new, const std::vector<double> &times);
 
+  /// Where a valve indicator g changes sign between the accepted state (g0
+  /// at time @p t[1]) and an attempt (g1 at @p t[2]), as the fraction of
+  /// that step: the root of the quadratic through the three points if an
+  /// earlier accepted state (g at @p t[0] < t[1]; NaN if there is none)
+  /// is given and that root lies in the step, else the secant's g0 / (g0 -
+  /// g1). An indicator that bends toward zero (the aortic valve closing as
+  /// the ventricle relaxes) puts the secant's estimate too early, and each
+  /// redo then lands short of the crossing.
+  double
+  crossing_fraction(const std::array<double, 3> &t,
+                    const std::array<double, 3> &g);
+
   /// The volumes W(p) [mm^3] the cavities must hold at their pressures p
   /// [kPa], and dW/dp (the signature of Mechanics::Problem::VolumeTarget).
   using CavityVolumeTarget =

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -752,4 +753,27 @@ TEST_CASE("The displacement predictor's weights extrapolate polynomials",
     CHECK(apply(line, w, two) == Approx(line(4.5)));
     CHECK(predictor_weights(4.5, {3.0}) == std::array<double, 3>{{1, 0, 0}});
   }
+}
+
+TEST_CASE("A valve crossing is located on the quadratic through the earlier "
+          "accepted state",
+          "[stepper]")
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // g = (t - 3)(t + 5) at t = 0, 1, 4: the root t = 3 is 2/3 of the step
+  // from 1 to 4; the secant through (1, -12) and (4, 9) says 4/7.
+  const auto g = [](const double t) { return (t - 3) * (t + 5); };
+  CHECK(crossing_fraction({{0, 1, 4}}, {{g(0), g(1), g(4)}}) ==
+        Approx(2.0 / 3.0));
+  CHECK(crossing_fraction({{nan, 1, 4}}, {{0, g(1), g(4)}}) ==
+        Approx(4.0 / 7.0));
+  // Downward, the earlier point a short step back: t = 3 of (0.5, 3.5).
+  const auto h = [&g](const double t) { return -g(t); };
+  CHECK(crossing_fraction({{0.2, 0.5, 3.5}}, {{h(0.2), h(0.5), h(3.5)}}) ==
+        Approx(2.5 / 3.0));
+  // A line: exact either way.
+  CHECK(crossing_fraction({{0, 2, 6}}, {{-4, -2, 2}}) == Approx(0.5));
+  // A parabola that turns between the points (its vertex inside): the
+  // secant, not its root near the accepted state.
+  CHECK(crossing_fraction({{0.9, 1, 2}}, {{50, 1, -1}}) == Approx(0.5));
 }
