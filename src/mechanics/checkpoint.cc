@@ -142,7 +142,10 @@ namespace systole::Mechanics
                       &d.factorized_v_n,
                       &d.factorized_a_n});
     if (m.boundaries.any_from_end_diastole())
-      sources.push_back(&m.boundaries.support_reference);
+      sources.insert(sources.end(),
+                     {&m.boundaries.support_reference,
+                      &m.boundaries.release.from,
+                      &m.boundaries.release.to});
     m.pending_checkpoint.vectors.attach(m.discretization.dof_handler,
                                         m.discretization.relevant,
                                         sources);
@@ -179,6 +182,7 @@ namespace systole::Mechanics
     bool     bordered = !m.factorized.volume_derivatives.empty();
     archive &m.factorized.last_solve_converged &bordered;
     archive &d.started &d.time_step &d.factorized_time_step;
+    archive                         &m.boundaries.release.start;
   }
 
 
@@ -366,6 +370,7 @@ namespace systole::Mechanics
     bool                                        dynamic = false;
     double                       time_step = 0, factorized_time_step = 0;
     archive &dynamic &time_step &factorized_time_step;
+    archive                     &m.boundaries.release.start;
     if (dynamic)
       m.setup_dynamics();
 
@@ -373,7 +378,7 @@ namespace systole::Mechanics
     const std::vector<LA::MPI::Vector> out =
       read_attached_vectors(m.discretization.dof_handler,
                             m.discretization.owned,
-                            (dynamic ? 11 : 4) + (referred ? 1 : 0));
+                            (dynamic ? 11 : 4) + (referred ? 3 : 0));
     m.history.u_saved    = out[0];
     m.history.u_previous = out[1];
     m.history.u_before   = out[2];
@@ -392,7 +397,12 @@ namespace systole::Mechanics
         d.factorized_a_n       = out[10];
       }
     if (referred)
-      m.boundaries.support_reference = out.back();
+      {
+        const auto n                   = out.size();
+        m.boundaries.support_reference = out[n - 3];
+        m.boundaries.release.from      = out[n - 2];
+        m.boundaries.release.to        = out[n - 1];
+      }
     unpack_cell_data(m.tria, m.points, m.factorized);
     if (m.factorized.held)
       m.rebuild_factorization(bordered);

@@ -16,6 +16,8 @@
 #include "materials/volumetric_law.h"
 #include "mechanics/problem_impl.h"
 
+#include <algorithm>
+
 namespace systole::Mechanics
 {
   void
@@ -343,11 +345,35 @@ namespace systole::Mechanics
   }
 
   void
-  Problem::refer_supports_to_end_diastole()
+  Problem::refer_supports_to_end_diastole(const double time)
   {
     Impl &m = *impl;
-    if (m.boundaries.any_from_end_diastole())
-      m.boundaries.support_reference = m.u_owned;
+    if (!m.boundaries.any_from_end_diastole())
+      return;
+    auto &release = m.boundaries.release;
+    if (release.time > 0)
+      release.from = m.boundaries.support_reference; // where it is now
+    release.to    = m.u_owned;
+    release.start = time;
+    set_support_time(time);
+  }
+
+  void
+  Problem::set_support_time(const double time)
+  {
+    Impl &m = *impl;
+    if (!m.boundaries.any_from_end_diastole())
+      return;
+    const auto  &release = m.boundaries.release;
+    const double xi =
+      release.time > 0
+        ? std::clamp((time - release.start) / release.time, 0.0, 1.0)
+        : 1.0;
+    const double    s = xi * xi * (3 - 2 * xi); // smooth step, 0 to 1
+    LA::MPI::Vector r(release.to);
+    if (s < 1)
+      r.sadd(s, 1 - s, release.from);
+    m.boundaries.support_reference = r;
   }
 
   namespace

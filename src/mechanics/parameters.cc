@@ -43,7 +43,8 @@ namespace systole::Mechanics
     }
 
     /// The options after 'type, alpha, beta' of a support: 'taper h0 s_base'
-    /// and 'end-diastole', each at most once; false if one is not valid.
+    /// and 'end-diastole [release time]', each at most once; false if one is
+    /// not valid.
     bool
     parse_support_options(const std::vector<std::string> &options,
                           RobinSupport                   &s)
@@ -53,9 +54,15 @@ namespace systole::Mechanics
         {
           const auto words =
             dealii::Utilities::break_text_into_lines(option, 1);
-          if (words.size() == 1 && words[0] == "end-diastole" &&
-              !s.from_end_diastole)
-            s.from_end_diastole = true;
+          if ((words.size() == 1 || words.size() == 2) &&
+              words[0] == "end-diastole" && !s.from_end_diastole)
+            {
+              s.from_end_diastole = true;
+              if (words.size() == 2)
+                s.release_time = dealii::Utilities::string_to_double(words[1]);
+              if (!(s.release_time >= 0 && s.release_time < 1e6))
+                return false;
+            }
           else if (words.size() == 3 && words[0] == "taper" && !tapered)
             {
               tapered       = true;
@@ -129,11 +136,23 @@ namespace systole::Mechanics
       const std::string form =
         "' is not of the form 'part: normal|tangential|full [r], stiffness "
         "[kPa/mm], damping [kPa ms/mm]' followed by the options ', taper h0 "
-        "s_base' and ', end-diastole' (r >= 0, 0 <= h0 < 1, 0 <= s_base <= "
-        "1).";
+        "s_base' and ', end-diastole [release time, ms]' (r >= 0, 0 <= h0 < "
+        "1, 0 <= s_base <= 1, release time >= 0).";
       std::vector<RobinSupport> supports;
       for (const auto &item : dealii::Utilities::split_string_list(text, ';'))
         supports.push_back(parse_support(item, form));
+      // (BoundaryConditions holds one rest position for all of them.)
+      const auto referred =
+        std::find_if(supports.begin(), supports.end(), [](const auto &s) {
+          return s.from_end_diastole;
+        });
+      for (const auto &s : supports)
+        AssertThrow(!s.from_end_diastole ||
+                      s.release_time == referred->release_time,
+                    dealii::ExcMessage(
+                      "Mechanics / Robin supports: the supports referred to "
+                      "end-diastole have different release times "
+                      "('end-diastole T'): give them the same T."));
       return supports;
     }
 
@@ -222,8 +241,13 @@ namespace systole::Mechanics
         "displacement at the last end-diastole instead of the unloaded state "
         "(a heartbeat; from the first ventricle's inlet valve closure on, the "
         "unloaded state before it): they hold the base where the filled "
-        "ventricle put it and do not oppose its filling. A part may not be "
-        "in Robin boundaries as well. Units: kPa/mm, kPa ms/mm.");
+        "ventricle put it and do not oppose its filling. 'end-diastole T' "
+        "moves the rest position there over T ms instead of at once (a "
+        "smooth step from the last rest position; the same T for every such "
+        "support): released at once, the springs drop the pressure of the "
+        "closed cavity, and the inlet valve opens and closes again. A part "
+        "may not be in Robin boundaries as well. Units: kPa/mm, kPa ms/mm, "
+        "ms.");
     }
 
     /// The active stress and how the loads act (lid pressure, volumetric rule).

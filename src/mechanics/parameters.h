@@ -50,6 +50,9 @@ namespace systole::Mechanics
     /// The springs pull toward the displacement at the last end-diastole
     /// (Problem::refer_supports_to_end_diastole()), not the unloaded state.
     bool from_end_diastole = false;
+    /// The time over which their rest position moves from the last one to
+    /// the new end-diastolic displacement (a smooth step; 0: at once) [ms].
+    double release_time = 0.0;
     bool
     tapered() const
     {

@@ -310,6 +310,8 @@ namespace systole::Mechanics
                                       "Robin boundaries (or Robin supports)")
                            .begin();
         robin_supports[id] = support;
+        if (support.from_end_diastole)
+          release.time = support.release_time;
         if (support.tapered())
           locate_taper(tria, names, id, robin_supports[id]);
       }
@@ -540,7 +542,11 @@ namespace systole::Mechanics
     factorized.u.reinit(d.owned, comm);
     u.reinit(d.owned, d.relevant, comm);
     if (boundaries.any_from_end_diastole())
-      boundaries.support_reference.reinit(d.owned, d.relevant, comm);
+      {
+        boundaries.support_reference.reinit(d.owned, d.relevant, comm);
+        boundaries.release.from.reinit(d.owned, comm);
+        boundaries.release.to.reinit(d.owned, comm);
+      }
   }
 
   Problem::Problem(const Inputs &in)

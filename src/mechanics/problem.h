@@ -316,11 +316,19 @@ namespace systole::Mechanics
     support_energy() const;
 
     /// The supports referred to end-diastole (Robin supports, option
-    /// end-diastole) take the current displacement as their rest position:
-    /// the heartbeat calls it at every end-diastole, after the step is
-    /// accepted. Nothing without such a support. Collective.
+    /// end-diastole) take the current displacement as their rest position,
+    /// at once or, with a release time, moving there from their present one
+    /// from @p time [ms] on: the heartbeat calls it at every end-diastole,
+    /// after the step is accepted. Nothing without such a support.
+    /// Collective.
     void
-    refer_supports_to_end_diastole();
+    refer_supports_to_end_diastole(double time);
+
+    /// The supports' rest position at @p time [ms] during a release
+    /// (refer_supports_to_end_diastole()); call it before each solve.
+    /// Collective.
+    void
+    set_support_time(double time);
 
     /// The powers of the accepted state (u_n, v_n) of the time integration
     /// under @p pressures [kPa] (one per pressure part) and the uniform

@@ -283,10 +283,19 @@ namespace systole::Mechanics
     /// all_robin_supports()).
     std::map<dealii::types::boundary_id, RobinSupport> robin_supports;
     /// Ghosted: the displacement the supports referred to end-diastole
-    /// (RobinSupport::from_end_diastole) pull toward, zero until the first
+    /// (RobinSupport::from_end_diastole) pull toward at the time of the
+    /// last Problem::set_support_time(), zero until the first
     /// Problem::refer_supports_to_end_diastole(); empty without such a
     /// support.
     LA::MPI::Vector support_reference;
+    /// Their release: the rest position moves from @p from to @p to (owned)
+    /// over @p time from @p start [ms] (RobinSupport::release_time; with 0,
+    /// at once to @p to).
+    struct Release
+    {
+      LA::MPI::Vector from, to;
+      double          start = 0, time = 0;
+    } release;
 
     /// Whether a support is referred to end-diastole.
     bool

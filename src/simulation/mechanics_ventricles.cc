@@ -57,6 +57,7 @@ namespace systole
   {
     const auto timed = timer_section(timer, "Heartbeat / EP and tension");
     time             = t;
+    problem.set_support_time(t);
     // With inertia every solve after the first accepted step is one
     // generalized-alpha step from the accepted state (redone steps start
     // there again).
@@ -205,7 +206,7 @@ namespace systole
   MechanicsVentricles::end_diastole()
   {
     const auto timed = timer_section(timer, "Heartbeat / accept");
-    problem.refer_supports_to_end_diastole();
+    problem.refer_supports_to_end_diastole(time);
   }
 
 

@@ -119,8 +119,35 @@ TEST_CASE("The end-diastole option is parsed with or without a taper, once",
       CHECK_THAT(parse_error(item),
                  Catch::Contains("Mechanics / Robin supports: '" + item +
                                  "' is not of the form") &&
-                   Catch::Contains("', end-diastole'"));
+                   Catch::Contains("', end-diastole [release time, ms]'"));
     }
+}
+
+TEST_CASE("The end-diastole option takes a release time, the same for all",
+          "[mechanics]")
+{
+  const auto supports = Mechanics::Parameters::parse_robin_supports(
+    "epicardium: normal, 20, 0, end-diastole 30; base: full, 1, 0, "
+    "end-diastole 30");
+  REQUIRE(supports.size() == 2);
+  CHECK(supports[0].release_time == 30.0);
+  CHECK(supports[1].release_time == 30.0);
+  CHECK(Mechanics::Parameters::parse_robin_supports(
+          "base: full, 1, 0, end-diastole")[0]
+          .release_time == 0.0);
+  for (const std::string item : {"base: full, 1, 0, end-diastole -1",
+                                 "base: full, 1, 0, end-diastole x",
+                                 "base: full, 1, 0, end-diastole 1 2"})
+    {
+      INFO(item);
+      CHECK_THAT(parse_error(item),
+                 Catch::Contains("' is not of the form") &&
+                   Catch::Contains("release time >= 0"));
+    }
+  CHECK_THAT(parse_error("epicardium: normal, 20, 0, end-diastole 30; base: "
+                         "full, 1, 0, end-diastole 20"),
+             Catch::Contains("different release times") &&
+               Catch::Contains("give them the same T"));
 }
 
 TEST_CASE("A support referred to end-diastole pulls toward the displacement "
@@ -155,7 +182,7 @@ TEST_CASE("A support referred to end-diastole pulls toward the displacement "
   const dealii::Tensor<1, 3> c({0.7, -0.3, 0.2});
   problem.set_displacement(dealii::Functions::ConstantFunction<3>(
     std::vector<double>{c[0], c[1], c[2]}));
-  problem.refer_supports_to_end_diastole();
+  problem.refer_supports_to_end_diastole(0.0);
   CHECK(problem.support_energy() == 0.0);
   problem.solve(-0.2, 0.0);
   const auto shifted = problem.deformed_positions(points);
@@ -176,9 +203,64 @@ TEST_CASE("A support referred to end-diastole pulls toward the displacement "
                                   20.0);
   plain.problem->set_displacement(dealii::Functions::ConstantFunction<3>(
     std::vector<double>{c[0], c[1], c[2]}));
-  plain.problem->refer_supports_to_end_diastole();
+  plain.problem->refer_supports_to_end_diastole(0.0);
   plain.problem->solve(-0.2, 0.0);
   const auto back = plain.problem->deformed_positions(points);
   for (unsigned int i = 0; i < points.size(); ++i)
     CHECK((back[i] - unshifted[i]).norm() < 1e-8);
+}
+
+TEST_CASE("A released support moves its rest position by a smooth step",
+          "[mechanics]")
+{
+  // The block of the test above, its support released over 10 ms: referred
+  // at t = 5 ms to the uniform displacement c, the rest position is
+  // c s((t - 5) / 10), s(x) = 3 x^2 - 2 x^3; the equilibrium under the same
+  // pull is the one referred to zero moved by it.
+  Mechanics::Parameters params;
+  params.fixed_boundaries  = {};
+  params.pressure_boundary = "x_max";
+  params.linear_solver     = "direct";
+  params.robin_supports    = Mechanics::Parameters::parse_robin_supports(
+    "x_min: full, 0.5, 0, end-diastole 10");
+  test_support::GuccioneBox           box(dealii::Point<3>(2, 1, 1),
+                                {{2, 1, 1}},
+                                params,
+                                20.0);
+  auto                               &problem = *box.problem;
+  const std::vector<dealii::Point<3>> points  = {dealii::Point<3>(0, 0, 0),
+                                                 dealii::Point<3>(2, 1, 1)};
+  problem.solve(-0.2, 0.0);
+  const auto unshifted = problem.deformed_positions(points);
+
+  const dealii::Tensor<1, 3> c({0.7, -0.3, 0.2});
+  problem.set_displacement(dealii::Functions::ConstantFunction<3>(
+    std::vector<double>{c[0], c[1], c[2]}));
+  problem.refer_supports_to_end_diastole(5.0);
+  // t, the fraction of c the rest position has moved: before the start,
+  // 0.3 and 0.5 of the way, at the end and after it.
+  for (const auto &[t, s] : std::vector<std::pair<double, double>>{{4, 0},
+                                                                   {8, 0.216},
+                                                                   {10, 0.5},
+                                                                   {15, 1},
+                                                                   {40, 1}})
+    {
+      INFO("t = " << t);
+      problem.set_support_time(t);
+      problem.solve(-0.2, 0.0);
+      const auto shifted = problem.deformed_positions(points);
+      for (unsigned int i = 0; i < points.size(); ++i)
+        CHECK((shifted[i] - unshifted[i] - s * c).norm() < 1e-8);
+    }
+
+  // Referred again halfway (t = 50 + 5) to 2 c: from c on toward 2 c.
+  problem.set_support_time(50);
+  problem.set_displacement(dealii::Functions::ConstantFunction<3>(
+    std::vector<double>{2 * c[0], 2 * c[1], 2 * c[2]}));
+  problem.refer_supports_to_end_diastole(50.0);
+  problem.set_support_time(55);
+  problem.solve(-0.2, 0.0);
+  const auto again = problem.deformed_positions(points);
+  for (unsigned int i = 0; i < points.size(); ++i)
+    CHECK((again[i] - unshifted[i] - 1.5 * c).norm() < 1e-8);
 }
