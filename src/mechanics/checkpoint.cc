@@ -402,6 +402,7 @@ namespace systole::Mechanics
         m.boundaries.support_reference = out[n - 3];
         m.boundaries.release.from      = out[n - 2];
         m.boundaries.release.to        = out[n - 1];
+        m.boundaries.release.applied   = -1;
       }
     unpack_cell_data(m.tria, m.points, m.factorized);
     if (m.factorized.held)

@@ -353,8 +353,9 @@ namespace systole::Mechanics
     auto &release = m.boundaries.release;
     if (release.time > 0)
       release.from = m.boundaries.support_reference; // where it is now
-    release.to    = m.u_owned;
-    release.start = time;
+    release.to      = m.u_owned;
+    release.start   = time;
+    release.applied = -1;
     set_support_time(time);
   }
 
@@ -364,12 +365,15 @@ namespace systole::Mechanics
     Impl &m = *impl;
     if (!m.boundaries.any_from_end_diastole())
       return;
-    const auto  &release = m.boundaries.release;
+    auto        &release = m.boundaries.release;
     const double xi =
       release.time > 0
         ? std::clamp((time - release.start) / release.time, 0.0, 1.0)
         : 1.0;
-    const double    s = xi * xi * (3 - 2 * xi); // smooth step, 0 to 1
+    const double s = xi * xi * (3 - 2 * xi); // smooth step, 0 to 1
+    if (s == release.applied)
+      return; // (outside a release: every solve)
+    release.applied = s;
     LA::MPI::Vector r(release.to);
     if (s < 1)
       r.sadd(s, 1 - s, release.from);

@@ -295,6 +295,9 @@ namespace systole::Mechanics
     {
       LA::MPI::Vector from, to;
       double          start = 0, time = 0;
+      /// The fraction of the way from @p from to @p to support_reference
+      /// holds (-1: not set since the last reference).
+      double applied = -1;
     } release;
 
     /// Whether a support is referred to end-diastole.
