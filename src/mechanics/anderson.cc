@@ -19,37 +19,79 @@ namespace systole::Mechanics
   {
     dF.clear();
     dX.clear();
+    dG.clear();
+    dY.clear();
     have_f    = false;
     have_step = false;
   }
 
   void
-  AndersonAcceleration::record_step(const LA::MPI::Vector &step)
+  AndersonAcceleration::pop_oldest()
+  {
+    // (The further unknowns' history is kept only aligned with the main
+    // one, else not at all.)
+    if (dG.size() == dF.size())
+      {
+        dG.pop_front();
+        dY.pop_front();
+      }
+    else
+      {
+        dG.clear();
+        dY.clear();
+      }
+    dF.pop_front();
+    dX.pop_front();
+  }
+
+  void
+  AndersonAcceleration::record_step(const LA::MPI::Vector        &step,
+                                    const dealii::Vector<double> *g_step)
   {
     if (depth == 0)
       return;
     last_step = step;
+    if (g_step != nullptr)
+      last_g_step = *g_step;
     have_step = true;
   }
 
   void
-  AndersonAcceleration::accelerate(LA::MPI::Vector &f)
+  AndersonAcceleration::push_history(const LA::MPI::Vector        &f,
+                                     const dealii::Vector<double> *g)
+  {
+    LA::MPI::Vector df = f;
+    df -= last_f;
+    dF.push_back(df);
+    dX.push_back(last_step);
+    if (g != nullptr && last_g.size() == g->size() &&
+        last_g_step.size() == g->size() && dG.size() + 1 == dF.size())
+      {
+        dealii::Vector<double> dg = *g;
+        dg -= last_g;
+        dG.push_back(dg);
+        dY.push_back(last_g_step);
+      }
+    else
+      {
+        dG.clear();
+        dY.clear();
+      }
+    if (dF.size() > depth)
+      pop_oldest();
+  }
+
+  void
+  AndersonAcceleration::accelerate(LA::MPI::Vector        &f,
+                                   dealii::Vector<double> *g)
   {
     if (depth == 0)
       return;
     if (have_f && have_step)
-      {
-        LA::MPI::Vector df = f;
-        df -= last_f;
-        dF.push_back(df);
-        dX.push_back(last_step);
-        if (dF.size() > depth)
-          {
-            dF.pop_front();
-            dX.pop_front();
-          }
-      }
-    last_f    = f;
+      push_history(f, g);
+    last_f = f;
+    if (g != nullptr)
+      last_g = *g;
     have_f    = true;
     have_step = false;
     if (dF.empty())
@@ -81,10 +123,7 @@ namespace systole::Mechanics
                 // Drop this column and every older one.
                 const unsigned int drop = m - c;
                 for (unsigned int d = 0; d < drop; ++d)
-                  {
-                    dF.pop_front();
-                    dX.pop_front();
-                  }
+                  pop_oldest();
                 dependent = true;
                 break;
               }
@@ -124,9 +163,20 @@ namespace systole::Mechanics
           {
             dF.clear();
             dX.clear();
+            dG.clear();
+            dY.clear();
             return;
           }
         f = accelerated;
+        // The further unknowns with the same coefficients (when their
+        // history is as long: it was kept with every difference).
+        if (g != nullptr && dG.size() == m)
+          for (unsigned int c = 0; c < m; ++c)
+            {
+              const unsigned int i = m - 1 - c;
+              g->add(-gamma[c], dY[i]);
+              g->add(-gamma[c], dG[i]);
+            }
         return;
       }
   }

@@ -3,6 +3,8 @@
 // Internal to src/mechanics: Anderson acceleration of a fixed-point
 // iteration, used on the chord iterations of the Newton solver (newton.cc).
 
+#include <deal.II/lac/vector.h>
+
 #include "base/linear_algebra.h"
 
 #include <deque>
@@ -37,20 +39,35 @@ namespace systole::Mechanics
 
     /// @p f: the plain update at the current iterate; replaced by the
     /// accelerated one. The first update after reset() stays as it is.
+    /// @p g, if given: further unknowns' update (the cavity pressures of a
+    /// bordered chord iteration), combined with the same coefficients but
+    /// not in the least squares (a few unknowns that f's determine).
     void
-    accelerate(LA::MPI::Vector &f);
+    accelerate(LA::MPI::Vector &f, dealii::Vector<double> *g = nullptr);
 
     /// The step x_{k+1} - x_k actually taken (a multiple of the update that
-    /// accelerate() returned, if the step was shortened).
+    /// accelerate() returned, if the step was shortened); @p g_step that of
+    /// the further unknowns.
     void
-    record_step(const LA::MPI::Vector &step);
+    record_step(const LA::MPI::Vector        &step,
+                const dealii::Vector<double> *g_step = nullptr);
 
   private:
+    /// Drop the oldest difference of every history.
+    void
+    pop_oldest();
+    /// Append the differences to the last update (and step).
+    void
+    push_history(const LA::MPI::Vector &f, const dealii::Vector<double> *g);
+
     const unsigned int          depth;
     const double                max_growth;
     std::deque<LA::MPI::Vector> dF, dX;
     LA::MPI::Vector             last_f, last_step;
-    bool                        have_f    = false;
-    bool                        have_step = false;
+    /// The further unknowns' differences and last update and step.
+    std::deque<dealii::Vector<double>> dG, dY;
+    dealii::Vector<double>             last_g, last_g_step;
+    bool                               have_f    = false;
+    bool                               have_step = false;
   };
 } // namespace systole::Mechanics

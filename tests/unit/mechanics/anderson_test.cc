@@ -133,3 +133,44 @@ TEST_CASE("Anderson acceleration drops dependent differences instead of "
   for (unsigned int i = 0; i < 3; ++i)
     CHECK(x[i] == Approx(1.0 + i).epsilon(1e-12));
 }
+
+TEST_CASE("Anderson acceleration combines further unknowns' updates with the "
+          "coefficients of the main ones",
+          "[mechanics][anderson]")
+{
+  // Further unknowns y = P x (P: y_0 = x_0, y_1 = 2 x_1 - x_3) carried
+  // along: their updates and steps are P f and P (step), so the
+  // accelerated update of y must be P times the accelerated f at every
+  // update, also once the history is full and drops its oldest differences.
+  const unsigned int n = 8;
+  const LinearMap    map(n, 0.85);
+  dealii::IndexSet   all(n);
+  all.add_range(0, n);
+  Vector     x(all, MPI_COMM_SELF), f(all, MPI_COMM_SELF);
+  const auto project = [](const Vector &v) {
+    dealii::Vector<double> y(2);
+    y[0] = v[0];
+    y[1] = 2.0 * v[1] - v[3];
+    return y;
+  };
+  systole::Mechanics::AndersonAcceleration anderson(3);
+  unsigned int                             accelerated = 0;
+  for (unsigned int k = 0; k < 12; ++k)
+    {
+      map.update(x, f);
+      const Vector           plain = f;
+      dealii::Vector<double> g     = project(f);
+      anderson.accelerate(f, &g);
+      const dealii::Vector<double> expected = project(f);
+      for (unsigned int i = 0; i < 2; ++i)
+        CHECK(g[i] == Approx(expected[i]).margin(1e-12 * plain.l2_norm()));
+      Vector difference = f;
+      difference -= plain;
+      if (difference.l2_norm() > 1e-8 * plain.l2_norm())
+        ++accelerated;
+      x += f;
+      anderson.record_step(f, &g);
+    }
+  // (Every update after the first is accelerated.)
+  CHECK(accelerated >= 10);
+}
