@@ -17,12 +17,18 @@ namespace systole::Mechanics
   void
   AndersonAcceleration::reset()
   {
+    clear_history();
+    have_f    = false;
+    have_step = false;
+  }
+
+  void
+  AndersonAcceleration::clear_history()
+  {
     dF.clear();
     dX.clear();
     dG.clear();
     dY.clear();
-    have_f    = false;
-    have_step = false;
   }
 
   void
@@ -161,10 +167,7 @@ namespace systole::Mechanics
         const double length = accelerated.l2_norm();
         if (!(length <= max_growth * plain))
           {
-            dF.clear();
-            dX.clear();
-            dG.clear();
-            dY.clear();
+            clear_history();
             return;
           }
         f = accelerated;

@@ -53,6 +53,9 @@ namespace systole::Mechanics
                 const dealii::Vector<double> *g_step = nullptr);
 
   private:
+    /// Drop every difference.
+    void
+    clear_history();
     /// Drop the oldest difference of every history.
     void
     pop_oldest();
